@@ -1,0 +1,54 @@
+"""A scripted policy that reads the robot's ground-truth pose.
+
+It is not part of the paper. It proves that the docking task, with this world's step sizes,
+noise and 25-step budget, is solvable, and it bounds what a learner that sees only pixels can
+reach: the learner's success rate is judged against the oracle's.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from tqdm.auto import tqdm
+
+from docking.world import BACKWARD, FORWARD, LEFT, RIGHT, DockingEnv, WorldConfig
+
+
+def oracle_action(pose, config: WorldConfig) -> int:
+    """The oracle's action at ``pose``: first sidestep until the docking region's centre
+    line is within half a sidestep (and within the region's half-width), then step forward
+    (or back, after an overshoot) towards the region's centre. Errors are taken in the
+    robot's body frame, so heading drift is accounted for."""
+    x, y, yaw = pose
+    dx, dy = -config.dock_center - x, -y
+    ahead = np.cos(yaw) * dx + np.sin(yaw) * dy
+    left = -np.sin(yaw) * dx + np.cos(yaw) * dy
+    tolerance = min(config.step_side, config.dock_width) / 2
+    if abs(left) > tolerance:
+        return LEFT if left > 0 else RIGHT
+    return FORWARD if ahead > 0 else BACKWARD
+
+
+def run_oracle_trial(env: DockingEnv) -> tuple[bool, int, np.ndarray]:
+    """One trial of the oracle: ``(success, actions taken, poses)``; ``poses`` holds the
+    start pose and the pose after every action."""
+    timestep = env.reset()
+    poses = [env.pose]
+    while not timestep.last():
+        timestep = env.step(oracle_action(env.pose, env.config))
+        poses.append(env.pose)
+    return timestep.reward > 0, env.steps, np.array(poses)
+
+
+def evaluate_oracle(env: DockingEnv, n_trials: int, progress: bool = True) -> dict:
+    """Run ``n_trials`` oracle trials: success rate, the successes, and steps per success."""
+    if n_trials < 1:
+        raise ValueError(f"n_trials must be >= 1, got {n_trials}")
+    successes, steps = 0, []
+    for _ in tqdm(range(n_trials), desc="oracle", disable=not progress):
+        ok, n, _ = run_oracle_trial(env)
+        successes += ok
+        if ok:
+            steps.append(n)
+    return {"trials": n_trials, "successes": successes, "success_rate": successes / n_trials,
+            "mean_steps": float(np.mean(steps)) if steps else float("nan"),
+            "max_steps": int(max(steps)) if steps else 0}

@@ -1,0 +1,228 @@
+"""Tests of the docking world (issue #2): determinism, observations, geometry, physics."""
+
+import dataclasses
+
+import dm_env
+import numpy as np
+import pytest
+from absl.testing import absltest
+from dm_env import test_utils
+
+from docking.camera import CameraConfig, red_mask
+from docking.oracle import oracle_action
+from docking.world import (BACKWARD, FORWARD, LEFT, RIGHT, DockingEnv, WorldConfig,
+                           in_dock)
+
+QUIET = WorldConfig(step_noise_xy=0.0, step_noise_yaw_deg=0.0)
+
+
+@pytest.fixture(scope="module")
+def env():
+    return DockingEnv(seed=0)
+
+
+@pytest.fixture(scope="module")
+def quiet_env():
+    return DockingEnv(QUIET, seed=0)
+
+
+def _rollout(seed, n_trials=3):
+    env = DockingEnv(seed=seed)
+    actions = np.random.default_rng(123).integers(0, 4, size=200)
+    observations, poses = [], []
+    timestep = env.reset()
+    observations.append(timestep.observation.copy())
+    poses.append(env.pose)
+    trials = 0
+    for a in actions:
+        timestep = env.step(int(a))
+        observations.append(timestep.observation.copy())
+        poses.append(env.pose)
+        trials += timestep.last()
+        if trials == n_trials:
+            break
+    return np.array(observations), np.array(poses)
+
+
+def test_same_seed_gives_identical_observations_and_poses():
+    obs_a, poses_a = _rollout(seed=7)
+    obs_b, poses_b = _rollout(seed=7)
+    np.testing.assert_array_equal(obs_a, obs_b)
+    np.testing.assert_array_equal(poses_a, poses_b)
+    obs_c, _ = _rollout(seed=8)
+    assert obs_c.shape != obs_a.shape or not np.array_equal(obs_a, obs_c)
+
+
+def test_generator_seed_is_accepted_and_bad_seed_raises():
+    DockingEnv(seed=np.random.default_rng(3))
+    with pytest.raises(ValueError, match="seed"):
+        DockingEnv(seed="three")
+
+
+def test_observation_shape_dtype_range(env):
+    timestep = env.reset()
+    for _ in range(30):
+        obs = timestep.observation
+        assert obs.shape == (10, 32)
+        assert obs.dtype == np.float32
+        assert obs.min() >= 0.0 and obs.max() <= 1.0
+        env.observation_spec().validate(obs)
+        timestep = env.step(np.random.default_rng(len(_ * "x")).integers(4))
+    assert env.frame.shape == (120, 160, 3) and env.frame.dtype == np.uint8
+
+
+def test_landmark_inside_crop_at_every_start(env):
+    cam = env.config.camera
+    x0, y0, x1, y1 = cam.crop
+    for _ in range(150):
+        timestep = env.reset()
+        assert env.landmark_in_crop()
+        mask = red_mask(env.frame, cam)
+        inside = mask[y0:y1, x0:x1].sum()
+        assert inside > 0, "the landmark must be seen"
+        assert mask.sum() == inside, "no red pixel may lie outside the crop rectangle"
+        assert timestep.observation.sum() > 0
+        # and the start is in the trapezoid, facing the landmark's wall
+        x, y, yaw = env.pose
+        near, far = env.start_region
+        assert near - 1e-9 <= -x <= far + 1e-9
+        assert abs(y) <= -x * np.tan(np.radians(env.config.start_half_angle_deg)) + 1e-9
+        assert abs(np.degrees(yaw)) <= env.config.start_yaw_deg + 1e-9
+
+
+def test_start_region_can_be_narrowed(env):
+    env.set_start_region(0.6, 0.8)
+    try:
+        for _ in range(50):
+            env.reset()
+            assert 0.6 - 1e-9 <= -env.pose[0] <= 0.8 + 1e-9
+    finally:
+        env.set_start_region(env.config.start_near, env.config.start_far)
+    with pytest.raises(ValueError, match="start_far"):
+        env.set_start_region(0.9, 0.7)
+
+
+@pytest.mark.parametrize("action,forward,left", [
+    (FORWARD, 1, 0), (BACKWARD, -1, 0), (LEFT, 0, 1), (RIGHT, 0, -1)])
+def test_noise_free_step_moves_by_configured_distance(quiet_env, action, forward, left):
+    yaw = 0.3
+    quiet_env.reset_to([-1.2, 0.2, yaw])
+    before = quiet_env.pose
+    quiet_env.step(action)
+    after = quiet_env.pose
+    length = QUIET.step_forward * forward + QUIET.step_side * left
+    expected = np.array([np.cos(yaw), np.sin(yaw)]) * QUIET.step_forward * forward + \
+        np.array([-np.sin(yaw), np.cos(yaw)]) * QUIET.step_side * left
+    np.testing.assert_allclose(after[:2] - before[:2], expected, atol=5e-4)
+    assert np.linalg.norm(after[:2] - before[:2]) == pytest.approx(abs(length), abs=5e-4)
+    assert after[2] == pytest.approx(yaw, abs=1e-4)
+
+
+def test_step_noise_perturbs_position_and_heading():
+    env = DockingEnv(WorldConfig(step_noise_xy=0.01, step_noise_yaw_deg=2.0), seed=1)
+    moves, turns = [], []
+    for _ in range(40):
+        env.reset_to([-1.2, 0.0, 0.0])
+        env.step(FORWARD)
+        moves.append(env.pose[0] + 1.2)
+        turns.append(env.pose[2])
+    assert 0.005 < np.std(moves) < 0.02
+    assert np.radians(1.0) < np.std(turns) < np.radians(3.0)
+    assert np.mean(moves) == pytest.approx(0.12, abs=0.006)
+
+
+def test_docking_is_detected_inside_and_not_outside(quiet_env):
+    cfg = QUIET
+    cx = -cfg.dock_center
+    assert in_dock([cx, 0.0, 0.0], cfg)
+    assert in_dock([cx + 0.099, 0.039, 0.3], cfg)
+    assert not in_dock([cx + 0.101, 0.0, 0.0], cfg)
+    assert not in_dock([cx - 0.101, 0.0, 0.0], cfg)
+    assert not in_dock([cx, 0.041, 0.0], cfg)
+    assert not in_dock([cx, -0.041, 0.0], cfg)
+    # A forward step from just outside the region's far edge ends inside: reward 1, terminal.
+    quiet_env.reset_to([cx - 0.1 - 0.06, 0.0, 0.0])
+    assert not quiet_env.docked
+    timestep = quiet_env.step(FORWARD)
+    assert quiet_env.docked
+    assert timestep.last() and timestep.reward == 1.0 and timestep.discount == 0.0
+    # A sidestep that stays outside the 8 cm width: reward 0, not terminal.
+    quiet_env.reset_to([cx, 0.2, 0.0])
+    timestep = quiet_env.step(RIGHT)
+    assert not quiet_env.docked
+    assert timestep.mid() and timestep.reward == 0.0
+
+
+def test_step_limit_ends_trial_as_truncation(quiet_env):
+    quiet_env.reset_to([-1.0, 0.3, 0.0])
+    for k in range(QUIET.max_steps):
+        timestep = quiet_env.step(LEFT if k % 2 == 0 else RIGHT)
+        assert timestep.last() == (k == QUIET.max_steps - 1)
+    assert timestep.reward == 0.0 and timestep.discount == 1.0
+    assert quiet_env.step(FORWARD).first()  # the next step starts a new trial
+
+
+def test_walking_into_the_landmark_does_not_pass_through(quiet_env):
+    # Beside the docking region (so the trial does not end) and straight at the cabinet.
+    quiet_env.reset_to([-0.7, 0.1, 0.0])
+    xs = []
+    for _ in range(10):
+        timestep = quiet_env.step(FORWARD)
+        xs.append(quiet_env.pose[0])
+        assert not timestep.last()
+    # The robot's 0.10 m collision cylinder stops at the cabinet's front face (x = 0).
+    assert max(xs) <= -0.10 + 0.01
+    assert max(xs) >= -0.10 - 0.01  # it did reach the cabinet
+    assert np.ptp(xs[-4:]) < 0.01  # and stays there
+
+
+@pytest.mark.parametrize("field,value", [
+    ("step_forward", -0.1), ("step_side", 0.0), ("step_noise_xy", -0.01),
+    ("step_noise_yaw_deg", -1.0), ("max_steps", 0), ("dock_width", -0.08),
+    ("start_far", 0.5), ("start_near", 0.2)])
+def test_bad_config_raises_naming_the_parameter(field, value):
+    with pytest.raises(ValueError, match=field):
+        dataclasses.replace(WorldConfig(), **{field: value})
+
+
+def test_bad_camera_config_raises():
+    with pytest.raises(ValueError, match="crop"):
+        CameraConfig(crop=(0, 0, 200, 50))
+    with pytest.raises(ValueError, match="fovy_deg"):
+        CameraConfig(fovy_deg=-3)
+
+
+@pytest.mark.parametrize("action", [-1, 4, 1.5, "left", None])
+def test_bad_action_raises(env, action):
+    env.reset()
+    with pytest.raises(ValueError, match="action"):
+        env.step(action)
+
+
+def test_oracle_docks_from_a_far_corner():
+    env = DockingEnv(QUIET, seed=0)
+    env.reset_to([-1.5, 0.35, 0.05])
+    timestep = env.reset_to([-1.5, 0.35, 0.05])
+    while not timestep.last():
+        timestep = env.step(oracle_action(env.pose, env.config))
+    assert timestep.reward == 1.0 and env.docked
+
+
+class DockingEnvContractTest(test_utils.EnvironmentTestMixin, absltest.TestCase):
+    """The dm_env interface contract, with action sequences that end trials both ways."""
+
+    def make_object_under_test(self):
+        return DockingEnv(seed=0)
+
+    def make_action_sequence(self):
+        rng = np.random.default_rng(0)
+        env = self.environment
+        for _ in range(60):  # random actions run into the step limit
+            yield int(rng.integers(4))
+        for _ in range(60):  # the oracle docks
+            yield oracle_action(env.pose, env.config)
+
+
+def test_timestep_types(quiet_env):
+    timestep = quiet_env.reset()
+    assert timestep.step_type == dm_env.StepType.FIRST and timestep.reward is None
