@@ -1,0 +1,158 @@
+"""SARSA trials (Kleesiek et al. 2011, Sec. II-A): a :class:`~docking.network.Network` acting in
+any ``dm_env.Environment``.
+
+Environment contract: ``reset()`` returns a first ``TimeStep`` whose observation has
+``net.config.n_inputs`` elements (the world's (10, 32) float32 image); ``step(action)`` takes an
+int in ``[0, n_actions)``.  Docking ends the episode by *termination* (reward 1, discount 0);
+running out of steps ends it by *truncation* (reward 0, discount 1).  An environment may have a
+``pose`` attribute (``[x, y, yaw]``), which is then recorded after reset and after every action.
+
+One step of the loop (on-policy SARSA, Eq. 6, with the network's learning rule Eq. 7-8)::
+
+    s  = features(I),  a ~ Eq. (4),  v = Q[a] . s                     (Eq. 1-5)
+    r, I' = env.step(a);  s' = features(I'),  a' ~ Eq. (4),  v' = Q[a'] . s'
+    delta = r + gamma * discount * v' - v                             (Eq. 6)
+    update(I, s, a, delta)                                            (Eq. 7, 8)
+    I, a = I', a';  s, v recomputed from I' with the updated weights
+
+The next action ``a'`` is chosen with the weights *before* the update (as in Sutton & Barto's
+SARSA); the next ``s`` and ``v`` are recomputed after it, so that every ``delta`` and every
+gradient uses the current weights.
+
+End of an episode:
+
+* termination (``discount == 0``): ``v' = 0``; no next action is sampled.
+* truncation at the step limit (``discount > 0`` on the last step): by default the target
+  bootstraps from ``v' = Q[a'] . s'`` (``a'`` sampled but never executed).  The step limit is
+  not part of what the network sees, so treating the last state as worthless (``v' = 0``)
+  would teach it that an arbitrary, possibly good, state has no value (Pardo et al. 2018,
+  "Time Limits in Reinforcement Learning").  ``bootstrap_on_truncation=False`` uses
+  ``v' = 0`` instead (the classic episodic treatment).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from .network import Network
+
+__all__ = ["TrialRecord", "run_trial"]
+
+
+@dataclass
+class TrialRecord:
+    """What happened in one trial of ``T`` actions.
+
+    Attributes:
+        poses: (T+1, 3) ``env.pose`` (``[x, y, yaw]``) at the start and after each action, or
+            None if the environment has no ``pose`` attribute.
+        actions: (T,) int, the executed action indices.
+        rewards: (T,) float, the reward after each action.
+        deltas: (T,) float, the TD error of Eq. (6) at each step (computed also when not
+            learning).
+        winners: (T,) int, index of the most active feature unit (argmax s) at each decision.
+        success: True if the trial ended by termination (docking) with a positive reward.
+    """
+
+    poses: np.ndarray | None
+    actions: np.ndarray
+    rewards: np.ndarray
+    deltas: np.ndarray
+    winners: np.ndarray
+    success: bool
+
+    @property
+    def steps(self) -> int:
+        """Number of actions taken, T."""
+        return int(self.actions.shape[0])
+
+
+def run_trial(
+    env,
+    net: Network,
+    rng: np.random.Generator,
+    *,
+    learn: bool,
+    beta_a: float | None = None,
+    bootstrap_on_truncation: bool = True,
+) -> TrialRecord:
+    """Run one episode of ``env`` with ``net`` choosing actions by Eq. (4); SARSA learning if
+    ``learn`` (Eq. 6-8), otherwise the weights are left untouched.
+
+    Args:
+        env: a ``dm_env.Environment`` following the contract in the module docstring.
+        net: the network; updated in place when ``learn`` is True.
+        rng: the only source of randomness here (action sampling).
+        learn: update ``net`` after every step.
+        beta_a: action inverse temperature of Eq. (4); default ``net.config.beta_a_train``
+            when learning, ``net.config.beta_a_test`` otherwise.
+        bootstrap_on_truncation: at the step limit (truncation, discount > 0) use
+            ``v' = Q[a'] . s'`` (True, default) or ``v' = 0`` (False); see the module docstring.
+
+    Returns:
+        A :class:`TrialRecord`.
+    """
+    if not isinstance(rng, np.random.Generator):
+        raise ValueError(f"rng must be a numpy.random.Generator, got {type(rng).__name__}")
+    cfg = net.config
+    if beta_a is None:
+        beta_a = cfg.beta_a_train if learn else cfg.beta_a_test  # Eq. (4)
+    if not 0 <= beta_a < float("inf"):
+        raise ValueError(f"beta_a must be a finite number >= 0, got {beta_a!r}")
+    gamma = cfg.gamma  # Eq. (6)
+    has_pose = hasattr(env, "pose")
+
+    poses: list[np.ndarray] = []
+    actions: list[int] = []
+    rewards: list[float] = []
+    deltas: list[float] = []
+    winners: list[int] = []
+
+    ts = env.reset()
+    if has_pose:
+        poses.append(np.array(env.pose, dtype=np.float64))
+    I = net.prepare(ts.observation)
+    s = net.features(I)  # Eq. (1), (2)
+    a = net.select_action(s, rng, beta_a)  # Eq. (3), (4)
+    winner = int(s.argmax())  # the state the decision was based on
+    success = False
+    while True:
+        v = float(net.Q[a] @ s)  # Eq. (5), with the current weights
+        winners.append(winner)
+        actions.append(a)
+        ts = env.step(a)
+        if has_pose:
+            poses.append(np.array(env.pose, dtype=np.float64))
+        r = float(ts.reward)
+        discount = float(ts.discount)
+        last = ts.last()
+        if last and (discount == 0.0 or not bootstrap_on_truncation):
+            v_next = 0.0  # termination (or truncation treated as terminal)
+            I_next = None
+        else:
+            I_next = net.prepare(ts.observation)
+            s_next = net.features(I_next)
+            a_next = net.select_action(s_next, rng, beta_a)
+            winner = int(s_next.argmax())
+            v_next = float(net.Q[a_next] @ s_next)
+        delta = r + gamma * discount * v_next - v  # Eq. (6)
+        rewards.append(r)
+        deltas.append(delta)
+        if learn:
+            net.update(I, s, a, delta)  # Eq. (7), (8)
+        if last:
+            success = discount == 0.0 and r > 0.0
+            break
+        I, a = I_next, a_next
+        s = net.features(I) if learn else s_next  # current weights
+
+    return TrialRecord(
+        poses=np.array(poses) if has_pose else None,
+        actions=np.array(actions, dtype=np.int64),
+        rewards=np.array(rewards, dtype=np.float64),
+        deltas=np.array(deltas, dtype=np.float64),
+        winners=np.array(winners, dtype=np.int64),
+        success=bool(success),
+    )
