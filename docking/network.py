@@ -10,6 +10,8 @@ action layer (weights ``Q``).  Both layers learn from the same SARSA prediction 
 * Eq. (8):     ``Delta W_jn = eps_w * delta * s_j * I_n * (Q_ij - sum_k Q_ik s_k)``  (``i`` = chosen action)
 
 after which ``W`` is rectified (``W >= 0``) and each row normalized to unit length (Sec. II-A).
+:meth:`Network.increments` returns the raw changes of Eq. (7)-(8), :meth:`Network.update`
+applies them.
 
 Sign convention: ``delta = r + gamma v' - v`` (Eq. 6) is the target minus the estimate, so every
 update is ``+ eps * delta * dv/dtheta``, i.e. gradient *descent* on the energy of Eq. (9)
@@ -75,8 +77,9 @@ class NetworkConfig:
             the same meaning whatever the brightness of the image.
         q_init: initial action weights are drawn uniform in ``[0, q_init]``.  Default 0: all
             actions start equally likely and all values start at 0, the natural start for a
-            reward in {0, 1}; with q_init = 0 the generator is still called (same draws
-            whatever q_init), so changing q_init does not change W.
+            reward in {0, 1}.  W is drawn first, and Q consumes the same number of draws
+            whatever q_init (also 0), so q_init changes nothing else that the same
+            generator produces.
     """
 
     n_inputs: int = 320  # 32x10 image, Sec. II-A
@@ -209,7 +212,7 @@ class Network:
                 f"{I.size} (shape {np.shape(observation)})"
             )
         sq = I @ I
-        if not np.isfinite(sq):  # NaN/inf in the input, or squares overflowing
+        if not math.isfinite(sq):  # NaN/inf in the input, or squares overflowing
             if not np.isfinite(I).all():
                 raise ValueError("observation contains NaN or infinite values")
             if self.config.normalize_input:
@@ -250,6 +253,7 @@ class Network:
 
     def value(self, I: np.ndarray, a: int) -> float:
         """Eq. (5): ``v = sum_kl Q_kl a_k s_l = Q[a] . s(I)`` for the one-hot action ``a``."""
+        self._check_action(a)
         return float(self.Q[a] @ self.features(I))  # Eq. (5)
 
     def value_gradient(self, I: np.ndarray, a: int) -> tuple[np.ndarray, np.ndarray]:

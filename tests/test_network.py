@@ -73,11 +73,13 @@ def test_init_weights():
         Network(cfg, 0)
 
 
-def test_same_seed_same_weights_and_q_init_does_not_change_W():
-    a = Network(NetworkConfig(), np.random.default_rng(7))
-    b = Network(NetworkConfig(), np.random.default_rng(7))
-    c = Network(NetworkConfig(q_init=0.1), np.random.default_rng(7))
+def test_same_seed_same_weights_and_q_init_changes_nothing_else():
+    rngs = [np.random.default_rng(7) for _ in range(3)]
+    a = Network(NetworkConfig(), rngs[0])
+    b = Network(NetworkConfig(), rngs[1])
+    c = Network(NetworkConfig(q_init=0.1), rngs[2])
     assert a.W.tobytes() == b.W.tobytes() == c.W.tobytes()
+    assert len({r.random() for r in rngs}) == 1  # generators advanced identically
 
 
 # ---------------------------------------------------------------- forward pass
@@ -116,6 +118,8 @@ def test_features_and_probabilities_are_softmaxes():
     hq = net.Q @ s  # Eq. (3)
     np.testing.assert_allclose(p, np.exp(2 * hq) / np.exp(2 * hq).sum(), rtol=1e-12)  # Eq. (4)
     assert net.value(I, 1) == pytest.approx(net.Q[1] @ s, rel=1e-14)  # Eq. (5)
+    with pytest.raises(ValueError, match="action"):
+        net.value(I, -1)
     with pytest.raises(ValueError, match="beta_a"):
         net.action_probabilities(s, -1.0)
 
