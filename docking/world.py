@@ -10,10 +10,13 @@ on a grey cabinet whose front face is the plane ``x = 0``; the robot starts at n
 facing ``+x`` (yaw 0). The robot's body frame has ``x`` forward and ``y`` to its left.
 
 The docking region (paper, Fig. 5: "The yellow docking region measures 8x20 cm") is centred on
-the landmark's axis. The paper does not say which side is which; here it is **8 cm across**
-(along ``y``, sideways precision) and **20 cm deep** (along ``x``, towards the landmark), which
-fits a robot that must arrive squarely in front of the landmark. It is virtual: the robot's
-camera never sees it, overview renders draw it in yellow.
+the landmark's axis. The paper does not say which side is which; here it is **20 cm across**
+(along ``y``) and **8 cm deep** (along ``x``, towards the landmark): a strip the robot must
+reach at the right distance, squarely enough in front of the landmark. Its depth is less than
+a forward step, so the region is detected continuously, at every physics step of a walking
+step, and the robot halts once its reference point is inside: a step cannot jump over it
+(the paper does not say how "reaching the goal position" was detected). The region is
+virtual: the robot's camera never sees it; overview renders draw it in yellow.
 
 The robot is a planar base (slide x, slide y, hinge yaw) driven by position servos; each of the
 four actions is one walking step whose target is displaced by noise in position and heading,
@@ -76,25 +79,25 @@ class WorldConfig:
         at ``start_near`` and ``start_far``.
       start_yaw_deg: Start headings are uniform in +-this around facing the landmark's wall.
       dock_center: Distance of the docking region's centre from the landmark's front plane (m).
-      dock_depth: Extent of the region along the approach axis (m; paper: 20 cm).
-      dock_width: Extent of the region across the approach axis (m; paper: 8 cm).
+      dock_depth: Extent of the region along the approach axis (m; paper: 8 cm).
+      dock_width: Extent of the region across the approach axis (m; paper: 20 cm).
       view_margin_px: At a start pose the landmark's projection keeps this many pixels from
         the crop's border.
       camera: The head camera and the observation pipeline.
     """
 
-    step_forward: float = 0.12
+    step_forward: float = 0.08
     step_side: float = 0.06
     step_noise_xy: float = 0.01
     step_noise_yaw_deg: float = 2.0
     max_steps: int = 25
-    start_near: float = 0.6
+    start_near: float = 0.65
     start_far: float = 1.5
     start_half_angle_deg: float = 14.0
     start_yaw_deg: float = 5.0
-    dock_center: float = 0.45
-    dock_depth: float = 0.20
-    dock_width: float = 0.08
+    dock_center: float = 0.55
+    dock_depth: float = 0.08
+    dock_width: float = 0.20
     view_margin_px: float = 1.0
     camera: CameraConfig = dataclasses.field(default_factory=CameraConfig)
 
@@ -140,8 +143,8 @@ _CABINET = dict(depth=0.30, width=0.40, height=0.43)
 # The landmark: a red, wide, low slab at the cabinet's front edge and a red post standing
 # behind it. Seen from the front the two read as an inverted T; from the left or right the
 # post's parallax shifts it to one side (an L or a mirrored L), and the slab foreshortens.
-_SLAB = dict(depth=0.05, width=0.20, height=0.06)
-_POST = dict(depth=0.05, width=0.05, height=0.14, behind=0.22)
+_SLAB = dict(depth=0.05, width=0.12, height=0.05)
+_POST = dict(depth=0.04, width=0.04, height=0.12, behind=0.15)
 _ROBOT_RADIUS = 0.10  # the collision cylinder around the robot's body
 _ROBOT_MASS = 5.2  # kg, a Nao
 _CAM_FORWARD, _CAM_HEIGHT = 0.07, 0.48  # Nao's top camera: forehead, 0.48 m above the floor
@@ -315,24 +318,33 @@ class Physics(dm_mujoco.Physics):
             self.data.qvel[:3] = 0.0
             self.data.ctrl[:3] = pose
 
-    def walk_to(self, target) -> None:
+    def walk_to(self, target, stop=None) -> bool:
         """One walking step: the servo targets glide from the current pose to ``target``
         (smoothstep over the step's duration), then hold while the body settles. Contacts
-        stop the body where it meets an obstacle."""
+        stop the body where it meets an obstacle.
+
+        ``stop(pose)`` (optional) is checked after every physics step; once it holds, the
+        robot halts on the spot and ``walk_to`` returns True (the dock's detector)."""
         start = np.array(self.data.ctrl[:3])
         target = np.asarray(target, dtype=np.float64)
         n_move = int(round(_STEP_MOVE_TIME / _TIMESTEP))
         n_settle = int(round(_STEP_SETTLE_TIME / _TIMESTEP))
-        for k in range(1, n_move + 1):
-            u = k / n_move
-            self.data.ctrl[:3] = start + (target - start) * (u * u * (3.0 - 2.0 * u))
+        qpos, ctrl = self.data.qpos, self.data.ctrl
+        stopped = False
+        for k in range(1, n_move + n_settle + 1):
+            if k <= n_move:
+                u = k / n_move
+                ctrl[:3] = start + (target - start) * (u * u * (3.0 - 2.0 * u))
             mujoco.mj_step(self.model.ptr, self.data.ptr)
-        for _ in range(n_settle):
-            mujoco.mj_step(self.model.ptr, self.data.ptr)
+            if stop is not None and stop(qpos):
+                stopped = True
+                break
         # The servos now hold the body where it actually is, so a blocked step does not
         # keep pushing into the obstacle during the next one.
-        self.data.ctrl[:3] = self.data.qpos[:3]
+        ctrl[:3] = qpos[:3]
         self.data.qvel[:3] = 0.0
+        self.forward()
+        return stopped
 
     def update_kinematics(self) -> None:
         """Recompute body and camera frames from ``qpos`` (no dynamics)."""
@@ -477,10 +489,10 @@ class DockingEnv(dm_env.Environment):
         if self._needs_reset:
             return self.reset()
         action = _check_action(action)
-        self._physics.walk_to(self._step_target(action))
+        docked = self._physics.walk_to(self._step_target(action), stop=self._in_dock)
         self._steps += 1
         observation = self._observe()
-        if self.docked:
+        if docked:
             self._needs_reset = True
             return dm_env.termination(reward=1.0, observation=observation)
         if self._steps >= self._config.max_steps:
@@ -489,6 +501,9 @@ class DockingEnv(dm_env.Environment):
         return dm_env.transition(reward=0.0, observation=observation)
 
     # -- internals ------------------------------------------------------------------------
+    def _in_dock(self, pose) -> bool:
+        return in_dock(pose, self._config)
+
     def _step_target(self, action: int) -> np.ndarray:
         cfg = self._config
         forward = (cfg.step_forward, -cfg.step_forward, 0.0, 0.0)[action]

@@ -91,11 +91,11 @@ def test_landmark_inside_crop_at_every_start(env):
 
 
 def test_start_region_can_be_narrowed(env):
-    env.set_start_region(0.6, 0.8)
+    env.set_start_region(0.65, 0.85)
     try:
         for _ in range(50):
             env.reset()
-            assert 0.6 - 1e-9 <= -env.pose[0] <= 0.8 + 1e-9
+            assert 0.65 - 1e-9 <= -env.pose[0] <= 0.85 + 1e-9
     finally:
         env.set_start_region(env.config.start_near, env.config.start_far)
     with pytest.raises(ValueError, match="start_far"):
@@ -128,29 +128,39 @@ def test_step_noise_perturbs_position_and_heading():
         turns.append(env.pose[2])
     assert 0.005 < np.std(moves) < 0.02
     assert np.radians(1.0) < np.std(turns) < np.radians(3.0)
-    assert np.mean(moves) == pytest.approx(0.12, abs=0.006)
+    assert np.mean(moves) == pytest.approx(env.config.step_forward, abs=0.006)
 
 
 def test_docking_is_detected_inside_and_not_outside(quiet_env):
     cfg = QUIET
-    cx = -cfg.dock_center
+    cx, half_depth, half_width = -cfg.dock_center, cfg.dock_depth / 2, cfg.dock_width / 2
     assert in_dock([cx, 0.0, 0.0], cfg)
-    assert in_dock([cx + 0.099, 0.039, 0.3], cfg)
-    assert not in_dock([cx + 0.101, 0.0, 0.0], cfg)
-    assert not in_dock([cx - 0.101, 0.0, 0.0], cfg)
-    assert not in_dock([cx, 0.041, 0.0], cfg)
-    assert not in_dock([cx, -0.041, 0.0], cfg)
+    assert in_dock([cx + half_depth - 1e-3, half_width - 1e-3, 0.3], cfg)
+    assert not in_dock([cx + half_depth + 1e-3, 0.0, 0.0], cfg)
+    assert not in_dock([cx - half_depth - 1e-3, 0.0, 0.0], cfg)
+    assert not in_dock([cx, half_width + 1e-3, 0.0], cfg)
+    assert not in_dock([cx, -half_width - 1e-3, 0.0], cfg)
     # A forward step from just outside the region's far edge ends inside: reward 1, terminal.
-    quiet_env.reset_to([cx - 0.1 - 0.06, 0.0, 0.0])
+    quiet_env.reset_to([cx - half_depth - 0.02, 0.0, 0.0])
     assert not quiet_env.docked
     timestep = quiet_env.step(FORWARD)
     assert quiet_env.docked
     assert timestep.last() and timestep.reward == 1.0 and timestep.discount == 0.0
-    # A sidestep that stays outside the 8 cm width: reward 0, not terminal.
-    quiet_env.reset_to([cx, 0.2, 0.0])
+    # A sidestep that stays outside the region: reward 0, not terminal.
+    quiet_env.reset_to([cx, half_width + 0.1, 0.0])
     timestep = quiet_env.step(RIGHT)
     assert not quiet_env.docked
     assert timestep.mid() and timestep.reward == 0.0
+
+
+def test_a_step_cannot_jump_over_the_region():
+    # The region is shallower than a long step; the robot halts where it enters the region.
+    cfg = dataclasses.replace(QUIET, step_forward=0.2)
+    env = DockingEnv(cfg, seed=0)
+    env.reset_to([-cfg.dock_center - cfg.dock_depth / 2 - 0.01, 0.0, 0.0])
+    timestep = env.step(FORWARD)
+    assert timestep.last() and timestep.reward == 1.0
+    assert env.docked
 
 
 def test_step_limit_ends_trial_as_truncation(quiet_env):
@@ -164,9 +174,9 @@ def test_step_limit_ends_trial_as_truncation(quiet_env):
 
 def test_walking_into_the_landmark_does_not_pass_through(quiet_env):
     # Beside the docking region (so the trial does not end) and straight at the cabinet.
-    quiet_env.reset_to([-0.7, 0.1, 0.0])
+    quiet_env.reset_to([-0.7, QUIET.dock_width / 2 + 0.03, 0.0])
     xs = []
-    for _ in range(10):
+    for _ in range(14):  # 0.6 m to the cabinet, then four steps more
         timestep = quiet_env.step(FORWARD)
         xs.append(quiet_env.pose[0])
         assert not timestep.last()
@@ -179,7 +189,7 @@ def test_walking_into_the_landmark_does_not_pass_through(quiet_env):
 @pytest.mark.parametrize("field,value", [
     ("step_forward", -0.1), ("step_side", 0.0), ("step_noise_xy", -0.01),
     ("step_noise_yaw_deg", -1.0), ("max_steps", 0), ("dock_width", -0.08),
-    ("start_far", 0.5), ("start_near", 0.2)])
+    ("start_far", 0.6), ("start_near", 0.2), ("start_far", 5.0)])
 def test_bad_config_raises_naming_the_parameter(field, value):
     with pytest.raises(ValueError, match=field):
         dataclasses.replace(WorldConfig(), **{field: value})
@@ -201,7 +211,6 @@ def test_bad_action_raises(env, action):
 
 def test_oracle_docks_from_a_far_corner():
     env = DockingEnv(QUIET, seed=0)
-    env.reset_to([-1.5, 0.35, 0.05])
     timestep = env.reset_to([-1.5, 0.35, 0.05])
     while not timestep.last():
         timestep = env.step(oracle_action(env.pose, env.config))
