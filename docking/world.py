@@ -580,6 +580,24 @@ class DockingEnv(dm_env.Environment):
                            "narrow start_half_angle_deg or start_yaw_deg")
 
 
+def footprints(config: WorldConfig) -> dict[str, tuple[float, float, float, float]]:
+    """Floor-plan rectangles ``(x0, y0, x1, y1)`` of the cabinet, the landmark's two boxes and
+    the docking region, for top-down figures."""
+    c, s, p = _CABINET, _SLAB, _POST
+    return {
+        "cabinet": (0.0, -c["width"] / 2, c["depth"], c["width"] / 2),
+        "landmark_slab": (0.0, -s["width"] / 2, s["depth"], s["width"] / 2),
+        "landmark_post": (p["behind"], -p["width"] / 2, p["behind"] + p["depth"],
+                          p["width"] / 2),
+        "dock": (-config.dock_center - config.dock_depth / 2, -config.dock_width / 2,
+                 -config.dock_center + config.dock_depth / 2, config.dock_width / 2),
+    }
+
+
+#: Radius of the robot's collision cylinder (m), for drawing its footprint.
+ROBOT_RADIUS = _ROBOT_RADIUS
+
+
 def in_dock(pose, config: WorldConfig) -> bool:
     """Whether ``pose``'s reference point lies in the docking region of ``config``."""
     x, y = pose[0], pose[1]

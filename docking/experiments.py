@@ -1,0 +1,396 @@
+"""The paper's two experiments (Sec. II-C, III), configured as data, run, saved and re-loaded.
+
+* Experiment 1: starts close to the docking position, 4 feature units, the local rule,
+  100 training trials, then greedy test trials from the same region.
+  Paper: after about 25 rewarded trials the robot docks in 100% of trials.
+* Experiment 2: 36 feature units, the non-local rule (Eq. 8), "Learning from Easy Missions":
+  the start region grows during training until it reaches 1.5 m; 2000 training trials,
+  then 725 test trials from the full region. Paper: 95% (690 of 725).
+
+A run is determined by its :class:`ExperimentConfig` and seed, bit for bit: one
+``numpy.random.SeedSequence(seed)`` is split into independent streams for the training world,
+the test world, the network's initial weights, and the action choices in training and testing.
+Results are saved atomically to ``results/<name>/seed<k>.npz`` with everything the figures and
+the table need; :func:`run_or_load` re-uses them instead of re-training.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import json
+import os
+import tempfile
+import time
+from pathlib import Path
+
+import numpy as np
+from tqdm.auto import tqdm
+
+import docking
+from docking.camera import CameraConfig
+from docking.network import Network, NetworkConfig
+from docking.trial import TrialRecord, run_trial
+from docking.world import DockingEnv, WorldConfig
+
+RESULTS_DIR = Path(__file__).resolve().parent.parent / "results"
+
+
+@dataclasses.dataclass(frozen=True)
+class Curriculum:
+    """Learning from Easy Missions (Asada et al.; paper Sec. II-C): the far edge of the start
+    trapezoid grows linearly from ``far_initial`` to ``far_final`` over the first
+    ``grow_trials`` training trials and stays there. ``grow_trials = 0`` means no curriculum.
+    """
+
+    far_initial: float
+    far_final: float
+    grow_trials: int = 0
+
+    def __post_init__(self):
+        if not 0 < self.far_initial <= self.far_final:
+            raise ValueError(f"Curriculum needs 0 < far_initial <= far_final, got "
+                             f"far_initial={self.far_initial}, far_final={self.far_final}")
+        if self.grow_trials < 0:
+            raise ValueError(f"Curriculum.grow_trials must be >= 0, got {self.grow_trials}")
+
+    def far_at(self, trial: int) -> float:
+        """The far edge of the start region for training trial ``trial`` (0-based)."""
+        if self.grow_trials == 0 or trial >= self.grow_trials:
+            return self.far_final
+        return self.far_initial + (self.far_final - self.far_initial) * trial / self.grow_trials
+
+
+@dataclasses.dataclass(frozen=True)
+class ExperimentConfig:
+    """One experiment: the world, the network, the curriculum and the trial counts.
+
+    Attributes:
+      name: Names the results folder.
+      world: The world; its ``start_near``/``start_far`` are the test region.
+      network: The network and its learning rule.
+      curriculum: How the start region's far edge grows during training.
+      train_trials: Training trials (beta_a = ``network.beta_a_train``, learning on).
+      test_trials: Final test trials (beta_a = ``network.beta_a_test``, no learning) from the
+        world's full start region.
+      eval_every: Every this many training trials the learning curve is measured ...
+      eval_trials: ... with this many test trials from the full start region (0: no curve).
+      bootstrap_on_truncation: SARSA target at the step limit; see :func:`docking.trial.run_trial`.
+    """
+
+    name: str
+    world: WorldConfig
+    network: NetworkConfig
+    curriculum: Curriculum
+    train_trials: int
+    test_trials: int
+    eval_every: int = 10
+    eval_trials: int = 50
+    bootstrap_on_truncation: bool = True
+
+    def __post_init__(self):
+        for name in ("train_trials", "test_trials", "eval_every"):
+            if getattr(self, name) < 1:
+                raise ValueError(f"ExperimentConfig.{name} must be >= 1, got "
+                                 f"{getattr(self, name)}")
+        if self.eval_trials < 0:
+            raise ValueError(f"ExperimentConfig.eval_trials must be >= 0, got {self.eval_trials}")
+        if self.curriculum.far_final != self.world.start_far:
+            raise ValueError("the curriculum must end at the test region: far_final "
+                             f"{self.curriculum.far_final} != world.start_far "
+                             f"{self.world.start_far}")
+        if self.world.camera.input_shape[0] * self.world.camera.input_shape[1] != \
+                self.network.n_inputs:
+            raise ValueError("network.n_inputs must equal the camera's input pixels")
+
+    def to_dict(self) -> dict:
+        return dataclasses.asdict(self)
+
+    @classmethod
+    def from_dict(cls, d: dict) -> "ExperimentConfig":
+        world = dict(d["world"])
+        camera = dict(world.pop("camera"))
+        camera = CameraConfig(**{k: tuple(v) if isinstance(v, list) else v
+                                 for k, v in camera.items()})
+        return cls(name=d["name"], world=WorldConfig(camera=camera, **world),
+                   network=NetworkConfig(**d["network"]),
+                   curriculum=Curriculum(**d["curriculum"]),
+                   **{k: d[k] for k in ("train_trials", "test_trials", "eval_every",
+                                        "eval_trials", "bootstrap_on_truncation")})
+
+
+# ------------------------------------------------------------------------------------------
+# The two experiments. Every value the paper does not give is named here, once.
+# ------------------------------------------------------------------------------------------
+
+#: Experiment 1 (paper Sec. III, Fig. 3): close to the dock, 4 units, local rule, 100 trials.
+EXPERIMENT_1 = ExperimentConfig(
+    name="experiment1",
+    world=WorldConfig(start_near=0.65, start_far=0.85),
+    network=NetworkConfig(n_features=4, rule="local"),
+    curriculum=Curriculum(far_initial=0.85, far_final=0.85, grow_trials=0),
+    train_trials=100,
+    test_trials=200,
+    eval_every=5,
+    eval_trials=50,
+)
+
+#: Experiment 2 (paper Sec. III, Figs. 4-5): 36 units, non-local rule, the start region grows
+#: from 0.85 m to 1.5 m over the first 1400 trials; 2000 trials; 725 test trials.
+EXPERIMENT_2 = ExperimentConfig(
+    name="experiment2",
+    world=WorldConfig(start_near=0.65, start_far=1.5),
+    network=NetworkConfig(n_features=36, rule="nonlocal"),
+    curriculum=Curriculum(far_initial=0.85, far_final=1.5, grow_trials=1400),
+    train_trials=2000,
+    test_trials=725,
+    eval_every=100,
+    eval_trials=50,
+)
+
+EXPERIMENTS = {c.name: c for c in (EXPERIMENT_1, EXPERIMENT_2)}
+
+
+# ------------------------------------------------------------------------------------------
+# Records of many trials, stored flat (ragged arrays as values + offsets).
+# ------------------------------------------------------------------------------------------
+
+@dataclasses.dataclass
+class TrialLog:
+    """Many trials in flat arrays: per trial ``success``, ``steps``, ``start_far`` (the start
+    region's far edge in force), and the concatenated ``poses`` (``steps + 1`` rows each),
+    ``actions``, ``winners``, ``deltas`` (``steps`` rows each)."""
+
+    success: np.ndarray
+    steps: np.ndarray
+    start_far: np.ndarray
+    poses: np.ndarray
+    actions: np.ndarray
+    winners: np.ndarray
+    deltas: np.ndarray
+
+    @classmethod
+    def from_records(cls, records: list[TrialRecord], start_far) -> "TrialLog":
+        return cls(success=np.array([r.success for r in records], dtype=bool),
+                   steps=np.array([r.steps for r in records], dtype=np.int64),
+                   start_far=np.asarray(start_far, dtype=np.float64),
+                   poses=np.concatenate([r.poses for r in records]),
+                   actions=np.concatenate([r.actions for r in records]),
+                   winners=np.concatenate([r.winners for r in records]),
+                   deltas=np.concatenate([r.deltas for r in records]))
+
+    def __len__(self) -> int:
+        return len(self.success)
+
+    def trial_poses(self, k: int) -> np.ndarray:
+        """The ``(steps + 1, 3)`` poses of trial ``k``."""
+        start = int(np.sum(self.steps[:k] + 1))
+        return self.poses[start:start + self.steps[k] + 1]
+
+    def trial_actions(self, k: int) -> np.ndarray:
+        start = int(np.sum(self.steps[:k]))
+        return self.actions[start:start + self.steps[k]]
+
+    @property
+    def starts(self) -> np.ndarray:
+        """The start pose of every trial, ``(n, 3)``."""
+        offsets = np.concatenate([[0], np.cumsum(self.steps + 1)[:-1]])
+        return self.poses[offsets]
+
+    @property
+    def success_rate(self) -> float:
+        return float(np.mean(self.success))
+
+
+@dataclasses.dataclass
+class ExperimentResult:
+    """Everything one seeded run produced."""
+
+    config: ExperimentConfig
+    seed: int
+    network: Network
+    train: TrialLog
+    test: TrialLog
+    curve_trials: np.ndarray  # training trials done at each learning-curve point
+    curve_success: np.ndarray  # test success rate there
+    curve_steps: np.ndarray  # mean actions of the successful test trials there
+    curve_rewarded: np.ndarray  # rewarded training trials so far
+    wall_time_train: float
+    wall_time_test: float
+    version: str = docking.__version__
+
+    @property
+    def test_successes(self) -> int:
+        return int(np.sum(self.test.success))
+
+    @property
+    def rewarded_until_mastery(self) -> int | None:
+        """Rewarded training trials when the learning curve's test success first reached
+        100% (None if it never did)."""
+        hits = np.flatnonzero(self.curve_success >= 1.0)
+        return int(self.curve_rewarded[hits[0]]) if len(hits) else None
+
+    @property
+    def trials_until_mastery(self) -> int | None:
+        hits = np.flatnonzero(self.curve_success >= 1.0)
+        return int(self.curve_trials[hits[0]]) if len(hits) else None
+
+
+def _streams(seed: int) -> dict[str, np.random.Generator]:
+    names = ("train_world", "test_world", "init", "train_actions", "test_actions",
+             "eval_world", "eval_actions")
+    children = np.random.SeedSequence(seed).spawn(len(names))
+    return {n: np.random.default_rng(c) for n, c in zip(names, children)}
+
+
+def evaluate(env: DockingEnv, net: Network, rng: np.random.Generator, n_trials: int,
+             config: ExperimentConfig) -> list[TrialRecord]:
+    """``n_trials`` greedy test trials (beta_a = beta_a_test, no learning)."""
+    return [run_trial(env, net, rng, learn=False,
+                      bootstrap_on_truncation=config.bootstrap_on_truncation)
+            for _ in range(n_trials)]
+
+
+def run_experiment(config: ExperimentConfig, seed: int, progress: bool = True
+                   ) -> ExperimentResult:
+    """Train and test one network; every random draw comes from ``seed``."""
+    rngs = _streams(seed)
+    train_env = DockingEnv(config.world, seed=rngs["train_world"])
+    test_env = DockingEnv(config.world, seed=rngs["test_world"])
+    eval_env = DockingEnv(config.world, seed=rngs["eval_world"])
+    net = Network(config.network, rngs["init"])
+    near = config.world.start_near
+
+    records, fars = [], []
+    curve = {"trials": [], "success": [], "steps": [], "rewarded": []}
+    rewarded = 0
+
+    def measure(done: int) -> None:
+        if config.eval_trials == 0:
+            return
+        recs = evaluate(eval_env, net, rngs["eval_actions"], config.eval_trials, config)
+        ok = [r.steps for r in recs if r.success]
+        curve["trials"].append(done)
+        curve["success"].append(len(ok) / len(recs))
+        curve["steps"].append(float(np.mean(ok)) if ok else np.nan)
+        curve["rewarded"].append(rewarded)
+
+    t0 = time.perf_counter()
+    measure(0)
+    bar = tqdm(range(config.train_trials), desc=f"{config.name} seed {seed} train",
+               disable=not progress, leave=False)
+    for k in bar:
+        far = config.curriculum.far_at(k)
+        train_env.set_start_region(near, far)
+        rec = run_trial(train_env, net, rngs["train_actions"], learn=True,
+                        bootstrap_on_truncation=config.bootstrap_on_truncation)
+        records.append(rec)
+        fars.append(far)
+        rewarded += rec.success
+        if (k + 1) % config.eval_every == 0:
+            measure(k + 1)
+            bar.set_postfix(rewarded=rewarded, test=f"{curve['success'][-1]:.0%}")
+    wall_train = time.perf_counter() - t0
+
+    t0 = time.perf_counter()
+    test_records = [run_trial(test_env, net, rngs["test_actions"], learn=False,
+                              bootstrap_on_truncation=config.bootstrap_on_truncation)
+                    for _ in tqdm(range(config.test_trials), desc=f"{config.name} seed {seed} test",
+                                  disable=not progress, leave=False)]
+    wall_test = time.perf_counter() - t0
+    return ExperimentResult(
+        config=config, seed=seed, network=net,
+        train=TrialLog.from_records(records, fars),
+        test=TrialLog.from_records(test_records, [config.world.start_far] * len(test_records)),
+        curve_trials=np.array(curve["trials"], dtype=np.int64),
+        curve_success=np.array(curve["success"], dtype=np.float64),
+        curve_steps=np.array(curve["steps"], dtype=np.float64),
+        curve_rewarded=np.array(curve["rewarded"], dtype=np.int64),
+        wall_time_train=wall_train, wall_time_test=wall_test)
+
+
+# ------------------------------------------------------------------------------------------
+# Saving and loading.
+# ------------------------------------------------------------------------------------------
+
+def result_path(name: str, seed: int, results_dir: Path | str = RESULTS_DIR) -> Path:
+    return Path(results_dir) / name / f"seed{seed}.npz"
+
+
+def save_result(result: ExperimentResult, path: Path | str) -> Path:
+    """Write ``result`` to ``path`` (.npz) atomically: a temporary file, then a rename."""
+    path = Path(path)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    meta = {"config": result.config.to_dict(), "seed": result.seed, "version": result.version,
+            "wall_time_train": result.wall_time_train, "wall_time_test": result.wall_time_test}
+    arrays = {"meta": np.array(json.dumps(meta)), "W": result.network.W, "Q": result.network.Q,
+              "curve_trials": result.curve_trials, "curve_success": result.curve_success,
+              "curve_steps": result.curve_steps, "curve_rewarded": result.curve_rewarded}
+    for part in ("train", "test"):
+        for field in dataclasses.fields(TrialLog):
+            arrays[f"{part}.{field.name}"] = getattr(getattr(result, part), field.name)
+    fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent)
+    try:
+        with os.fdopen(fd, "wb") as f:
+            np.savez_compressed(f, **arrays)
+        os.replace(tmp, path)
+    except BaseException:
+        if os.path.exists(tmp):
+            os.unlink(tmp)
+        raise
+    return path
+
+
+def load_result(path: Path | str) -> ExperimentResult:
+    """Read a result written by :func:`save_result`."""
+    with np.load(path) as data:
+        meta = json.loads(str(data["meta"]))
+        config = ExperimentConfig.from_dict(meta["config"])
+        logs = {part: TrialLog(**{f.name: data[f"{part}.{f.name}"]
+                                  for f in dataclasses.fields(TrialLog)})
+                for part in ("train", "test")}
+        return ExperimentResult(
+            config=config, seed=meta["seed"],
+            network=Network.from_weights(config.network, data["W"], data["Q"]),
+            train=logs["train"], test=logs["test"],
+            curve_trials=data["curve_trials"], curve_success=data["curve_success"],
+            curve_steps=data["curve_steps"], curve_rewarded=data["curve_rewarded"],
+            wall_time_train=meta["wall_time_train"], wall_time_test=meta["wall_time_test"],
+            version=meta["version"])
+
+
+def run_or_load(config: ExperimentConfig, seed: int, results_dir: Path | str = RESULTS_DIR,
+                force: bool = False, progress: bool = True) -> ExperimentResult:
+    """Load the saved result of (``config``, ``seed``) if there is one made with the same
+    configuration; otherwise run it and save it."""
+    path = result_path(config.name, seed, results_dir)
+    if path.exists() and not force:
+        result = load_result(path)
+        if result.config == config:
+            return result
+    result = run_experiment(config, seed, progress=progress)
+    save_result(result, path)
+    return result
+
+
+def _run_or_load_job(args) -> str:
+    config, seed, results_dir, force = args
+    run_or_load(config, seed, results_dir, force=force, progress=False)
+    return str(result_path(config.name, seed, results_dir))
+
+
+def run_seeds(config: ExperimentConfig, seeds, results_dir: Path | str = RESULTS_DIR,
+              force: bool = False, processes: int | None = None,
+              progress: bool = True) -> list[ExperimentResult]:
+    """Run (or load) ``config`` for every seed, several seeds at once in worker processes
+    (one per core by default; each renders with its own OpenGL context)."""
+    seeds = [int(s) for s in seeds]
+    processes = processes or min(len(seeds), os.cpu_count() or 1)
+    jobs = [(config, s, results_dir, force) for s in seeds]
+    if processes <= 1:
+        paths = [_run_or_load_job(j) for j in tqdm(jobs, desc=config.name, disable=not progress)]
+    else:
+        import multiprocessing
+        with multiprocessing.get_context("spawn").Pool(processes) as pool:
+            paths = list(tqdm(pool.imap(_run_or_load_job, jobs), total=len(jobs),
+                              desc=f"{config.name}, {len(seeds)} seeds", disable=not progress))
+    return [load_result(p) for p in paths]
