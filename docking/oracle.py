@@ -14,15 +14,16 @@ from docking.world import BACKWARD, FORWARD, LEFT, RIGHT, DockingEnv, WorldConfi
 
 
 def oracle_action(pose, config: WorldConfig) -> int:
-    """The oracle's action at ``pose``: first sidestep until the docking region's centre
-    line is within half a sidestep (and within the region's half-width), then step forward
-    (or back, after an overshoot) towards the region's centre. Errors are taken in the
-    robot's body frame, so heading drift is accounted for."""
+    """The oracle's action at ``pose``: sidestep while the docking region's centre is more
+    than a quarter of the region's width to the side, otherwise step forward (or back, after
+    an overshoot) towards the region's centre. Errors are taken in the robot's body frame,
+    so heading drift is accounted for. Aiming at the region's inner half, rather than its
+    centre line, leaves room for the drift of the forward steps without wasting sidesteps."""
     x, y, yaw = pose
     dx, dy = -config.dock_center - x, -y
     ahead = np.cos(yaw) * dx + np.sin(yaw) * dy
     left = -np.sin(yaw) * dx + np.cos(yaw) * dy
-    tolerance = min(config.step_side, config.dock_width) / 2
+    tolerance = config.dock_width / 4
     if abs(left) > tolerance:
         return LEFT if left > 0 else RIGHT
     return FORWARD if ahead > 0 else BACKWARD

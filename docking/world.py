@@ -6,8 +6,9 @@ dm-control ``suite`` domain it has three parts: the MJCF model (:func:`make_mode
 projection), and the task itself as a ``dm_env.Environment`` (:class:`DockingEnv`).
 
 Frame of reference (all lengths in metres): the landmark stands at the origin side of the room
-on a grey cabinet whose front face is the plane ``x = 0``; the robot starts at negative ``x``
-facing ``+x`` (yaw 0). The robot's body frame has ``x`` forward and ``y`` to its left.
+at the back of a low grey sideboard; the landmark's front face is the plane ``x = 0`` and the
+sideboard's front face stands 0.35 m in front of it. The robot starts at negative ``x`` facing
+``+x`` (yaw 0). The robot's body frame has ``x`` forward and ``y`` to its left.
 
 The docking region (paper, Fig. 5: "The yellow docking region measures 8x20 cm") is centred on
 the landmark's axis. The paper does not say which side is which; here it is **20 cm across**
@@ -21,7 +22,7 @@ virtual: the robot's camera never sees it; overview renders draw it in yellow.
 The robot is a planar base (slide x, slide y, hinge yaw) driven by position servos; each of the
 four actions is one walking step whose target is displaced by noise in position and heading,
 and the servos walk the body there through MuJoCo physics, so collisions with the landmark's
-cabinet, the walls and the furniture are real. The humanoid itself (torso, head, arms, legs)
+sideboard, the walls and the furniture are real. The humanoid itself (torso, head, arms, legs)
 is visual only.
 """
 
@@ -91,11 +92,11 @@ class WorldConfig:
     step_noise_xy: float = 0.01
     step_noise_yaw_deg: float = 2.0
     max_steps: int = 25
-    start_near: float = 0.65
+    start_near: float = 0.58
     start_far: float = 1.5
     start_half_angle_deg: float = 14.0
     start_yaw_deg: float = 5.0
-    dock_center: float = 0.55
+    dock_center: float = 0.49
     dock_depth: float = 0.08
     dock_width: float = 0.20
     view_margin_px: float = 1.0
@@ -128,18 +129,23 @@ class WorldConfig:
         if not 0 <= self.start_half_angle_deg < 45:
             raise ValueError(f"WorldConfig.start_half_angle_deg must be in [0, 45), got "
                              f"{self.start_half_angle_deg}")
-        if self.dock_center - self.dock_depth / 2 < _ROBOT_RADIUS:
-            raise ValueError("WorldConfig.dock_center - dock_depth/2 must leave room for the "
-                             f"robot's body ({_ROBOT_RADIUS} m), got {self.dock_center}")
+        closest = _ROBOT_RADIUS - _CABINET["front"]
+        if self.dock_center - self.dock_depth / 2 < closest - 1e-9:
+            raise ValueError(f"WorldConfig.dock_center must keep the region reachable: "
+                             f"dock_center - dock_depth/2 >= {closest:.2f} m (where the robot "
+                             f"meets the sideboard), got dock_center={self.dock_center}")
 
 
 # ----------------------------------------------------------------------------------------
 # The MJCF model.
 # ----------------------------------------------------------------------------------------
 
-# Fixed geometry of the scene (m). The landmark sits on a cabinet so that it appears near the
+# Fixed geometry of the scene (m). The landmark sits on a sideboard so that it appears near the
 # camera's height at every distance, inside a wide, flat crop band like the paper's 32x10.
-_CABINET = dict(depth=0.30, width=0.40, height=0.43)
+# The sideboard is deep and wide: the robot's body meets its front face at x = -0.45, right
+# at the docking region's near edge, so a robot cannot walk past the landmark; one that
+# arrives beside the region stands at the sideboard and has to sidestep along it.
+_CABINET = dict(front=-0.35, back=0.25, width=0.90, height=0.43)
 # The landmark: a red, wide, low slab at the cabinet's front edge and a red post standing
 # behind it. Seen from the front the two read as an inverted T; from the left or right the
 # post's parallax shifts it to one side (an L or a mirrored L), and the slab foreshortens.
@@ -218,8 +224,9 @@ def make_model_xml(config: WorldConfig) -> str:
     <geom name="wall_right" type="box" pos="{(_ROOM_FRONT - _ROOM_BACK) / 2} {-_ROOM_HALF_WIDTH - 0.05} 1.2"
           size="{(_ROOM_FRONT + _ROOM_BACK) / 2} 0.05 1.2" material="wall"/>
     <!-- The landmark's cabinet and the landmark (the only red things in the room) -->
-    <geom name="cabinet" type="box" pos="{c['depth'] / 2} 0 {c['height'] / 2}"
-          size="{c['depth'] / 2} {c['width'] / 2} {c['height'] / 2}" material="cabinet"/>
+    <geom name="cabinet" type="box" pos="{(c['front'] + c['back']) / 2} 0 {c['height'] / 2}"
+          size="{(c['back'] - c['front']) / 2} {c['width'] / 2} {c['height'] / 2}"
+          material="cabinet"/>
     <geom name="landmark_slab" type="box"
           pos="{s['depth'] / 2} 0 {c['height'] + s['height'] / 2}"
           size="{s['depth'] / 2} {s['width'] / 2} {s['height'] / 2}" material="landmark"/>
@@ -585,7 +592,7 @@ def footprints(config: WorldConfig) -> dict[str, tuple[float, float, float, floa
     the docking region, for top-down figures."""
     c, s, p = _CABINET, _SLAB, _POST
     return {
-        "cabinet": (0.0, -c["width"] / 2, c["depth"], c["width"] / 2),
+        "cabinet": (c["front"], -c["width"] / 2, c["back"], c["width"] / 2),
         "landmark_slab": (0.0, -s["width"] / 2, s["depth"], s["width"] / 2),
         "landmark_post": (p["behind"], -p["width"] / 2, p["behind"] + p["depth"],
                           p["width"] / 2),

@@ -10,8 +10,8 @@ from dm_env import test_utils
 
 from docking.camera import CameraConfig, red_mask
 from docking.oracle import oracle_action
-from docking.world import (BACKWARD, FORWARD, LEFT, RIGHT, DockingEnv, WorldConfig,
-                           in_dock)
+from docking.world import (BACKWARD, FORWARD, LEFT, RIGHT, ROBOT_RADIUS, DockingEnv,
+                           WorldConfig, footprints, in_dock)
 
 QUIET = WorldConfig(step_noise_xy=0.0, step_noise_yaw_deg=0.0)
 
@@ -91,11 +91,11 @@ def test_landmark_inside_crop_at_every_start(env):
 
 
 def test_start_region_can_be_narrowed(env):
-    env.set_start_region(0.65, 0.85)
+    env.set_start_region(0.6, 0.8)
     try:
         for _ in range(50):
             env.reset()
-            assert 0.65 - 1e-9 <= -env.pose[0] <= 0.85 + 1e-9
+            assert 0.6 - 1e-9 <= -env.pose[0] <= 0.8 + 1e-9
     finally:
         env.set_start_region(env.config.start_near, env.config.start_far)
     with pytest.raises(ValueError, match="start_far"):
@@ -176,20 +176,21 @@ def test_walking_into_the_landmark_does_not_pass_through(quiet_env):
     # Beside the docking region (so the trial does not end) and straight at the cabinet.
     quiet_env.reset_to([-0.7, QUIET.dock_width / 2 + 0.03, 0.0])
     xs = []
-    for _ in range(14):  # 0.6 m to the cabinet, then four steps more
+    for _ in range(8):  # 0.25 m to the sideboard, then five steps more
         timestep = quiet_env.step(FORWARD)
         xs.append(quiet_env.pose[0])
         assert not timestep.last()
-    # The robot's 0.10 m collision cylinder stops at the cabinet's front face (x = 0).
-    assert max(xs) <= -0.10 + 0.01
-    assert max(xs) >= -0.10 - 0.01  # it did reach the cabinet
+    # The robot's collision cylinder stops at the sideboard's front face.
+    x0 = footprints(QUIET)["cabinet"][0]
+    assert max(xs) <= x0 - ROBOT_RADIUS + 0.01
+    assert max(xs) >= x0 - ROBOT_RADIUS - 0.01  # it did reach the sideboard
     assert np.ptp(xs[-4:]) < 0.01  # and stays there
 
 
 @pytest.mark.parametrize("field,value", [
     ("step_forward", -0.1), ("step_side", 0.0), ("step_noise_xy", -0.01),
     ("step_noise_yaw_deg", -1.0), ("max_steps", 0), ("dock_width", -0.08),
-    ("start_far", 0.6), ("start_near", 0.2), ("start_far", 5.0)])
+    ("start_far", 0.5), ("start_near", 0.2), ("start_far", 5.0)])
 def test_bad_config_raises_naming_the_parameter(field, value):
     with pytest.raises(ValueError, match=field):
         dataclasses.replace(WorldConfig(), **{field: value})
