@@ -1,0 +1,705 @@
+"""The paper's figures, rebuilt from this reproduction's world and results.
+
+* :func:`fig2_scene` -- Fig. 2: the scene, the robot's camera view with the crop rectangle, the
+  32x10 input; plus the views from the left of, in front of and to the right of the landmark.
+* :func:`fig3` -- Fig. 3: Experiment 1's raw views, action and feature receptive fields.
+* :func:`fig4` -- Fig. 4: Experiment 2's action and feature receptive fields, the feature
+  units that contribute most to L, R and F framed in red.
+* :func:`fig5` -- Fig. 5: sample test trajectories seen from above.
+* :func:`fig_learning_curves` -- test success and steps during training (not in the paper).
+
+Conventions, as in the paper's captions: "Strong weights are displayed dark" -- every weight
+or input image uses a reversed gray colormap (white = 0), without interpolation and with square
+pixels, so a 32x10 field looks 32x10. Each receptive field is scaled from 0 to its own maximum
+(written under it, so a weak field is not mistaken for a strong one; negative values, if any,
+show white); network inputs use the fixed scale 0..1. Action fields are shown in the paper's
+order L, R, F, B.
+
+Every figure function takes data in and a path out: it saves the figure as ``.png`` and
+``.pdf`` next to each other (each written to a temporary file in the same folder, then renamed
+into place) and returns the :class:`matplotlib.figure.Figure`. The figures are drawn on
+matplotlib's Agg canvas without pyplot, so the library never opens a window.
+"""
+
+from __future__ import annotations
+
+import os
+import tempfile
+import warnings
+from pathlib import Path
+
+import numpy as np
+from matplotlib import colormaps, patheffects
+from matplotlib.backends.backend_agg import FigureCanvasAgg
+from matplotlib.figure import Figure
+from matplotlib.lines import Line2D
+from matplotlib.patches import Circle, Polygon, Rectangle
+
+from docking.camera import CameraConfig
+from docking.network import Network
+from docking.world import ACTION_LETTERS, ROBOT_RADIUS, DockingEnv, WorldConfig, footprints
+
+__all__ = ["FIGURES_DIR", "VIEW_POSES", "PAPER_ACTION_ORDER", "receptive_fields",
+           "fig2_scene", "fig3", "fig4", "fig5", "fig_learning_curves", "draw_floor_plan",
+           "draw_trajectory", "sample_trials", "save_figure"]
+
+#: Where the notebooks write the figures: ``figures/`` at the repository's root.
+FIGURES_DIR = Path(__file__).resolve().parent.parent / "figures"
+
+#: Robot poses ``[x, y, yaw]`` of the three example views (Fig. 2 D, Fig. 3 top): to the left
+#: of, in front of and to the right of the landmark, 0.75 m from its front plane (inside
+#: Experiment 1's start region) and 0.18 m to the side (near the edge of the start trapezoid,
+#: whose half-width there is 0.75 m * tan(14 deg) = 0.19 m). The robot faces +x and its left is
+#: +y, so a robot standing *left of* the landmark is at +y and sees the landmark on the right
+#: of its image; it has to step right to dock.
+VIEW_POSES = {
+    "left": (-0.75, 0.18, 0.0),
+    "front": (-0.75, 0.0, 0.0),
+    "right": (-0.75, -0.18, 0.0),
+}
+
+#: The order in which the paper shows the action units (Figs. 3 and 4): L, R, F, B.
+PAPER_ACTION_ORDER = tuple(ACTION_LETTERS.index(letter) for letter in "LRFB")
+
+_DPI = 150
+_WEIGHT_CMAP = "gray_r"  # strong = dark
+_LETTER_FONT = dict(fontsize=15, fontweight="bold", va="bottom", ha="left")
+_LANDMARK_RED = "#d90d0d"
+_CABINET_GREY = "#b8b8bc"
+_DOCK_YELLOW = "#ffe600"
+_FAIL_RED = "#d62020"
+
+
+# ------------------------------------------------------------------------------------------
+# Saving, layout and drawing helpers.
+# ------------------------------------------------------------------------------------------
+
+def save_figure(fig: Figure, path) -> tuple[Path, Path]:
+    """Save ``fig`` as ``<path>.png`` (``_DPI`` dpi) and ``<path>.pdf``, each atomically.
+
+    ``path`` may end in ``.png`` or ``.pdf`` or have no suffix; both files are written either
+    way, each first to a temporary file in the same folder and then renamed into place, so a
+    reader never sees half a figure. The PDF carries no creation date, so regenerating an
+    unchanged figure leaves the file unchanged. Returns the two paths."""
+    path = Path(path)
+    if path.suffix.lower() in (".png", ".pdf"):
+        path = path.with_suffix("")
+    path.parent.mkdir(parents=True, exist_ok=True)
+    written = []
+    for fmt in ("png", "pdf"):
+        target = path.parent / f"{path.name}.{fmt}"
+        fd, tmp = tempfile.mkstemp(prefix=f".{target.name}.", suffix=".tmp", dir=target.parent)
+        try:
+            with os.fdopen(fd, "wb") as f:
+                # No creation date in the PDF: the same figure gives the same file.
+                fig.savefig(f, format=fmt, dpi=_DPI,
+                            metadata={"CreationDate": None} if fmt == "pdf" else None)
+            os.chmod(tmp, 0o666 & ~_umask())  # mkstemp creates 0600; make it an ordinary file
+            os.replace(tmp, target)
+        except BaseException:
+            if os.path.exists(tmp):
+                os.unlink(tmp)
+            raise
+        written.append(target)
+    return written[0], written[1]
+
+
+def _umask() -> int:
+    mask = os.umask(0)
+    os.umask(mask)
+    return mask
+
+
+def _new_figure(width: float, height: float) -> Figure:
+    """A figure on the Agg canvas (no pyplot, no window)."""
+    fig = Figure(figsize=(width, height))
+    FigureCanvasAgg(fig)
+    return fig
+
+
+def _axes(fig: Figure, left: float, top: float, width: float, height: float):
+    """Axes placed in inches, measured from the figure's top-left corner."""
+    W, H = fig.get_size_inches()
+    return fig.add_axes((left / W, 1 - (top + height) / H, width / W, height / H))
+
+
+def _letter(fig: Figure, ax, letter: str) -> None:
+    """A panel letter just above the top-left corner of ``ax``."""
+    bbox = ax.get_position()
+    W, H = fig.get_size_inches()
+    fig.text(bbox.x0 - 0.05 / W, bbox.y1 + 0.06 / H, letter, **_LETTER_FONT)
+
+
+def _image(ax, image, vmax=None, frame_color="0.35") -> None:
+    """Show an RGB image or a weight/input map (strong = dark, 0..``vmax``) with square pixels
+    and no interpolation."""
+    if image.ndim == 3:
+        ax.imshow(image, interpolation="nearest", aspect="equal")
+    else:
+        vmax = float(np.max(image)) if vmax is None else float(vmax)
+        # An all-zero (or all-negative) field is shown white: it has no structure.
+        ax.imshow(image, cmap=_WEIGHT_CMAP, vmin=0.0, vmax=max(vmax, 1e-12),
+                  interpolation="nearest", aspect="equal")
+    ax.set_xticks([])
+    ax.set_yticks([])
+    for spine in ax.spines.values():
+        spine.set_color(frame_color)
+        spine.set_linewidth(0.8)
+
+
+def _weight_map(ax, field: np.ndarray, title: str | None = None, title_color="black",
+                title_size=10) -> None:
+    """A receptive field scaled from 0 to its own maximum, the maximum written beneath."""
+    _image(ax, field)
+    if title:
+        ax.set_title(title, fontsize=title_size, color=title_color, pad=3)
+    ax.set_xlabel(f"max {np.max(field):.3g}", fontsize=7, color="0.3", labelpad=2)
+
+
+def _crop_rectangle(ax, camera: CameraConfig) -> None:
+    """The crop rectangle of Fig. 2B: white, dotted, with a thin dark outline so it stays
+    visible on the light walls. Pixel ``k`` covers ``[k - 0.5, k + 0.5]`` in image coordinates."""
+    x0, y0, x1, y1 = camera.crop
+    rect = Rectangle((x0 - 0.5, y0 - 0.5), x1 - x0, y1 - y0, fill=False, edgecolor="white",
+                     linestyle=(0, (1.5, 1.5)), linewidth=1.8, clip_on=False, zorder=3)
+    rect.set_path_effects([patheffects.withStroke(linewidth=3.0, foreground="0.15")])
+    ax.add_patch(rect)
+
+
+def _view_title(name: str, pose) -> str:
+    where = {"left": "left of the landmark", "front": "in front of the landmark",
+             "right": "right of the landmark"}.get(name, name)
+    return f"{where}\n(x = {pose[0]:+.2f} m, y = {pose[1]:+.2f} m)"
+
+
+def _check_views(poses) -> dict:
+    poses = dict(VIEW_POSES if poses is None else poses)
+    if len(poses) != 3:
+        raise ValueError(f"poses must name three views, got {list(poses)}")
+    return {name: np.asarray(p, dtype=np.float64) for name, p in poses.items()}
+
+
+# ------------------------------------------------------------------------------------------
+# Receptive fields.
+# ------------------------------------------------------------------------------------------
+
+def receptive_fields(net: Network, shape=None) -> tuple[np.ndarray, np.ndarray]:
+    """The receptive fields of the action and the feature units, as images.
+
+    * Feature unit ``j``: its weight row ``W_j`` (Eq. 1, ``h_j = sum_n W_jn I_n``), reshaped to
+      the input image.
+    * Action unit ``i``: its action weights mapped back into input space through the feature
+      layer, ``RF_i = sum_j Q_ij W_j`` (i.e. the rows of ``Q @ W``). With a winner-take-all
+      feature layer (``s`` nearly one-hot) an input that matches ``W_j`` drives action ``i``
+      with ``Q_ij``, so ``RF_i`` shows which inputs favour action ``i``.
+
+    Args:
+      net: A network (``W``: features x inputs, ``Q``: actions x features).
+      shape: ``(rows, cols)`` of the input image; default the camera's 32x10 input
+        (``CameraConfig().input_shape``). Inputs are flattened row-major (``Network.prepare``).
+
+    Returns:
+      ``(action_rf, feature_rf)`` of shapes ``(n_actions, rows, cols)`` and
+      ``(n_features, rows, cols)``, in action index order (``ACTION_LETTERS``) and unit order.
+    """
+    shape = tuple(CameraConfig().input_shape if shape is None else shape)
+    if int(np.prod(shape)) != net.W.shape[1]:
+        raise ValueError(f"shape {shape} does not hold the network's {net.W.shape[1]} inputs")
+    action_rf = (net.Q @ net.W).reshape(-1, *shape)
+    feature_rf = net.W.reshape(-1, *shape)
+    return action_rf, feature_rf
+
+
+def _best_action(net: Network, j: int) -> int | None:
+    """``argmax_i Q_ij``: the action feature unit ``j`` votes for; None if it has no positive
+    action weight (an unused unit)."""
+    column = net.Q[:, j]
+    return int(np.argmax(column)) if np.max(column) > 0 else None
+
+
+def _decide(net: Network, observation: np.ndarray) -> tuple[int, float, int]:
+    """The winning feature unit, its activation ``s_j`` and the greedy action (argmax of
+    Eq. 3) for ``observation``."""
+    s = net.features(net.prepare(observation))
+    winner = int(np.argmax(s))
+    return winner, float(s[winner]), int(np.argmax(net.Q @ s))
+
+
+# ------------------------------------------------------------------------------------------
+# Fig. 2: the scene.
+# ------------------------------------------------------------------------------------------
+
+def fig2_scene(env: DockingEnv, path, poses=None, overview_size=(800, 600)) -> Figure:
+    """The paper's Fig. 2 for this world, plus the three example views of Fig. 3 (top).
+
+    (A) An overview render of the room: the robot in front of the docking region (yellow;
+    virtual, never seen by the robot) and the red landmark on its cabinet. (B) The robot's
+    camera frame at the same pose, the crop rectangle drawn white and dotted. (C) The 32x10
+    network input after cropping, red thresholding and downsizing (coverage fraction of each
+    pixel, 1 = dark). (D) The camera frames and inputs from the left of, in front of and to
+    the right of the landmark.
+
+    Args:
+      env: The docking environment; it is moved to each pose in turn (``reset_to``), so a
+        running trial is abandoned.
+      path: Where to save (``.png`` and ``.pdf``; see :func:`save_figure`).
+      poses: Three named poses ``{name: [x, y, yaw]}`` for row D, ordered left, front, right;
+        panels A-C use the middle one. Default :data:`VIEW_POSES`.
+      overview_size: ``(width, height)`` of the overview render in pixels.
+    """
+    poses = _check_views(poses)
+    names = list(poses)
+    camera = env.config.camera
+    frames, inputs = {}, {}
+    for name, pose in poses.items():
+        timestep = env.reset_to(pose)
+        frames[name], inputs[name] = env.frame.copy(), np.array(timestep.observation)
+    main = names[1]
+    env.reset_to(poses[main])
+    overview = env.render_view("overview", *overview_size)
+
+    rows, cols = camera.input_shape
+    frame_aspect = camera.height / camera.width
+    input_aspect = rows / cols
+    # Layout in inches. Top: A on the left, B above C on the right, both columns equally tall.
+    W, margin, gap = 10.0, 0.3, 0.35
+    c_gap = 0.45  # room for C's caption line
+    b = (W - 2 * margin - gap - c_gap / (overview_size[1] / overview_size[0])
+         ) / (1 + (frame_aspect + input_aspect) / (overview_size[1] / overview_size[0]))
+    a = W - 2 * margin - gap - b
+    top_h = a * overview_size[1] / overview_size[0]
+    # Bottom: three columns, frame above input.
+    col_gap = 0.3
+    c = (W - 2 * margin - 2 * col_gap) / 3
+    title_h, top0 = 0.5, 0.35
+    bottom0 = top0 + top_h + 0.4 + title_h
+    H = bottom0 + c * frame_aspect + 0.08 + c * input_aspect + 0.15
+    fig = _new_figure(W, H)
+
+    ax_a = _axes(fig, margin, top0, a, top_h)
+    _image(ax_a, overview)
+    ax_a.set_title("the robot in front of the docking region (yellow) and the landmark (red)",
+                   fontsize=9, pad=3)
+    _letter(fig, ax_a, "A")
+
+    right = margin + a + gap
+    ax_b = _axes(fig, right, top0, b, b * frame_aspect)
+    _image(ax_b, frames[main])
+    _crop_rectangle(ax_b, camera)
+    ax_b.set_title(f"robot's camera ({camera.width}x{camera.height} px)", fontsize=9, pad=3)
+    _letter(fig, ax_b, "B")
+    ax_c = _axes(fig, right, top0 + top_h - b * input_aspect, b, b * input_aspect)
+    _image(ax_c, inputs[main], vmax=1.0)
+    ax_c.set_title(f"input I ({cols}x{rows})", fontsize=9, pad=3)
+    ax_c.set_xlabel("fraction of each pixel's block that is red (0 white, 1 black)",
+                    fontsize=7, color="0.3", labelpad=2)
+    _letter(fig, ax_c, "C")
+
+    for k, name in enumerate(names):
+        left = margin + k * (c + col_gap)
+        ax_f = _axes(fig, left, bottom0, c, c * frame_aspect)
+        _image(ax_f, frames[name])
+        _crop_rectangle(ax_f, camera)
+        ax_f.set_title(_view_title(name, poses[name]), fontsize=9, pad=3)
+        ax_i = _axes(fig, left, bottom0 + c * frame_aspect + 0.08, c, c * input_aspect)
+        _image(ax_i, inputs[name], vmax=1.0)
+        if k == 0:
+            _letter(fig, ax_f, "D")
+    save_figure(fig, path)
+    return fig
+
+
+# ------------------------------------------------------------------------------------------
+# Figs. 3 and 4: receptive fields.
+# ------------------------------------------------------------------------------------------
+
+def _row_label(fig: Figure, ax, text: str) -> None:
+    """A rotated row label left of ``ax``."""
+    bbox = ax.get_position()
+    W, _ = fig.get_size_inches()
+    fig.text(bbox.x0 - 0.12 / W, (bbox.y0 + bbox.y1) / 2, text, rotation=90, ha="right",
+             va="center", fontsize=9)
+
+
+def fig3(result, env: DockingEnv, path, poses=None) -> Figure:
+    """The paper's Fig. 3 for Experiment 1 (4 feature units).
+
+    Top: the camera frames from the left of, in front of and to the right of the landmark
+    (crop rectangle dotted), each with the feature unit that wins for it, its activation
+    ``s_j`` (Eq. 2) and the greedy action (the largest ``h_i`` of Eq. 3).
+    Middle: the action units' receptive fields ``sum_j Q_ij W_j`` in the paper's order L, R,
+    F, B. Bottom: the feature units' receptive fields ``W_j``, each titled with the action it
+    contributes to most (``argmax_i Q_ij``). Strong weights dark, each field scaled 0..max.
+
+    Args:
+      result: An :class:`~docking.experiments.ExperimentResult` (run or loaded).
+      env: An environment for the three camera frames (its camera should be the result's).
+      path: Where to save (``.png`` and ``.pdf``).
+      poses: The three views; default :data:`VIEW_POSES`.
+    """
+    net = result.network
+    shape = result.config.world.camera.input_shape
+    action_rf, feature_rf = receptive_fields(net, shape)
+    poses = _check_views(poses)
+    camera = env.config.camera
+    frame_aspect = camera.height / camera.width
+    rf_aspect = shape[0] / shape[1]
+    n_feat = feature_rf.shape[0]
+    per_row = max(len(PAPER_ACTION_ORDER), min(n_feat, 6))
+
+    W, margin_l, margin_r, gap = 10.0, 0.55, 0.2, 0.25
+    c3 = (W - margin_l - margin_r - 2 * gap) / 3
+    c4 = (W - margin_l - margin_r - (per_row - 1) * gap) / per_row
+    title_h, label_h = 0.5, 0.25
+    y_top = 0.15 + title_h
+    y_mid = y_top + c3 * frame_aspect + 0.35 + 0.3
+    feat_rows = int(np.ceil(n_feat / per_row))
+    y_bot = y_mid + c4 * rf_aspect + label_h + 0.35
+    H = y_bot + feat_rows * (c4 * rf_aspect + label_h) + (feat_rows - 1) * 0.35 + 0.1
+    fig = _new_figure(W, H)
+    fig.suptitle(f"Experiment 1 ({n_feat} feature units, {result.config.network.rule} rule), "
+                 f"seed {result.seed}, after {result.config.train_trials} training trials",
+                 fontsize=10, y=1 - 0.08 / H, va="top")
+
+    for k, (name, pose) in enumerate(poses.items()):
+        timestep = env.reset_to(pose)
+        winner, activation, action = _decide(net, timestep.observation)
+        ax = _axes(fig, margin_l + k * (c3 + gap), y_top, c3, c3 * frame_aspect)
+        _image(ax, env.frame)
+        _crop_rectangle(ax, camera)
+        ax.set_title(_view_title(name, pose).split("\n")[0], fontsize=9, pad=3)
+        ax.set_xlabel(f"unit {winner} wins (s = {activation:.2f}); greedy action "
+                      f"{ACTION_LETTERS[action]}", fontsize=8, labelpad=3)
+        if k == 0:
+            _row_label(fig, ax, "raw camera image")
+
+    for k, i in enumerate(PAPER_ACTION_ORDER):
+        ax = _axes(fig, margin_l + k * (c4 + gap), y_mid, c4, c4 * rf_aspect)
+        _weight_map(ax, action_rf[i], f"{ACTION_LETTERS[i]}", title_size=12)
+        if k == 0:
+            _row_label(fig, ax, "action\nunits")
+
+    for j in range(n_feat):
+        r, k = divmod(j, per_row)
+        ax = _axes(fig, margin_l + k * (c4 + gap),
+                   y_bot + r * (c4 * rf_aspect + label_h + 0.35), c4, c4 * rf_aspect)
+        best = _best_action(net, j)
+        label = (f"unit {j} \u2192 {ACTION_LETTERS[best]} (Q = {net.Q[best, j]:.2f})"
+                 if best is not None else f"unit {j}: no action")
+        _weight_map(ax, feature_rf[j], label, title_size=9)
+        if j == 0:
+            _row_label(fig, ax, "feature\nunits")
+    save_figure(fig, path)
+    return fig
+
+
+def fig4(result, path, columns: int | None = None) -> Figure:
+    """The paper's Fig. 4 for Experiment 2 (36 feature units).
+
+    Top: the action units' receptive fields ``sum_j Q_ij W_j`` (L, R, F, B). Bottom: the
+    feature units' receptive fields ``W_j`` in a grid (6x6 for 36 units); the unit that
+    contributes most to each of L, R and F (``argmax_j Q_ij``) is framed in red and labelled
+    with its action(s). Strong weights dark, each field scaled 0..max.
+
+    Args:
+      result: An :class:`~docking.experiments.ExperimentResult` (run or loaded).
+      path: Where to save (``.png`` and ``.pdf``).
+      columns: Grid columns; default ``ceil(sqrt(n_features))``.
+    """
+    net = result.network
+    shape = result.config.world.camera.input_shape
+    action_rf, feature_rf = receptive_fields(net, shape)
+    n_feat = feature_rf.shape[0]
+    columns = columns or int(np.ceil(np.sqrt(n_feat)))
+    grid_rows = int(np.ceil(n_feat / columns))
+    framed: dict[int, list[str]] = {}
+    for letter in "LRF":
+        i = ACTION_LETTERS.index(letter)
+        if np.max(net.Q[i]) > 0:  # an action no unit votes for has no strongest unit
+            framed.setdefault(int(np.argmax(net.Q[i])), []).append(letter)
+
+    rf_aspect = shape[0] / shape[1]
+    W, margin_l, margin_r = 10.0, 0.55, 0.2
+    top_gap = 0.35
+    ca = (W - margin_l - margin_r - 3 * top_gap) / 4
+    grid_gap_x, grid_gap_y = 0.12, 0.28
+    cg = (W - margin_l - margin_r - (columns - 1) * grid_gap_x) / columns
+    y_top = 0.45 + 0.3
+    y_grid = y_top + ca * rf_aspect + 0.3 + 0.55
+    H = y_grid + grid_rows * (cg * rf_aspect + grid_gap_y) + 0.1
+    fig = _new_figure(W, H)
+    fig.suptitle(f"Experiment 2 ({n_feat} feature units, {result.config.network.rule} rule), "
+                 f"seed {result.seed}, after {result.config.train_trials} training trials",
+                 fontsize=10, y=1 - 0.08 / H, va="top")
+
+    for k, i in enumerate(PAPER_ACTION_ORDER):
+        ax = _axes(fig, margin_l + k * (ca + top_gap), y_top, ca, ca * rf_aspect)
+        _weight_map(ax, action_rf[i], ACTION_LETTERS[i], title_size=12)
+        if k == 0:
+            _row_label(fig, ax, "action\nunits")
+
+    for j in range(n_feat):
+        r, k = divmod(j, columns)
+        ax = _axes(fig, margin_l + k * (cg + grid_gap_x), y_grid + r * (cg * rf_aspect
+                                                                          + grid_gap_y),
+                   cg, cg * rf_aspect)
+        _image(ax, feature_rf[j])
+        if j in framed:
+            for spine in ax.spines.values():
+                spine.set_color(_FAIL_RED)
+                spine.set_linewidth(2.5)
+            ax.set_title(f"unit {j} \u2192 {', '.join(framed[j])}", fontsize=8,
+                         color=_FAIL_RED, pad=2, fontweight="bold")
+        if j == 0:
+            _row_label(fig, ax, "feature units")
+    fig.text(margin_l / W, 1 - (y_grid - 0.4) / H,
+             f"{n_feat} feature units, each scaled 0..its own maximum; framed red: the unit with "
+             "the largest action weight (argmax$_j$ Q$_{ij}$) for L, R and F",
+             fontsize=8, color="0.3", va="bottom")
+    save_figure(fig, path)
+    return fig
+
+
+# ------------------------------------------------------------------------------------------
+# Fig. 5: trajectories.
+# ------------------------------------------------------------------------------------------
+# Seen from above with the landmark at the top and the robot walking up towards it: the
+# vertical axis is x (the approach axis), the horizontal axis is y, inverted so that the
+# robot's left (+y) is on the reader's left, as it is for a robot walking up the page.
+
+def draw_floor_plan(ax, config: WorldConfig, start_region: tuple[float, float] | None = None
+                    ) -> None:
+    """Draw the floor plan on ``ax`` (horizontal: y, inverted; vertical: x): the grey cabinet,
+    the landmark's red boxes, the yellow docking region and, dashed, the start trapezoid
+    ``start_region = (near, far)`` (default the config's)."""
+    fp = footprints(config)
+    styles = {"cabinet": dict(facecolor=_CABINET_GREY, edgecolor="0.4", zorder=1),
+              "landmark_slab": dict(facecolor=_LANDMARK_RED, edgecolor="none", zorder=2),
+              "landmark_post": dict(facecolor=_LANDMARK_RED, edgecolor="none", zorder=2),
+              "dock": dict(facecolor=_DOCK_YELLOW, edgecolor="0.3", linewidth=0.6, zorder=1)}
+    for name, style in styles.items():
+        x0, y0, x1, y1 = fp[name]
+        ax.add_patch(Rectangle((y0, x0), y1 - y0, x1 - x0, **style))
+    near, far = start_region if start_region is not None else (config.start_near,
+                                                               config.start_far)
+    tan = np.tan(np.radians(config.start_half_angle_deg))
+    corners = [(near * tan, -near), (far * tan, -far), (-far * tan, -far), (-near * tan, -near)]
+    ax.add_patch(Polygon(corners, closed=True, fill=False, linestyle="--", edgecolor="0.45",
+                         linewidth=1.0, zorder=1))
+    ax.set_aspect("equal")
+    if not ax.xaxis_inverted():
+        ax.invert_xaxis()
+    ax.set_xlabel("y (m), lateral; the robot's left (+y) is on the left")
+    ax.set_ylabel("x (m), approach axis; landmark's front at x = 0")
+
+
+def draw_trajectory(ax, poses: np.ndarray, color, start_marker: bool = True, **kwargs) -> None:
+    """Draw one trial's reference-point path (``poses``: rows ``[x, y, yaw]``) on a floor plan
+    made by :func:`draw_floor_plan`: a line through the poses after each step, a dot at each
+    step and an open circle at the start."""
+    poses = np.asarray(poses)
+    line = dict(linewidth=1.1, marker=".", markersize=3, zorder=3)
+    line.update(kwargs)
+    ax.plot(poses[:, 1], poses[:, 0], color=color, **line)
+    if start_marker:
+        ax.plot(poses[0, 1], poses[0, 0], "o", markersize=5, markerfacecolor="white",
+                markeredgecolor=color, markeredgewidth=1.2, zorder=4)
+
+
+def sample_trials(success: np.ndarray, n: int, seed: int = 0, min_failures: int = 3
+                  ) -> np.ndarray:
+    """A seeded random sample of ``n`` trial indices that represents the success rate but
+    shows failures when there are any: failures get ``round(n * failure rate)`` places, at
+    least ``min(min_failures, failures)``. Sorted indices; fewer if there are fewer trials."""
+    success = np.asarray(success, dtype=bool)
+    rng = np.random.default_rng(seed)
+    fails, oks = np.flatnonzero(~success), np.flatnonzero(success)
+    n = min(n, len(success))
+    n_fail = int(round(n * len(fails) / max(len(success), 1)))
+    n_fail = min(len(fails), max(n_fail, min(min_failures, len(fails), n)))
+    n_ok = min(n - n_fail, len(oks))
+    n_fail = min(len(fails), n - n_ok)
+    chosen = np.concatenate([rng.choice(fails, n_fail, replace=False),
+                             rng.choice(oks, n_ok, replace=False)]).astype(np.int64)
+    return np.sort(chosen)
+
+
+def fig5(result, path, n: int = 30, seed: int = 0) -> Figure:
+    """The paper's Fig. 5: sample test trajectories of the robot seen from above.
+
+    ``n`` test trials chosen by :func:`sample_trials` (seeded; failures shown if there are
+    any). Successful trials in different shades of green, failures in red, start points as
+    open circles; the docking region yellow (its size from the config), the cabinet grey, the
+    landmark's two boxes red, the test start trapezoid dashed, and the robot's body (radius
+    ``ROBOT_RADIUS``) drawn once at the end of a successful trial for scale.
+
+    Args:
+      result: An :class:`~docking.experiments.ExperimentResult` (run or loaded).
+      path: Where to save (``.png`` and ``.pdf``).
+      n: Trials to show.
+      seed: Seed of the sample.
+    """
+    config = result.config.world
+    log = result.test
+    chosen = sample_trials(log.success, n, seed)
+    ok = [k for k in chosen if log.success[k]]
+    bad = [k for k in chosen if not log.success[k]]
+    paths = {k: log.trial_poses(k) for k in chosen}
+
+    # The plotted area: the floor plan, the start region and every shown path, plus a margin;
+    # one metre is drawn the same length on both axes.
+    tan = np.tan(np.radians(config.start_half_angle_deg))
+    fp = footprints(config)
+    ys = np.concatenate([[config.start_far * tan, -config.start_far * tan, fp["cabinet"][1],
+                          fp["cabinet"][3]]] + [p[:, 1] for p in paths.values()])
+    xs = np.concatenate([[-config.start_far, fp["cabinet"][2]]]
+                        + [p[:, 0] for p in paths.values()])
+    margin = 0.08
+    y_lo, y_hi = float(np.min(ys)) - margin, float(np.max(ys)) + margin
+    x_lo, x_hi = float(np.min(xs)) - margin, float(np.max(xs)) + margin
+    inch_per_m = min(7.5 / (x_hi - x_lo), 6.5 / (y_hi - y_lo))
+    plot_w, plot_h = inch_per_m * (y_hi - y_lo), inch_per_m * (x_hi - x_lo)
+    legend_h = 0.85
+    W = max(plot_w, 3.6) + 1.2
+    H = 0.55 + plot_h + 0.6 + legend_h
+    fig = _new_figure(W, H)
+    ax = _axes(fig, 0.9, 0.55, plot_w, plot_h)
+    draw_floor_plan(ax, config)
+    ax.set_xlim(y_hi, y_lo)  # inverted: +y (the robot's left) on the left
+    ax.set_ylim(x_lo, x_hi)
+
+    # Shades of green, shuffled (seeded) so that neighbouring paths differ.
+    shades = colormaps["Greens"](np.linspace(0.45, 0.95, max(len(ok), 1)))
+    shades = shades[np.random.default_rng(seed).permutation(len(shades))]
+    for m, k in enumerate(ok):
+        draw_trajectory(ax, paths[k], shades[m])
+    for k in bad:
+        draw_trajectory(ax, paths[k], _FAIL_RED, zorder=5)
+    if ok:  # the robot's body once, at the end of a successful trial, for scale
+        end = paths[ok[0]][-1]
+        ax.add_patch(Circle((end[1], end[0]), ROBOT_RADIUS, fill=False, edgecolor="0.3",
+                            linestyle=":", linewidth=1.0, zorder=6))
+
+    ax.set_title(f"{result.config.name}, seed {result.seed}: {len(chosen)} of {len(log)} test "
+                 f"trials\n(all {len(log)}: {int(np.sum(log.success))} docked, "
+                 f"{100 * log.success_rate:.0f}%)", fontsize=9)
+    dock_cm = f"{100 * config.dock_depth:.0f}x{100 * config.dock_width:.0f} cm"
+    handles = [
+        Line2D([], [], color=shades[len(shades) // 2] if ok else "green", marker=".",
+               label=f"docked ({len(ok)} shown)"),
+        Line2D([], [], color=_FAIL_RED, marker=".", label=f"failed ({len(bad)} shown)"),
+        Line2D([], [], linestyle="none", marker="o", markerfacecolor="white",
+               markeredgecolor="0.3", label="start of a trial"),
+        Line2D([], [], color="0.45", linestyle="--",
+               label=f"start region ({config.start_near:.2f}-{config.start_far:.2f} m)"),
+        Rectangle((0, 0), 1, 1, facecolor=_DOCK_YELLOW, edgecolor="0.3",
+                  label=f"docking region ({dock_cm})"),
+        Rectangle((0, 0), 1, 1, facecolor=_LANDMARK_RED, label="landmark (slab, post)"),
+        Rectangle((0, 0), 1, 1, facecolor=_CABINET_GREY, edgecolor="0.4", label="cabinet"),
+        Line2D([], [], color="0.3", linestyle=":",
+               label=f"robot body (r = {100 * ROBOT_RADIUS:.0f} cm)"),
+    ]
+    fig.legend(handles=handles, loc="upper left", ncol=2, fontsize=7.5, frameon=False,
+               bbox_to_anchor=(0.15 / W, 1 - (0.55 + plot_h + 0.6) / H))
+    save_figure(fig, path)
+    return fig
+
+
+# ------------------------------------------------------------------------------------------
+# Learning curves.
+# ------------------------------------------------------------------------------------------
+
+# The paper's final test success rates (Sec. III): Experiment 1 100%, Experiment 2 95%.
+_PAPER_SUCCESS = {"experiment1": 1.0, "experiment2": 0.95}
+
+
+def _mean_curve(xs: list[np.ndarray], ys: list[np.ndarray]) -> tuple[np.ndarray, np.ndarray]:
+    """Mean over runs at the learning-curve points all runs share (NaNs ignored)."""
+    common = xs[0]
+    for x in xs[1:]:
+        common = np.intersect1d(common, x)
+    stack = np.array([[y[np.flatnonzero(x == c)[0]] for c in common] for x, y in zip(xs, ys)],
+                     dtype=np.float64)
+    with warnings.catch_warnings():  # an all-NaN column (no success anywhere) stays NaN
+        warnings.simplefilter("ignore", RuntimeWarning)
+        mean = np.nanmean(stack, axis=0)
+    return common, mean
+
+
+def fig_learning_curves(results1: list, results2: list, path) -> Figure:
+    """Learning curves of both experiments (not a figure of the paper).
+
+    One column per experiment with results (an empty list skips its column). Top: test
+    success rate (greedy trials from the full start region) against training trials; thin
+    lines one per seed, the thick line their mean; a diamond per seed at the end is the final
+    test's success rate; dashed, the paper's final result (100% and 95%). Middle: mean actions
+    of the successful test trials, with the step limit dotted. Bottom: the start region's far
+    edge during training (the curriculum of Experiment 2, "Learning from Easy Missions").
+    """
+    columns = [(label, list(rs)) for label, rs in (("Experiment 1", results1),
+                                                   ("Experiment 2", results2)) if len(rs)]
+    if not columns:
+        raise ValueError("fig_learning_curves needs results of at least one experiment")
+    W = 4.6 * len(columns) + 0.6
+    fig = _new_figure(W, 7.6)
+    grid = fig.add_gridspec(3, len(columns), height_ratios=(3, 2, 1.2), hspace=0.12,
+                            wspace=0.28, left=0.9 / W, right=1 - 0.25 / W, top=0.93,
+                            bottom=0.08)
+    for col, (label, results) in enumerate(columns):
+        ax_s = fig.add_subplot(grid[0, col])
+        ax_n = fig.add_subplot(grid[1, col], sharex=ax_s)
+        ax_c = fig.add_subplot(grid[2, col], sharex=ax_s)
+        cfg = results[0].config
+        color = f"C{col}"
+        thin = dict(color=color, alpha=0.35, lw=0.8)
+        for r in results:
+            ax_s.plot(r.curve_trials, 100 * r.curve_success, **thin)
+            ax_n.plot(r.curve_trials, r.curve_steps, **thin)
+            ax_s.plot(r.config.train_trials, 100 * r.test.success_rate, "D", color=color,
+                      alpha=0.6, markersize=4, clip_on=False, zorder=4)
+        xs = [r.curve_trials for r in results]
+        x, mean_s = _mean_curve(xs, [r.curve_success for r in results])
+        ax_s.plot(x, 100 * mean_s, color=color, lw=2.2)
+        x, mean_n = _mean_curve(xs, [r.curve_steps for r in results])
+        ax_n.plot(x, mean_n, color=color, lw=2.2)
+
+        # Legend: what a thin line, the thick line and a diamond are.
+        ax_s.plot([], [], **thin, label=f"one seed ({cfg.eval_trials} test trials "
+                                        f"every {cfg.eval_every})")
+        ax_s.plot([], [], color=color, lw=2.2, label=f"mean of {len(results)} seeds")
+        ax_s.plot([], [], "D", color=color, alpha=0.6, markersize=4,
+                  label=f"final test ({cfg.test_trials} trials)")
+        paper = _PAPER_SUCCESS.get(cfg.name)
+        if paper is not None:
+            ax_s.axhline(100 * paper, color="0.2", linestyle="--", lw=1.0,
+                         label=f"paper: {100 * paper:.0f}%")
+        ax_s.set_ylim(-3, 103)
+        ax_s.set_title(f"{label}: {cfg.network.n_features} feature units, "
+                       f"{cfg.network.rule} rule", fontsize=10)
+        ax_s.legend(fontsize=7, loc="lower right", framealpha=0.9)
+        ax_n.axhline(cfg.world.max_steps, color="0.2", linestyle=":", lw=1.0,
+                     label=f"step limit ({cfg.world.max_steps})")
+        ax_n.set_ylim(0, cfg.world.max_steps + 2)
+        ax_n.legend(fontsize=7, loc="lower right", framealpha=0.9)
+
+        # The start region during training (the seeds share the configuration's curriculum).
+        trials = np.arange(len(results[0].train.start_far))
+        ax_c.fill_between(trials, cfg.world.start_near, results[0].train.start_far,
+                          color=color, alpha=0.2, lw=0, step="post")
+        for r in results:
+            ax_c.plot(np.arange(len(r.train.start_far)), r.train.start_far, color=color,
+                      lw=1.0, drawstyle="steps-post")
+        ax_c.set_ylim(0, cfg.world.start_far * 1.15)
+        ax_c.set_xlabel("training trials")
+        if col == 0:
+            ax_s.set_ylabel("test success (%)")
+            ax_n.set_ylabel("actions per\nsuccessful test trial")
+            ax_c.set_ylabel("start region\n(m from landmark)")
+        for ax in (ax_s, ax_n):
+            ax.tick_params(labelbottom=False)
+        for ax in (ax_s, ax_n, ax_c):
+            ax.grid(alpha=0.3, lw=0.5)
+        last = max(r.config.train_trials for r in results)
+        ax_s.set_xlim(0, last * 1.03)  # room for the final-test diamonds
+    save_figure(fig, path)
+    return fig
