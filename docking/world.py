@@ -79,7 +79,8 @@ class WorldConfig:
         ``distance * tan(start_half_angle_deg)``; a wedge with its apex at the landmark, cut
         at ``start_near`` and ``start_far``.
       start_yaw_deg: Start headings are uniform in +-this around facing the landmark's wall.
-      dock_center: Distance of the docking region's centre from the landmark's front plane (m).
+      dock_center: Distance of the docking region's centre from the landmark's front plane (m);
+        the region's near edge lies 1 cm beyond where the robot meets the sideboard (0.45 m).
       dock_depth: Extent of the region along the approach axis (m; paper: 8 cm).
       dock_width: Extent of the region across the approach axis (m; paper: 20 cm).
       view_margin_px: At a start pose the landmark's projection keeps this many pixels from
@@ -96,7 +97,7 @@ class WorldConfig:
     start_far: float = 1.5
     start_half_angle_deg: float = 14.0
     start_yaw_deg: float = 5.0
-    dock_center: float = 0.49
+    dock_center: float = 0.48
     dock_depth: float = 0.08
     dock_width: float = 0.20
     view_margin_px: float = 1.0
@@ -130,10 +131,11 @@ class WorldConfig:
             raise ValueError(f"WorldConfig.start_half_angle_deg must be in [0, 45), got "
                              f"{self.start_half_angle_deg}")
         closest = _ROBOT_RADIUS - _CABINET["front"]
-        if self.dock_center - self.dock_depth / 2 < closest - 1e-9:
+        if self.dock_center + self.dock_depth / 2 < closest + 0.01:
             raise ValueError(f"WorldConfig.dock_center must keep the region reachable: "
-                             f"dock_center - dock_depth/2 >= {closest:.2f} m (where the robot "
-                             f"meets the sideboard), got dock_center={self.dock_center}")
+                             f"dock_center + dock_depth/2 >= {closest + 0.01:.2f} m (the robot "
+                             f"meets the sideboard at {closest:.2f} m), got "
+                             f"dock_center={self.dock_center}")
 
 
 # ----------------------------------------------------------------------------------------
@@ -142,9 +144,10 @@ class WorldConfig:
 
 # Fixed geometry of the scene (m). The landmark sits on a sideboard so that it appears near the
 # camera's height at every distance, inside a wide, flat crop band like the paper's 32x10.
-# The sideboard is deep and wide: the robot's body meets its front face at x = -0.45, right
-# at the docking region's near edge, so a robot cannot walk past the landmark; one that
-# arrives beside the region stands at the sideboard and has to sidestep along it.
+# The sideboard is deep and wide: the robot's body meets its front face at x = -0.45, 1 cm
+# inside the docking region's near edge (so a robot pressed against the sideboard in front of
+# the landmark is docked); a robot cannot walk past the landmark, and one that arrives beside
+# the region stands at the sideboard and has to sidestep along it.
 _CABINET = dict(front=-0.35, back=0.25, width=0.90, height=0.43)
 # The landmark: a red, wide, low slab at the cabinet's front edge and a red post standing
 # behind it. Seen from the front the two read as an inverted T; from the left or right the

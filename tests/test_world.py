@@ -189,7 +189,7 @@ def test_walking_into_the_landmark_does_not_pass_through(quiet_env):
 
 @pytest.mark.parametrize("field,value", [
     ("step_forward", -0.1), ("step_side", 0.0), ("step_noise_xy", -0.01),
-    ("step_noise_yaw_deg", -1.0), ("max_steps", 0), ("dock_width", -0.08),
+    ("step_noise_yaw_deg", -1.0), ("max_steps", 0), ("dock_width", -0.08), ("dock_center", 0.3),
     ("start_far", 0.5), ("start_near", 0.2), ("start_far", 5.0)])
 def test_bad_config_raises_naming_the_parameter(field, value):
     with pytest.raises(ValueError, match=field):
@@ -236,3 +236,15 @@ class DockingEnvContractTest(test_utils.EnvironmentTestMixin, absltest.TestCase)
 def test_timestep_types(quiet_env):
     timestep = quiet_env.reset()
     assert timestep.step_type == dm_env.StepType.FIRST and timestep.reward is None
+
+
+def test_robot_pressed_against_the_sideboard_in_front_of_the_landmark_is_docked(quiet_env):
+    # Arriving beside the region, at the sideboard, a sidestep along it docks the robot.
+    quiet_env.reset_to([-0.6, QUIET.dock_width / 2 + 0.04, 0.0])
+    for _ in range(3):
+        timestep = quiet_env.step(FORWARD)
+        if timestep.last():
+            break
+    assert not quiet_env.docked  # still beside the region, pressed against the sideboard
+    timestep = quiet_env.step(RIGHT)
+    assert timestep.last() and timestep.reward == 1.0
