@@ -67,8 +67,14 @@ class WorldConfig:
     """Everything the paper leaves open about the world, with documented defaults.
 
     Attributes:
-      step_forward: Length of a forward or backward step (m).
-      step_side: Length of a left or right sidestep (m).
+      step_forward: Length of a forward or backward step (m). One action is a short walk
+        (about two of Nao's steps). The paper gives no length; it decides how much of the
+        25-action budget a start 1.5 m away needs, and with it how often the near-random
+        walk of training (beta_a = 2) reaches the dock and how large the learned values
+        are: with 8 cm, Experiment 2 reached 49-76% in our runs, with 15 cm 98%.
+      step_side: Length of a left or right sidestep (m); half the docking region's width, so
+        one sidestep from anywhere within 10 cm outside the region ends inside it. (Nao's
+        walk allows up to 16 cm sideways per step.)
       step_noise_xy: Std. of the displacement error added to each step, per body axis (m).
       step_noise_yaw_deg: Std. of the heading error of each step (deg). The paper names
         uncorrected rotation from Webots' movement noise as its main cause of failure.
@@ -88,8 +94,8 @@ class WorldConfig:
       camera: The head camera and the observation pipeline.
     """
 
-    step_forward: float = 0.08
-    step_side: float = 0.06
+    step_forward: float = 0.15
+    step_side: float = 0.10
     step_noise_xy: float = 0.01
     step_noise_yaw_deg: float = 2.0
     max_steps: int = 25

@@ -332,7 +332,8 @@ def test_synthetic_task_learns_policy_and_relevant_features(seed):
     # the classes by a tiny margin, so feature learning stops early there (the policy is
     # still learned; the informative fraction then only reaches about 0.2).
     cfg = NetworkConfig(
-        n_inputs=N_PIX, n_features=4, n_actions=N_CLASSES, beta_s=5.0, eps_w=1.0, rule="nonlocal"
+        n_inputs=N_PIX, n_features=4, n_actions=N_CLASSES, beta_s=5.0, eps_q=0.5, eps_w=1.0,
+        rule="nonlocal",
     )
     rng = np.random.default_rng(seed)
     net = Network(cfg, rng)

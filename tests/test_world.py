@@ -147,7 +147,7 @@ def test_docking_is_detected_inside_and_not_outside(quiet_env):
     assert quiet_env.docked
     assert timestep.last() and timestep.reward == 1.0 and timestep.discount == 0.0
     # A sidestep that stays outside the region: reward 0, not terminal.
-    quiet_env.reset_to([cx, half_width + 0.1, 0.0])
+    quiet_env.reset_to([cx, half_width + cfg.step_side + 0.05, 0.0])
     timestep = quiet_env.step(RIGHT)
     assert not quiet_env.docked
     assert timestep.mid() and timestep.reward == 0.0
