@@ -251,6 +251,18 @@ def _streams(seed: int) -> dict[str, np.random.Generator]:
     return {n: np.random.default_rng(c) for n, c in zip(names, children)}
 
 
+def initial_network(config: ExperimentConfig, seed: int) -> Network:
+    """The network a run of (``config``, ``seed``) starts from, before any learning."""
+    return Network(config.network, _streams(seed)["init"])
+
+
+def feature_change(result: "ExperimentResult") -> np.ndarray:
+    """Per feature unit, the cosine between its initial and final weight vector (1 = the
+    unit's receptive field did not change)."""
+    start = initial_network(result.config, result.seed).W
+    return np.einsum("jn,jn->j", start, result.network.W)
+
+
 def evaluate(env: DockingEnv, net: Network, rng: np.random.Generator, n_trials: int,
              config: ExperimentConfig) -> list[TrialRecord]:
     """``n_trials`` greedy test trials (beta_a = beta_a_test, no learning)."""

@@ -47,15 +47,15 @@ __all__ = ["FIGURES_DIR", "VIEW_POSES", "PAPER_ACTION_ORDER", "receptive_fields"
 FIGURES_DIR = Path(__file__).resolve().parent.parent / "figures"
 
 #: Robot poses ``[x, y, yaw]`` of the three example views (Fig. 2 D, Fig. 3 top): to the left
-#: of, in front of and to the right of the landmark, 0.75 m from its front plane (inside
-#: Experiment 1's start region) and 0.18 m to the side (near the edge of the start trapezoid,
-#: whose half-width there is 0.75 m * tan(14 deg) = 0.19 m). The robot faces +x and its left is
-#: +y, so a robot standing *left of* the landmark is at +y and sees the landmark on the right
-#: of its image; it has to step right to dock.
+#: of, in front of and to the right of the landmark, 0.68 m from its front plane (inside
+#: Experiment 1's start region, 0.58-0.70 m) and 0.15 m to the side (near the edge of the start
+#: trapezoid, whose half-width there is 0.68 m * tan(14 deg) = 0.17 m). The robot faces +x and
+#: its left is +y, so a robot standing *left of* the landmark is at +y and sees the landmark on
+#: the right of its image; it has to step right to dock.
 VIEW_POSES = {
-    "left": (-0.75, 0.18, 0.0),
-    "front": (-0.75, 0.0, 0.0),
-    "right": (-0.75, -0.18, 0.0),
+    "left": (-0.68, 0.15, 0.0),
+    "front": (-0.68, 0.0, 0.0),
+    "right": (-0.68, -0.15, 0.0),
 }
 
 #: The order in which the paper shows the action units (Figs. 3 and 4): L, R, F, B.
