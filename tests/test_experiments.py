@@ -1,0 +1,110 @@
+"""Tests of the experiment runner (issue #4): curriculum, configs, seeding, saving."""
+
+import dataclasses
+
+import numpy as np
+import pytest
+
+from docking.experiments import (EXPERIMENT_1, EXPERIMENT_2, Curriculum, ExperimentConfig,
+                                 feature_change, initial_network, load_result, result_path,
+                                 run_experiment, run_or_load, save_result)
+
+TINY = dataclasses.replace(EXPERIMENT_1, train_trials=4, test_trials=3, eval_every=2,
+                           eval_trials=2)
+
+
+@pytest.fixture(scope="module")
+def tiny_result():
+    return run_experiment(TINY, seed=3, progress=False)
+
+
+def test_curriculum_grows_linearly_then_holds():
+    c = Curriculum(far_initial=0.7, far_final=1.5, grow_trials=1400)
+    assert c.far_at(0) == 0.7
+    assert c.far_at(700) == pytest.approx(1.1)
+    assert c.far_at(1400) == 1.5 and c.far_at(1999) == 1.5
+    assert Curriculum(1.0, 1.0).far_at(5) == 1.0
+    with pytest.raises(ValueError, match="far_initial"):
+        Curriculum(far_initial=1.6, far_final=1.5)
+    with pytest.raises(ValueError, match="grow_trials"):
+        Curriculum(0.7, 1.5, grow_trials=-1)
+
+
+def test_experiment_configs_match_the_paper():
+    assert EXPERIMENT_1.network.n_features == 4 and EXPERIMENT_1.network.rule == "local"
+    assert EXPERIMENT_1.train_trials == 100
+    assert EXPERIMENT_2.network.n_features == 36 and EXPERIMENT_2.network.rule == "nonlocal"
+    assert EXPERIMENT_2.train_trials == 2000 and EXPERIMENT_2.test_trials == 725
+    assert EXPERIMENT_2.world.start_far == 1.5
+    assert EXPERIMENT_2.curriculum.far_initial < EXPERIMENT_2.curriculum.far_final
+    for config in (EXPERIMENT_1, EXPERIMENT_2):
+        assert config.network.beta_s == 100 and config.network.gamma == 0.9
+        assert config.network.beta_a_train == 2 and config.network.beta_a_test == 100
+        assert config.world.max_steps == 25
+
+
+def test_bad_experiment_config_raises():
+    with pytest.raises(ValueError, match="far_final"):
+        dataclasses.replace(EXPERIMENT_1, curriculum=Curriculum(0.7, 0.9))
+    with pytest.raises(ValueError, match="train_trials"):
+        dataclasses.replace(EXPERIMENT_1, train_trials=0)
+
+
+def test_config_survives_a_round_trip_through_a_dict():
+    for config in (EXPERIMENT_1, EXPERIMENT_2):
+        assert ExperimentConfig.from_dict(config.to_dict()) == config
+
+
+def test_same_seed_same_run_bit_for_bit(tiny_result):
+    again = run_experiment(TINY, seed=3, progress=False)
+    np.testing.assert_array_equal(again.network.W, tiny_result.network.W)
+    np.testing.assert_array_equal(again.network.Q, tiny_result.network.Q)
+    np.testing.assert_array_equal(again.train.poses, tiny_result.train.poses)
+    np.testing.assert_array_equal(again.test.actions, tiny_result.test.actions)
+    np.testing.assert_array_equal(again.curve_success, tiny_result.curve_success)
+    other = run_experiment(TINY, seed=4, progress=False)
+    assert not np.array_equal(other.train.poses[:1], tiny_result.train.poses[:1])
+
+
+def test_the_record_is_complete(tiny_result):
+    r = tiny_result
+    assert len(r.train) == TINY.train_trials and len(r.test) == TINY.test_trials
+    assert len(r.train.poses) == int(np.sum(r.train.steps + 1))
+    assert len(r.train.actions) == int(np.sum(r.train.steps))
+    for k in range(len(r.train)):
+        poses = r.train.trial_poses(k)
+        assert len(poses) == r.train.steps[k] + 1
+        np.testing.assert_array_equal(poses[0], r.train.starts[k])
+    np.testing.assert_array_equal(r.curve_trials, [0, 2, 4])
+    assert r.curve_rewarded[-1] <= int(r.train.success.sum())
+    assert r.wall_time_train > 0 and r.wall_time_test > 0
+    # The learning run starts from initial_network(config, seed).
+    assert feature_change(r).shape == (TINY.network.n_features,)
+    assert np.all(feature_change(r) <= 1 + 1e-9)
+    assert initial_network(TINY, 3).W.shape == r.network.W.shape
+
+
+def test_save_load_round_trip(tiny_result, tmp_path):
+    path = save_result(tiny_result, tmp_path / "x" / "seed3.npz")
+    loaded = load_result(path)
+    assert loaded.config == TINY and loaded.seed == 3
+    np.testing.assert_array_equal(loaded.network.W, tiny_result.network.W)
+    for part in ("train", "test"):
+        for field in dataclasses.fields(type(tiny_result.train)):
+            np.testing.assert_array_equal(getattr(getattr(loaded, part), field.name),
+                                          getattr(getattr(tiny_result, part), field.name))
+    assert loaded.rewarded_until_mastery == tiny_result.rewarded_until_mastery
+    assert not list(path.parent.glob("*.tmp"))  # the temporary file was renamed away
+    assert (path.stat().st_mode & 0o777) == 0o644
+
+
+def test_run_or_load_reuses_and_reruns_on_change(tmp_path):
+    first = run_or_load(TINY, 5, results_dir=tmp_path, progress=False)
+    path = result_path(TINY.name, 5, tmp_path)
+    stamp = path.stat().st_mtime_ns
+    again = run_or_load(TINY, 5, results_dir=tmp_path, progress=False)
+    assert path.stat().st_mtime_ns == stamp  # loaded, not re-trained
+    np.testing.assert_array_equal(again.network.W, first.network.W)
+    changed = dataclasses.replace(TINY, test_trials=4)
+    rerun = run_or_load(changed, 5, results_dir=tmp_path, progress=False)
+    assert len(rerun.test) == 4 and path.stat().st_mtime_ns != stamp
