@@ -132,10 +132,12 @@ backward = np.mean(main.test.actions == ACTION_LETTERS.index("B"))
 print(f"backward actions in the test trials: {100 * backward:.1f}%")
 
 # %% [markdown]
-# The local rule does learn visual features here: the units that win the test decisions have
-# moved far from their random initial weights (cosine well below 1) towards the landmark as
-# seen from their part of the start region, and each is mapped to the action that docks from
-# there. As in the paper, the backward action is hardly ever used.
+# The local rule does learn visual features here: on top of its random initial weights, each
+# unit that wins test decisions has grown the landmark as seen from its part of the start
+# region (left of the dock, in front, right), and is mapped to the action that docks from
+# there. The change is visible but not large (cosines to the initial weights of about
+# 0.85-0.96 for these units): at $\beta^s = 100$ a small lead in $h_j$ is enough to win. As
+# in the paper, one unit stays unstructured and the backward action is hardly ever used.
 #
 # ## What the choices do
 #
