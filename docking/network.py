@@ -37,7 +37,7 @@ from pathlib import Path
 
 import numpy as np
 
-__all__ = ["NetworkConfig", "Network", "RULES"]
+__all__ = ["NetworkConfig", "Network", "RULES", "finite_difference_gradient"]
 
 #: The two feature-layer learning rules: ``"nonlocal"`` is Eq. (8)/(16) with the bracket
 #: ``(Q_ij - sum_k Q_ik s_k)``; ``"local"`` drops the bracket (``delta s_j I_n``), the
@@ -401,3 +401,26 @@ class Network:
             f"Network(n_inputs={c.n_inputs}, n_features={c.n_features}, "
             f"n_actions={c.n_actions}, rule={c.rule!r})"
         )
+
+
+def finite_difference_gradient(net: Network, I: np.ndarray, a: int, h: float = 1e-6
+                               ) -> tuple[np.ndarray, np.ndarray]:
+    """Central-difference estimate ``(dv/dQ, dv/dW)`` of :meth:`Network.value` ``(I, a)``:
+    ``(v(theta + h e) - v(theta - h e)) / 2h`` for every entry ``e`` of ``Q`` and ``W``.
+
+    Independent of :meth:`Network.value_gradient` (it only evaluates Eq. 5), so the two can
+    check each other. ``net`` is restored exactly afterwards.
+    """
+    grads = []
+    for param in (net.Q, net.W):
+        g = np.zeros_like(param)
+        for idx in np.ndindex(param.shape):
+            old = param[idx]
+            param[idx] = old + h
+            up = net.value(I, a)
+            param[idx] = old - h
+            down = net.value(I, a)
+            param[idx] = old
+            g[idx] = (up - down) / (2 * h)
+        grads.append(g)
+    return grads[0], grads[1]

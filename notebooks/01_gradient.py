@@ -175,21 +175,7 @@ print("Eq. (12) and Eq. (16) hold: dv/dW_jn = beta_s s_j I_n (Q_ij - sum_k Q_ik 
 # 4 features).  The relative error is $\|g_\text{num} - g\| / \|g\|$.
 
 # %%
-def finite_difference_gradient(net, I, a, h=1e-6):
-    """Central-difference estimate of (dv/dQ, dv/dW) for Network.value(I, a)."""
-    grads = []
-    for param in (net.Q, net.W):
-        g = np.zeros_like(param)
-        for idx in np.ndindex(param.shape):
-            old = param[idx]
-            param[idx] = old + h
-            up = net.value(I, a)
-            param[idx] = old - h
-            down = net.value(I, a)
-            param[idx] = old
-            g[idx] = (up - down) / (2 * h)
-        grads.append(g)
-    return grads
+from docking.network import finite_difference_gradient  # noqa: E402
 
 
 def relative_errors(net, I, a):

@@ -6,7 +6,7 @@ import os
 import numpy as np
 import pytest
 
-from docking.network import Network, NetworkConfig
+from docking.network import Network, NetworkConfig, finite_difference_gradient
 
 SMALL = dict(n_inputs=12, n_features=3, n_actions=2)
 
@@ -177,17 +177,11 @@ def test_value_gradient_matches_finite_differences(seed, beta_s):
     s = net.features(I)
     assert s.max() < 0.95  # softmax not saturated: a meaningful check
     dQ, dW = net.value_gradient(I, a)
-    h = 1e-6
-    for name, param, analytic in (("Q", net.Q, dQ), ("W", net.W, dW)):
-        numeric = np.zeros_like(param)
-        for idx in np.ndindex(param.shape):
-            old = param[idx]
-            param[idx] = old + h
-            up = net.value(I, a)
-            param[idx] = old - h
-            down = net.value(I, a)
-            param[idx] = old
-            numeric[idx] = (up - down) / (2 * h)
+    W_before, Q_before = net.W.copy(), net.Q.copy()
+    numeric_Q, numeric_W = finite_difference_gradient(net, I, a, h=1e-6)
+    np.testing.assert_array_equal(net.W, W_before)  # restored exactly
+    np.testing.assert_array_equal(net.Q, Q_before)
+    for name, numeric, analytic in (("Q", numeric_Q, dQ), ("W", numeric_W, dW)):
         rel = np.linalg.norm(numeric - analytic) / np.linalg.norm(analytic)
         assert rel < 1e-5, (name, rel)
 
