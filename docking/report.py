@@ -9,7 +9,7 @@ from __future__ import annotations
 import numpy as np
 
 from docking.experiments import (EXPERIMENT_1, EXPERIMENT_2, HEADLINE_SEED, SEEDS,
-                                 ExperimentResult, run_seeds)
+                                 ExperimentConfig, ExperimentResult, run_seeds)
 
 #: The paper's figures (Sec. III).
 PAPER = {
@@ -67,6 +67,44 @@ def experiment2_rows(results: list[ExperimentResult]) -> list[tuple[str, str, st
          f"{h.wall_time_train:.0f} s training + {h.wall_time_test:.0f} s testing for the "
          f"headline seed)"),
     ]
+
+
+def configuration_table(config: ExperimentConfig) -> str:
+    """A Markdown table of every choice behind ``config``: value and whether it is the
+    paper's or ours (ours = the paper leaves it open; the reasons are in the notebooks)."""
+    w, n, c = config.world, config.network, config.curriculum
+    if c.grow_trials:
+        region = (f"far edge {c.far_initial:.2f} m -> {c.far_final:.2f} m, linearly over the "
+                  f"first {c.grow_trials} trials")
+        region_source = "ours: the paper says only 'incrementally enlarged', up to 1.5 m"
+    else:
+        region = "fixed (no curriculum)"
+        region_source = "paper"
+    rows = [
+        ("feature units / rule", f"{n.n_features} / {n.rule}", "paper"),
+        ("beta_s, beta_a (train, test), gamma",
+         f"{n.beta_s:g}, ({n.beta_a_train:g}, {n.beta_a_test:g}), {n.gamma:g}", "paper (Eq. 2, 4, 6)"),
+        ("eps_q (Eq. 7), eps_w (Eq. 8)", f"{n.eps_q:g}, {n.eps_w:g}", "ours"),
+        ("input I", "unit length" if n.normalize_input else "raw", "ours"),
+        ("initial W / Q", f"uniform random, rows unit length / uniform in [0, {n.q_init:g}]", "ours"),
+        ("test start region",
+         f"{w.start_near:.2f}-{w.start_far:.2f} m from the landmark, +-{w.start_half_angle_deg:g} deg, "
+         f"heading +-{w.start_yaw_deg:g} deg", "ours (the paper: a trapezoid)"),
+        ("start region in training", region, region_source),
+        ("steps", f"forward/back {100 * w.step_forward:.0f} cm, sideways {100 * w.step_side:.0f} cm", "ours"),
+        ("step noise (s.d.)", f"{100 * w.step_noise_xy:.0f} cm per axis, {w.step_noise_yaw_deg:g} deg heading", "ours"),
+        ("docking region", f"{100 * w.dock_width:.0f} cm across x {100 * w.dock_depth:.0f} cm deep", "paper: 8x20 cm"),
+        ("trials", f"{config.train_trials} training, {config.test_trials} test, at most "
+                   f"{w.max_steps} actions", "paper"),
+        ("SARSA target at the step limit",
+         "bootstrap from v'" if config.bootstrap_on_truncation else "v' = 0", "ours"),
+        ("learning curve", f"{config.eval_trials} greedy trials from the test region every "
+                           f"{config.eval_every} training trials", "ours"),
+        ("seeds", f"{SEEDS.get(config.name)}, headline seed {HEADLINE_SEED}",
+         "ours (the paper reports one run)"),
+    ]
+    lines = ["| choice | value | source |", "|---|---|---|"]
+    return "\n".join(lines + [f"| {a} | {b} | {s} |" for a, b, s in rows])
 
 
 def markdown_table(rows: list[tuple[str, str, str]]) -> str:

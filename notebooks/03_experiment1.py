@@ -30,15 +30,13 @@
 # `force=True`) to train again.
 
 # %%
-import dataclasses
-
 import numpy as np
 from IPython.display import Image, Markdown, display
 
 from docking.experiments import (EXPERIMENT_1, HEADLINE_SEED, SEEDS, feature_change,
                                  run_seeds)
 from docking.figures import FIGURES_DIR, fig3
-from docking.report import experiment1_rows, headline, markdown_table
+from docking.report import configuration_table, experiment1_rows, headline, markdown_table
 from docking.world import ACTION_LETTERS, DockingEnv
 
 config = EXPERIMENT_1
@@ -47,28 +45,13 @@ config = EXPERIMENT_1
 # ## The configuration: every choice the paper leaves open, named
 #
 # The values below are read from `docking.experiments.EXPERIMENT_1` and the dataclasses it is
-# built from, so this table is always the configuration that ran.
+# built from, so this table is always the configuration that ran. "Close proximity" is a start
+# region 6-18 cm beyond the docking region, one forward step away when the robot is aligned;
+# the world's choices (steps, noise, landmark, region) are explained in notebook 02, the
+# learning rates under "What the choices do" below.
 
 # %%
-w, n, c = config.world, config.network, config.curriculum
-rows = [
-    ("feature units / rule", f"{n.n_features} / {n.rule}", "paper (Sec. II-B, III)"),
-    ("beta_s, beta_a (train, test), gamma", f"{n.beta_s:g}, ({n.beta_a_train:g}, {n.beta_a_test:g}), {n.gamma:g}",
-     "paper (Eq. 2, 4, 6)"),
-    ("eps_q (Eq. 7), eps_w (Eq. 8)", f"{n.eps_q:g}, {n.eps_w:g}", "ours: see 'What the choices do' below"),
-    ("input I", "unit length" if n.normalize_input else "raw", "ours: h_j becomes a cosine, beta_s means the same for every image"),
-    ("initial W / Q", f"uniform random, rows unit length / {n.q_init:g}", "ours"),
-    ("start region", f"{w.start_near:.2f}-{w.start_far:.2f} m from the landmark, ±{w.start_half_angle_deg:g}°, heading ±{w.start_yaw_deg:g}°",
-     "ours: 'close proximity', one forward step from the region when aligned"),
-    ("steps", f"forward/back {100 * w.step_forward:.0f} cm, sideways {100 * w.step_side:.0f} cm", "ours (notebook 02)"),
-    ("step noise", f"{100 * w.step_noise_xy:.0f} cm per axis, {w.step_noise_yaw_deg:g}° heading (s.d.)", "ours"),
-    ("trials", f"{config.train_trials} training, {config.test_trials} test, at most {w.max_steps} actions", "paper: 100 training trials, 25 actions"),
-    ("SARSA target at the step limit", "bootstrap v'" if config.bootstrap_on_truncation else "v' = 0", "ours (docking.trial)"),
-    ("learning curve", f"{config.eval_trials} greedy test trials every {config.eval_every} training trials", "ours"),
-    ("seeds", f"{SEEDS[config.name]}, headline seed {HEADLINE_SEED}", "ours (the paper reports one run)"),
-]
-display(Markdown("| choice | value | source |\n|---|---|---|\n"
-                 + "\n".join(f"| {a} | {b} | {s} |" for a, b, s in rows)))
+display(Markdown(configuration_table(config)))
 
 # %% [markdown]
 # ## Run (or load) the experiment
