@@ -303,8 +303,8 @@ def make_model_xml(config: WorldConfig) -> str:
       <camera name="eye" pos="{_CAM_FORWARD} 0 {_CAM_HEIGHT}" xyaxes="{cam_axes}"
               fovy="{cam.fovy_deg}"/>
     </body>
-    <camera name="overview" pos="-1.75 -1.15 1.05" mode="targetbody" target="overview_target" fovy="45"/>
-    <body name="overview_target" pos="-0.45 0.05 0.25"/>
+    <camera name="overview" pos="-1.55 -0.95 1.05" mode="targetbody" target="overview_target" fovy="45"/>
+    <body name="overview_target" pos="-0.40 0.0 0.3"/>
     <camera name="top" pos="-0.85 0 2.6" xyaxes="0 -1 0 1 0 0" fovy="50"/>
   </worldbody>
   <actuator>
