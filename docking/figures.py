@@ -393,68 +393,135 @@ def fig3(result, env: DockingEnv, path, poses=None) -> Figure:
     return fig
 
 
-def fig4(result, path, columns: int | None = None) -> Figure:
-    """The paper's Fig. 4 for Experiment 2 (36 feature units).
+def mean_winning_inputs(net: Network, world: WorldConfig, n: int = 1500, seed: int = 0
+                        ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """What the units respond to: mean network inputs over ``n`` start views.
 
-    Top: the action units' receptive fields ``sum_j Q_ij W_j`` (L, R, F, B). Bottom: the
-    feature units' receptive fields ``W_j`` in a grid (6x6 for 36 units); the unit that
-    contributes most to each of L, R and F (``argmax_j Q_ij``) is framed in red and labelled
-    with its action(s). Strong weights dark, each field scaled 0..max.
+    Samples ``n`` start poses of ``world``'s start region (``DockingEnv(world, seed).reset()``,
+    one rendered frame each) and averages the observations (the 10x32 input before Eq. 1)
+    separately for every feature unit that wins (``argmax_j s_j``, Eq. 2) and for every greedy
+    action (``argmax_i h_i``, Eq. 3).
 
-    Args:
-      result: An :class:`~docking.experiments.ExperimentResult` (run or loaded).
-      path: Where to save (``.png`` and ``.pdf``).
-      columns: Grid columns; default ``ceil(sqrt(n_features))``.
+    Returns ``(action_mean, unit_mean, action_counts, unit_counts)``: ``(n_actions, rows,
+    cols)``, ``(n_features, rows, cols)`` (zeros where a unit never wins) and the counts.
     """
-    net = result.network
-    shape = result.config.world.camera.input_shape
-    action_rf, feature_rf = receptive_fields(net, shape)
-    n_feat = feature_rf.shape[0]
-    columns = columns or int(np.ceil(np.sqrt(n_feat)))
-    grid_rows = int(np.ceil(n_feat / columns))
+    if n < 1:
+        raise ValueError(f"n must be >= 1, got {n}")
+    env = DockingEnv(world, seed=seed)
+    shape = world.camera.input_shape
+    n_act, n_feat = net.config.n_actions, net.config.n_features
+    action_sum, unit_sum = np.zeros((n_act,) + shape), np.zeros((n_feat,) + shape)
+    action_counts = np.zeros(n_act, dtype=np.int64)
+    unit_counts = np.zeros(n_feat, dtype=np.int64)
+    for _ in range(n):
+        obs = env.reset().observation
+        s = net.features(net.prepare(obs))
+        j, i = int(np.argmax(s)), int(np.argmax(net.Q @ s))
+        unit_sum[j] += obs
+        unit_counts[j] += 1
+        action_sum[i] += obs
+        action_counts[i] += 1
+    env.close()
+    with np.errstate(invalid="ignore", divide="ignore"):
+        action_mean = np.nan_to_num(action_sum / action_counts[:, None, None])
+        unit_mean = np.nan_to_num(unit_sum / unit_counts[:, None, None])
+    return action_mean, unit_mean, action_counts, unit_counts
+
+
+def _strongest_units(net: Network) -> dict[int, list[str]]:
+    """For L, R and F, the feature unit with the largest action weight (``argmax_j Q_ij``)."""
     framed: dict[int, list[str]] = {}
     for letter in "LRF":
         i = ACTION_LETTERS.index(letter)
         if np.max(net.Q[i]) > 0:  # an action no unit votes for has no strongest unit
             framed.setdefault(int(np.argmax(net.Q[i])), []).append(letter)
+    return framed
 
-    rf_aspect = shape[0] / shape[1]
-    W, margin_l, margin_r = 10.0, 0.55, 0.2
-    top_gap = 0.35
-    ca = (W - margin_l - margin_r - 3 * top_gap) / 4
-    grid_gap_x, grid_gap_y = 0.12, 0.28
-    cg = (W - margin_l - margin_r - (columns - 1) * grid_gap_x) / columns
-    y_top = 0.45 + 0.3
-    y_grid = y_top + ca * rf_aspect + 0.3 + 0.55
-    H = y_grid + grid_rows * (cg * rf_aspect + grid_gap_y) + 0.1
-    fig = _new_figure(W, H)
-    fig.suptitle(f"Experiment 2 ({n_feat} feature units, {result.config.network.rule} rule), "
-                 f"seed {result.seed}, after {result.config.train_trials} training trials",
-                 fontsize=10, y=1 - 0.08 / H, va="top")
 
+def _field_block(fig: Figure, x0: float, y0: float, width: float, actions: np.ndarray,
+                 units: np.ndarray, framed: dict[int, list[str]], columns: int, heading: str,
+                 action_notes=None, unit_notes=None) -> float:
+    """Draw 4 action panels (L, R, F, B) above a grid of unit panels in a column ``width``
+    inches wide starting at ``(x0, y0)``; return the bottom of the block (inches)."""
+    aspect = actions.shape[1] / actions.shape[2]
+    gap = 0.18
+    ca = (width - 3 * gap) / 4
+    gx, gy = 0.08, 0.3
+    cg = (width - (columns - 1) * gx) / columns
+    fig.text(x0 / fig.get_size_inches()[0], 1 - y0 / fig.get_size_inches()[1], heading,
+             fontsize=10, fontweight="bold", va="top")
+    y_act = y0 + 0.55
     for k, i in enumerate(PAPER_ACTION_ORDER):
-        ax = _axes(fig, margin_l + k * (ca + top_gap), y_top, ca, ca * rf_aspect)
-        _weight_map(ax, action_rf[i], ACTION_LETTERS[i], title_size=12)
-        if k == 0:
-            _row_label(fig, ax, "action\nunits")
-
-    for j in range(n_feat):
+        ax = _axes(fig, x0 + k * (ca + gap), y_act, ca, ca * aspect)
+        _image(ax, actions[i])
+        ax.set_title(ACTION_LETTERS[i], fontsize=11, pad=2)
+        if action_notes is not None:
+            ax.set_xlabel(action_notes[i], fontsize=7, color="0.3", labelpad=2)
+    y_grid = y_act + ca * aspect + 0.75
+    for j in range(units.shape[0]):
         r, k = divmod(j, columns)
-        ax = _axes(fig, margin_l + k * (cg + grid_gap_x), y_grid + r * (cg * rf_aspect
-                                                                          + grid_gap_y),
-                   cg, cg * rf_aspect)
-        _image(ax, feature_rf[j])
+        ax = _axes(fig, x0 + k * (cg + gx), y_grid + r * (cg * aspect + gy), cg, cg * aspect)
+        _image(ax, units[j])
+        if unit_notes is not None:
+            ax.set_xlabel(unit_notes[j], fontsize=6, color="0.3", labelpad=1)
         if j in framed:
             for spine in ax.spines.values():
                 spine.set_color(_FAIL_RED)
                 spine.set_linewidth(2.5)
-            ax.set_title(f"unit {j} \u2192 {', '.join(framed[j])}", fontsize=8,
+            ax.set_title(f"unit {j} \u2192 {', '.join(framed[j])}", fontsize=7,
                          color=_FAIL_RED, pad=2, fontweight="bold")
-        if j == 0:
-            _row_label(fig, ax, "feature units")
-    fig.text(margin_l / W, 1 - (y_grid - 0.4) / H,
-             f"{n_feat} feature units, each scaled 0..its own maximum; framed red: the unit with "
-             "the largest action weight (argmax$_j$ Q$_{ij}$) for L, R and F",
+    rows = int(np.ceil(units.shape[0] / columns))
+    return y_grid + rows * (cg * aspect + gy)
+
+
+def fig4(result, path, columns: int | None = None, n_samples: int = 1500) -> Figure:
+    """The paper's Fig. 4 for Experiment 2 (36 feature units), in two halves.
+
+    Left, the weights (as in the paper): the action units' receptive fields
+    ``sum_j Q_ij W_j`` (L, R, F, B) above the feature units' receptive fields ``W_j`` (6x6).
+    Right, what the units respond to: the mean input over ``n_samples`` start views of the
+    test region for which each action is the greedy one, and for which each feature unit
+    wins (see :func:`mean_winning_inputs`; blank where a unit never wins). In both halves the
+    unit that contributes most to each of L, R and F (``argmax_j Q_ij``) is framed in red.
+    Strong dark, each panel scaled 0..its maximum.
+
+    Args:
+      result: An :class:`~docking.experiments.ExperimentResult` (run or loaded).
+      path: Where to save (``.png`` and ``.pdf``).
+      columns: Grid columns; default ``ceil(sqrt(n_features))``.
+      n_samples: Start views for the right half.
+    """
+    net = result.network
+    shape = result.config.world.camera.input_shape
+    action_rf, feature_rf = receptive_fields(net, shape)
+    action_mean, unit_mean, action_counts, unit_counts = mean_winning_inputs(
+        net, result.config.world, n=n_samples)
+    n_feat = feature_rf.shape[0]
+    columns = columns or int(np.ceil(np.sqrt(n_feat)))
+    framed = _strongest_units(net)
+
+    W, margin, middle = 15.0, 0.3, 0.6
+    half = (W - 2 * margin - middle) / 2
+    aspect = shape[0] / shape[1]
+    rows = int(np.ceil(n_feat / columns))
+    cg = (half - (columns - 1) * 0.08) / columns
+    ca = (half - 3 * 0.18) / 4
+    H = 0.5 + 0.55 + ca * aspect + 0.75 + rows * (cg * aspect + 0.3) + 0.45
+    fig = _new_figure(W, H)
+    fig.suptitle(f"Experiment 2 ({n_feat} feature units, {result.config.network.rule} rule), "
+                 f"seed {result.seed}, after {result.config.train_trials} training trials",
+                 fontsize=11, y=1 - 0.06 / H, va="top")
+    _field_block(fig, margin, 0.45, half, action_rf, feature_rf, framed, columns,
+                 "weights: action units $\\sum_j Q_{ij} W_j$ (top), feature units $W_j$ (grid)",
+                 action_notes=[f"max {np.max(f):.3g}" for f in action_rf])
+    never = "never wins"
+    _field_block(fig, margin + half + middle, 0.45, half, action_mean, unit_mean, framed, columns,
+                 f"mean input when the action is chosen / the unit wins ({n_samples} start views)",
+                 action_notes=[f"{c} views" for c in action_counts],
+                 unit_notes=[f"{c} views" if c else never for c in unit_counts])
+    fig.text(margin / W, 0.12 / H,
+             "Each panel scaled 0..its own maximum, strong dark. Framed red: the unit with the "
+             "largest action weight (argmax$_j$ Q$_{ij}$) for L, R and F.",
              fontsize=8, color="0.3", va="bottom")
     save_figure(fig, path)
     return fig

@@ -112,10 +112,13 @@ print("Experiment 1 (local rule), headline seed: median cosine "
 # The 36 units therefore act as a fixed random partition of the image space: each image goes
 # to the unit whose random weight vector it matches best (neighbouring images, which share
 # most pixels, mostly go to the same unit), and the task is learned in the action weights
-# $Q$ on top of it. The action units' receptive fields still show where the landmark is when
-# each action is chosen (left in the image: step left; centred: forward; right: step right),
-# because they sum the units assigned to an action. The paper's Fig. 4 shows feature units
-# with faint landmark structure; ours show none. Calibration runs with $\epsilon_W$ = 1 (the
+# $Q$ on top of it. The weights themselves (left half of Fig. 4) therefore show no structure,
+# where the paper's Fig. 4 shows faint landmark shapes. What the units respond to is shown in
+# the right half: the mean input over 1500 start views for which each action is chosen and
+# each unit wins. There the sensorimotor law is plain: the landmark left in the image means
+# step left, centred means forward, right means step right, and the units framed in red (the
+# strongest for L, R and F) each cover one such part of the image; several units feed each
+# action, the "population coding" of the paper. Calibration runs with $\epsilon_W$ = 1 (the
 # exact gradient carries a factor $\beta^s = 100$ that the rule absorbs into $\epsilon_W$) moved
 # the weights a little (cosines down to 0.93) at 96 % success; $\epsilon_W$ = 5 and 20 lost the
 # task (75 % and 23 %).

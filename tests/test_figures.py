@@ -62,7 +62,35 @@ def test_fig3(result1, env, tmp_path):
 def test_fig4_from_fresh_and_loaded_results(result2, loaded2, tmp_path):
     for name, result in (("fresh", result2), ("loaded", loaded2)):
         path = tmp_path / f"fig4_{name}.pdf"
-        _assert_written(figures.fig4(result, path), path)
+        _assert_written(figures.fig4(result, path, n_samples=40), path)
+
+
+def test_mean_winning_inputs_average_the_views_each_unit_wins():
+    # Two hand-made feature units: one sees the left half of the image, one the right half;
+    # action F is best for the left unit, action R for the right one.
+    world = EXPERIMENT_1.world
+    rows, cols = world.camera.input_shape
+    W = np.zeros((2, rows * cols))
+    W[0].reshape(rows, cols)[:, : cols // 2] = 1.0
+    W[1].reshape(rows, cols)[:, cols // 2:] = 1.0
+    W /= np.linalg.norm(W, axis=1, keepdims=True)
+    Q = np.zeros((4, 2))
+    Q[ACTION_LETTERS.index("F"), 0] = 1.0
+    Q[ACTION_LETTERS.index("R"), 1] = 1.0
+    net = Network.from_weights(NetworkConfig(n_inputs=rows * cols, n_features=2), W, Q)
+    action_mean, unit_mean, action_counts, unit_counts = figures.mean_winning_inputs(
+        net, world, n=60, seed=1)
+    assert action_mean.shape == (4, rows, cols) and unit_mean.shape == (2, rows, cols)
+    assert unit_counts.sum() == 60 and action_counts.sum() == 60
+    np.testing.assert_array_equal(action_counts[[ACTION_LETTERS.index("F"),
+                                                 ACTION_LETTERS.index("R")]], unit_counts)
+    for j, side in ((0, slice(0, cols // 2)), (1, slice(cols // 2, cols))):
+        if unit_counts[j]:  # the unit's mean view has more landmark on its own side
+            other = slice(cols // 2, cols) if j == 0 else slice(0, cols // 2)
+            assert unit_mean[j][:, side].sum() > unit_mean[j][:, other].sum()
+    assert unit_counts.min() > 0  # the start region puts the landmark on both sides
+    with pytest.raises(ValueError, match="n"):
+        figures.mean_winning_inputs(net, world, n=0)
 
 
 def test_fig5(result1, loaded2, tmp_path):
