@@ -20,6 +20,7 @@ import dataclasses
 import hashlib
 import json
 import os
+import re
 import tempfile
 import time
 from pathlib import Path
@@ -364,9 +365,10 @@ def save_result(result: ExperimentResult, path: Path | str) -> Path:
 
 
 def world_fingerprint(world: WorldConfig) -> str:
-    """SHA-256 of the world's MJCF: it changes with every change of the scene's geometry,
-    also of the fixed parts that are not fields of :class:`WorldConfig`."""
-    return hashlib.sha256(make_model_xml(world).encode()).hexdigest()
+    """SHA-256 of the world's MJCF without comments and layout: it changes with every change
+    of the scene, also of the fixed parts that are not fields of :class:`WorldConfig`."""
+    xml = re.sub(r"<!--.*?-->", "", make_model_xml(world), flags=re.S)
+    return hashlib.sha256(" ".join(xml.split()).encode()).hexdigest()
 
 
 def saved_world_fingerprint(path: Path | str) -> str | None:

@@ -233,7 +233,7 @@ def fig2_scene(env: DockingEnv, path, poses=None, overview_size=(800, 600)) -> F
     """The paper's Fig. 2 for this world, plus the three example views of Fig. 3 (top).
 
     (A) An overview render of the room: the robot in front of the docking region (yellow;
-    virtual, never seen by the robot) and the red landmark on its cabinet. (B) The robot's
+    virtual, never seen by the robot) and the red landmark on its sideboard. (B) The robot's
     camera frame at the same pose, the crop rectangle drawn white and dotted. (C) The 32x10
     network input after cropping, red thresholding and downsizing (coverage fraction of each
     pixel, 1 = dark). (D) The camera frames and inputs from the left of, in front of and to
@@ -536,7 +536,7 @@ def fig4(result, path, columns: int | None = None, n_samples: int = 1500) -> Fig
 
 def draw_floor_plan(ax, config: WorldConfig, start_region: tuple[float, float] | None = None
                     ) -> None:
-    """Draw the floor plan on ``ax`` (horizontal: y, inverted; vertical: x): the grey cabinet,
+    """Draw the floor plan on ``ax`` (horizontal: y, inverted; vertical: x): the grey sideboard,
     the landmark's red boxes, the yellow docking region and, dashed, the start trapezoid
     ``start_region = (near, far)`` (default the config's)."""
     fp = footprints(config)
@@ -596,7 +596,7 @@ def fig5(result, path, n: int = 30, seed: int = 0) -> Figure:
 
     ``n`` test trials chosen by :func:`sample_trials` (seeded; failures shown if there are
     any). Successful trials in different shades of green, failures in red, start points as
-    open circles; the docking region yellow (its size from the config), the cabinet grey, the
+    open circles; the docking region yellow (its size from the config), the sideboard grey, the
     landmark's two boxes red, the test start trapezoid dashed, and the robot's body (radius
     ``ROBOT_RADIUS``) drawn once at the end of a successful trial for scale.
 
@@ -662,7 +662,7 @@ def fig5(result, path, n: int = 30, seed: int = 0) -> Figure:
         Rectangle((0, 0), 1, 1, facecolor=_DOCK_YELLOW, edgecolor="0.3",
                   label=f"docking region ({dock_cm})"),
         Rectangle((0, 0), 1, 1, facecolor=_LANDMARK_RED, label="landmark (slab, post)"),
-        Rectangle((0, 0), 1, 1, facecolor=_CABINET_GREY, edgecolor="0.4", label="cabinet"),
+        Rectangle((0, 0), 1, 1, facecolor=_CABINET_GREY, edgecolor="0.4", label="sideboard"),
         Line2D([], [], color="0.3", linestyle=":",
                label=f"robot body (r = {100 * ROBOT_RADIUS:.0f} cm)"),
     ]

@@ -155,8 +155,8 @@ class WorldConfig:
 # the landmark is docked); a robot cannot walk past the landmark, and one that arrives beside
 # the region stands at the sideboard and has to sidestep along it.
 _CABINET = dict(front=-0.35, back=0.25, width=0.90, height=0.43)
-# The landmark: a red, wide, low slab at the cabinet's front edge and a red post standing
-# behind it. Seen from the front the two read as an inverted T; from the left or right the
+# The landmark: a red, wide, low slab on the sideboard, 35 cm behind its front, and a red
+# post standing behind it. Seen from the front the two read as an inverted T; from the left or right the
 # post's parallax shifts it to one side (an L or a mirrored L), and the slab foreshortens.
 _SLAB = dict(depth=0.05, width=0.12, height=0.05)
 _POST = dict(depth=0.04, width=0.04, height=0.12, behind=0.15)
@@ -232,7 +232,7 @@ def make_model_xml(config: WorldConfig) -> str:
           size="{(_ROOM_FRONT + _ROOM_BACK) / 2} 0.05 1.2" material="wall"/>
     <geom name="wall_right" type="box" pos="{(_ROOM_FRONT - _ROOM_BACK) / 2} {-_ROOM_HALF_WIDTH - 0.05} 1.2"
           size="{(_ROOM_FRONT + _ROOM_BACK) / 2} 0.05 1.2" material="wall"/>
-    <!-- The landmark's cabinet and the landmark (the only red things in the room) -->
+    <!-- The landmark's sideboard and the landmark (the only red things in the room) -->
     <geom name="cabinet" type="box" pos="{(c['front'] + c['back']) / 2} 0 {c['height'] / 2}"
           size="{(c['back'] - c['front']) / 2} {c['width'] / 2} {c['height'] / 2}"
           material="cabinet"/>
@@ -597,7 +597,7 @@ class DockingEnv(dm_env.Environment):
 
 
 def footprints(config: WorldConfig) -> dict[str, tuple[float, float, float, float]]:
-    """Floor-plan rectangles ``(x0, y0, x1, y1)`` of the cabinet, the landmark's two boxes and
+    """Floor-plan rectangles ``(x0, y0, x1, y1)`` of the sideboard, the landmark's two boxes and
     the docking region, for top-down figures."""
     c, s, p = _CABINET, _SLAB, _POST
     return {

@@ -32,11 +32,11 @@
 # MuJoCo through dm-control, rendered headless (EGL/llvmpipe), and wrapped as a
 # `dm_env.Environment` (`docking.world.DockingEnv`):
 #
-# * a room with furniture (sofa, table, shelf, plant, rug), a grey cabinet, and on it the red
+# * a room with furniture (sofa, table, shelf, plant, rug), a grey sideboard, and on it the red
 #   landmark — the only red thing in the room;
 # * a Nao-sized humanoid (0.58 m, visual only) on a planar base driven by position servos.
 #   Each action is one walking step: its target is displaced by Gaussian noise in position
-#   and heading and the servos walk the body there through MuJoCo physics, so the cabinet
+#   and heading and the servos walk the body there through MuJoCo physics, so the sideboard
 #   and the walls stop it. Nao's legged gait is not simulated; what the learner can notice
 #   of it — where a step ends up — is;
 # * Nao's top camera on the robot's forehead, and the paper's pipeline: crop, red
@@ -96,16 +96,22 @@ display(Markdown(f"""
 | crop | columns {x0}–{x1}, rows {y0}–{y1} ({x1 - x0}×{y1 - y0} px) | a wide, flat band like the 32×10 input: each input pixel averages a {(x1 - x0) // cols}×{(y1 - y0) // rows} block |
 | threshold | hue within {cam.hue_tol} (OpenCV units, 0–180) of red, saturation ≥ {cam.min_saturation}, value ≥ {cam.min_value} | only the landmark passes, whatever the shading of its faces |
 | input | {cols}×{rows}, fraction of each block that is red, in [0, 1] | paper: 32×10 grayscale of the thresholded crop; the coverage fraction carries the same information |
-| cabinet | {cm(size['cabinet'][0])} deep × {cm(size['cabinet'][1])} wide × {cm(size['cabinet'][2])} high, front face at x = {fp['cabinet'][0]:+.2f} m | puts the landmark at the camera's height, see below |
+| sideboard | {cm(size['cabinet'][0])} deep × {cm(size['cabinet'][1])} wide × {cm(size['cabinet'][2])} high, front face at x = {fp['cabinet'][0]:+.2f} m | puts the landmark at the camera's height, see below |
 | landmark | slab {cm(size['landmark_slab'][1])} wide × {cm(size['landmark_slab'][2])} high × {cm(size['landmark_slab'][0])} deep, its front face at x = 0; post {cm(size['landmark_post'][1])} × {cm(size['landmark_post'][0])} × {cm(size['landmark_post'][2])} high, {cm(fp['landmark_post'][0])} behind the slab's front | a 3-D shape whose image changes with the viewpoint, see below |
-| robot body | collision cylinder of radius {cm(ROBOT_RADIUS)} | stops it at the cabinet and the walls |
+| robot body | collision cylinder of radius {cm(ROBOT_RADIUS)} | stops it at the sideboard and the walls |
 """))
 
 # %% [markdown]
-# **Why a cabinet.** A point at the camera's height projects to (almost) the same image row at
-# every distance; only its column and its size change. With the landmark on a cabinet, at the
+# **Why a sideboard.** A point at the camera's height projects to (almost) the same image row at
+# every distance; only its column and its size change. With the landmark on a sideboard, at the
 # height of the camera, the landmark stays inside one flat band of rows from the
 # nearest to the farthest start — so a fixed 32×10 crop, like the paper's, sees it everywhere.
+# The sideboard is also deep and wide: its front face stops the robot exactly at the docking
+# region (whose near edge lies 1 cm past the contact line), so a robot cannot walk past the
+# landmark, and one that arrives beside the region stands at the sideboard and has to
+# sidestep along it. Without it, in our first calibration runs, robots that missed the region
+# walked on until the landmark filled the image, images the network confused with the ones
+# in front of the dock.
 # Checked at the corners of the start region:
 
 # %%
@@ -122,7 +128,7 @@ for name, pose in corners.items():
 # **Why this landmark.** The paper's landmark "depending on the perspective, generates a
 # different visual impression", from which the network must extract location-specific
 # features. Ours is a wide, low slab and a post standing some way behind it, both on the
-# cabinet. Straight from the front the post rises from the middle of the slab: an
+# sideboard. Straight from the front the post rises from the middle of the slab: an
 # inverted T. From the robot's left (+y) the post, being farther away, shifts by parallax
 # towards the slab's left end; from the right, towards its right end (an L and a mirrored L).
 # Closer, everything grows. So the input tells the robot on which side of the landmark it
