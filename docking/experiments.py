@@ -227,6 +227,7 @@ class ExperimentResult:
     wall_time_train: float
     wall_time_test: float
     version: str = docking.__version__
+    world_sha256: str | None = None  # the world's fingerprint, as saved (None: a fresh run)
 
     @property
     def test_successes(self) -> int:
@@ -371,11 +372,6 @@ def world_fingerprint(world: WorldConfig) -> str:
     return hashlib.sha256(" ".join(xml.split()).encode()).hexdigest()
 
 
-def saved_world_fingerprint(path: Path | str) -> str | None:
-    with np.load(path) as data:
-        return json.loads(str(data["meta"])).get("world_sha256")
-
-
 def load_result(path: Path | str) -> ExperimentResult:
     """Read a result written by :func:`save_result`."""
     with np.load(path) as data:
@@ -391,7 +387,7 @@ def load_result(path: Path | str) -> ExperimentResult:
             curve_trials=data["curve_trials"], curve_success=data["curve_success"],
             curve_steps=data["curve_steps"], curve_rewarded=data["curve_rewarded"],
             wall_time_train=meta["wall_time_train"], wall_time_test=meta["wall_time_test"],
-            version=meta["version"])
+            version=meta["version"], world_sha256=meta.get("world_sha256"))
 
 
 def run_or_load(config: ExperimentConfig, seed: int, results_dir: Path | str = RESULTS_DIR,
@@ -402,7 +398,7 @@ def run_or_load(config: ExperimentConfig, seed: int, results_dir: Path | str = R
     if path.exists() and not force:
         result = load_result(path)
         if (result.config == config and result.version == docking.__version__
-                and saved_world_fingerprint(path) == world_fingerprint(config.world)):
+                and result.world_sha256 == world_fingerprint(config.world)):
             return result
     result = run_experiment(config, seed, progress=progress)
     save_result(result, path)

@@ -436,7 +436,6 @@ class DockingEnv(dm_env.Environment):
         self._start_near = self._config.start_near
         self._start_far = self._config.start_far
         self._frame = None
-        self._observation = None
         self._steps = 0
         self._needs_reset = True
 
@@ -489,10 +488,7 @@ class DockingEnv(dm_env.Environment):
         return specs.DiscreteArray(N_ACTIONS, dtype=np.int64, name="action")
 
     def reset(self) -> dm_env.TimeStep:
-        self._physics.set_pose(self.sample_start_pose())
-        self._steps = 0
-        self._needs_reset = False
-        return dm_env.restart(self._observe())
+        return self.reset_to(self.sample_start_pose())
 
     def reset_to(self, pose) -> dm_env.TimeStep:
         """Start a trial at a given pose (for figures and tests)."""
@@ -536,8 +532,7 @@ class DockingEnv(dm_env.Environment):
     def _observe(self) -> np.ndarray:
         frame = self.render_camera()
         self._frame = frame
-        self._observation = preprocess(frame, self._config.camera)
-        return self._observation
+        return preprocess(frame, self._config.camera)
 
     def render_camera(self) -> np.ndarray:
         """The robot's RGB camera frame (the robot's body and the dock are not drawn).
