@@ -438,29 +438,43 @@ def _strongest_units(net: Network) -> dict[int, list[str]]:
     return framed
 
 
+# Layout of one block of Fig. 4 (inches): heading, 4 action panels, then the unit grid.
+_BLOCK_HEAD, _BLOCK_ACTION_GAP, _BLOCK_GRID_TOP = 0.55, 0.18, 0.75
+_BLOCK_GRID_GAP_X, _BLOCK_GRID_GAP_Y = 0.08, 0.3
+
+
+def _block_geometry(width: float, aspect: float, n_units: int, columns: int
+                    ) -> tuple[float, float, float, float]:
+    """``(action panel width, unit panel width, grid top, block height)`` of a Fig. 4 block
+    ``width`` inches wide, measured from the block's top."""
+    ca = (width - 3 * _BLOCK_ACTION_GAP) / 4
+    cg = (width - (columns - 1) * _BLOCK_GRID_GAP_X) / columns
+    grid_top = _BLOCK_HEAD + ca * aspect + _BLOCK_GRID_TOP
+    rows = int(np.ceil(n_units / columns))
+    return ca, cg, grid_top, grid_top + rows * (cg * aspect + _BLOCK_GRID_GAP_Y)
+
+
 def _field_block(fig: Figure, x0: float, y0: float, width: float, actions: np.ndarray,
                  units: np.ndarray, framed: dict[int, list[str]], columns: int, heading: str,
-                 action_notes=None, unit_notes=None) -> float:
+                 action_notes=None, unit_notes=None) -> None:
     """Draw 4 action panels (L, R, F, B) above a grid of unit panels in a column ``width``
-    inches wide starting at ``(x0, y0)``; return the bottom of the block (inches)."""
+    inches wide starting at ``(x0, y0)``."""
     aspect = actions.shape[1] / actions.shape[2]
-    gap = 0.18
-    ca = (width - 3 * gap) / 4
-    gx, gy = 0.08, 0.3
-    cg = (width - (columns - 1) * gx) / columns
+    ca, cg, grid_top, _ = _block_geometry(width, aspect, units.shape[0], columns)
     fig.text(x0 / fig.get_size_inches()[0], 1 - y0 / fig.get_size_inches()[1], heading,
              fontsize=10, fontweight="bold", va="top")
-    y_act = y0 + 0.55
+    y_act = y0 + _BLOCK_HEAD
     for k, i in enumerate(PAPER_ACTION_ORDER):
-        ax = _axes(fig, x0 + k * (ca + gap), y_act, ca, ca * aspect)
+        ax = _axes(fig, x0 + k * (ca + _BLOCK_ACTION_GAP), y_act, ca, ca * aspect)
         _image(ax, actions[i])
         ax.set_title(ACTION_LETTERS[i], fontsize=11, pad=2)
         if action_notes is not None:
             ax.set_xlabel(action_notes[i], fontsize=7, color="0.3", labelpad=2)
-    y_grid = y_act + ca * aspect + 0.75
+    y_grid = y0 + grid_top
     for j in range(units.shape[0]):
         r, k = divmod(j, columns)
-        ax = _axes(fig, x0 + k * (cg + gx), y_grid + r * (cg * aspect + gy), cg, cg * aspect)
+        ax = _axes(fig, x0 + k * (cg + _BLOCK_GRID_GAP_X),
+                   y_grid + r * (cg * aspect + _BLOCK_GRID_GAP_Y), cg, cg * aspect)
         _image(ax, units[j])
         if unit_notes is not None:
             ax.set_xlabel(unit_notes[j], fontsize=6, color="0.3", labelpad=1)
@@ -470,8 +484,6 @@ def _field_block(fig: Figure, x0: float, y0: float, width: float, actions: np.nd
                 spine.set_linewidth(2.5)
             ax.set_title(f"unit {j} \u2192 {', '.join(framed[j])}", fontsize=7,
                          color=_FAIL_RED, pad=2, fontweight="bold")
-    rows = int(np.ceil(units.shape[0] / columns))
-    return y_grid + rows * (cg * aspect + gy)
 
 
 def fig4(result, path, columns: int | None = None, n_samples: int = 1500) -> Figure:
@@ -502,20 +514,17 @@ def fig4(result, path, columns: int | None = None, n_samples: int = 1500) -> Fig
 
     W, margin, middle = 15.0, 0.3, 0.6
     half = (W - 2 * margin - middle) / 2
-    aspect = shape[0] / shape[1]
-    rows = int(np.ceil(n_feat / columns))
-    cg = (half - (columns - 1) * 0.08) / columns
-    ca = (half - 3 * 0.18) / 4
-    H = 0.5 + 0.55 + ca * aspect + 0.75 + rows * (cg * aspect + 0.3) + 0.45
+    top = 0.45
+    H = top + _block_geometry(half, shape[0] / shape[1], n_feat, columns)[3] + 0.5
     fig = _new_figure(W, H)
     fig.suptitle(f"Experiment 2 ({n_feat} feature units, {result.config.network.rule} rule), "
                  f"seed {result.seed}, after {result.config.train_trials} training trials",
                  fontsize=11, y=1 - 0.06 / H, va="top")
-    _field_block(fig, margin, 0.45, half, action_rf, feature_rf, framed, columns,
+    _field_block(fig, margin, top, half, action_rf, feature_rf, framed, columns,
                  "weights: action units $\\sum_j Q_{ij} W_j$ (top), feature units $W_j$ (grid)",
                  action_notes=[f"max {np.max(f):.3g}" for f in action_rf])
     never = "never wins"
-    _field_block(fig, margin + half + middle, 0.45, half, action_mean, unit_mean, framed, columns,
+    _field_block(fig, margin + half + middle, top, half, action_mean, unit_mean, framed, columns,
                  f"mean input when the action is chosen / the unit wins ({n_samples} start views)",
                  action_notes=[f"{c} views" for c in action_counts],
                  unit_notes=[f"{c} views" if c else never for c in unit_counts])
