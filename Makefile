@@ -22,6 +22,8 @@ reproduce: setup notebooks
 	$(PY) -m docking.report
 
 test: setup notebooks
+	$(VENV)/bin/ruff format --check .
+	$(VENV)/bin/ruff check .
 	$(PY) -m pytest tests -q
 	$(PY) -m pytest --nbmake --nbmake-timeout=3600 -q $(NOTEBOOKS)
 

@@ -45,10 +45,14 @@ def main() -> None:
         env.physics.walk_to(target)
     t_phys = (time.perf_counter() - t0) / n
 
-    print(f"environment steps/s (render + physics + preprocessing, incl. resets): "
-          f"{args.steps / total:.0f}")
-    print(f"  per step: {1e3 * total / args.steps:.3f} ms; render {1e3 * t_render:.3f} ms, "
-          f"physics {1e3 * t_phys:.3f} ms, preprocessing {1e3 * t_pre:.3f} ms")
+    print(
+        f"environment steps/s (render + physics + preprocessing, incl. resets): "
+        f"{args.steps / total:.0f}"
+    )
+    print(
+        f"  per step: {1e3 * total / args.steps:.3f} ms; render {1e3 * t_render:.3f} ms, "
+        f"physics {1e3 * t_phys:.3f} ms, preprocessing {1e3 * t_pre:.3f} ms"
+    )
 
 
 if __name__ == "__main__":

@@ -14,10 +14,13 @@ The world is imported lazily, so ``docking.network`` works without OpenGL.
 __version__ = "0.1.0"
 
 _LAZY = {
-    "DockingEnv": "docking.world", "WorldConfig": "docking.world",
+    "DockingEnv": "docking.world",
+    "WorldConfig": "docking.world",
     "CameraConfig": "docking.camera",
-    "Network": "docking.network", "NetworkConfig": "docking.network",
-    "run_trial": "docking.trial", "TrialRecord": "docking.trial",
+    "Network": "docking.network",
+    "NetworkConfig": "docking.network",
+    "run_trial": "docking.trial",
+    "TrialRecord": "docking.trial",
     "oracle_action": "docking.oracle",
 }
 
@@ -25,5 +28,6 @@ _LAZY = {
 def __getattr__(name):
     if name in _LAZY:
         import importlib
+
         return getattr(importlib.import_module(_LAZY[name]), name)
     raise AttributeError(f"module 'docking' has no attribute {name!r}")

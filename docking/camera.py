@@ -68,10 +68,12 @@ class CameraConfig:
         if not (0 <= x0 < x1 <= self.width and 0 <= y0 < y1 <= self.height):
             raise ValueError(
                 f"CameraConfig.crop must satisfy 0 <= x0 < x1 <= width and 0 <= y0 < y1 <= "
-                f"height, got {self.crop} for a {self.width}x{self.height} frame")
+                f"height, got {self.crop} for a {self.width}x{self.height} frame"
+            )
         if len(self.input_shape) != 2 or min(self.input_shape) < 1:
-            raise ValueError(f"CameraConfig.input_shape must be (rows, cols) >= 1, got "
-                             f"{self.input_shape}")
+            raise ValueError(
+                f"CameraConfig.input_shape must be (rows, cols) >= 1, got {self.input_shape}"
+            )
         if not 0 <= self.hue_tol <= 90:
             raise ValueError(f"CameraConfig.hue_tol must be in [0, 90], got {self.hue_tol}")
 
@@ -103,8 +105,9 @@ def preprocess(frame: np.ndarray, config: CameraConfig) -> np.ndarray:
     averaging. Returns float32 of shape ``config.input_shape`` with values in [0, 1].
     """
     if frame.shape != (config.height, config.width, 3):
-        raise ValueError(f"frame must have shape {(config.height, config.width, 3)}, "
-                         f"got {frame.shape}")
+        raise ValueError(
+            f"frame must have shape {(config.height, config.width, 3)}, got {frame.shape}"
+        )
     x0, y0, x1, y1 = config.crop
     mask = red_mask(frame[y0:y1, x0:x1], config)
     rows, cols = config.input_shape

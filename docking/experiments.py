@@ -50,8 +50,10 @@ class Curriculum:
 
     def __post_init__(self):
         if not 0 < self.far_initial <= self.far_final:
-            raise ValueError(f"Curriculum needs 0 < far_initial <= far_final, got "
-                             f"far_initial={self.far_initial}, far_final={self.far_final}")
+            raise ValueError(
+                f"Curriculum needs 0 < far_initial <= far_final, got "
+                f"far_initial={self.far_initial}, far_final={self.far_final}"
+            )
         if self.grow_trials < 0:
             raise ValueError(f"Curriculum.grow_trials must be >= 0, got {self.grow_trials}")
 
@@ -92,32 +94,47 @@ class ExperimentConfig:
     def __post_init__(self):
         for name in ("train_trials", "test_trials", "eval_every"):
             if getattr(self, name) < 1:
-                raise ValueError(f"ExperimentConfig.{name} must be >= 1, got "
-                                 f"{getattr(self, name)}")
+                raise ValueError(f"ExperimentConfig.{name} must be >= 1, got {getattr(self, name)}")
         if self.eval_trials < 0:
             raise ValueError(f"ExperimentConfig.eval_trials must be >= 0, got {self.eval_trials}")
         if self.curriculum.far_final != self.world.start_far:
-            raise ValueError("the curriculum must end at the test region: far_final "
-                             f"{self.curriculum.far_final} != world.start_far "
-                             f"{self.world.start_far}")
-        if self.world.camera.input_shape[0] * self.world.camera.input_shape[1] != \
-                self.network.n_inputs:
+            raise ValueError(
+                "the curriculum must end at the test region: far_final "
+                f"{self.curriculum.far_final} != world.start_far "
+                f"{self.world.start_far}"
+            )
+        if (
+            self.world.camera.input_shape[0] * self.world.camera.input_shape[1]
+            != self.network.n_inputs
+        ):
             raise ValueError("network.n_inputs must equal the camera's input pixels")
 
     def to_dict(self) -> dict:
         return dataclasses.asdict(self)
 
     @classmethod
-    def from_dict(cls, d: dict) -> "ExperimentConfig":
+    def from_dict(cls, d: dict) -> ExperimentConfig:
         world = dict(d["world"])
         camera = dict(world.pop("camera"))
-        camera = CameraConfig(**{k: tuple(v) if isinstance(v, list) else v
-                                 for k, v in camera.items()})
-        return cls(name=d["name"], world=WorldConfig(camera=camera, **world),
-                   network=NetworkConfig(**d["network"]),
-                   curriculum=Curriculum(**d["curriculum"]),
-                   **{k: d[k] for k in ("train_trials", "test_trials", "eval_every",
-                                        "eval_trials", "bootstrap_on_truncation")})
+        camera = CameraConfig(
+            **{k: tuple(v) if isinstance(v, list) else v for k, v in camera.items()}
+        )
+        return cls(
+            name=d["name"],
+            world=WorldConfig(camera=camera, **world),
+            network=NetworkConfig(**d["network"]),
+            curriculum=Curriculum(**d["curriculum"]),
+            **{
+                k: d[k]
+                for k in (
+                    "train_trials",
+                    "test_trials",
+                    "eval_every",
+                    "eval_trials",
+                    "bootstrap_on_truncation",
+                )
+            },
+        )
 
 
 # ------------------------------------------------------------------------------------------
@@ -164,6 +181,7 @@ HEADLINE_SEED = 0
 # Records of many trials, stored flat (ragged arrays as values + offsets).
 # ------------------------------------------------------------------------------------------
 
+
 @dataclasses.dataclass
 class TrialLog:
     """Many trials in flat arrays: per trial ``success``, ``steps``, ``start_far`` (the start
@@ -179,14 +197,16 @@ class TrialLog:
     deltas: np.ndarray
 
     @classmethod
-    def from_records(cls, records: list[TrialRecord], start_far) -> "TrialLog":
-        return cls(success=np.array([r.success for r in records], dtype=bool),
-                   steps=np.array([r.steps for r in records], dtype=np.int64),
-                   start_far=np.asarray(start_far, dtype=np.float64),
-                   poses=np.concatenate([r.poses for r in records]),
-                   actions=np.concatenate([r.actions for r in records]),
-                   winners=np.concatenate([r.winners for r in records]),
-                   deltas=np.concatenate([r.deltas for r in records]))
+    def from_records(cls, records: list[TrialRecord], start_far) -> TrialLog:
+        return cls(
+            success=np.array([r.success for r in records], dtype=bool),
+            steps=np.array([r.steps for r in records], dtype=np.int64),
+            start_far=np.asarray(start_far, dtype=np.float64),
+            poses=np.concatenate([r.poses for r in records]),
+            actions=np.concatenate([r.actions for r in records]),
+            winners=np.concatenate([r.winners for r in records]),
+            deltas=np.concatenate([r.deltas for r in records]),
+        )
 
     def __len__(self) -> int:
         return len(self.success)
@@ -194,11 +214,11 @@ class TrialLog:
     def trial_poses(self, k: int) -> np.ndarray:
         """The ``(steps + 1, 3)`` poses of trial ``k``."""
         start = int(np.sum(self.steps[:k] + 1))
-        return self.poses[start:start + self.steps[k] + 1]
+        return self.poses[start : start + self.steps[k] + 1]
 
     def trial_actions(self, k: int) -> np.ndarray:
         start = int(np.sum(self.steps[:k]))
-        return self.actions[start:start + self.steps[k]]
+        return self.actions[start : start + self.steps[k]]
 
     @property
     def starts(self) -> np.ndarray:
@@ -247,10 +267,17 @@ class ExperimentResult:
 
 
 def _streams(seed: int) -> dict[str, np.random.Generator]:
-    names = ("train_world", "test_world", "init", "train_actions", "test_actions",
-             "eval_world", "eval_actions")
+    names = (
+        "train_world",
+        "test_world",
+        "init",
+        "train_actions",
+        "test_actions",
+        "eval_world",
+        "eval_actions",
+    )
     children = np.random.SeedSequence(seed).spawn(len(names))
-    return {n: np.random.default_rng(c) for n, c in zip(names, children)}
+    return {n: np.random.default_rng(c) for n, c in zip(names, children, strict=False)}
 
 
 def initial_network(config: ExperimentConfig, seed: int) -> Network:
@@ -258,23 +285,26 @@ def initial_network(config: ExperimentConfig, seed: int) -> Network:
     return Network(config.network, _streams(seed)["init"])
 
 
-def feature_change(result: "ExperimentResult") -> np.ndarray:
+def feature_change(result: ExperimentResult) -> np.ndarray:
     """Per feature unit, the cosine between its initial and final weight vector (1 = the
     unit's receptive field did not change)."""
     start = initial_network(result.config, result.seed).W
     return np.einsum("jn,jn->j", start, result.network.W)
 
 
-def evaluate(env: DockingEnv, net: Network, rng: np.random.Generator, n_trials: int,
-             config: ExperimentConfig) -> list[TrialRecord]:
+def evaluate(
+    env: DockingEnv, net: Network, rng: np.random.Generator, n_trials: int, config: ExperimentConfig
+) -> list[TrialRecord]:
     """``n_trials`` greedy test trials (beta_a = beta_a_test, no learning)."""
-    return [run_trial(env, net, rng, learn=False,
-                      bootstrap_on_truncation=config.bootstrap_on_truncation)
-            for _ in range(n_trials)]
+    return [
+        run_trial(
+            env, net, rng, learn=False, bootstrap_on_truncation=config.bootstrap_on_truncation
+        )
+        for _ in range(n_trials)
+    ]
 
 
-def run_experiment(config: ExperimentConfig, seed: int, progress: bool = True
-                   ) -> ExperimentResult:
+def run_experiment(config: ExperimentConfig, seed: int, progress: bool = True) -> ExperimentResult:
     """Train and test one network; every random draw comes from ``seed``."""
     rngs = _streams(seed)
     train_env = DockingEnv(config.world, seed=rngs["train_world"])
@@ -299,13 +329,22 @@ def run_experiment(config: ExperimentConfig, seed: int, progress: bool = True
 
     t0 = time.perf_counter()
     measure(0)
-    bar = tqdm(range(config.train_trials), desc=f"{config.name} seed {seed} train",
-               disable=not progress, leave=False)
+    bar = tqdm(
+        range(config.train_trials),
+        desc=f"{config.name} seed {seed} train",
+        disable=not progress,
+        leave=False,
+    )
     for k in bar:
         far = config.curriculum.far_at(k)
         train_env.set_start_region(near, far)
-        rec = run_trial(train_env, net, rngs["train_actions"], learn=True,
-                        bootstrap_on_truncation=config.bootstrap_on_truncation)
+        rec = run_trial(
+            train_env,
+            net,
+            rngs["train_actions"],
+            learn=True,
+            bootstrap_on_truncation=config.bootstrap_on_truncation,
+        )
         records.append(rec)
         fars.append(far)
         rewarded += rec.success
@@ -315,25 +354,41 @@ def run_experiment(config: ExperimentConfig, seed: int, progress: bool = True
     wall_train = time.perf_counter() - t0
 
     t0 = time.perf_counter()
-    test_records = [run_trial(test_env, net, rngs["test_actions"], learn=False,
-                              bootstrap_on_truncation=config.bootstrap_on_truncation)
-                    for _ in tqdm(range(config.test_trials), desc=f"{config.name} seed {seed} test",
-                                  disable=not progress, leave=False)]
+    test_records = [
+        run_trial(
+            test_env,
+            net,
+            rngs["test_actions"],
+            learn=False,
+            bootstrap_on_truncation=config.bootstrap_on_truncation,
+        )
+        for _ in tqdm(
+            range(config.test_trials),
+            desc=f"{config.name} seed {seed} test",
+            disable=not progress,
+            leave=False,
+        )
+    ]
     wall_test = time.perf_counter() - t0
     return ExperimentResult(
-        config=config, seed=seed, network=net,
+        config=config,
+        seed=seed,
+        network=net,
         train=TrialLog.from_records(records, fars),
         test=TrialLog.from_records(test_records, [config.world.start_far] * len(test_records)),
         curve_trials=np.array(curve["trials"], dtype=np.int64),
         curve_success=np.array(curve["success"], dtype=np.float64),
         curve_steps=np.array(curve["steps"], dtype=np.float64),
         curve_rewarded=np.array(curve["rewarded"], dtype=np.int64),
-        wall_time_train=wall_train, wall_time_test=wall_test)
+        wall_time_train=wall_train,
+        wall_time_test=wall_test,
+    )
 
 
 # ------------------------------------------------------------------------------------------
 # Saving and loading.
 # ------------------------------------------------------------------------------------------
+
 
 def result_path(name: str, seed: int, results_dir: Path | str = RESULTS_DIR) -> Path:
     return Path(results_dir) / name / f"seed{seed}.npz"
@@ -343,12 +398,23 @@ def save_result(result: ExperimentResult, path: Path | str) -> Path:
     """Write ``result`` to ``path`` (.npz) atomically: a temporary file, then a rename."""
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
-    meta = {"config": result.config.to_dict(), "seed": result.seed, "version": result.version,
-            "world_sha256": world_fingerprint(result.config.world),
-            "wall_time_train": result.wall_time_train, "wall_time_test": result.wall_time_test}
-    arrays = {"meta": np.array(json.dumps(meta)), "W": result.network.W, "Q": result.network.Q,
-              "curve_trials": result.curve_trials, "curve_success": result.curve_success,
-              "curve_steps": result.curve_steps, "curve_rewarded": result.curve_rewarded}
+    meta = {
+        "config": result.config.to_dict(),
+        "seed": result.seed,
+        "version": result.version,
+        "world_sha256": world_fingerprint(result.config.world),
+        "wall_time_train": result.wall_time_train,
+        "wall_time_test": result.wall_time_test,
+    }
+    arrays = {
+        "meta": np.array(json.dumps(meta)),
+        "W": result.network.W,
+        "Q": result.network.Q,
+        "curve_trials": result.curve_trials,
+        "curve_success": result.curve_success,
+        "curve_steps": result.curve_steps,
+        "curve_rewarded": result.curve_rewarded,
+    }
     for part in ("train", "test"):
         for field in dataclasses.fields(TrialLog):
             arrays[f"{part}.{field.name}"] = getattr(getattr(result, part), field.name)
@@ -377,28 +443,46 @@ def load_result(path: Path | str) -> ExperimentResult:
     with np.load(path) as data:
         meta = json.loads(str(data["meta"]))
         config = ExperimentConfig.from_dict(meta["config"])
-        logs = {part: TrialLog(**{f.name: data[f"{part}.{f.name}"]
-                                  for f in dataclasses.fields(TrialLog)})
-                for part in ("train", "test")}
+        logs = {
+            part: TrialLog(
+                **{f.name: data[f"{part}.{f.name}"] for f in dataclasses.fields(TrialLog)}
+            )
+            for part in ("train", "test")
+        }
         return ExperimentResult(
-            config=config, seed=meta["seed"],
+            config=config,
+            seed=meta["seed"],
             network=Network.from_weights(config.network, data["W"], data["Q"]),
-            train=logs["train"], test=logs["test"],
-            curve_trials=data["curve_trials"], curve_success=data["curve_success"],
-            curve_steps=data["curve_steps"], curve_rewarded=data["curve_rewarded"],
-            wall_time_train=meta["wall_time_train"], wall_time_test=meta["wall_time_test"],
-            version=meta["version"], world_sha256=meta.get("world_sha256"))
+            train=logs["train"],
+            test=logs["test"],
+            curve_trials=data["curve_trials"],
+            curve_success=data["curve_success"],
+            curve_steps=data["curve_steps"],
+            curve_rewarded=data["curve_rewarded"],
+            wall_time_train=meta["wall_time_train"],
+            wall_time_test=meta["wall_time_test"],
+            version=meta["version"],
+            world_sha256=meta.get("world_sha256"),
+        )
 
 
-def run_or_load(config: ExperimentConfig, seed: int, results_dir: Path | str = RESULTS_DIR,
-                force: bool = False, progress: bool = True) -> ExperimentResult:
+def run_or_load(
+    config: ExperimentConfig,
+    seed: int,
+    results_dir: Path | str = RESULTS_DIR,
+    force: bool = False,
+    progress: bool = True,
+) -> ExperimentResult:
     """Load the saved result of (``config``, ``seed``) if there is one made with the same
     configuration; otherwise run it and save it."""
     path = result_path(config.name, seed, results_dir)
     if path.exists() and not force:
         result = load_result(path)
-        if (result.config == config and result.version == docking.__version__
-                and result.world_sha256 == world_fingerprint(config.world)):
+        if (
+            result.config == config
+            and result.version == docking.__version__
+            and result.world_sha256 == world_fingerprint(config.world)
+        ):
             return result
     result = run_experiment(config, seed, progress=progress)
     save_result(result, path)
@@ -411,9 +495,14 @@ def _run_or_load_job(args) -> str:
     return str(result_path(config.name, seed, results_dir))
 
 
-def run_seeds(config: ExperimentConfig, seeds, results_dir: Path | str = RESULTS_DIR,
-              force: bool = False, processes: int | None = None,
-              progress: bool = True) -> list[ExperimentResult]:
+def run_seeds(
+    config: ExperimentConfig,
+    seeds,
+    results_dir: Path | str = RESULTS_DIR,
+    force: bool = False,
+    processes: int | None = None,
+    progress: bool = True,
+) -> list[ExperimentResult]:
     """Run (or load) ``config`` for every seed, several seeds at once in worker processes
     (one per core by default; each renders with its own OpenGL context)."""
     seeds = [int(s) for s in seeds]
@@ -423,7 +512,14 @@ def run_seeds(config: ExperimentConfig, seeds, results_dir: Path | str = RESULTS
         paths = [_run_or_load_job(j) for j in tqdm(jobs, desc=config.name, disable=not progress)]
     else:
         import multiprocessing
+
         with multiprocessing.get_context("spawn").Pool(processes) as pool:
-            paths = list(tqdm(pool.imap(_run_or_load_job, jobs), total=len(jobs),
-                              desc=f"{config.name}, {len(seeds)} seeds", disable=not progress))
+            paths = list(
+                tqdm(
+                    pool.imap(_run_or_load_job, jobs),
+                    total=len(jobs),
+                    desc=f"{config.name}, {len(seeds)} seeds",
+                    disable=not progress,
+                )
+            )
     return [load_result(p) for p in paths]

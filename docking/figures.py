@@ -39,9 +39,21 @@ from docking.camera import CameraConfig
 from docking.network import Network
 from docking.world import ACTION_LETTERS, ROBOT_RADIUS, DockingEnv, WorldConfig, footprints
 
-__all__ = ["FIGURES_DIR", "VIEW_POSES", "PAPER_ACTION_ORDER", "receptive_fields",
-           "fig2_scene", "fig3", "fig4", "fig5", "fig_learning_curves", "draw_floor_plan",
-           "draw_trajectory", "sample_trials", "save_figure"]
+__all__ = [
+    "FIGURES_DIR",
+    "VIEW_POSES",
+    "PAPER_ACTION_ORDER",
+    "receptive_fields",
+    "fig2_scene",
+    "fig3",
+    "fig4",
+    "fig5",
+    "fig_learning_curves",
+    "draw_floor_plan",
+    "draw_trajectory",
+    "sample_trials",
+    "save_figure",
+]
 
 #: Where the notebooks write the figures: ``figures/`` at the repository's root.
 FIGURES_DIR = Path(__file__).resolve().parent.parent / "figures"
@@ -74,6 +86,7 @@ _FAIL_RED = "#d62020"
 # Saving, layout and drawing helpers.
 # ------------------------------------------------------------------------------------------
 
+
 def save_figure(fig: Figure, path) -> tuple[Path, Path]:
     """Save ``fig`` as ``<path>.png`` (``_DPI`` dpi) and ``<path>.pdf``, each atomically.
 
@@ -92,8 +105,12 @@ def save_figure(fig: Figure, path) -> tuple[Path, Path]:
         try:
             with os.fdopen(fd, "wb") as f:
                 # No creation date in the PDF: the same figure gives the same file.
-                fig.savefig(f, format=fmt, dpi=_DPI,
-                            metadata={"CreationDate": None} if fmt == "pdf" else None)
+                fig.savefig(
+                    f,
+                    format=fmt,
+                    dpi=_DPI,
+                    metadata={"CreationDate": None} if fmt == "pdf" else None,
+                )
             os.chmod(tmp, 0o666 & ~_umask())  # mkstemp creates 0600; make it an ordinary file
             os.replace(tmp, target)
         except BaseException:
@@ -138,8 +155,14 @@ def _image(ax, image, vmax=None, frame_color="0.35") -> None:
     else:
         vmax = float(np.max(image)) if vmax is None else float(vmax)
         # An all-zero (or all-negative) field is shown white: it has no structure.
-        ax.imshow(image, cmap=_WEIGHT_CMAP, vmin=0.0, vmax=max(vmax, 1e-12),
-                  interpolation="nearest", aspect="equal")
+        ax.imshow(
+            image,
+            cmap=_WEIGHT_CMAP,
+            vmin=0.0,
+            vmax=max(vmax, 1e-12),
+            interpolation="nearest",
+            aspect="equal",
+        )
     ax.set_xticks([])
     ax.set_yticks([])
     for spine in ax.spines.values():
@@ -147,8 +170,9 @@ def _image(ax, image, vmax=None, frame_color="0.35") -> None:
         spine.set_linewidth(0.8)
 
 
-def _weight_map(ax, field: np.ndarray, title: str | None = None, title_color="black",
-                title_size=10) -> None:
+def _weight_map(
+    ax, field: np.ndarray, title: str | None = None, title_color="black", title_size=10
+) -> None:
     """A receptive field scaled from 0 to its own maximum, the maximum written beneath."""
     _image(ax, field)
     if title:
@@ -160,15 +184,27 @@ def _crop_rectangle(ax, camera: CameraConfig) -> None:
     """The crop rectangle of Fig. 2B: white, dotted, with a thin dark outline so it stays
     visible on the light walls. Pixel ``k`` covers ``[k - 0.5, k + 0.5]`` in image coordinates."""
     x0, y0, x1, y1 = camera.crop
-    rect = Rectangle((x0 - 0.5, y0 - 0.5), x1 - x0, y1 - y0, fill=False, edgecolor="white",
-                     linestyle=(0, (1.5, 1.5)), linewidth=1.8, clip_on=False, zorder=3)
+    rect = Rectangle(
+        (x0 - 0.5, y0 - 0.5),
+        x1 - x0,
+        y1 - y0,
+        fill=False,
+        edgecolor="white",
+        linestyle=(0, (1.5, 1.5)),
+        linewidth=1.8,
+        clip_on=False,
+        zorder=3,
+    )
     rect.set_path_effects([patheffects.withStroke(linewidth=3.0, foreground="0.15")])
     ax.add_patch(rect)
 
 
 def _view_title(name: str, pose) -> str:
-    where = {"left": "left of the landmark", "front": "in front of the landmark",
-             "right": "right of the landmark"}.get(name, name)
+    where = {
+        "left": "left of the landmark",
+        "front": "in front of the landmark",
+        "right": "right of the landmark",
+    }.get(name, name)
     return f"{where}\n(x = {pose[0]:+.2f} m, y = {pose[1]:+.2f} m)"
 
 
@@ -182,6 +218,7 @@ def _check_views(poses) -> dict:
 # ------------------------------------------------------------------------------------------
 # Receptive fields.
 # ------------------------------------------------------------------------------------------
+
 
 def receptive_fields(net: Network, shape=None) -> tuple[np.ndarray, np.ndarray]:
     """The receptive fields of the action and the feature units, as images.
@@ -229,6 +266,7 @@ def _decide(net: Network, observation: np.ndarray) -> tuple[int, float, int]:
 # Fig. 2: the scene.
 # ------------------------------------------------------------------------------------------
 
+
 def fig2_scene(env: DockingEnv, path, poses=None, overview_size=(800, 600)) -> Figure:
     """The paper's Fig. 2 for this world, plus the three example views of Fig. 3 (top).
 
@@ -264,8 +302,9 @@ def fig2_scene(env: DockingEnv, path, poses=None, overview_size=(800, 600)) -> F
     # Layout in inches. Top: A on the left, B above C on the right, both columns equally tall.
     W, margin, gap = 10.0, 0.3, 0.35
     c_gap = 0.45  # room for C's caption line
-    b = (W - 2 * margin - gap - c_gap / (overview_size[1] / overview_size[0])
-         ) / (1 + (frame_aspect + input_aspect) / (overview_size[1] / overview_size[0]))
+    b = (W - 2 * margin - gap - c_gap / (overview_size[1] / overview_size[0])) / (
+        1 + (frame_aspect + input_aspect) / (overview_size[1] / overview_size[0])
+    )
     a = W - 2 * margin - gap - b
     top_h = a * overview_size[1] / overview_size[0]
     # Bottom: three columns, frame above input.
@@ -278,8 +317,11 @@ def fig2_scene(env: DockingEnv, path, poses=None, overview_size=(800, 600)) -> F
 
     ax_a = _axes(fig, margin, top0, a, top_h)
     _image(ax_a, overview)
-    ax_a.set_title("the robot in front of the docking region (yellow) and the landmark (red)",
-                   fontsize=9, pad=3)
+    ax_a.set_title(
+        "the robot in front of the docking region (yellow) and the landmark (red)",
+        fontsize=9,
+        pad=3,
+    )
     _letter(fig, ax_a, "A")
 
     right = margin + a + gap
@@ -291,8 +333,12 @@ def fig2_scene(env: DockingEnv, path, poses=None, overview_size=(800, 600)) -> F
     ax_c = _axes(fig, right, top0 + top_h - b * input_aspect, b, b * input_aspect)
     _image(ax_c, inputs[main], vmax=1.0)
     ax_c.set_title(f"input I ({cols}x{rows})", fontsize=9, pad=3)
-    ax_c.set_xlabel("fraction of each pixel's block that is red (0 white, 1 black)",
-                    fontsize=7, color="0.3", labelpad=2)
+    ax_c.set_xlabel(
+        "fraction of each pixel's block that is red (0 white, 1 black)",
+        fontsize=7,
+        color="0.3",
+        labelpad=2,
+    )
     _letter(fig, ax_c, "C")
 
     for k, name in enumerate(names):
@@ -313,12 +359,20 @@ def fig2_scene(env: DockingEnv, path, poses=None, overview_size=(800, 600)) -> F
 # Figs. 3 and 4: receptive fields.
 # ------------------------------------------------------------------------------------------
 
+
 def _row_label(fig: Figure, ax, text: str) -> None:
     """A rotated row label left of ``ax``."""
     bbox = ax.get_position()
     W, _ = fig.get_size_inches()
-    fig.text(bbox.x0 - 0.12 / W, (bbox.y0 + bbox.y1) / 2, text, rotation=90, ha="right",
-             va="center", fontsize=9)
+    fig.text(
+        bbox.x0 - 0.12 / W,
+        (bbox.y0 + bbox.y1) / 2,
+        text,
+        rotation=90,
+        ha="right",
+        va="center",
+        fontsize=9,
+    )
 
 
 def fig3(result, env: DockingEnv, path, poses=None) -> Figure:
@@ -357,9 +411,13 @@ def fig3(result, env: DockingEnv, path, poses=None) -> Figure:
     y_bot = y_mid + c4 * rf_aspect + label_h + 0.35
     H = y_bot + feat_rows * (c4 * rf_aspect + label_h) + (feat_rows - 1) * 0.35 + 0.1
     fig = _new_figure(W, H)
-    fig.suptitle(f"Experiment 1 ({n_feat} feature units, {result.config.network.rule} rule), "
-                 f"seed {result.seed}, after {result.config.train_trials} training trials",
-                 fontsize=10, y=1 - 0.08 / H, va="top")
+    fig.suptitle(
+        f"Experiment 1 ({n_feat} feature units, {result.config.network.rule} rule), "
+        f"seed {result.seed}, after {result.config.train_trials} training trials",
+        fontsize=10,
+        y=1 - 0.08 / H,
+        va="top",
+    )
 
     for k, (name, pose) in enumerate(poses.items()):
         timestep = env.reset_to(pose)
@@ -368,8 +426,11 @@ def fig3(result, env: DockingEnv, path, poses=None) -> Figure:
         _image(ax, env.frame)
         _crop_rectangle(ax, camera)
         ax.set_title(_view_title(name, pose).split("\n")[0], fontsize=9, pad=3)
-        ax.set_xlabel(f"unit {winner} wins (s = {activation:.2f}); greedy action "
-                      f"{ACTION_LETTERS[action]}", fontsize=8, labelpad=3)
+        ax.set_xlabel(
+            f"unit {winner} wins (s = {activation:.2f}); greedy action {ACTION_LETTERS[action]}",
+            fontsize=8,
+            labelpad=3,
+        )
         if k == 0:
             _row_label(fig, ax, "raw camera image")
 
@@ -381,11 +442,19 @@ def fig3(result, env: DockingEnv, path, poses=None) -> Figure:
 
     for j in range(n_feat):
         r, k = divmod(j, per_row)
-        ax = _axes(fig, margin_l + k * (c4 + gap),
-                   y_bot + r * (c4 * rf_aspect + label_h + 0.35), c4, c4 * rf_aspect)
+        ax = _axes(
+            fig,
+            margin_l + k * (c4 + gap),
+            y_bot + r * (c4 * rf_aspect + label_h + 0.35),
+            c4,
+            c4 * rf_aspect,
+        )
         best = _best_action(net, j)
-        label = (f"unit {j} \u2192 {ACTION_LETTERS[best]} (Q = {net.Q[best, j]:.2f})"
-                 if best is not None else f"unit {j}: no action")
+        label = (
+            f"unit {j} \u2192 {ACTION_LETTERS[best]} (Q = {net.Q[best, j]:.2f})"
+            if best is not None
+            else f"unit {j}: no action"
+        )
         _weight_map(ax, feature_rf[j], label, title_size=9)
         if j == 0:
             _row_label(fig, ax, "feature\nunits")
@@ -393,8 +462,9 @@ def fig3(result, env: DockingEnv, path, poses=None) -> Figure:
     return fig
 
 
-def mean_winning_inputs(net: Network, world: WorldConfig, n: int = 1500, seed: int = 0
-                        ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+def mean_winning_inputs(
+    net: Network, world: WorldConfig, n: int = 1500, seed: int = 0
+) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
     """What the units respond to: mean network inputs over ``n`` start views.
 
     Samples ``n`` start poses of ``world``'s start region (``DockingEnv(world, seed).reset()``,
@@ -443,8 +513,9 @@ _BLOCK_HEAD, _BLOCK_ACTION_GAP, _BLOCK_GRID_TOP = 0.55, 0.18, 0.75
 _BLOCK_GRID_GAP_X, _BLOCK_GRID_GAP_Y = 0.08, 0.3
 
 
-def _block_geometry(width: float, aspect: float, n_units: int, columns: int
-                    ) -> tuple[float, float, float, float]:
+def _block_geometry(
+    width: float, aspect: float, n_units: int, columns: int
+) -> tuple[float, float, float, float]:
     """``(action panel width, unit panel width, grid top, block height)`` of a Fig. 4 block
     ``width`` inches wide, measured from the block's top."""
     ca = (width - 3 * _BLOCK_ACTION_GAP) / 4
@@ -454,15 +525,31 @@ def _block_geometry(width: float, aspect: float, n_units: int, columns: int
     return ca, cg, grid_top, grid_top + rows * (cg * aspect + _BLOCK_GRID_GAP_Y)
 
 
-def _field_block(fig: Figure, x0: float, y0: float, width: float, actions: np.ndarray,
-                 units: np.ndarray, framed: dict[int, list[str]], columns: int, heading: str,
-                 action_notes=None, unit_notes=None) -> None:
+def _field_block(
+    fig: Figure,
+    x0: float,
+    y0: float,
+    width: float,
+    actions: np.ndarray,
+    units: np.ndarray,
+    framed: dict[int, list[str]],
+    columns: int,
+    heading: str,
+    action_notes=None,
+    unit_notes=None,
+) -> None:
     """Draw 4 action panels (L, R, F, B) above a grid of unit panels in a column ``width``
     inches wide starting at ``(x0, y0)``."""
     aspect = actions.shape[1] / actions.shape[2]
     ca, cg, grid_top, _ = _block_geometry(width, aspect, units.shape[0], columns)
-    fig.text(x0 / fig.get_size_inches()[0], 1 - y0 / fig.get_size_inches()[1], heading,
-             fontsize=10, fontweight="bold", va="top")
+    fig.text(
+        x0 / fig.get_size_inches()[0],
+        1 - y0 / fig.get_size_inches()[1],
+        heading,
+        fontsize=10,
+        fontweight="bold",
+        va="top",
+    )
     y_act = y0 + _BLOCK_HEAD
     for k, i in enumerate(PAPER_ACTION_ORDER):
         ax = _axes(fig, x0 + k * (ca + _BLOCK_ACTION_GAP), y_act, ca, ca * aspect)
@@ -473,8 +560,13 @@ def _field_block(fig: Figure, x0: float, y0: float, width: float, actions: np.nd
     y_grid = y0 + grid_top
     for j in range(units.shape[0]):
         r, k = divmod(j, columns)
-        ax = _axes(fig, x0 + k * (cg + _BLOCK_GRID_GAP_X),
-                   y_grid + r * (cg * aspect + _BLOCK_GRID_GAP_Y), cg, cg * aspect)
+        ax = _axes(
+            fig,
+            x0 + k * (cg + _BLOCK_GRID_GAP_X),
+            y_grid + r * (cg * aspect + _BLOCK_GRID_GAP_Y),
+            cg,
+            cg * aspect,
+        )
         _image(ax, units[j])
         if unit_notes is not None:
             ax.set_xlabel(unit_notes[j], fontsize=6, color="0.3", labelpad=1)
@@ -482,8 +574,13 @@ def _field_block(fig: Figure, x0: float, y0: float, width: float, actions: np.nd
             for spine in ax.spines.values():
                 spine.set_color(_FAIL_RED)
                 spine.set_linewidth(2.5)
-            ax.set_title(f"unit {j} \u2192 {', '.join(framed[j])}", fontsize=7,
-                         color=_FAIL_RED, pad=2, fontweight="bold")
+            ax.set_title(
+                f"unit {j} \u2192 {', '.join(framed[j])}",
+                fontsize=7,
+                color=_FAIL_RED,
+                pad=2,
+                fontweight="bold",
+            )
 
 
 def fig4(result, path, columns: int | None = None, n_samples: int = 1500) -> Figure:
@@ -507,7 +604,8 @@ def fig4(result, path, columns: int | None = None, n_samples: int = 1500) -> Fig
     shape = result.config.world.camera.input_shape
     action_rf, feature_rf = receptive_fields(net, shape)
     action_mean, unit_mean, action_counts, unit_counts = mean_winning_inputs(
-        net, result.config.world, n=n_samples)
+        net, result.config.world, n=n_samples
+    )
     n_feat = feature_rf.shape[0]
     columns = columns or int(np.ceil(np.sqrt(n_feat)))
     framed = _strongest_units(net)
@@ -517,21 +615,48 @@ def fig4(result, path, columns: int | None = None, n_samples: int = 1500) -> Fig
     top = 0.45
     H = top + _block_geometry(half, shape[0] / shape[1], n_feat, columns)[3] + 0.5
     fig = _new_figure(W, H)
-    fig.suptitle(f"Experiment 2 ({n_feat} feature units, {result.config.network.rule} rule), "
-                 f"seed {result.seed}, after {result.config.train_trials} training trials",
-                 fontsize=11, y=1 - 0.06 / H, va="top")
-    _field_block(fig, margin, top, half, action_rf, feature_rf, framed, columns,
-                 "weights: action units $\\sum_j Q_{ij} W_j$ (top), feature units $W_j$ (grid)",
-                 action_notes=[f"max {np.max(f):.3g}" for f in action_rf])
+    fig.suptitle(
+        f"Experiment 2 ({n_feat} feature units, {result.config.network.rule} rule), "
+        f"seed {result.seed}, after {result.config.train_trials} training trials",
+        fontsize=11,
+        y=1 - 0.06 / H,
+        va="top",
+    )
+    _field_block(
+        fig,
+        margin,
+        top,
+        half,
+        action_rf,
+        feature_rf,
+        framed,
+        columns,
+        "weights: action units $\\sum_j Q_{ij} W_j$ (top), feature units $W_j$ (grid)",
+        action_notes=[f"max {np.max(f):.3g}" for f in action_rf],
+    )
     never = "never wins"
-    _field_block(fig, margin + half + middle, top, half, action_mean, unit_mean, framed, columns,
-                 f"mean input when the action is chosen / the unit wins ({n_samples} start views)",
-                 action_notes=[f"{c} views" for c in action_counts],
-                 unit_notes=[f"{c} views" if c else never for c in unit_counts])
-    fig.text(margin / W, 0.12 / H,
-             "Each panel scaled 0..its own maximum, strong dark. Framed red: the unit with the "
-             "largest action weight (argmax$_j$ Q$_{ij}$) for L, R and F.",
-             fontsize=8, color="0.3", va="bottom")
+    _field_block(
+        fig,
+        margin + half + middle,
+        top,
+        half,
+        action_mean,
+        unit_mean,
+        framed,
+        columns,
+        f"mean input when the action is chosen / the unit wins ({n_samples} start views)",
+        action_notes=[f"{c} views" for c in action_counts],
+        unit_notes=[f"{c} views" if c else never for c in unit_counts],
+    )
+    fig.text(
+        margin / W,
+        0.12 / H,
+        "Each panel scaled 0..its own maximum, strong dark. Framed red: the unit with the "
+        "largest action weight (argmax$_j$ Q$_{ij}$) for L, R and F.",
+        fontsize=8,
+        color="0.3",
+        va="bottom",
+    )
     save_figure(fig, path)
     return fig
 
@@ -543,25 +668,37 @@ def fig4(result, path, columns: int | None = None, n_samples: int = 1500) -> Fig
 # vertical axis is x (the approach axis), the horizontal axis is y, inverted so that the
 # robot's left (+y) is on the reader's left, as it is for a robot walking up the page.
 
-def draw_floor_plan(ax, config: WorldConfig, start_region: tuple[float, float] | None = None
-                    ) -> None:
+
+def draw_floor_plan(
+    ax, config: WorldConfig, start_region: tuple[float, float] | None = None
+) -> None:
     """Draw the floor plan on ``ax`` (horizontal: y, inverted; vertical: x): the grey sideboard,
     the landmark's red boxes, the yellow docking region and, dashed, the start trapezoid
     ``start_region = (near, far)`` (default the config's)."""
     fp = footprints(config)
-    styles = {"cabinet": dict(facecolor=_CABINET_GREY, edgecolor="0.4", zorder=1),
-              "landmark_slab": dict(facecolor=_LANDMARK_RED, edgecolor="none", zorder=2),
-              "landmark_post": dict(facecolor=_LANDMARK_RED, edgecolor="none", zorder=2),
-              "dock": dict(facecolor=_DOCK_YELLOW, edgecolor="0.3", linewidth=0.6, zorder=1)}
+    styles = {
+        "cabinet": dict(facecolor=_CABINET_GREY, edgecolor="0.4", zorder=1),
+        "landmark_slab": dict(facecolor=_LANDMARK_RED, edgecolor="none", zorder=2),
+        "landmark_post": dict(facecolor=_LANDMARK_RED, edgecolor="none", zorder=2),
+        "dock": dict(facecolor=_DOCK_YELLOW, edgecolor="0.3", linewidth=0.6, zorder=1),
+    }
     for name, style in styles.items():
         x0, y0, x1, y1 = fp[name]
         ax.add_patch(Rectangle((y0, x0), y1 - y0, x1 - x0, **style))
-    near, far = start_region if start_region is not None else (config.start_near,
-                                                               config.start_far)
+    near, far = start_region if start_region is not None else (config.start_near, config.start_far)
     tan = np.tan(np.radians(config.start_half_angle_deg))
     corners = [(near * tan, -near), (far * tan, -far), (-far * tan, -far), (-near * tan, -near)]
-    ax.add_patch(Polygon(corners, closed=True, fill=False, linestyle="--", edgecolor="0.45",
-                         linewidth=1.0, zorder=1))
+    ax.add_patch(
+        Polygon(
+            corners,
+            closed=True,
+            fill=False,
+            linestyle="--",
+            edgecolor="0.45",
+            linewidth=1.0,
+            zorder=1,
+        )
+    )
     ax.set_aspect("equal")
     if not ax.xaxis_inverted():
         ax.invert_xaxis()
@@ -578,12 +715,19 @@ def draw_trajectory(ax, poses: np.ndarray, color, start_marker: bool = True, **k
     line.update(kwargs)
     ax.plot(poses[:, 1], poses[:, 0], color=color, **line)
     if start_marker:
-        ax.plot(poses[0, 1], poses[0, 0], "o", markersize=5, markerfacecolor="white",
-                markeredgecolor=color, markeredgewidth=1.2, zorder=4)
+        ax.plot(
+            poses[0, 1],
+            poses[0, 0],
+            "o",
+            markersize=5,
+            markerfacecolor="white",
+            markeredgecolor=color,
+            markeredgewidth=1.2,
+            zorder=4,
+        )
 
 
-def sample_trials(success: np.ndarray, n: int, seed: int = 0, min_failures: int = 3
-                  ) -> np.ndarray:
+def sample_trials(success: np.ndarray, n: int, seed: int = 0, min_failures: int = 3) -> np.ndarray:
     """A seeded random sample of ``n`` trial indices that represents the success rate but
     shows failures when there are any: failures get ``round(n * failure rate)`` places, at
     least ``min(min_failures, failures)``. Sorted indices; fewer if there are fewer trials."""
@@ -595,8 +739,9 @@ def sample_trials(success: np.ndarray, n: int, seed: int = 0, min_failures: int 
     n_fail = min(len(fails), max(n_fail, min(min_failures, len(fails), n)))
     n_ok = min(n - n_fail, len(oks))
     n_fail = min(len(fails), n - n_ok)
-    chosen = np.concatenate([rng.choice(fails, n_fail, replace=False),
-                             rng.choice(oks, n_ok, replace=False)]).astype(np.int64)
+    chosen = np.concatenate(
+        [rng.choice(fails, n_fail, replace=False), rng.choice(oks, n_ok, replace=False)]
+    ).astype(np.int64)
     return np.sort(chosen)
 
 
@@ -626,10 +771,11 @@ def fig5(result, path, n: int = 30, seed: int = 0) -> Figure:
     # one metre is drawn the same length on both axes.
     tan = np.tan(np.radians(config.start_half_angle_deg))
     fp = footprints(config)
-    ys = np.concatenate([[config.start_far * tan, -config.start_far * tan, fp["cabinet"][1],
-                          fp["cabinet"][3]]] + [p[:, 1] for p in paths.values()])
-    xs = np.concatenate([[-config.start_far, fp["cabinet"][2]]]
-                        + [p[:, 0] for p in paths.values()])
+    ys = np.concatenate(
+        [[config.start_far * tan, -config.start_far * tan, fp["cabinet"][1], fp["cabinet"][3]]]
+        + [p[:, 1] for p in paths.values()]
+    )
+    xs = np.concatenate([[-config.start_far, fp["cabinet"][2]]] + [p[:, 0] for p in paths.values()])
     margin = 0.08
     y_lo, y_hi = float(np.min(ys)) - margin, float(np.max(ys)) + margin
     x_lo, x_hi = float(np.min(xs)) - margin, float(np.max(xs)) + margin
@@ -653,30 +799,76 @@ def fig5(result, path, n: int = 30, seed: int = 0) -> Figure:
         draw_trajectory(ax, paths[k], _FAIL_RED, zorder=5)
     if ok:  # the robot's body once, at the end of a successful trial, for scale
         end = paths[ok[0]][-1]
-        ax.add_patch(Circle((end[1], end[0]), ROBOT_RADIUS, fill=False, edgecolor="0.3",
-                            linestyle=":", linewidth=1.0, zorder=6))
+        ax.add_patch(
+            Circle(
+                (end[1], end[0]),
+                ROBOT_RADIUS,
+                fill=False,
+                edgecolor="0.3",
+                linestyle=":",
+                linewidth=1.0,
+                zorder=6,
+            )
+        )
 
-    ax.set_title(f"{result.config.name}, seed {result.seed}: {len(chosen)} of {len(log)} test "
-                 f"trials\n(all {len(log)}: {int(np.sum(log.success))} docked, "
-                 f"{100 * log.success_rate:.0f}%)", fontsize=9)
+    ax.set_title(
+        f"{result.config.name}, seed {result.seed}: {len(chosen)} of {len(log)} test "
+        f"trials\n(all {len(log)}: {int(np.sum(log.success))} docked, "
+        f"{100 * log.success_rate:.0f}%)",
+        fontsize=9,
+    )
     dock_cm = f"{100 * config.dock_depth:.0f}x{100 * config.dock_width:.0f} cm"
     handles = [
-        Line2D([], [], color=shades[len(shades) // 2] if ok else "green", marker=".",
-               label=f"docked ({len(ok)} shown)"),
+        Line2D(
+            [],
+            [],
+            color=shades[len(shades) // 2] if ok else "green",
+            marker=".",
+            label=f"docked ({len(ok)} shown)",
+        ),
         Line2D([], [], color=_FAIL_RED, marker=".", label=f"failed ({len(bad)} shown)"),
-        Line2D([], [], linestyle="none", marker="o", markerfacecolor="white",
-               markeredgecolor="0.3", label="start of a trial"),
-        Line2D([], [], color="0.45", linestyle="--",
-               label=f"start region ({config.start_near:.2f}-{config.start_far:.2f} m)"),
-        Rectangle((0, 0), 1, 1, facecolor=_DOCK_YELLOW, edgecolor="0.3",
-                  label=f"docking region ({dock_cm})"),
+        Line2D(
+            [],
+            [],
+            linestyle="none",
+            marker="o",
+            markerfacecolor="white",
+            markeredgecolor="0.3",
+            label="start of a trial",
+        ),
+        Line2D(
+            [],
+            [],
+            color="0.45",
+            linestyle="--",
+            label=f"start region ({config.start_near:.2f}-{config.start_far:.2f} m)",
+        ),
+        Rectangle(
+            (0, 0),
+            1,
+            1,
+            facecolor=_DOCK_YELLOW,
+            edgecolor="0.3",
+            label=f"docking region ({dock_cm})",
+        ),
         Rectangle((0, 0), 1, 1, facecolor=_LANDMARK_RED, label="landmark (slab, post)"),
         Rectangle((0, 0), 1, 1, facecolor=_CABINET_GREY, edgecolor="0.4", label="sideboard"),
-        Line2D([], [], color="0.3", linestyle=":",
-               label=f"robot body (r = {100 * ROBOT_RADIUS:.0f} cm)"),
+        Line2D(
+            [],
+            [],
+            color="0.3",
+            linestyle=":",
+            label=f"robot body (r = {100 * ROBOT_RADIUS:.0f} cm)",
+        ),
     ]
-    fig.legend(handles=handles, loc="upper left", ncol=2, fontsize=7.5, frameon=False,
-               bbox_to_anchor=(0.15 / W, 1 - (0.55 + plot_h + 0.6) / H))
+    fig.legend(
+        handles=handles,
+        loc="upper left",
+        ncol=2,
+        fontsize=7.5,
+        frameon=False,
+        bbox_to_anchor=(0.15 / W, 1 - (0.55 + plot_h + 0.6) / H),
+    )
     save_figure(fig, path)
     return fig
 
@@ -694,8 +886,10 @@ def _mean_curve(xs: list[np.ndarray], ys: list[np.ndarray]) -> tuple[np.ndarray,
     common = xs[0]
     for x in xs[1:]:
         common = np.intersect1d(common, x)
-    stack = np.array([[y[np.flatnonzero(x == c)[0]] for c in common] for x, y in zip(xs, ys)],
-                     dtype=np.float64)
+    stack = np.array(
+        [[y[np.flatnonzero(x == c)[0]] for c in common] for x, y in zip(xs, ys, strict=True)],
+        dtype=np.float64,
+    )
     with warnings.catch_warnings():  # an all-NaN column (no success anywhere) stays NaN
         warnings.simplefilter("ignore", RuntimeWarning)
         mean = np.nanmean(stack, axis=0)
@@ -712,15 +906,26 @@ def fig_learning_curves(results1: list, results2: list, path) -> Figure:
     of the successful test trials, with the step limit dotted. Bottom: the start region's far
     edge during training (the curriculum of Experiment 2, "Learning from Easy Missions").
     """
-    columns = [(label, list(rs)) for label, rs in (("Experiment 1", results1),
-                                                   ("Experiment 2", results2)) if len(rs)]
+    columns = [
+        (label, list(rs))
+        for label, rs in (("Experiment 1", results1), ("Experiment 2", results2))
+        if len(rs)
+    ]
     if not columns:
         raise ValueError("fig_learning_curves needs results of at least one experiment")
     W = 4.6 * len(columns) + 0.6
     fig = _new_figure(W, 7.6)
-    grid = fig.add_gridspec(3, len(columns), height_ratios=(3, 2, 1.2), hspace=0.12,
-                            wspace=0.28, left=0.9 / W, right=1 - 0.25 / W, top=0.93,
-                            bottom=0.08)
+    grid = fig.add_gridspec(
+        3,
+        len(columns),
+        height_ratios=(3, 2, 1.2),
+        hspace=0.12,
+        wspace=0.28,
+        left=0.9 / W,
+        right=1 - 0.25 / W,
+        top=0.93,
+        bottom=0.08,
+    )
     for col, (label, results) in enumerate(columns):
         ax_s = fig.add_subplot(grid[0, col])
         ax_n = fig.add_subplot(grid[1, col], sharex=ax_s)
@@ -731,8 +936,16 @@ def fig_learning_curves(results1: list, results2: list, path) -> Figure:
         for r in results:
             ax_s.plot(r.curve_trials, 100 * r.curve_success, **thin)
             ax_n.plot(r.curve_trials, r.curve_steps, **thin)
-            ax_s.plot(r.config.train_trials, 100 * r.test.success_rate, "D", color=color,
-                      alpha=0.6, markersize=4, clip_on=False, zorder=4)
+            ax_s.plot(
+                r.config.train_trials,
+                100 * r.test.success_rate,
+                "D",
+                color=color,
+                alpha=0.6,
+                markersize=4,
+                clip_on=False,
+                zorder=4,
+            )
         xs = [r.curve_trials for r in results]
         x, mean_s = _mean_curve(xs, [r.curve_success for r in results])
         ax_s.plot(x, 100 * mean_s, color=color, lw=2.2)
@@ -740,31 +953,58 @@ def fig_learning_curves(results1: list, results2: list, path) -> Figure:
         ax_n.plot(x, mean_n, color=color, lw=2.2)
 
         # Legend: what a thin line, the thick line and a diamond are.
-        ax_s.plot([], [], **thin, label=f"one seed ({cfg.eval_trials} test trials "
-                                        f"every {cfg.eval_every})")
+        ax_s.plot(
+            [], [], **thin, label=f"one seed ({cfg.eval_trials} test trials every {cfg.eval_every})"
+        )
         ax_s.plot([], [], color=color, lw=2.2, label=f"mean of {len(results)} seeds")
-        ax_s.plot([], [], "D", color=color, alpha=0.6, markersize=4,
-                  label=f"final test ({cfg.test_trials} trials)")
+        ax_s.plot(
+            [],
+            [],
+            "D",
+            color=color,
+            alpha=0.6,
+            markersize=4,
+            label=f"final test ({cfg.test_trials} trials)",
+        )
         paper = _PAPER_SUCCESS.get(cfg.name)
         if paper is not None:
-            ax_s.axhline(100 * paper, color="0.2", linestyle="--", lw=1.0,
-                         label=f"paper: {100 * paper:.0f}%")
+            ax_s.axhline(
+                100 * paper, color="0.2", linestyle="--", lw=1.0, label=f"paper: {100 * paper:.0f}%"
+            )
         ax_s.set_ylim(-3, 103)
-        ax_s.set_title(f"{label}: {cfg.network.n_features} feature units, "
-                       f"{cfg.network.rule} rule", fontsize=10)
+        ax_s.set_title(
+            f"{label}: {cfg.network.n_features} feature units, {cfg.network.rule} rule", fontsize=10
+        )
         ax_s.legend(fontsize=7, loc="lower right", framealpha=0.9)
-        ax_n.axhline(cfg.world.max_steps, color="0.2", linestyle=":", lw=1.0,
-                     label=f"step limit ({cfg.world.max_steps})")
+        ax_n.axhline(
+            cfg.world.max_steps,
+            color="0.2",
+            linestyle=":",
+            lw=1.0,
+            label=f"step limit ({cfg.world.max_steps})",
+        )
         ax_n.set_ylim(0, cfg.world.max_steps + 2)
         ax_n.legend(fontsize=7, loc="lower right", framealpha=0.9)
 
         # The start region during training (the seeds share the configuration's curriculum).
         trials = np.arange(len(results[0].train.start_far))
-        ax_c.fill_between(trials, cfg.world.start_near, results[0].train.start_far,
-                          color=color, alpha=0.2, lw=0, step="post")
+        ax_c.fill_between(
+            trials,
+            cfg.world.start_near,
+            results[0].train.start_far,
+            color=color,
+            alpha=0.2,
+            lw=0,
+            step="post",
+        )
         for r in results:
-            ax_c.plot(np.arange(len(r.train.start_far)), r.train.start_far, color=color,
-                      lw=1.0, drawstyle="steps-post")
+            ax_c.plot(
+                np.arange(len(r.train.start_far)),
+                r.train.start_far,
+                color=color,
+                lw=1.0,
+                drawstyle="steps-post",
+            )
         ax_c.set_ylim(0, cfg.world.start_far * 1.15)
         ax_c.set_xlabel("training trials")
         if col == 0:

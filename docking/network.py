@@ -7,7 +7,8 @@ action layer (weights ``Q``).  Both layers learn from the same SARSA prediction 
 * Eq. (3)-(4): ``h_i = sum_j Q_ij s_j``,  ``P(a_i = 1) = softmax(beta_a * h)_i``
 * Eq. (5):     ``v = sum_kl Q_kl a_k s_l = Q[a] . s``  (``a`` one-hot)
 * Eq. (7):     ``Delta Q_ij = eps_q * delta * a_i * s_j``
-* Eq. (8):     ``Delta W_jn = eps_w * delta * s_j * I_n * (Q_ij - sum_k Q_ik s_k)``  (``i`` = chosen action)
+* Eq. (8):     ``Delta W_jn = eps_w * delta * s_j * I_n * (Q_ij - sum_k Q_ik s_k)``
+               (``i`` = the chosen action)
 
 after which ``W`` is rectified (``W >= 0``) and each row normalized to unit length (Sec. II-A).
 :meth:`Network.increments` returns the raw changes of Eq. (7)-(8), :meth:`Network.update`
@@ -169,7 +170,7 @@ class Network:
 
     # ------------------------------------------------------------------ construction
     @classmethod
-    def from_weights(cls, config: NetworkConfig, W, Q) -> "Network":
+    def from_weights(cls, config: NetworkConfig, W, Q) -> Network:
         """A network with the given weights (copied, as float64); checks shapes and finiteness.
 
         ``W`` is used as given (not rectified/normalized); this is for tests, loading and
@@ -195,7 +196,7 @@ class Network:
         net.Q = Q
         return net
 
-    def copy(self) -> "Network":
+    def copy(self) -> Network:
         """An independent deep copy (same config, copied weights)."""
         return Network.from_weights(self.config, self.W, self.Q)
 
@@ -310,7 +311,8 @@ class Network:
         ``a`` and the TD error ``delta`` (Eq. 6), in place.
 
         * Eq. (7): ``Q[a] += eps_q * delta * s``.
-        * Eq. (8), ``rule="nonlocal"``: ``W_jn += eps_w * delta * s_j * I_n * (Q_aj - sum_k Q_ak s_k)``
+        * Eq. (8), ``rule="nonlocal"``:
+          ``W_jn += eps_w * delta * s_j * I_n * (Q_aj - sum_k Q_ak s_k)``
           with the *pre-update* Q; ``rule="local"``: ``W_jn += eps_w * delta * s_j * I_n``.
           No factor beta_s (absorbed into eps_w, see the module docstring).  These are the
           increments returned by :meth:`increments`.
@@ -381,7 +383,7 @@ class Network:
             raise
 
     @classmethod
-    def load(cls, path) -> "Network":
+    def load(cls, path) -> Network:
         """Read a network written by :meth:`save`."""
         with np.load(Path(path), allow_pickle=False) as data:
             version = int(data["format_version"])
@@ -403,8 +405,9 @@ class Network:
         )
 
 
-def finite_difference_gradient(net: Network, I: np.ndarray, a: int, h: float = 1e-6
-                               ) -> tuple[np.ndarray, np.ndarray]:
+def finite_difference_gradient(
+    net: Network, I: np.ndarray, a: int, h: float = 1e-6
+) -> tuple[np.ndarray, np.ndarray]:
     """Central-difference estimate ``(dv/dQ, dv/dW)`` of :meth:`Network.value` ``(I, a)``:
     ``(v(theta + h e) - v(theta - h e)) / 2h`` for every entry ``e`` of ``Q`` and ``W``.
 

@@ -50,6 +50,10 @@ def evaluate_oracle(env: DockingEnv, n_trials: int, progress: bool = True) -> di
         successes += ok
         if ok:
             steps.append(n)
-    return {"trials": n_trials, "successes": successes, "success_rate": successes / n_trials,
-            "mean_steps": float(np.mean(steps)) if steps else float("nan"),
-            "max_steps": int(max(steps)) if steps else 0}
+    return {
+        "trials": n_trials,
+        "successes": successes,
+        "success_rate": successes / n_trials,
+        "mean_steps": float(np.mean(steps)) if steps else float("nan"),
+        "max_steps": int(max(steps)) if steps else 0,
+    }

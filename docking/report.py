@@ -8,8 +8,15 @@ from __future__ import annotations
 
 import numpy as np
 
-from docking.experiments import (EXPERIMENT_1, EXPERIMENT_2, HEADLINE_SEED, SEEDS,
-                                 ExperimentConfig, ExperimentResult, run_seeds)
+from docking.experiments import (
+    EXPERIMENT_1,
+    EXPERIMENT_2,
+    HEADLINE_SEED,
+    SEEDS,
+    ExperimentConfig,
+    ExperimentResult,
+    run_seeds,
+)
 
 #: The paper's figures (Sec. III).
 PAPER = {
@@ -37,16 +44,25 @@ def experiment1_rows(results: list[ExperimentResult]) -> list[tuple[str, str, st
     per_seed = ", ".join(f"{r.seed}: {r.test_successes}/{len(r.test.success)}" for r in results)
     reached = [m for m in mastered if m is not None]
     return [
-        ("Exp. 1 test success, headline seed", PAPER["exp1_success"],
-         f"{_pct(h.test.success_rate)} ({h.test_successes}/{len(h.test.success)}, seed {h.seed})"),
-        ("Exp. 1 seeds with 100% test success", "(one run)",
-         f"{int(np.sum(rates == 1.0))} of {len(results)} (mean {_pct(rates.mean())}, "
-         f"min {_pct(rates.min())}; {per_seed})"),
-        ("Exp. 1 rewarded trials until the test first reaches 100%",
-         PAPER["exp1_rewards_to_mastery"],
-         f"{h.rewarded_until_mastery} (headline); per seed "
-         + ", ".join("never" if m is None else str(m) for m in mastered)
-         + (f"; median {int(np.median(reached))}" if reached else "")),
+        (
+            "Exp. 1 test success, headline seed",
+            PAPER["exp1_success"],
+            f"{_pct(h.test.success_rate)} ({h.test_successes}/{len(h.test.success)}, "
+            f"seed {h.seed})",
+        ),
+        (
+            "Exp. 1 seeds with 100% test success",
+            "(one run)",
+            f"{int(np.sum(rates == 1.0))} of {len(results)} (mean {_pct(rates.mean())}, "
+            f"min {_pct(rates.min())}; {per_seed})",
+        ),
+        (
+            "Exp. 1 rewarded trials until the test first reaches 100%",
+            PAPER["exp1_rewards_to_mastery"],
+            f"{h.rewarded_until_mastery} (headline); per seed "
+            + ", ".join("never" if m is None else str(m) for m in mastered)
+            + (f"; median {int(np.median(reached))}" if reached else ""),
+        ),
     ]
 
 
@@ -58,14 +74,24 @@ def experiment2_rows(results: list[ExperimentResult]) -> list[tuple[str, str, st
     times = np.array([r.wall_time_train + r.wall_time_test for r in results])
     spread = f" ± {_pct(rates.std(ddof=1))} (s.d.)" if len(results) > 1 else ""
     return [
-        ("Exp. 2 test success, headline seed", PAPER["exp2_success"],
-         f"{_pct(h.test.success_rate)} ({h.test_successes}/{len(h.test.success)}, seed {h.seed})"),
-        (f"Exp. 2 test success over {len(results)} seeds", "(one run)",
-         f"mean {_pct(rates.mean())}{spread}, min {_pct(rates.min())} ({per_seed})"),
-        ("Exp. 2 wall time, 2000 training + 725 test trials", PAPER["exp2_wall_time"],
-         f"{times.mean():.0f} s per run (2-core CPU, software rendering; "
-         f"{h.wall_time_train:.0f} s training + {h.wall_time_test:.0f} s testing for the "
-         f"headline seed)"),
+        (
+            "Exp. 2 test success, headline seed",
+            PAPER["exp2_success"],
+            f"{_pct(h.test.success_rate)} ({h.test_successes}/{len(h.test.success)}, "
+            f"seed {h.seed})",
+        ),
+        (
+            f"Exp. 2 test success over {len(results)} seeds",
+            "(one run)",
+            f"mean {_pct(rates.mean())}{spread}, min {_pct(rates.min())} ({per_seed})",
+        ),
+        (
+            "Exp. 2 wall time, 2000 training + 725 test trials",
+            PAPER["exp2_wall_time"],
+            f"{times.mean():.0f} s per run (2-core CPU, software rendering; "
+            f"{h.wall_time_train:.0f} s training + {h.wall_time_test:.0f} s testing for the "
+            f"headline seed)",
+        ),
     ]
 
 
@@ -74,34 +100,73 @@ def configuration_table(config: ExperimentConfig) -> str:
     paper's or ours (ours = the paper leaves it open; the reasons are in the notebooks)."""
     w, n, c = config.world, config.network, config.curriculum
     if c.grow_trials:
-        region = (f"far edge {c.far_initial:.2f} m -> {c.far_final:.2f} m, linearly over the "
-                  f"first {c.grow_trials} trials")
+        region = (
+            f"far edge {c.far_initial:.2f} m -> {c.far_final:.2f} m, linearly over the "
+            f"first {c.grow_trials} trials"
+        )
         region_source = "ours: the paper says only 'incrementally enlarged', up to 1.5 m"
     else:
         region = "fixed (no curriculum)"
         region_source = "paper"
     rows = [
         ("feature units / rule", f"{n.n_features} / {n.rule}", "paper"),
-        ("beta_s, beta_a (train, test), gamma",
-         f"{n.beta_s:g}, ({n.beta_a_train:g}, {n.beta_a_test:g}), {n.gamma:g}", "paper (Eq. 2, 4, 6)"),
+        (
+            "beta_s, beta_a (train, test), gamma",
+            f"{n.beta_s:g}, ({n.beta_a_train:g}, {n.beta_a_test:g}), {n.gamma:g}",
+            "paper (Eq. 2, 4, 6)",
+        ),
         ("eps_q (Eq. 7), eps_w (Eq. 8)", f"{n.eps_q:g}, {n.eps_w:g}", "ours"),
         ("input I", "unit length" if n.normalize_input else "raw", "ours"),
-        ("initial W / Q", f"uniform random, rows unit length / uniform in [0, {n.q_init:g}]", "ours"),
-        ("test start region",
-         f"{w.start_near:.2f}-{w.start_far:.2f} m from the landmark, +-{w.start_half_angle_deg:g} deg, "
-         f"heading +-{w.start_yaw_deg:g} deg", "ours (the paper: a trapezoid)"),
+        (
+            "initial W / Q",
+            f"uniform random, rows unit length / uniform in [0, {n.q_init:g}]",
+            "ours",
+        ),
+        (
+            "test start region",
+            f"{w.start_near:.2f}-{w.start_far:.2f} m from the landmark, "
+            f"+-{w.start_half_angle_deg:g} deg, "
+            f"heading +-{w.start_yaw_deg:g} deg",
+            "ours (the paper: a trapezoid)",
+        ),
         ("start region in training", region, region_source),
-        ("steps", f"forward/back {100 * w.step_forward:.0f} cm, sideways {100 * w.step_side:.0f} cm", "ours"),
-        ("step noise (s.d.)", f"{100 * w.step_noise_xy:.0f} cm per axis, {w.step_noise_yaw_deg:g} deg heading", "ours"),
-        ("docking region", f"{100 * w.dock_width:.0f} cm across x {100 * w.dock_depth:.0f} cm deep", "paper: 8x20 cm"),
-        ("trials", f"{config.train_trials} training, {config.test_trials} test, at most "
-                   f"{w.max_steps} actions", "paper"),
-        ("SARSA target at the step limit",
-         "bootstrap from v'" if config.bootstrap_on_truncation else "v' = 0", "ours"),
-        ("learning curve", f"{config.eval_trials} greedy trials from the test region every "
-                           f"{config.eval_every} training trials", "ours"),
-        ("seeds", f"{SEEDS.get(config.name)}, headline seed {HEADLINE_SEED}",
-         "ours (the paper reports one run)"),
+        (
+            "steps",
+            f"forward/back {100 * w.step_forward:.0f} cm, sideways {100 * w.step_side:.0f} cm",
+            "ours",
+        ),
+        (
+            "step noise (s.d.)",
+            f"{100 * w.step_noise_xy:.0f} cm per axis, {w.step_noise_yaw_deg:g} deg heading",
+            "ours",
+        ),
+        (
+            "docking region",
+            f"{100 * w.dock_width:.0f} cm across x {100 * w.dock_depth:.0f} cm deep",
+            "paper: 8x20 cm",
+        ),
+        (
+            "trials",
+            f"{config.train_trials} training, {config.test_trials} test, at most "
+            f"{w.max_steps} actions",
+            "paper",
+        ),
+        (
+            "SARSA target at the step limit",
+            "bootstrap from v'" if config.bootstrap_on_truncation else "v' = 0",
+            "ours",
+        ),
+        (
+            "learning curve",
+            f"{config.eval_trials} greedy trials from the test region every "
+            f"{config.eval_every} training trials",
+            "ours",
+        ),
+        (
+            "seeds",
+            f"{SEEDS.get(config.name)}, headline seed {HEADLINE_SEED}",
+            "ours (the paper reports one run)",
+        ),
     ]
     lines = ["| choice | value | source |", "|---|---|---|"]
     return "\n".join(lines + [f"| {a} | {b} | {s} |" for a, b, s in rows])

@@ -110,38 +110,52 @@ class WorldConfig:
     camera: CameraConfig = dataclasses.field(default_factory=CameraConfig)
 
     def __post_init__(self):
-        positive = ("step_forward", "step_side", "start_near", "start_far", "dock_center",
-                    "dock_depth", "dock_width")
+        positive = (
+            "step_forward",
+            "step_side",
+            "start_near",
+            "start_far",
+            "dock_center",
+            "dock_depth",
+            "dock_width",
+        )
         for name in positive:
             if not getattr(self, name) > 0:
                 raise ValueError(f"WorldConfig.{name} must be > 0, got {getattr(self, name)}")
-        non_negative = ("step_noise_xy", "step_noise_yaw_deg", "start_yaw_deg",
-                        "view_margin_px")
+        non_negative = ("step_noise_xy", "step_noise_yaw_deg", "start_yaw_deg", "view_margin_px")
         for name in non_negative:
             if not getattr(self, name) >= 0:
                 raise ValueError(f"WorldConfig.{name} must be >= 0, got {getattr(self, name)}")
         if not isinstance(self.max_steps, (int, np.integer)) or self.max_steps < 1:
-            raise ValueError(f"WorldConfig.max_steps must be an integer >= 1, got "
-                             f"{self.max_steps}")
+            raise ValueError(f"WorldConfig.max_steps must be an integer >= 1, got {self.max_steps}")
         if self.start_far < self.start_near:
-            raise ValueError(f"WorldConfig.start_far must be >= start_near "
-                             f"({self.start_near}), got {self.start_far}")
+            raise ValueError(
+                f"WorldConfig.start_far must be >= start_near "
+                f"({self.start_near}), got {self.start_far}"
+            )
         if self.start_near <= self.dock_center + self.dock_depth / 2:
             raise ValueError(
                 f"WorldConfig.start_near must lie beyond the docking region (> "
-                f"{self.dock_center + self.dock_depth / 2:.3f} m), got {self.start_near}")
+                f"{self.dock_center + self.dock_depth / 2:.3f} m), got {self.start_near}"
+            )
         if self.start_far > _ROOM_BACK - 0.3:
-            raise ValueError(f"WorldConfig.start_far must be <= {_ROOM_BACK - 0.3} m (the room "
-                             f"ends at {_ROOM_BACK} m), got {self.start_far}")
+            raise ValueError(
+                f"WorldConfig.start_far must be <= {_ROOM_BACK - 0.3} m (the room "
+                f"ends at {_ROOM_BACK} m), got {self.start_far}"
+            )
         if not 0 <= self.start_half_angle_deg < 45:
-            raise ValueError(f"WorldConfig.start_half_angle_deg must be in [0, 45), got "
-                             f"{self.start_half_angle_deg}")
+            raise ValueError(
+                f"WorldConfig.start_half_angle_deg must be in [0, 45), got "
+                f"{self.start_half_angle_deg}"
+            )
         closest = _ROBOT_RADIUS - _CABINET["front"]
         if self.dock_center + self.dock_depth / 2 < closest + 0.01:
-            raise ValueError(f"WorldConfig.dock_center must keep the region reachable: "
-                             f"dock_center + dock_depth/2 >= {closest + 0.01:.2f} m (the robot "
-                             f"meets the sideboard at {closest:.2f} m), got "
-                             f"dock_center={self.dock_center}")
+            raise ValueError(
+                f"WorldConfig.dock_center must keep the region reachable: "
+                f"dock_center + dock_depth/2 >= {closest + 0.01:.2f} m (the robot "
+                f"meets the sideboard at {closest:.2f} m), got "
+                f"dock_center={self.dock_center}"
+            )
 
 
 # ----------------------------------------------------------------------------------------
@@ -156,8 +170,8 @@ class WorldConfig:
 # the region stands at the sideboard and has to sidestep along it.
 _CABINET = dict(front=-0.35, back=0.25, width=0.90, height=0.43)
 # The landmark: a red, wide, low slab on the sideboard, 35 cm behind its front, and a red
-# post standing behind it. Seen from the front the two read as an inverted T; from the left or right the
-# post's parallax shifts it to one side (an L or a mirrored L), and the slab foreshortens.
+# post standing behind it. Seen from the front the two read as an inverted T; from the left or
+# right the post's parallax shifts it to one side (an L or a mirrored L), and the slab foreshortens.
 _SLAB = dict(depth=0.05, width=0.12, height=0.05)
 _POST = dict(depth=0.04, width=0.04, height=0.12, behind=0.15)
 _ROBOT_RADIUS = 0.10  # the collision cylinder around the robot's body
@@ -233,15 +247,15 @@ def make_model_xml(config: WorldConfig) -> str:
     <geom name="wall_right" type="box" pos="{(_ROOM_FRONT - _ROOM_BACK) / 2} {-_ROOM_HALF_WIDTH - 0.05} 1.2"
           size="{(_ROOM_FRONT + _ROOM_BACK) / 2} 0.05 1.2" material="wall"/>
     <!-- The landmark's sideboard and the landmark (the only red things in the room) -->
-    <geom name="cabinet" type="box" pos="{(c['front'] + c['back']) / 2} 0 {c['height'] / 2}"
-          size="{(c['back'] - c['front']) / 2} {c['width'] / 2} {c['height'] / 2}"
+    <geom name="cabinet" type="box" pos="{(c["front"] + c["back"]) / 2} 0 {c["height"] / 2}"
+          size="{(c["back"] - c["front"]) / 2} {c["width"] / 2} {c["height"] / 2}"
           material="cabinet"/>
     <geom name="landmark_slab" type="box"
-          pos="{s['depth'] / 2} 0 {c['height'] + s['height'] / 2}"
-          size="{s['depth'] / 2} {s['width'] / 2} {s['height'] / 2}" material="landmark"/>
+          pos="{s["depth"] / 2} 0 {c["height"] + s["height"] / 2}"
+          size="{s["depth"] / 2} {s["width"] / 2} {s["height"] / 2}" material="landmark"/>
     <geom name="landmark_post" type="box"
-          pos="{p['behind'] + p['depth'] / 2} 0 {c['height'] + p['height'] / 2}"
-          size="{p['depth'] / 2} {p['width'] / 2} {p['height'] / 2}" material="landmark"/>
+          pos="{p["behind"] + p["depth"] / 2} 0 {c["height"] + p["height"] / 2}"
+          size="{p["depth"] / 2} {p["width"] / 2} {p["height"] / 2}" material="landmark"/>
     <!-- Furniture: a sofa, a low table, a shelf, a plant, a rug -->
     <body name="sofa" pos="-2.75 0.3 0">
       <geom type="box" pos="0 0 0.22" size="0.40 0.95 0.22" material="sofa"/>
@@ -525,9 +539,13 @@ class DockingEnv(dm_env.Environment):
         side += cfg.step_noise_xy * noise[1]
         x, y, yaw = self._physics.data.ctrl[:3]
         cos, sin = np.cos(yaw), np.sin(yaw)
-        return np.array([x + cos * forward - sin * side,
-                         y + sin * forward + cos * side,
-                         yaw + np.radians(cfg.step_noise_yaw_deg) * noise[2]])
+        return np.array(
+            [
+                x + cos * forward - sin * side,
+                y + sin * forward + cos * side,
+                yaw + np.radians(cfg.step_noise_yaw_deg) * noise[2],
+            ]
+        )
 
     def _observe(self) -> np.ndarray:
         frame = self.render_camera()
@@ -547,12 +565,19 @@ class DockingEnv(dm_env.Environment):
         finally:
             lights[:] = 1
 
-    def render_view(self, camera: str = "overview", width: int = 640, height: int = 480,
-                    show_robot: bool = True, show_dock: bool = True) -> np.ndarray:
+    def render_view(
+        self,
+        camera: str = "overview",
+        width: int = 640,
+        height: int = 480,
+        show_robot: bool = True,
+        show_dock: bool = True,
+    ) -> np.ndarray:
         """An RGB render from one of the scene's fixed cameras (``overview``, ``top``), with
         the robot and the virtual docking region drawn, for figures."""
-        return self._physics.render(height, width, camera_id=camera,
-                                    scene_option=_scene_option(show_robot, show_dock))
+        return self._physics.render(
+            height, width, camera_id=camera, scene_option=_scene_option(show_robot, show_dock)
+        )
 
     def landmark_in_crop(self, pose=None, margin: float | None = None) -> bool:
         """Whether the whole landmark projects inside the crop rectangle from ``pose``
@@ -568,9 +593,13 @@ class DockingEnv(dm_env.Environment):
             self._physics.data.qpos[:3] = saved
             self._physics.update_kinematics()
         x0, y0, x1, y1 = cam.crop
-        return bool(np.all(np.isfinite(uv))
-                    and uv[:, 0].min() >= x0 + margin and uv[:, 0].max() <= x1 - margin
-                    and uv[:, 1].min() >= y0 + margin and uv[:, 1].max() <= y1 - margin)
+        return bool(
+            np.all(np.isfinite(uv))
+            and uv[:, 0].min() >= x0 + margin
+            and uv[:, 0].max() <= x1 - margin
+            and uv[:, 1].min() >= y0 + margin
+            and uv[:, 1].max() <= y1 - margin
+        )
 
     def sample_start_pose(self, max_tries: int = 10000) -> np.ndarray:
         """A uniform random pose in the start trapezoid from which the landmark is inside the
@@ -587,8 +616,10 @@ class DockingEnv(dm_env.Environment):
             pose = np.array([-d, y, yaw])
             if self.landmark_in_crop(pose):
                 return pose
-        raise RuntimeError(f"no start pose with the landmark in view after {max_tries} tries; "
-                           "narrow start_half_angle_deg or start_yaw_deg")
+        raise RuntimeError(
+            f"no start pose with the landmark in view after {max_tries} tries; "
+            "narrow start_half_angle_deg or start_yaw_deg"
+        )
 
 
 def footprints(config: WorldConfig) -> dict[str, tuple[float, float, float, float]]:
@@ -598,10 +629,13 @@ def footprints(config: WorldConfig) -> dict[str, tuple[float, float, float, floa
     return {
         "cabinet": (c["front"], -c["width"] / 2, c["back"], c["width"] / 2),
         "landmark_slab": (0.0, -s["width"] / 2, s["depth"], s["width"] / 2),
-        "landmark_post": (p["behind"], -p["width"] / 2, p["behind"] + p["depth"],
-                          p["width"] / 2),
-        "dock": (-config.dock_center - config.dock_depth / 2, -config.dock_width / 2,
-                 -config.dock_center + config.dock_depth / 2, config.dock_width / 2),
+        "landmark_post": (p["behind"], -p["width"] / 2, p["behind"] + p["depth"], p["width"] / 2),
+        "dock": (
+            -config.dock_center - config.dock_depth / 2,
+            -config.dock_width / 2,
+            -config.dock_center + config.dock_depth / 2,
+            config.dock_width / 2,
+        ),
     }
 
 
@@ -612,8 +646,9 @@ ROBOT_RADIUS = _ROBOT_RADIUS
 def in_dock(pose, config: WorldConfig) -> bool:
     """Whether ``pose``'s reference point lies in the docking region of ``config``."""
     x, y = pose[0], pose[1]
-    return bool(abs(x + config.dock_center) <= config.dock_depth / 2
-                and abs(y) <= config.dock_width / 2)
+    return bool(
+        abs(x + config.dock_center) <= config.dock_depth / 2 and abs(y) <= config.dock_width / 2
+    )
 
 
 def _check_action(action) -> int:
@@ -623,8 +658,10 @@ def _check_action(action) -> int:
     except (TypeError, ValueError):
         valid = False
     if not valid:
-        raise ValueError(f"action must be an integer in 0..{N_ACTIONS - 1} "
-                         f"({', '.join(ACTION_NAMES)}), got {action!r}")
+        raise ValueError(
+            f"action must be an integer in 0..{N_ACTIONS - 1} "
+            f"({', '.join(ACTION_NAMES)}), got {action!r}"
+        )
     return value
 
 
@@ -638,4 +675,5 @@ def _make_camera(physics: Physics, height: int, width: int, camera: str) -> engi
             f"Could not start headless OpenGL rendering with MUJOCO_GL={backend!r} ({exc}). "
             "On a CPU-only Linux machine set MUJOCO_GL=egl and install Mesa's EGL "
             "(Debian/Ubuntu: apt-get install libegl1 libgl1-mesa-dri); `make setup` does "
-            "both.") from exc
+            "both."
+        ) from exc

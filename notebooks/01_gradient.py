@@ -181,7 +181,7 @@ from docking.network import finite_difference_gradient  # noqa: E402
 def relative_errors(net, I, a):
     numeric = finite_difference_gradient(net, I, a)
     exact = net.value_gradient(I, a)
-    return [np.linalg.norm(n - e) / np.linalg.norm(e) for n, e in zip(numeric, exact)]
+    return [np.linalg.norm(n - e) / np.linalg.norm(e) for n, e in zip(numeric, exact, strict=False)]
 
 
 rng = np.random.default_rng(0)
@@ -283,8 +283,15 @@ winner_drives_action = np.array(winner_drives_action)
 
 fig, ax = plt.subplots(figsize=(7, 3.2))
 bins = np.linspace(-1, 1, 41)
-ax.hist(cosines[winner_drives_action], bins, alpha=0.7, label="winner has the largest $Q_{ij}$ for the chosen action")
-ax.hist(cosines[~winner_drives_action], bins, alpha=0.7, label="another unit drives the chosen action")
+ax.hist(
+    cosines[winner_drives_action],
+    bins,
+    alpha=0.7,
+    label="winner has the largest $Q_{ij}$ for the chosen action",
+)
+ax.hist(
+    cosines[~winner_drives_action], bins, alpha=0.7, label="another unit drives the chosen action"
+)
 ax.set_xlabel(r"cos angle($\Delta W^{loc}$, $\Delta W^{nl}$)")
 ax.set_ylabel("states")
 ax.set_title(r"Local vs non-local update of $W$, $\beta^s = 100$, 4 feature units")
@@ -293,7 +300,9 @@ plt.show()
 
 agree = np.mean(cosines[winner_drives_action] > 0)
 disagree = np.mean(cosines[~winner_drives_action] < 0)
-print(f"winner drives the action ({winner_drives_action.mean():.0%} of states): cos > 0 in {agree:.1%}")
+print(
+    f"winner drives the action ({winner_drives_action.mean():.0%} of states): cos > 0 in {agree:.1%}"
+)
 print(f"otherwise: cos < 0 (local update points uphill) in {disagree:.1%}")
 print(f"median |dW_nl| / |dW_loc| = {np.median(norm_ratio):.3f}")
 assert agree > 0.95
@@ -332,7 +341,9 @@ for margin in (0.05, 0.1, 0.2):
     _, dW_nl = net_nl.increments(I, s_soft, 0, 1.0)
     _, dW_loc = net_loc.increments(I, s_soft, 0, 1.0)
     ratio = np.linalg.norm(dW_nl) / np.linalg.norm(dW_loc)
-    print(f"h margin {margin:.2f}: 1 - s_max = {1 - s_soft.max():.1e}, |dW_nl|/|dW_loc| = {ratio:.1e}")
+    print(
+        f"h margin {margin:.2f}: 1 - s_max = {1 - s_soft.max():.1e}, |dW_nl|/|dW_loc| = {ratio:.1e}"
+    )
 
 # %% [markdown]
 # ## Summary

@@ -63,8 +63,10 @@ env = DockingEnv(seed=0)
 cfg, cam = env.config, env.config.camera
 model = env.physics.model
 assert cfg == WorldConfig()  # the defaults; the experiments change only the start region
-assert all(dataclasses.replace(e.world, start_near=cfg.start_near, start_far=cfg.start_far) == cfg
-           for e in (EXPERIMENT_1, EXPERIMENT_2))
+assert all(
+    dataclasses.replace(e.world, start_near=cfg.start_near, start_far=cfg.start_far) == cfg
+    for e in (EXPERIMENT_1, EXPERIMENT_2)
+)
 
 # %% [markdown]
 # ## The world's choices
@@ -83,7 +85,8 @@ x0, y0, x1, y1 = cam.crop
 rows, cols = cam.input_shape
 cm = lambda metres: f"{100 * metres:.0f} cm"  # noqa: E731
 
-display(Markdown(f"""
+display(
+    Markdown(f"""
 | choice | value | why |
 |---|---|---|
 | forward / backward step | {cm(cfg.step_forward)} | Nao-like walking step; an oracle (below) docks within the step limit |
@@ -96,10 +99,11 @@ display(Markdown(f"""
 | crop | columns {x0}–{x1}, rows {y0}–{y1} ({x1 - x0}×{y1 - y0} px) | a wide, flat band like the 32×10 input: each input pixel averages a {(x1 - x0) // cols}×{(y1 - y0) // rows} block |
 | threshold | hue within {cam.hue_tol} (OpenCV units, 0–180) of red, saturation ≥ {cam.min_saturation}, value ≥ {cam.min_value} | only the landmark passes, whatever the shading of its faces |
 | input | {cols}×{rows}, fraction of each block that is red, in [0, 1] | paper: 32×10 grayscale of the thresholded crop; the coverage fraction carries the same information |
-| sideboard | {cm(size['cabinet'][0])} deep × {cm(size['cabinet'][1])} wide × {cm(size['cabinet'][2])} high, front face at x = {fp['cabinet'][0]:+.2f} m | puts the landmark at the camera's height, see below |
-| landmark | slab {cm(size['landmark_slab'][1])} wide × {cm(size['landmark_slab'][2])} high × {cm(size['landmark_slab'][0])} deep, its front face at x = 0; post {cm(size['landmark_post'][1])} × {cm(size['landmark_post'][0])} × {cm(size['landmark_post'][2])} high, {cm(fp['landmark_post'][0])} behind the slab's front | a 3-D shape whose image changes with the viewpoint, see below |
+| sideboard | {cm(size["cabinet"][0])} deep × {cm(size["cabinet"][1])} wide × {cm(size["cabinet"][2])} high, front face at x = {fp["cabinet"][0]:+.2f} m | puts the landmark at the camera's height, see below |
+| landmark | slab {cm(size["landmark_slab"][1])} wide × {cm(size["landmark_slab"][2])} high × {cm(size["landmark_slab"][0])} deep, its front face at x = 0; post {cm(size["landmark_post"][1])} × {cm(size["landmark_post"][0])} × {cm(size["landmark_post"][2])} high, {cm(fp["landmark_post"][0])} behind the slab's front | a 3-D shape whose image changes with the viewpoint, see below |
 | robot body | collision cylinder of radius {cm(ROBOT_RADIUS)} | stops it at the sideboard and the walls |
-"""))
+""")
+)
 
 # %% [markdown]
 # **Why a sideboard.** A point at the camera's height projects to (almost) the same image row at
@@ -115,8 +119,11 @@ display(Markdown(f"""
 # Checked at the corners of the start region:
 
 # %%
-corners = {f"{d:.2f} m, y = {s * d * tan:+.2f} m": (-d, s * d * tan, 0.0)
-           for d in (cfg.start_near, cfg.start_far) for s in (-1, 0, 1)}
+corners = {
+    f"{d:.2f} m, y = {s * d * tan:+.2f} m": (-d, s * d * tan, 0.0)
+    for d in (cfg.start_near, cfg.start_far)
+    for s in (-1, 0, 1)
+}
 for name, pose in corners.items():
     env.physics.set_pose(pose)
     env.physics.update_kinematics()
@@ -143,8 +150,9 @@ for name, pose in VIEW_POSES.items():
     assert env.landmark_in_crop(pose)
     assert abs(pose[1]) <= -pose[0] * tan  # inside the start trapezoid
     red_rows = np.flatnonzero(obs.sum(axis=1) > 0)
-    centre = lambda row: np.sum(obs[row] * np.arange(cols)) / obs[row].sum()  # noqa: E731
-    post, slab = centre(red_rows[0]), centre(red_rows[-1])  # top row: post; bottom row: slab
+    post, slab = (
+        np.sum(obs[row] * np.arange(cols)) / obs[row].sum() for row in red_rows[[0, -1]]
+    )  # top row: post; bottom row: slab
     print(f"{name:>5} {pose}: slab centred at input column {slab:4.1f}, post at {post:4.1f}")
     if name == "front":
         assert abs(post - slab) < 1.0  # the inverted T

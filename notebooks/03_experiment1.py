@@ -33,8 +33,7 @@
 import numpy as np
 from IPython.display import Image, Markdown, display
 
-from docking.experiments import (EXPERIMENT_1, HEADLINE_SEED, SEEDS, feature_change,
-                                 run_seeds)
+from docking.experiments import EXPERIMENT_1, SEEDS, feature_change, run_seeds
 from docking.figures import FIGURES_DIR, fig3
 from docking.report import configuration_table, experiment1_rows, headline, markdown_table
 from docking.world import ACTION_LETTERS, DockingEnv
@@ -64,10 +63,12 @@ display(Markdown(configuration_table(config)))
 results = run_seeds(config, SEEDS[config.name])
 main = headline(results)
 for r in results:
-    print(f"seed {r.seed}: test {r.test_successes}/{len(r.test.success)} docked, "
-          f"{int(r.train.success.sum())} rewarded training trials, mastered after "
-          f"{r.rewarded_until_mastery} rewards ({r.trials_until_mastery} trials); "
-          f"{r.wall_time_train + r.wall_time_test:.1f} s")
+    print(
+        f"seed {r.seed}: test {r.test_successes}/{len(r.test.success)} docked, "
+        f"{int(r.train.success.sum())} rewarded training trials, mastered after "
+        f"{r.rewarded_until_mastery} rewards ({r.trials_until_mastery} trials); "
+        f"{r.wall_time_train + r.wall_time_test:.1f} s"
+    )
 
 # %% [markdown]
 # ## The learning curve
@@ -81,8 +82,12 @@ import matplotlib.pyplot as plt  # noqa: E402
 
 fig, ax = plt.subplots(figsize=(7, 3.2))
 for r in results:
-    ax.plot(r.curve_rewarded, 100 * r.curve_success, lw=2.5 if r.seed == main.seed else 0.8,
-            label=f"seed {r.seed}" + (" (headline)" if r.seed == main.seed else ""))
+    ax.plot(
+        r.curve_rewarded,
+        100 * r.curve_success,
+        lw=2.5 if r.seed == main.seed else 0.8,
+        label=f"seed {r.seed}" + (" (headline)" if r.seed == main.seed else ""),
+    )
 ax.axvline(25, color="k", ls=":", lw=1)
 ax.text(25.5, 5, "paper: ~25 rewards", fontsize=8)
 ax.set_xlabel("rewarded training trials so far")
@@ -105,12 +110,14 @@ display(Image(filename=str(FIGURES_DIR / "fig3_experiment1.png")))
 
 # %%
 winners, counts = np.unique(main.test.winners, return_counts=True)
-usage = dict(zip(winners.tolist(), counts.tolist()))
+usage = dict(zip(winners.tolist(), counts.tolist(), strict=False))
 best = main.network.Q.argmax(axis=0)
 change = feature_change(main)
 for j in range(config.network.n_features):
-    print(f"unit {j}: wins {usage.get(j, 0):4d} test decisions, best action "
-          f"{ACTION_LETTERS[best[j]]}, cosine to its initial weights {change[j]:.2f}")
+    print(
+        f"unit {j}: wins {usage.get(j, 0):4d} test decisions, best action "
+        f"{ACTION_LETTERS[best[j]]}, cosine to its initial weights {change[j]:.2f}"
+    )
 backward = np.mean(main.test.actions == ACTION_LETTERS.index("B"))
 print(f"backward actions in the test trials: {100 * backward:.1f}%")
 
@@ -157,5 +164,7 @@ assert len(main.test.success) >= 100
 assert main.test.success_rate == 1.0, "headline seed must dock in every test trial"
 assert np.sum(rates == 1.0) >= 4, f"at least 4 of 5 seeds must reach 100%, got {rates}"
 assert main.rewarded_until_mastery is not None and main.trials_until_mastery <= config.train_trials
-print("Experiment 1 reproduces: 100% test success within 100 training trials, "
-      f"after {main.rewarded_until_mastery} rewarded trials (paper: about 25).")
+print(
+    "Experiment 1 reproduces: 100% test success within 100 training trials, "
+    f"after {main.rewarded_until_mastery} rewarded trials (paper: about 25)."
+)

@@ -32,8 +32,14 @@
 import numpy as np
 from IPython.display import Image, Markdown, display
 
-from docking.experiments import (EXPERIMENT_1, EXPERIMENT_2, HEADLINE_SEED, SEEDS,
-                                 feature_change, run_seeds)
+from docking.experiments import (
+    EXPERIMENT_1,
+    EXPERIMENT_2,
+    HEADLINE_SEED,
+    SEEDS,
+    feature_change,
+    run_seeds,
+)
 from docking.figures import FIGURES_DIR, fig4, fig5, fig_learning_curves
 from docking.report import experiment2_rows, headline, markdown_table
 from docking.world import ACTION_LETTERS
@@ -49,18 +55,45 @@ config = EXPERIMENT_2
 w, n, c = config.world, config.network, config.curriculum
 rows = [
     ("feature units / rule", f"{n.n_features} / {n.rule}", "paper"),
-    ("beta_s, beta_a (train, test), gamma", f"{n.beta_s:g}, ({n.beta_a_train:g}, {n.beta_a_test:g}), {n.gamma:g}", "paper"),
+    (
+        "beta_s, beta_a (train, test), gamma",
+        f"{n.beta_s:g}, ({n.beta_a_train:g}, {n.beta_a_test:g}), {n.gamma:g}",
+        "paper",
+    ),
     ("eps_q (Eq. 7), eps_w (Eq. 8)", f"{n.eps_q:g}, {n.eps_w:g}", "ours, the same as Experiment 1"),
-    ("curriculum (LEM)", f"far edge {c.far_initial:.2f} m -> {c.far_final:.2f} m, linearly over the first {c.grow_trials} trials",
-     "ours: the paper says only 'incrementally enlarged'"),
-    ("test region", f"{w.start_near:.2f}-{w.start_far:.2f} m from the landmark, ±{w.start_half_angle_deg:g}° wide", "paper: up to 1.5 m"),
-    ("steps / noise", f"{100 * w.step_forward:.0f} cm forward, {100 * w.step_side:.0f} cm sideways; {100 * w.step_noise_xy:.0f} cm, {w.step_noise_yaw_deg:g}° per step", "ours"),
-    ("trials", f"{config.train_trials} training, {config.test_trials} test, at most {w.max_steps} actions", "paper"),
-    ("learning curve", f"{config.eval_trials} greedy trials from the full region every {config.eval_every} training trials", "ours"),
+    (
+        "curriculum (LEM)",
+        f"far edge {c.far_initial:.2f} m -> {c.far_final:.2f} m, linearly over the first {c.grow_trials} trials",
+        "ours: the paper says only 'incrementally enlarged'",
+    ),
+    (
+        "test region",
+        f"{w.start_near:.2f}-{w.start_far:.2f} m from the landmark, ±{w.start_half_angle_deg:g}° wide",
+        "paper: up to 1.5 m",
+    ),
+    (
+        "steps / noise",
+        f"{100 * w.step_forward:.0f} cm forward, {100 * w.step_side:.0f} cm sideways; {100 * w.step_noise_xy:.0f} cm, {w.step_noise_yaw_deg:g}° per step",
+        "ours",
+    ),
+    (
+        "trials",
+        f"{config.train_trials} training, {config.test_trials} test, at most {w.max_steps} actions",
+        "paper",
+    ),
+    (
+        "learning curve",
+        f"{config.eval_trials} greedy trials from the full region every {config.eval_every} training trials",
+        "ours",
+    ),
     ("seeds", f"{SEEDS[config.name]}, headline seed {HEADLINE_SEED}", "ours"),
 ]
-display(Markdown("| choice | value | source |\n|---|---|---|\n"
-                 + "\n".join(f"| {a} | {b} | {s} |" for a, b, s in rows)))
+display(
+    Markdown(
+        "| choice | value | source |\n|---|---|---|\n"
+        + "\n".join(f"| {a} | {b} | {s} |" for a, b, s in rows)
+    )
+)
 
 # %% [markdown]
 # ## Run (or load)
@@ -69,9 +102,11 @@ display(Markdown("| choice | value | source |\n|---|---|---|\n"
 results = run_seeds(config, SEEDS[config.name])
 main = headline(results)
 for r in results:
-    print(f"seed {r.seed}: test {r.test_successes}/{len(r.test.success)} docked "
-          f"({100 * r.test.success_rate:.1f}%), training {r.wall_time_train:.0f} s, "
-          f"testing {r.wall_time_test:.0f} s")
+    print(
+        f"seed {r.seed}: test {r.test_successes}/{len(r.test.success)} docked "
+        f"({100 * r.test.success_rate:.1f}%), training {r.wall_time_train:.0f} s, "
+        f"testing {r.wall_time_test:.0f} s"
+    )
 
 # %% [markdown]
 # ## Learning curves of both experiments
@@ -108,11 +143,15 @@ display(Image(filename=str(FIGURES_DIR / "fig4_experiment2.png")))
 # %%
 for r in results:
     change = feature_change(r)
-    print(f"seed {r.seed}: cosine between initial and final W_j: min {change.min():.3f}, "
-          f"median {np.median(change):.3f}; {len(np.unique(r.test.winners))} of "
-          f"{config.network.n_features} units win test decisions")
-print("Experiment 1 (local rule), headline seed: median cosine "
-      f"{np.median(feature_change(headline(results1))):.2f}")
+    print(
+        f"seed {r.seed}: cosine between initial and final W_j: min {change.min():.3f}, "
+        f"median {np.median(change):.3f}; {len(np.unique(r.test.winners))} of "
+        f"{config.network.n_features} units win test decisions"
+    )
+print(
+    "Experiment 1 (local rule), headline seed: median cosine "
+    f"{np.median(feature_change(headline(results1))):.2f}"
+)
 
 # %% [markdown]
 # The 36 units therefore act as a fixed random partition of the image space: each image goes
@@ -141,12 +180,19 @@ starts = main.test.starts
 yaw_end = np.array([main.test.trial_poses(k)[-1, 2] for k in range(len(main.test.success))])
 print(f"{len(fails)} failed test trials of {len(main.test.success)}")
 if len(fails):
-    print(f"  |final heading| of failures: median {np.degrees(np.median(np.abs(yaw_end[fails]))):.1f} deg, "
-          f"successes: {np.degrees(np.median(np.abs(yaw_end[main.test.success]))):.1f} deg")
-    print(f"  start distance of failures: median {np.median(-starts[fails, 0]):.2f} m, "
-          f"of all trials {np.median(-starts[:, 0]):.2f} m")
+    print(
+        f"  |final heading| of failures: median {np.degrees(np.median(np.abs(yaw_end[fails]))):.1f} deg, "
+        f"successes: {np.degrees(np.median(np.abs(yaw_end[main.test.success]))):.1f} deg"
+    )
+    print(
+        f"  start distance of failures: median {np.median(-starts[fails, 0]):.2f} m, "
+        f"of all trials {np.median(-starts[:, 0]):.2f} m"
+    )
 actions = np.bincount(main.test.actions, minlength=4) / len(main.test.actions)
-print("test action frequencies: " + ", ".join(f"{ACTION_LETTERS[i]} {100 * a:.0f}%" for i, a in enumerate(actions)))
+print(
+    "test action frequencies: "
+    + ", ".join(f"{ACTION_LETTERS[i]} {100 * a:.0f}%" for i, a in enumerate(actions))
+)
 
 # %% [markdown]
 # ## What the choices do
@@ -178,5 +224,7 @@ display(Markdown(markdown_table(experiment2_rows(results))))
 rates = np.array([r.test.success_rate for r in results])
 assert len(main.test.success) == 725
 assert main.test.success_rate >= 0.95, f"headline seed: {main.test.success_rate:.3f} < 0.95"
-print(f"Experiment 2 reproduces the paper's 95%: headline {main.test_successes}/725; "
-      f"mean over {len(results)} seeds {100 * rates.mean():.1f}% (min {100 * rates.min():.1f}%).")
+print(
+    f"Experiment 2 reproduces the paper's 95%: headline {main.test_successes}/725; "
+    f"mean over {len(results)} seeds {100 * rates.mean():.1f}% (min {100 * rates.min():.1f}%)."
+)

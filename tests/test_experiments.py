@@ -5,12 +5,21 @@ import dataclasses
 import numpy as np
 import pytest
 
-from docking.experiments import (EXPERIMENT_1, EXPERIMENT_2, Curriculum, ExperimentConfig,
-                                 feature_change, initial_network, load_result, result_path,
-                                 run_experiment, run_or_load, save_result)
+from docking.experiments import (
+    EXPERIMENT_1,
+    EXPERIMENT_2,
+    Curriculum,
+    ExperimentConfig,
+    feature_change,
+    initial_network,
+    load_result,
+    result_path,
+    run_experiment,
+    run_or_load,
+    save_result,
+)
 
-TINY = dataclasses.replace(EXPERIMENT_1, train_trials=4, test_trials=3, eval_every=2,
-                           eval_trials=2)
+TINY = dataclasses.replace(EXPERIMENT_1, train_trials=4, test_trials=3, eval_every=2, eval_trials=2)
 
 
 @pytest.fixture(scope="module")
@@ -91,8 +100,10 @@ def test_save_load_round_trip(tiny_result, tmp_path):
     np.testing.assert_array_equal(loaded.network.W, tiny_result.network.W)
     for part in ("train", "test"):
         for field in dataclasses.fields(type(tiny_result.train)):
-            np.testing.assert_array_equal(getattr(getattr(loaded, part), field.name),
-                                          getattr(getattr(tiny_result, part), field.name))
+            np.testing.assert_array_equal(
+                getattr(getattr(loaded, part), field.name),
+                getattr(getattr(tiny_result, part), field.name),
+            )
     assert loaded.rewarded_until_mastery == tiny_result.rewarded_until_mastery
     assert not list(path.parent.glob("*.tmp"))  # the temporary file was renamed away
     assert (path.stat().st_mode & 0o777) == 0o644

@@ -8,8 +8,14 @@ import pytest
 from matplotlib.figure import Figure
 
 from docking import figures
-from docking.experiments import (EXPERIMENT_1, EXPERIMENT_2, Curriculum, load_result,
-                                 run_experiment, save_result)
+from docking.experiments import (
+    EXPERIMENT_1,
+    EXPERIMENT_2,
+    Curriculum,
+    load_result,
+    run_experiment,
+    save_result,
+)
 from docking.network import Network, NetworkConfig
 from docking.world import ACTION_LETTERS, DockingEnv
 
@@ -23,8 +29,11 @@ def result1():
 
 @pytest.fixture(scope="module")
 def result2():
-    curriculum = Curriculum(far_initial=EXPERIMENT_2.curriculum.far_initial,
-                            far_final=EXPERIMENT_2.world.start_far, grow_trials=2)
+    curriculum = Curriculum(
+        far_initial=EXPERIMENT_2.curriculum.far_initial,
+        far_final=EXPERIMENT_2.world.start_far,
+        grow_trials=2,
+    )
     config = dataclasses.replace(EXPERIMENT_2, curriculum=curriculum, **TINY)
     return run_experiment(config, seed=0, progress=False)
 
@@ -72,18 +81,20 @@ def test_mean_winning_inputs_average_the_views_each_unit_wins():
     rows, cols = world.camera.input_shape
     W = np.zeros((2, rows * cols))
     W[0].reshape(rows, cols)[:, : cols // 2] = 1.0
-    W[1].reshape(rows, cols)[:, cols // 2:] = 1.0
+    W[1].reshape(rows, cols)[:, cols // 2 :] = 1.0
     W /= np.linalg.norm(W, axis=1, keepdims=True)
     Q = np.zeros((4, 2))
     Q[ACTION_LETTERS.index("F"), 0] = 1.0
     Q[ACTION_LETTERS.index("R"), 1] = 1.0
     net = Network.from_weights(NetworkConfig(n_inputs=rows * cols, n_features=2), W, Q)
     action_mean, unit_mean, action_counts, unit_counts = figures.mean_winning_inputs(
-        net, world, n=60, seed=1)
+        net, world, n=60, seed=1
+    )
     assert action_mean.shape == (4, rows, cols) and unit_mean.shape == (2, rows, cols)
     assert unit_counts.sum() == 60 and action_counts.sum() == 60
-    np.testing.assert_array_equal(action_counts[[ACTION_LETTERS.index("F"),
-                                                 ACTION_LETTERS.index("R")]], unit_counts)
+    np.testing.assert_array_equal(
+        action_counts[[ACTION_LETTERS.index("F"), ACTION_LETTERS.index("R")]], unit_counts
+    )
     for j, side in ((0, slice(0, cols // 2)), (1, slice(cols // 2, cols))):
         if unit_counts[j]:  # the unit's mean view has more landmark on its own side
             other = slice(cols // 2, cols) if j == 0 else slice(0, cols // 2)
@@ -100,8 +111,11 @@ def test_fig5(result1, loaded2, tmp_path):
 
 
 def test_learning_curves_with_one_or_both_experiments(result1, result2, loaded2, tmp_path):
-    for name, (r1, r2) in {"both": ([result1], [result2, loaded2]), "only1": ([result1], []),
-                           "only2": ([], [loaded2])}.items():
+    for name, (r1, r2) in {
+        "both": ([result1], [result2, loaded2]),
+        "only1": ([result1], []),
+        "only2": ([], [loaded2]),
+    }.items():
         path = tmp_path / f"curves_{name}"
         _assert_written(figures.fig_learning_curves(r1, r2, path), path)
     with pytest.raises(ValueError):

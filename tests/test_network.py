@@ -132,7 +132,11 @@ def test_extreme_inputs_give_finite_outputs(normalize):
     zero = net.prepare(np.zeros((10, 32)))
     s = net.features(zero)
     np.testing.assert_allclose(s, 0.25)  # all-zero input: uniform state
-    for obs in (np.full((10, 32), 1e6), np.random.default_rng(2).random(320) * 1e6, np.eye(32)[:10]):
+    for obs in (
+        np.full((10, 32), 1e6),
+        np.random.default_rng(2).random(320) * 1e6,
+        np.eye(32)[:10],
+    ):
         I = net.prepare(obs)
         s = net.features(I)
         assert np.isfinite(s).all() and s.sum() == pytest.approx(1.0)
@@ -326,7 +330,12 @@ def test_synthetic_task_learns_policy_and_relevant_features(seed):
     # the classes by a tiny margin, so feature learning stops early there (the policy is
     # still learned; the informative fraction then only reaches about 0.2).
     cfg = NetworkConfig(
-        n_inputs=N_PIX, n_features=4, n_actions=N_CLASSES, beta_s=5.0, eps_q=0.5, eps_w=1.0,
+        n_inputs=N_PIX,
+        n_features=4,
+        n_actions=N_CLASSES,
+        beta_s=5.0,
+        eps_q=0.5,
+        eps_w=1.0,
         rule="nonlocal",
     )
     rng = np.random.default_rng(seed)
@@ -343,11 +352,13 @@ def test_synthetic_task_learns_policy_and_relevant_features(seed):
     test_rng = np.random.default_rng(100 + seed)
     samples = [_sample(test_rng) for _ in range(400)]
     greedy = [int(np.argmax(net.Q @ net.features(net.prepare(x)))) for x, _ in samples]
-    accuracy = np.mean([g == c for g, (_, c) in zip(greedy, samples)])
+    accuracy = np.mean([g == c for g, (_, c) in zip(greedy, samples, strict=False)])
     assert accuracy >= 0.98
 
     # Baseline: the class-mean inputs (what unsupervised averaging would converge to).
-    means = np.array([np.mean([net.prepare(x) for x, c in samples if c == k], axis=0) for k in range(4)])
+    means = np.array(
+        [np.mean([net.prepare(x) for x, c in samples if c == k], axis=0) for k in range(4)]
+    )
     means /= np.linalg.norm(means, axis=1, keepdims=True)
     after = _informative_fraction(net.W)
     assert before < 0.2  # random start: about the chance fraction 0.125

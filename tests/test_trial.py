@@ -101,7 +101,9 @@ def test_delta_at_termination_and_truncation(last, bootstrap, expected_last_delt
     net = make_net(n_actions=2, q_init=0.0)
     net.Q[:] = 0.5
     env = Scripted([dm_env.transition(0.0, OBS), last])
-    rec = run_trial(env, net, np.random.default_rng(0), learn=False, bootstrap_on_truncation=bootstrap)
+    rec = run_trial(
+        env, net, np.random.default_rng(0), learn=False, bootstrap_on_truncation=bootstrap
+    )
     assert rec.steps == 2
     np.testing.assert_allclose(rec.deltas, [0.9 * 0.5 - 0.5, expected_last_delta], rtol=1e-12)
     np.testing.assert_array_equal(rec.rewards, [0.0, last.reward])
@@ -146,7 +148,9 @@ def test_record_contents_and_poses():
         assert rec.poses[t + 1, 0] == cell
     assert rec.success == (rec.poses[-1, 0] == 0)
     assert rec.success == (rec.rewards[-1] > 0)
-    rec = run_trial(Corridor(1, with_pose=False), make_net(1), np.random.default_rng(1), learn=False)
+    rec = run_trial(
+        Corridor(1, with_pose=False), make_net(1), np.random.default_rng(1), learn=False
+    )
     assert rec.poses is None
 
 
@@ -161,8 +165,10 @@ def test_same_seed_bit_identical():
     b, rb = train(0)
     c, _ = train(1)
     assert a.W.tobytes() == b.W.tobytes() and a.Q.tobytes() == b.Q.tobytes()
-    for x, y in zip(ra, rb):
-        assert x.actions.tobytes() == y.actions.tobytes() and x.deltas.tobytes() == y.deltas.tobytes()
+    for x, y in zip(ra, rb, strict=False):
+        assert (
+            x.actions.tobytes() == y.actions.tobytes() and x.deltas.tobytes() == y.deltas.tobytes()
+        )
     assert a.W.tobytes() != c.W.tobytes()
 
 

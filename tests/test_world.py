@@ -10,8 +10,17 @@ from dm_env import test_utils
 
 from docking.camera import CameraConfig, red_mask
 from docking.oracle import oracle_action
-from docking.world import (BACKWARD, FORWARD, LEFT, RIGHT, ROBOT_RADIUS, DockingEnv,
-                           WorldConfig, footprints, in_dock)
+from docking.world import (
+    BACKWARD,
+    FORWARD,
+    LEFT,
+    RIGHT,
+    ROBOT_RADIUS,
+    DockingEnv,
+    WorldConfig,
+    footprints,
+    in_dock,
+)
 
 QUIET = WorldConfig(step_noise_xy=0.0, step_noise_yaw_deg=0.0)
 
@@ -102,8 +111,9 @@ def test_start_region_can_be_narrowed(env):
         env.set_start_region(0.9, 0.7)
 
 
-@pytest.mark.parametrize("action,forward,left", [
-    (FORWARD, 1, 0), (BACKWARD, -1, 0), (LEFT, 0, 1), (RIGHT, 0, -1)])
+@pytest.mark.parametrize(
+    "action,forward,left", [(FORWARD, 1, 0), (BACKWARD, -1, 0), (LEFT, 0, 1), (RIGHT, 0, -1)]
+)
 def test_noise_free_step_moves_by_configured_distance(quiet_env, action, forward, left):
     yaw = 0.3
     quiet_env.reset_to([-1.2, 0.2, yaw])
@@ -111,8 +121,10 @@ def test_noise_free_step_moves_by_configured_distance(quiet_env, action, forward
     quiet_env.step(action)
     after = quiet_env.pose
     length = QUIET.step_forward * forward + QUIET.step_side * left
-    expected = np.array([np.cos(yaw), np.sin(yaw)]) * QUIET.step_forward * forward + \
-        np.array([-np.sin(yaw), np.cos(yaw)]) * QUIET.step_side * left
+    expected = (
+        np.array([np.cos(yaw), np.sin(yaw)]) * QUIET.step_forward * forward
+        + np.array([-np.sin(yaw), np.cos(yaw)]) * QUIET.step_side * left
+    )
     np.testing.assert_allclose(after[:2] - before[:2], expected, atol=5e-4)
     assert np.linalg.norm(after[:2] - before[:2]) == pytest.approx(abs(length), abs=5e-4)
     assert after[2] == pytest.approx(yaw, abs=1e-4)
@@ -187,10 +199,21 @@ def test_walking_into_the_landmark_does_not_pass_through(quiet_env):
     assert np.ptp(xs[-4:]) < 0.01  # and stays there
 
 
-@pytest.mark.parametrize("field,value", [
-    ("step_forward", -0.1), ("step_side", 0.0), ("step_noise_xy", -0.01),
-    ("step_noise_yaw_deg", -1.0), ("max_steps", 0), ("dock_width", -0.08), ("dock_center", 0.3),
-    ("start_far", 0.5), ("start_near", 0.2), ("start_far", 5.0)])
+@pytest.mark.parametrize(
+    "field,value",
+    [
+        ("step_forward", -0.1),
+        ("step_side", 0.0),
+        ("step_noise_xy", -0.01),
+        ("step_noise_yaw_deg", -1.0),
+        ("max_steps", 0),
+        ("dock_width", -0.08),
+        ("dock_center", 0.3),
+        ("start_far", 0.5),
+        ("start_near", 0.2),
+        ("start_far", 5.0),
+    ],
+)
 def test_bad_config_raises_naming_the_parameter(field, value):
     with pytest.raises(ValueError, match=field):
         dataclasses.replace(WorldConfig(), **{field: value})
