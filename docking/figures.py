@@ -77,7 +77,7 @@ _DPI = 150
 _WEIGHT_CMAP = "gray_r"  # strong = dark
 _LETTER_FONT = dict(fontsize=15, fontweight="bold", va="bottom", ha="left")
 _LANDMARK_RED = "#d90d0d"
-_CABINET_GREY = "#b8b8bc"
+_SIDEBOARD_GREY = "#b8b8bc"
 _DOCK_YELLOW = "#ffe600"
 _FAIL_RED = "#d62020"
 
@@ -663,7 +663,7 @@ def draw_floor_plan(
     ``start_region = (near, far)`` (default the config's)."""
     fp = footprints(config)
     styles = {
-        "cabinet": dict(facecolor=_CABINET_GREY, edgecolor="0.4", zorder=1),
+        "sideboard": dict(facecolor=_SIDEBOARD_GREY, edgecolor="0.4", zorder=1),
         "landmark_slab": dict(facecolor=_LANDMARK_RED, edgecolor="none", zorder=2),
         "landmark_post": dict(facecolor=_LANDMARK_RED, edgecolor="none", zorder=2),
         "dock": dict(facecolor=_DOCK_YELLOW, edgecolor="0.3", linewidth=0.6, zorder=1),
@@ -758,10 +758,12 @@ def fig5(result, path, n: int = 30, seed: int = 0) -> Figure:
     tan = np.tan(np.radians(config.start_half_angle_deg))
     fp = footprints(config)
     ys = np.concatenate(
-        [[config.start_far * tan, -config.start_far * tan, fp["cabinet"][1], fp["cabinet"][3]]]
+        [[config.start_far * tan, -config.start_far * tan, fp["sideboard"][1], fp["sideboard"][3]]]
         + [p[:, 1] for p in paths.values()]
     )
-    xs = np.concatenate([[-config.start_far, fp["cabinet"][2]]] + [p[:, 0] for p in paths.values()])
+    xs = np.concatenate(
+        [[-config.start_far, fp["sideboard"][2]]] + [p[:, 0] for p in paths.values()]
+    )
     margin = 0.08
     y_lo, y_hi = float(np.min(ys)) - margin, float(np.max(ys)) + margin
     x_lo, x_hi = float(np.min(xs)) - margin, float(np.max(xs)) + margin
@@ -838,7 +840,7 @@ def fig5(result, path, n: int = 30, seed: int = 0) -> Figure:
             label=f"docking region ({dock_cm})",
         ),
         Rectangle((0, 0), 1, 1, facecolor=_LANDMARK_RED, label="landmark (slab, post)"),
-        Rectangle((0, 0), 1, 1, facecolor=_CABINET_GREY, edgecolor="0.4", label="sideboard"),
+        Rectangle((0, 0), 1, 1, facecolor=_SIDEBOARD_GREY, edgecolor="0.4", label="sideboard"),
         Line2D(
             [],
             [],

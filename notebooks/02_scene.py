@@ -77,7 +77,7 @@ assert all(
 # model.
 
 # %%
-size = {g: 2 * model.geom(g).size for g in ("cabinet", "landmark_slab", "landmark_post")}
+size = {g: 2 * model.geom(g).size for g in ("sideboard", "landmark_slab", "landmark_post")}
 fp = footprints(cfg)
 cam_height = float(model.camera("eye").pos[2])
 tan = np.tan(np.radians(cfg.start_half_angle_deg))
@@ -99,7 +99,7 @@ display(
 | crop | columns {x0}–{x1}, rows {y0}–{y1} ({x1 - x0}×{y1 - y0} px) | a wide, flat band like the 32×10 input: each input pixel averages a {(x1 - x0) // cols}×{(y1 - y0) // rows} block |
 | threshold | hue within {cam.hue_tol} (OpenCV units, 0–180) of red, saturation ≥ {cam.min_saturation}, value ≥ {cam.min_value} | only the landmark passes, whatever the shading of its faces |
 | input | {cols}×{rows}, fraction of each block that is red, in [0, 1] | paper: 32×10 grayscale of the thresholded crop; the coverage fraction carries the same information |
-| sideboard | {cm(size["cabinet"][0])} deep × {cm(size["cabinet"][1])} wide × {cm(size["cabinet"][2])} high, front face at x = {fp["cabinet"][0]:+.2f} m | puts the landmark at the camera's height, see below |
+| sideboard | {cm(size["sideboard"][0])} deep × {cm(size["sideboard"][1])} wide × {cm(size["sideboard"][2])} high, front face at x = {fp["sideboard"][0]:+.2f} m | puts the landmark at the camera's height, see below |
 | landmark | slab {cm(size["landmark_slab"][1])} wide × {cm(size["landmark_slab"][2])} high × {cm(size["landmark_slab"][0])} deep, its front face at x = 0; post {cm(size["landmark_post"][1])} × {cm(size["landmark_post"][0])} × {cm(size["landmark_post"][2])} high, {cm(fp["landmark_post"][0])} behind the slab's front | a 3-D shape whose image changes with the viewpoint, see below |
 | robot body | collision cylinder of radius {cm(ROBOT_RADIUS)} | stops it at the sideboard and the walls |
 """)
@@ -184,7 +184,7 @@ fig, ax = plt.subplots(figsize=(4, 6.5))
 draw_floor_plan(ax, cfg)
 draw_trajectory(ax, poses, "green")
 ax.set_title("the oracle's trial, seen from above")
-ax.set_ylim(-cfg.start_far - 0.1, fp["cabinet"][2] + 0.05)
+ax.set_ylim(-cfg.start_far - 0.1, fp["sideboard"][2] + 0.05)
 ax.set_xlim(cfg.start_far * tan + 0.1, -cfg.start_far * tan - 0.1)
 plt.show()
 

@@ -3,6 +3,7 @@
 import dataclasses
 
 import dm_env
+import mujoco
 import numpy as np
 import pytest
 from absl.testing import absltest
@@ -11,15 +12,21 @@ from dm_env import test_utils
 from docking.camera import CameraConfig, red_mask
 from docking.oracle import oracle_action
 from docking.world import (
+    _DOCK_GROUP,
+    _ROBOT_GROUP,
+    ASSET_PATH,
     BACKWARD,
     FORWARD,
     LEFT,
+    POSE_JOINTS,
     RIGHT,
     ROBOT_RADIUS,
     DockingEnv,
     WorldConfig,
     footprints,
     in_dock,
+    make_model,
+    scene_facts,
 )
 
 QUIET = WorldConfig(step_noise_xy=0.0, step_noise_yaw_deg=0.0)
@@ -185,7 +192,7 @@ def test_step_limit_ends_trial_as_truncation(quiet_env):
 
 
 def test_walking_into_the_landmark_does_not_pass_through(quiet_env):
-    # Beside the docking region (so the trial does not end) and straight at the cabinet.
+    # Beside the docking region (so the trial does not end) and straight at the sideboard.
     quiet_env.reset_to([-0.7, QUIET.dock_width / 2 + 0.03, 0.0])
     xs = []
     for _ in range(8):  # 0.25 m to the sideboard, then five steps more
@@ -193,7 +200,7 @@ def test_walking_into_the_landmark_does_not_pass_through(quiet_env):
         xs.append(quiet_env.pose[0])
         assert not timestep.last()
     # The robot's collision cylinder stops at the sideboard's front face.
-    x0 = footprints(QUIET)["cabinet"][0]
+    x0 = footprints(QUIET)["sideboard"][0]
     assert max(xs) <= x0 - ROBOT_RADIUS + 0.01
     assert max(xs) >= x0 - ROBOT_RADIUS - 0.01  # it did reach the sideboard
     assert np.ptp(xs[-4:]) < 0.01  # and stays there
@@ -271,3 +278,84 @@ def test_robot_pressed_against_the_sideboard_in_front_of_the_landmark_is_docked(
     assert not quiet_env.docked  # still beside the region, pressed against the sideboard
     timestep = quiet_env.step(RIGHT)
     assert timestep.last() and timestep.reward == 1.0
+
+
+# -- the scene as an MJCF asset (issue 8) ---------------------------------------------------
+
+
+def test_asset_compiles_standalone_and_matches_the_default_world():
+    # The asset alone (as the viewer opens it) is the scene of the default WorldConfig.
+    standalone = mujoco.MjModel.from_xml_path(str(ASSET_PATH))
+    model = make_model(WorldConfig())
+    for field in ("geom_size", "geom_pos", "cam_quat", "cam_fovy", "actuator_biasprm"):
+        np.testing.assert_array_equal(getattr(standalone, field), getattr(model, field))
+
+
+def test_config_sets_camera_and_dock_in_the_compiled_model():
+    cfg = WorldConfig(
+        dock_center=0.5, dock_depth=0.1, dock_width=0.3, camera=CameraConfig(tilt_deg=7.0)
+    )
+    model = make_model(cfg)
+    np.testing.assert_allclose(model.geom("dock").pos[:2], [-0.5, 0.0])
+    np.testing.assert_allclose(model.geom("dock").size[:2], [0.05, 0.15])
+    assert model.cam("eye").fovy[0] == cfg.camera.fovy_deg
+    # The camera's optical axis (-z) points forward and down by the tilt.
+    optical_axis = -model.cam("eye").mat0.reshape(3, 3)[:, 2]
+    np.testing.assert_allclose(
+        optical_axis, [np.cos(np.radians(7.0)), 0.0, -np.sin(np.radians(7.0))], atol=1e-6
+    )
+    assert footprints(cfg)["dock"] == pytest.approx((-0.55, -0.15, -0.45, 0.15))
+
+
+def test_scene_facts_are_read_from_the_compiled_model():
+    facts = scene_facts()
+    model = make_model(WorldConfig())
+    assert facts.robot_radius == ROBOT_RADIUS == model.geom("body_collider").size[0]
+    assert facts.sideboard == footprints(WorldConfig())["sideboard"]
+    sideboard = model.geom("sideboard")
+    assert facts.sideboard[0] == pytest.approx(sideboard.pos[0] - sideboard.size[0])
+    assert facts.sideboard_height == pytest.approx(2 * sideboard.size[2])
+    assert facts.camera_height == model.cam("eye").pos[2]
+    # The landmark stands on the sideboard, its front face is x = 0.
+    slab = footprints(WorldConfig())["landmark_slab"]
+    assert slab[0] == 0.0
+    assert model.geom("landmark_slab").pos[2] - model.geom("landmark_slab").size[2] == (
+        pytest.approx(facts.sideboard_height)
+    )
+    # The start region fits in the room.
+    assert WorldConfig().start_far < facts.room_back
+
+
+def test_servos_are_critically_damped():
+    # kv = 2 sqrt(kp * inertia) as the asset's comment says, with the compiled robot's mass
+    # (x, y) and yaw inertia.
+    model = make_model(WorldConfig())
+    robot = model.body("robot")
+    inertia = {"x": robot.mass[0], "y": robot.mass[0], "yaw": robot.inertia[2]}
+    for name, value in inertia.items():
+        actuator = model.actuator(name)
+        kp, kv = actuator.gainprm[0], -actuator.biasprm[2]
+        assert kv == pytest.approx(2 * np.sqrt(kp * value), rel=1e-9), name
+
+
+def test_pose_is_read_through_the_named_joints(quiet_env):
+    quiet_env.reset_to([-0.9, 0.1, 0.05])
+    quiet_env.step(LEFT)
+    named = quiet_env.physics.named.data.qpos[list(POSE_JOINTS)]
+    np.testing.assert_array_equal(quiet_env.pose, named)
+    np.testing.assert_array_equal(
+        quiet_env.physics.servo_targets(), quiet_env.physics.named.data.ctrl[list(POSE_JOINTS)]
+    )
+
+
+def test_geom_groups_of_the_asset():
+    model = make_model(WorldConfig())
+    groups = {model.geom(i).name: int(model.geom_group[i]) for i in range(model.ngeom)}
+    assert groups["dock"] == _DOCK_GROUP
+    robot = model.body("robot").id
+    visual = [
+        i
+        for i in range(model.ngeom)
+        if model.geom_bodyid[i] == robot and model.geom(i).name != "body_collider"
+    ]
+    assert visual and all(model.geom_group[i] == _ROBOT_GROUP for i in visual)
