@@ -34,7 +34,7 @@ from docking.validate import (
     check_real,
     normalise,
 )
-from docking.world import DockingEnv, WorldConfig
+from docking.world import Distractor, DockingEnv, WorldConfig
 
 
 @dataclasses.dataclass(frozen=True)
@@ -139,8 +139,12 @@ class ExperimentConfig:
         d = dict(d)
         world = dict(d.pop("world"))
         camera = {k: tuple(v) if isinstance(v, list) else v for k, v in world.pop("camera").items()}
+        distractors = tuple(
+            Distractor(d["shape"], tuple(d["size"]), tuple(d["position"]))
+            for d in world.pop("distractors")
+        )
         return cls(
-            world=WorldConfig(camera=CameraConfig(**camera), **world),
+            world=WorldConfig(camera=CameraConfig(**camera), distractors=distractors, **world),
             network=NetworkConfig(**d.pop("network")),
             curriculum=Curriculum(**d.pop("curriculum")),
             **d,

@@ -87,7 +87,14 @@ from dm_control.mujoco import engine, wrapper  # noqa: E402
 from dm_env import specs  # noqa: E402
 
 from docking.camera import CameraConfig, preprocess  # noqa: E402
-from docking.validate import check_instance, check_int, check_real, normalise  # noqa: E402
+from docking.validate import (  # noqa: E402
+    FieldTypeError,
+    check_choice,
+    check_instance,
+    check_int,
+    check_real,
+    normalise,
+)
 
 # Action indices. The paper (Sec. II-C): "four actions - moving forward, backward, right and
 # left"; left and right are sidesteps (Nao walks sideways), not turns.
@@ -99,6 +106,59 @@ N_ACTIONS = 4
 # Geom groups: 0 the room (seen by everyone), 1 the robot's visual body (hidden from its own
 # camera), 3 the virtual docking region (only in overview renders).
 _ROBOT_GROUP, _DOCK_GROUP = 1, 3
+
+
+#: The shapes a distractor can have and how many ``size`` values each takes (MuJoCo's geom
+#: sizes: box half-extents x, y, z; cylinder radius and half-height; sphere radius).
+DISTRACTOR_SHAPES = {"box": 3, "cylinder": 2, "sphere": 1}
+
+
+@dataclasses.dataclass(frozen=True)
+class Distractor:
+    """A red object in the room besides the landmark.
+
+    The paper (Sec. IV): "noise (e.g. other red objects within the visual field) should not
+    affect performance". A distractor has the landmark's red, so it passes the camera's
+    threshold wherever it enters the crop; it is solid (the robot bumps into it).
+
+    Attributes:
+      shape: ``"box"``, ``"cylinder"`` (standing upright) or ``"sphere"``.
+      size: MuJoCo's geom size for the shape (m): box half-extents ``(x, y, z)``, cylinder
+        ``(radius, half-height)``, sphere ``(radius,)``.
+      position: The centre ``(x, y, z)`` in the world frame (m; the landmark's front face is
+        ``x = 0``, the sideboard's top 0.43 m above the floor).
+    """
+
+    shape: str
+    size: tuple[float, ...]
+    position: tuple[float, float, float]
+
+    def __post_init__(self):
+        owner = "Distractor"
+        shape = check_choice(owner, "shape", self.shape, tuple(DISTRACTOR_SHAPES))
+        n = DISTRACTOR_SHAPES[shape]
+        if not isinstance(self.size, (tuple, list)) or len(self.size) != n:
+            raise FieldTypeError(
+                f"Distractor.size of a {shape} must be {n} numbers, got {self.size!r}"
+            )
+        size = tuple(
+            check_real(owner, f"size[{k}]", v, lo=0, hi=1, lo_open=True)
+            for k, v in enumerate(self.size)
+        )
+        if not isinstance(self.position, (tuple, list)) or len(self.position) != 3:
+            raise FieldTypeError(
+                f"Distractor.position must be (x, y, z) in metres, got {self.position!r}"
+            )
+        position = tuple(
+            check_real(owner, f"position[{k}]", v, lo=-5, hi=5) for k, v in enumerate(self.position)
+        )
+        normalise(self, shape=shape, size=size, position=position)
+
+    @classmethod
+    def cup(cls, y: float = 0.30) -> Distractor:
+        """A red cup (7 cm across, 9 cm high) on the sideboard, ``y`` m beside the landmark's
+        axis, level with the landmark's front face."""
+        return cls("cylinder", (0.035, 0.045), (0.03, y, 0.43 + 0.045))
 
 
 @dataclasses.dataclass(frozen=True)
@@ -131,6 +191,7 @@ class WorldConfig:
       view_margin_px: At a start pose the landmark's projection keeps this many pixels from
         the crop's border.
       camera: The head camera and the observation pipeline.
+      distractors: Red objects besides the landmark (:class:`Distractor`); none by default.
     """
 
     step_forward: float = 0.15
@@ -147,9 +208,17 @@ class WorldConfig:
     dock_width: float = 0.20
     view_margin_px: float = 1.0
     camera: CameraConfig = dataclasses.field(default_factory=CameraConfig)
+    distractors: tuple[Distractor, ...] = ()
 
     def __post_init__(self):
         owner = "WorldConfig"
+        if not isinstance(self.distractors, (tuple, list)):
+            raise FieldTypeError(
+                f"WorldConfig.distractors must be a tuple of Distractor, got {self.distractors!r}"
+            )
+        for k, d in enumerate(self.distractors):
+            check_instance(owner, f"distractors[{k}]", d, Distractor)
+        object.__setattr__(self, "distractors", tuple(self.distractors))
         real = functools.partial(check_real, owner)
         normalise(
             self,
@@ -223,6 +292,17 @@ def make_mjcf(config: WorldConfig) -> mjcf.RootElement:
     dock = root.find("geom", "dock")
     dock.pos = [-config.dock_center, 0.0, dock.pos[2]]
     dock.size = [config.dock_depth / 2, config.dock_width / 2, dock.size[2]]
+    landmark = root.find("geom", "landmark_slab")
+    for k, d in enumerate(config.distractors):
+        root.worldbody.add(
+            "geom",
+            name=f"distractor{k}",
+            type=d.shape,
+            size=list(d.size),
+            pos=list(d.position),
+            material=landmark.material,
+            group=landmark.group,
+        )
     return root
 
 

@@ -359,3 +359,49 @@ def test_geom_groups_of_the_asset():
         if model.geom_bodyid[i] == robot and model.geom(i).name != "body_collider"
     ]
     assert visual and all(model.geom_group[i] == _ROBOT_GROUP for i in visual)
+
+
+def test_a_distractor_is_red_solid_and_seen_when_in_view():
+    from docking.experiments import EXPERIMENT_2, ExperimentConfig
+    from docking.world import Distractor
+
+    cup = Distractor.cup(y=0.30)
+    world = WorldConfig(distractors=(cup,))
+    plain, with_cup = DockingEnv(seed=0), DockingEnv(world, seed=0)
+    geom = with_cup.physics.model.geom("distractor0")
+    np.testing.assert_allclose(geom.size[:2], cup.size)
+    np.testing.assert_allclose(with_cup.physics.data.geom("distractor0").xpos, cup.position)
+    # Seen from straight in front, far enough back, the cup enters the crop beside the landmark.
+    pose = [-1.4, 0.0, 0.0]
+    seen = with_cup.reset_to(pose).observation
+    baseline = plain.reset_to(pose).observation
+    assert seen.sum() > baseline.sum() + 0.5
+    # The cup stands on the robot's left (+y): it appears left of the landmark in the image,
+    # and the landmark's own pixels are unchanged.
+    assert np.array_equal(seen[:, 13:], baseline[:, 13:])
+    assert seen[:, :13].sum() > 0.5 and baseline[:, :13].sum() == 0
+    # The default world has none, and a config with one round-trips through a dict.
+    assert WorldConfig().distractors == ()
+    config = dataclasses.replace(
+        EXPERIMENT_2, world=dataclasses.replace(EXPERIMENT_2.world, distractors=(cup,))
+    )
+    assert ExperimentConfig.from_dict(config.to_dict()) == config
+
+
+@pytest.mark.parametrize(
+    "kwargs,match",
+    [
+        (dict(shape="cone", size=(0.1,), position=(0, 0, 0)), "Distractor.shape"),
+        (dict(shape="box", size=(0.1, 0.1), position=(0, 0, 0)), "Distractor.size"),
+        (dict(shape="sphere", size=(-0.1,), position=(0, 0, 0)), r"Distractor.size\[0\]"),
+        (dict(shape="sphere", size=(0.1,), position=(0, 0)), "Distractor.position"),
+        (dict(shape="sphere", size=(0.1,), position=(0, float("nan"), 0)), "position"),
+    ],
+)
+def test_bad_distractors_raise_naming_the_field(kwargs, match):
+    from docking.world import Distractor
+
+    with pytest.raises(ValueError, match=match):
+        Distractor(**kwargs)
+    with pytest.raises(ValueError, match="distractors"):
+        WorldConfig(distractors=("cup",))
