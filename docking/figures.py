@@ -10,7 +10,9 @@
 
 Every figure function takes the arrays that :mod:`docking.analysis` computes (and
 configurations for geometry and labels) and returns a :class:`matplotlib.figure.Figure`; it
-renders nothing, runs no network and writes no file. The caller saves the figure with
+renders nothing, runs no network and writes no file. Panels are laid out by matplotlib's
+constrained layout, grouped in subfigures, each headed by its bold panel letter. The caller
+saves the figure with
 :func:`save_figure` (``.png`` and ``.pdf``). The figures are drawn on matplotlib's Agg canvas
 without pyplot, so the library never opens a window.
 
@@ -70,7 +72,6 @@ PAPER_ACTION_ORDER = tuple(ACTION_LETTERS.index(letter) for letter in "LRFB")
 
 _DPI = 150
 _WEIGHT_CMAP = "gray_r"  # strong = dark
-_LETTER_FONT = dict(fontsize=15, fontweight="bold", va="bottom", ha="left")
 _LANDMARK_RED = "#d90d0d"
 _SIDEBOARD_GREY = "#b8b8bc"
 _DOCK_YELLOW = "#ffe600"
@@ -109,23 +110,17 @@ def save_figure(fig: Figure, path) -> tuple[Path, Path]:
 
 
 def _new_figure(width: float, height: float) -> Figure:
-    """A figure on the Agg canvas (no pyplot, no window)."""
-    fig = Figure(figsize=(width, height))
+    """A figure with constrained layout on the Agg canvas (no pyplot, no window)."""
+    fig = Figure(figsize=(width, height), layout="constrained")
     FigureCanvasAgg(fig)
     return fig
 
 
-def _axes(fig: Figure, left: float, top: float, width: float, height: float):
-    """Axes placed in inches, measured from the figure's top-left corner."""
-    W, H = fig.get_size_inches()
-    return fig.add_axes((left / W, 1 - (top + height) / H, width / W, height / H))
-
-
-def _letter(fig: Figure, ax, letter: str) -> None:
-    """A panel letter just above the top-left corner of ``ax``."""
-    bbox = ax.get_position()
-    W, H = fig.get_size_inches()
-    fig.text(bbox.x0 - 0.05 / W, bbox.y1 + 0.06 / H, letter, **_LETTER_FONT)
+def _panel(sub, letter: str, caption: str = "") -> None:
+    """Head a (sub)figure with its bold panel letter and a caption, left-aligned; constrained
+    layout makes room for it."""
+    text = f"$\\mathbf{{{letter}}}$   {caption}" if caption else f"$\\mathbf{{{letter}}}$"
+    sub.suptitle(text, x=0.0, ha="left", fontsize=11)
 
 
 def _image(ax, image, vmax=None, frame_color="0.35") -> None:
@@ -216,84 +211,41 @@ def fig2_scene(camera: CameraConfig, views: ExampleViews, overview: np.ndarray) 
     frames = dict(zip(names, views.frames, strict=True))
     inputs = dict(zip(names, views.inputs, strict=True))
     main = names[1]
-    overview_size = (overview.shape[1], overview.shape[0])
-
     rows, cols = camera.input_shape
     frame_aspect = camera.height / camera.width
     input_aspect = rows / cols
-    # Layout in inches. Top: A on the left, B above C on the right, both columns equally tall.
-    W, margin, gap = 10.0, 0.3, 0.35
-    c_gap = 0.45  # room for C's caption line
-    b = (W - 2 * margin - gap - c_gap / (overview_size[1] / overview_size[0])) / (
-        1 + (frame_aspect + input_aspect) / (overview_size[1] / overview_size[0])
-    )
-    a = W - 2 * margin - gap - b
-    top_h = a * overview_size[1] / overview_size[0]
-    # Bottom: three columns, frame above input.
-    col_gap = 0.3
-    c = (W - 2 * margin - 2 * col_gap) / 3
-    title_h, top0 = 0.5, 0.35
-    bottom0 = top0 + top_h + 0.4 + title_h
-    H = bottom0 + c * frame_aspect + 0.08 + c * input_aspect + 0.15
-    fig = _new_figure(W, H)
 
-    ax_a = _axes(fig, margin, top0, a, top_h)
-    _image(ax_a, overview)
-    ax_a.set_title(
-        "the robot in front of the docking region (yellow) and the landmark (red)",
-        fontsize=9,
-        pad=3,
-    )
-    _letter(fig, ax_a, "A")
+    fig = _new_figure(10.0, 9.3)
+    top, bottom = fig.subfigures(2, 1, height_ratios=(5.1, 4.2))
+    sf_a, right = top.subfigures(1, 2, width_ratios=(1.75, 1.0))
+    _panel(sf_a, "A", "the robot in front of the docking region (yellow) and the landmark (red)")
+    _image(sf_a.subplots(), overview)
 
-    right = margin + a + gap
-    ax_b = _axes(fig, right, top0, b, b * frame_aspect)
+    sf_b, sf_c = right.subfigures(2, 1, height_ratios=(frame_aspect + 0.1, input_aspect + 0.12))
+    _panel(sf_b, "B", f"robot's camera ({camera.width}x{camera.height} px), crop dotted")
+    ax_b = sf_b.subplots()
     _image(ax_b, frames[main])
     _crop_rectangle(ax_b, camera)
-    ax_b.set_title(f"robot's camera ({camera.width}x{camera.height} px)", fontsize=9, pad=3)
-    _letter(fig, ax_b, "B")
-    ax_c = _axes(fig, right, top0 + top_h - b * input_aspect, b, b * input_aspect)
+    _panel(sf_c, "C", f"input I ({cols}x{rows})")
+    ax_c = sf_c.subplots()
     _image(ax_c, inputs[main], vmax=1.0)
-    ax_c.set_title(f"input I ({cols}x{rows})", fontsize=9, pad=3)
     ax_c.set_xlabel(
-        "fraction of each pixel's block that is red (0 white, 1 black)",
-        fontsize=7,
-        color="0.3",
-        labelpad=2,
+        "fraction of each pixel's block that is red (0 white, 1 black)", fontsize=7, color="0.3"
     )
-    _letter(fig, ax_c, "C")
 
+    _panel(bottom, "D", "camera frames (crop dotted) and inputs from three positions")
+    axes = bottom.subplots(2, 3, height_ratios=(frame_aspect, input_aspect))
     for k, name in enumerate(names):
-        left = margin + k * (c + col_gap)
-        ax_f = _axes(fig, left, bottom0, c, c * frame_aspect)
-        _image(ax_f, frames[name])
-        _crop_rectangle(ax_f, camera)
-        ax_f.set_title(_view_title(name, poses[name]), fontsize=9, pad=3)
-        ax_i = _axes(fig, left, bottom0 + c * frame_aspect + 0.08, c, c * input_aspect)
-        _image(ax_i, inputs[name], vmax=1.0)
-        if k == 0:
-            _letter(fig, ax_f, "D")
+        _image(axes[0, k], frames[name])
+        _crop_rectangle(axes[0, k], camera)
+        axes[0, k].set_title(_view_title(name, poses[name]), fontsize=9, pad=3)
+        _image(axes[1, k], inputs[name], vmax=1.0)
     return fig
 
 
 # ------------------------------------------------------------------------------------------
 # Figs. 3 and 4: receptive fields.
 # ------------------------------------------------------------------------------------------
-
-
-def _row_label(fig: Figure, ax, text: str) -> None:
-    """A rotated row label left of ``ax``."""
-    bbox = ax.get_position()
-    W, _ = fig.get_size_inches()
-    fig.text(
-        bbox.x0 - 0.12 / W,
-        (bbox.y0 + bbox.y1) / 2,
-        text,
-        rotation=90,
-        ha="right",
-        va="center",
-        fontsize=9,
-    )
 
 
 def fig3(
@@ -326,135 +278,89 @@ def fig3(
     shape = config.world.camera.input_shape
     camera = config.world.camera
     best = best_actions(Q)
-    frame_aspect = camera.height / camera.width
-    rf_aspect = shape[0] / shape[1]
     n_feat = feature_rf.shape[0]
     per_row = max(len(PAPER_ACTION_ORDER), min(n_feat, 6))
-
-    W, margin_l, margin_r, gap = 10.0, 0.55, 0.2, 0.25
-    c3 = (W - margin_l - margin_r - 2 * gap) / 3
-    c4 = (W - margin_l - margin_r - (per_row - 1) * gap) / per_row
-    title_h, label_h = 0.5, 0.25
-    y_top = 0.15 + title_h
-    y_mid = y_top + c3 * frame_aspect + 0.35 + 0.3
     feat_rows = int(np.ceil(n_feat / per_row))
-    y_bot = y_mid + c4 * rf_aspect + label_h + 0.35
-    H = y_bot + feat_rows * (c4 * rf_aspect + label_h) + (feat_rows - 1) * 0.35 + 0.1
-    fig = _new_figure(W, H)
+    frame_aspect = camera.height / camera.width
+    rf_aspect = shape[0] / shape[1]
+    # Heights (inches) of the three rows of panels at a 10-inch width, titles included.
+    heights = (
+        3.3 * frame_aspect + 0.8,
+        2.35 * rf_aspect + 0.9,
+        feat_rows * (2.35 * rf_aspect + 0.6) + 0.3,
+    )
+    fig = _new_figure(10.0, sum(heights) + 0.4)
     fig.suptitle(
         f"Experiment 1 ({n_feat} feature units, {config.network.rule} rule), "
         f"seed {seed}, after {config.train_trials} training trials",
-        fontsize=10,
-        y=1 - 0.08 / H,
-        va="top",
+        fontsize=11,
     )
+    sf_a, sf_b, sf_c = fig.subfigures(3, 1, height_ratios=heights)
 
-    for k, (name, pose) in enumerate(zip(views.names, views.poses, strict=True)):
+    _panel(sf_a, "A", "raw camera images: the feature unit that wins and the greedy action")
+    for k, ax in enumerate(sf_a.subplots(1, len(views.names))):
         winner, activation, action = (
             int(decisions.winners[k]),
             float(decisions.activations[k]),
             int(decisions.actions[k]),
         )
-        ax = _axes(fig, margin_l + k * (c3 + gap), y_top, c3, c3 * frame_aspect)
         _image(ax, views.frames[k])
         _crop_rectangle(ax, camera)
-        ax.set_title(_view_title(name, pose).split("\n")[0], fontsize=9, pad=3)
+        ax.set_title(_view_title(views.names[k], views.poses[k]).split("\n")[0], fontsize=9)
         ax.set_xlabel(
             f"unit {winner} wins (s = {activation:.2f}); greedy action {ACTION_LETTERS[action]}",
             fontsize=8,
-            labelpad=3,
         )
-        if k == 0:
-            _row_label(fig, ax, "raw camera image")
 
-    for k, i in enumerate(PAPER_ACTION_ORDER):
-        ax = _axes(fig, margin_l + k * (c4 + gap), y_mid, c4, c4 * rf_aspect)
+    _panel(sf_b, "B", "action units: receptive fields $\\Sigma_j\\,Q_{ij} W_j$")
+    for ax, i in zip(
+        sf_b.subplots(1, per_row)[: len(PAPER_ACTION_ORDER)], PAPER_ACTION_ORDER, strict=True
+    ):
         _weight_map(ax, action_rf[i], f"{ACTION_LETTERS[i]}", title_size=12)
-        if k == 0:
-            _row_label(fig, ax, "action\nunits")
+    for ax in sf_b.axes[len(PAPER_ACTION_ORDER) :]:
+        ax.set_visible(False)
 
-    for j in range(n_feat):
-        r, k = divmod(j, per_row)
-        ax = _axes(
-            fig,
-            margin_l + k * (c4 + gap),
-            y_bot + r * (c4 * rf_aspect + label_h + 0.35),
-            c4,
-            c4 * rf_aspect,
-        )
+    _panel(sf_c, "C", "feature units: receptive fields $W_j$, each with the action it drives most")
+    axes = np.atleast_2d(sf_c.subplots(feat_rows, per_row))
+    for j, ax in enumerate(axes.flat):
+        if j >= n_feat:
+            ax.set_visible(False)
+            continue
         label = (
             f"unit {j} \u2192 {ACTION_LETTERS[best[j]]} (Q = {Q[best[j], j]:.2f})"
             if best[j] >= 0
             else f"unit {j}: no action"
         )
         _weight_map(ax, feature_rf[j], label, title_size=9)
-        if j == 0:
-            _row_label(fig, ax, "feature\nunits")
     return fig
 
 
-# Layout of one block of Fig. 4 (inches): heading, 4 action panels, then the unit grid.
-_BLOCK_HEAD, _BLOCK_ACTION_GAP, _BLOCK_GRID_TOP = 0.55, 0.18, 0.75
-_BLOCK_GRID_GAP_X, _BLOCK_GRID_GAP_Y = 0.08, 0.3
-
-
-def _block_geometry(
-    width: float, aspect: float, n_units: int, columns: int
-) -> tuple[float, float, float, float]:
-    """``(action panel width, unit panel width, grid top, block height)`` of a Fig. 4 block
-    ``width`` inches wide, measured from the block's top."""
-    ca = (width - 3 * _BLOCK_ACTION_GAP) / 4
-    cg = (width - (columns - 1) * _BLOCK_GRID_GAP_X) / columns
-    grid_top = _BLOCK_HEAD + ca * aspect + _BLOCK_GRID_TOP
-    rows = int(np.ceil(n_units / columns))
-    return ca, cg, grid_top, grid_top + rows * (cg * aspect + _BLOCK_GRID_GAP_Y)
-
-
 def _field_block(
-    fig: Figure,
-    x0: float,
-    y0: float,
-    width: float,
+    sub,
+    letter: str,
+    heading: str,
     actions: np.ndarray,
     units: np.ndarray,
     framed: dict[int, list[str]],
     columns: int,
-    heading: str,
-    action_notes=None,
-    unit_notes=None,
+    action_notes,
+    unit_notes,
 ) -> None:
-    """Draw 4 action panels (L, R, F, B) above a grid of unit panels in a column ``width``
-    inches wide starting at ``(x0, y0)``."""
-    aspect = actions.shape[1] / actions.shape[2]
-    ca, cg, grid_top, _ = _block_geometry(width, aspect, units.shape[0], columns)
-    fig.text(
-        x0 / fig.get_size_inches()[0],
-        1 - y0 / fig.get_size_inches()[1],
-        heading,
-        fontsize=10,
-        fontweight="bold",
-        va="top",
-    )
-    y_act = y0 + _BLOCK_HEAD
-    for k, i in enumerate(PAPER_ACTION_ORDER):
-        ax = _axes(fig, x0 + k * (ca + _BLOCK_ACTION_GAP), y_act, ca, ca * aspect)
+    """One half of Fig. 4 in the subfigure ``sub``: 4 action panels (L, R, F, B) above a grid of
+    unit panels, the units in ``framed`` framed red."""
+    _panel(sub, letter, heading)
+    rows = int(np.ceil(units.shape[0] / columns))
+    sf_actions, sf_units = sub.subfigures(2, 1, height_ratios=(1.25, rows * 0.62))
+    for ax, i in zip(sf_actions.subplots(1, 4), PAPER_ACTION_ORDER, strict=True):
         _image(ax, actions[i])
         ax.set_title(ACTION_LETTERS[i], fontsize=11, pad=2)
-        if action_notes is not None:
-            ax.set_xlabel(action_notes[i], fontsize=7, color="0.3", labelpad=2)
-    y_grid = y0 + grid_top
-    for j in range(units.shape[0]):
-        r, k = divmod(j, columns)
-        ax = _axes(
-            fig,
-            x0 + k * (cg + _BLOCK_GRID_GAP_X),
-            y_grid + r * (cg * aspect + _BLOCK_GRID_GAP_Y),
-            cg,
-            cg * aspect,
-        )
+        ax.set_xlabel(action_notes[i], fontsize=7, color="0.3", labelpad=2)
+    for j, ax in enumerate(sf_units.subplots(rows, columns).flat):
+        if j >= units.shape[0]:
+            ax.set_visible(False)
+            continue
         _image(ax, units[j])
-        if unit_notes is not None:
-            ax.set_xlabel(unit_notes[j], fontsize=6, color="0.3", labelpad=1)
+        ax.set_xlabel(unit_notes[j], fontsize=6, color="0.3", labelpad=1)
         if j in framed:
             for spine in ax.spines.values():
                 spine.set_color(_FAIL_RED)
@@ -495,58 +401,45 @@ def fig4(
       framed: :func:`docking.analysis.strongest_units` of the network.
       columns: Grid columns; default ``ceil(sqrt(n_features))``.
     """
-    shape = config.world.camera.input_shape
     action_mean, unit_mean, action_counts, unit_counts = mean_inputs
     n_samples = int(np.sum(action_counts))
     n_feat = feature_rf.shape[0]
     columns = columns or int(np.ceil(np.sqrt(n_feat)))
 
-    W, margin, middle = 15.0, 0.3, 0.6
-    half = (W - 2 * margin - middle) / 2
-    top = 0.45
-    H = top + _block_geometry(half, shape[0] / shape[1], n_feat, columns)[3] + 0.5
-    fig = _new_figure(W, H)
+    rows = int(np.ceil(n_feat / columns))
+    fig = _new_figure(15.0, 2.2 + rows * 0.62)
     fig.suptitle(
-        f"Experiment 2 ({n_feat} feature units, {config.network.rule} rule), "
-        f"seed {seed}, after {config.train_trials} training trials",
-        fontsize=11,
-        y=1 - 0.06 / H,
-        va="top",
+        f"Experiment 2 ({n_feat} feature units, {config.network.rule} rule), seed {seed}, after "
+        f"{config.train_trials} training trials\nEach panel scaled 0..its own maximum, strong "
+        "dark; framed red: the unit with the largest action weight (argmax$_j$ Q$_{ij}$) for L, "
+        "R and F.",
+        fontsize=10,
     )
+    left, right = fig.subfigures(1, 2, wspace=0.03)
     _field_block(
-        fig,
-        margin,
-        top,
-        half,
+        left,
+        "A",
+        "weights: action units $\\Sigma_j\\,Q_{ij} W_j$ (top), feature units $W_j$ (grid)",
         action_rf,
         feature_rf,
         framed,
         columns,
-        "weights: action units $\\sum_j Q_{ij} W_j$ (top), feature units $W_j$ (grid)",
         action_notes=[f"max {np.max(f):.3g}" for f in action_rf],
+        unit_notes=[f"unit {j}" for j in range(n_feat)],
     )
-    never = "never wins"
     _field_block(
-        fig,
-        margin + half + middle,
-        top,
-        half,
+        right,
+        "B",
+        f"mean input when the action is chosen / the unit wins ({n_samples} start views)",
         action_mean,
         unit_mean,
         framed,
         columns,
-        f"mean input when the action is chosen / the unit wins ({n_samples} start views)",
         action_notes=[f"{c} views" for c in action_counts],
-        unit_notes=[f"{c} views" if c else never for c in unit_counts],
-    )
-    fig.text(
-        margin / W,
-        0.12 / H,
-        "Each panel scaled 0..its own maximum, strong dark. Framed red: the unit with the "
-        "largest action weight (argmax$_j$ Q$_{ij}$) for L, R and F.",
-        fontsize=8,
-        color="0.3",
-        va="bottom",
+        unit_notes=[
+            f"unit {j}: {c} views" if c else f"unit {j}: never wins"
+            for j, c in enumerate(unit_counts)
+        ],
     )
     return fig
 
@@ -660,11 +553,8 @@ def fig5(
     x_lo, x_hi = float(np.min(xs)) - margin, float(np.max(xs)) + margin
     inch_per_m = min(7.5 / (x_hi - x_lo), 6.5 / (y_hi - y_lo))
     plot_w, plot_h = inch_per_m * (y_hi - y_lo), inch_per_m * (x_hi - x_lo)
-    legend_h = 0.85
-    W = max(plot_w, 3.6) + 1.2
-    H = 0.55 + plot_h + 0.6 + legend_h
-    fig = _new_figure(W, H)
-    ax = _axes(fig, 0.9, 0.55, plot_w, plot_h)
+    fig = _new_figure(max(plot_w, 3.6) + 1.3, plot_h + 2.1)
+    ax = fig.add_subplot()
     draw_floor_plan(ax, config, region)
     ax.set_xlim(y_hi, y_lo)  # inverted: +y (the robot's left) on the left
     ax.set_ylim(x_lo, x_hi)
@@ -740,14 +630,7 @@ def fig5(
             label=f"robot body (r = {100 * ROBOT_RADIUS:.0f} cm)",
         ),
     ]
-    fig.legend(
-        handles=handles,
-        loc="upper left",
-        ncol=2,
-        fontsize=7.5,
-        frameon=False,
-        bbox_to_anchor=(0.15 / W, 1 - (0.55 + plot_h + 0.6) / H),
-    )
+    fig.legend(handles=handles, loc="outside lower center", ncol=2, fontsize=7.5, frameon=False)
     return fig
 
 
@@ -777,23 +660,15 @@ def fig_learning_curves(curves1: LearningCurves | None, curves2: LearningCurves 
     ]
     if not columns:
         raise ValueError("fig_learning_curves needs the curves of at least one experiment")
-    W = 4.6 * len(columns) + 0.6
-    fig = _new_figure(W, 7.6)
-    grid = fig.add_gridspec(
-        3,
-        len(columns),
-        height_ratios=(3, 2, 1.2),
-        hspace=0.12,
-        wspace=0.28,
-        left=0.9 / W,
-        right=1 - 0.25 / W,
-        top=0.93,
-        bottom=0.08,
-    )
+    fig = _new_figure(4.6 * len(columns) + 0.6, 7.6)
+    grid = fig.add_gridspec(3, len(columns), height_ratios=(3, 2, 1.2))
+    letters = iter("ABCDEF")
     for col, (label, curves) in enumerate(columns):
         ax_s = fig.add_subplot(grid[0, col])
         ax_n = fig.add_subplot(grid[1, col], sharex=ax_s)
         ax_c = fig.add_subplot(grid[2, col], sharex=ax_s)
+        for ax in (ax_s, ax_n, ax_c):  # letters down each column: A-C, then D-F
+            ax.set_title(next(letters), loc="left", fontweight="bold", fontsize=12)
         cfg = curves.config
         color = f"C{col}"
         thin = dict(color=color, alpha=0.35, lw=0.8)
@@ -845,7 +720,7 @@ def fig_learning_curves(curves1: LearningCurves | None, curves2: LearningCurves 
             label=f"step limit ({cfg.world.max_steps})",
         )
         ax_n.set_ylim(0, cfg.world.max_steps + 2)
-        ax_n.legend(fontsize=7, loc="lower right", framealpha=0.9)
+        ax_n.legend(fontsize=7, loc="center right", framealpha=0.9)
 
         # The start region during training (the seeds share the configuration's curriculum).
         trials = np.arange(len(curves.start_far[0]))
