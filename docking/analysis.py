@@ -411,9 +411,10 @@ class LearningCurves:
 
     Per seed (lists, one entry per run): ``trials`` (training trials done at each point),
     ``success`` (greedy test success there), ``steps`` (mean actions of the successful test
-    trials there), ``start_far`` (the start region's far edge in each training trial);
-    ``final_trials`` and ``final_success`` (the final test). Means over the seeds at their
-    shared points: ``mean_trials``, ``mean_success``, ``mean_steps``.
+    trials there), ``rewarded`` (rewarded training trials so far there), ``start_far`` (the
+    start region's far edge in each training trial); ``final_trials`` and ``final_success``
+    (the final test). Means over the seeds at their shared points: ``mean_trials``,
+    ``mean_success``, ``mean_steps``.
     """
 
     config: ExperimentConfig
@@ -421,6 +422,7 @@ class LearningCurves:
     trials: list[np.ndarray]
     success: list[np.ndarray]
     steps: list[np.ndarray]
+    rewarded: list[np.ndarray]
     start_far: list[np.ndarray]
     final_trials: np.ndarray
     final_success: np.ndarray
@@ -446,6 +448,7 @@ def learning_curves(results: list[ExperimentResult]) -> LearningCurves:
         trials=xs,
         success=[r.curve_success for r in results],
         steps=[r.curve_steps for r in results],
+        rewarded=[r.curve_rewarded for r in results],
         start_far=[np.asarray(r.train.start_far) for r in results],
         final_trials=np.array([r.config.train_trials for r in results], dtype=np.int64),
         final_success=np.array([r.test.success_rate for r in results], dtype=np.float64),

@@ -26,6 +26,7 @@ order L, R, F, B.
 
 from __future__ import annotations
 
+import io
 from pathlib import Path
 
 import numpy as np
@@ -59,9 +60,12 @@ __all__ = [
     "fig4",
     "fig5",
     "fig_learning_curves",
+    "fig_rewards",
+    "fig_trial",
     "draw_floor_plan",
     "draw_trajectory",
     "save_figure",
+    "to_png",
 ]
 
 #: Where the notebooks write the figures (:func:`docking.paths.figures_dir` at import time).
@@ -107,6 +111,13 @@ def save_figure(fig: Figure, path) -> tuple[Path, Path]:
             )
         )
     return written[0], written[1]
+
+
+def to_png(fig: Figure) -> bytes:
+    """The figure as PNG bytes (``_DPI`` dpi), e.g. for ``IPython.display.Image(data=...)``."""
+    buffer = io.BytesIO()
+    fig.savefig(buffer, format="png", dpi=_DPI)
+    return buffer.getvalue()
 
 
 def _new_figure(width: float, height: float) -> Figure:
@@ -753,4 +764,40 @@ def fig_learning_curves(curves1: LearningCurves | None, curves2: LearningCurves 
             ax.grid(alpha=0.3, lw=0.5)
         last = int(np.max(curves.final_trials))
         ax_s.set_xlim(0, last * 1.03)  # room for the final-test diamonds
+    return fig
+
+
+def fig_trial(config: WorldConfig, poses: np.ndarray, title: str, color="green") -> Figure:
+    """One trial seen from above (``poses``: rows ``[x, y, yaw]``) on the floor plan, framed
+    to the start region and the sideboard."""
+    region = StartRegion.of(config)
+    fig = _new_figure(4.0, 6.5)
+    ax = fig.add_subplot()
+    draw_floor_plan(ax, config, region)
+    draw_trajectory(ax, poses, color)
+    ax.set_title(title)
+    ax.set_ylim(-region.far - 0.1, floor_plan(config)["sideboard"][2] + 0.05)
+    ax.set_xlim(region.half_width(region.far) + 0.1, -region.half_width(region.far) - 0.1)
+    return fig
+
+
+def fig_rewards(curves: LearningCurves, headline_seed: int, paper_rewards: float = 25) -> Figure:
+    """Greedy test success against the rewarded training trials so far, one line per seed (the
+    headline seed thick), with the paper's "about 25" rewards dotted (Experiment 1's measure
+    of learning speed; not a figure of the paper)."""
+    fig = _new_figure(7.0, 3.2)
+    ax = fig.add_subplot()
+    for seed, rewarded, success in zip(curves.seeds, curves.rewarded, curves.success, strict=True):
+        ax.plot(
+            rewarded,
+            100 * success,
+            lw=2.5 if seed == headline_seed else 0.8,
+            label=f"seed {seed}" + (" (headline)" if seed == headline_seed else ""),
+        )
+    ax.axvline(paper_rewards, color="k", ls=":", lw=1)
+    ax.text(paper_rewards + 0.5, 5, f"paper: ~{paper_rewards:g} rewards", fontsize=8)
+    ax.set_xlabel("rewarded training trials so far")
+    ax.set_ylabel("greedy test success (%)")
+    ax.set_ylim(0, 102)
+    ax.legend(fontsize=7, ncol=3)
     return fig

@@ -50,13 +50,12 @@
 # %%
 import dataclasses
 
-import matplotlib.pyplot as plt
 import numpy as np
 from IPython.display import Image, Markdown, display
 
 from docking.analysis import VIEW_POSES, floor_plan
 from docking.experiments import EXPERIMENT_1, EXPERIMENT_2
-from docking.figures import FIGURES_DIR, draw_floor_plan, draw_trajectory
+from docking.figures import FIGURES_DIR, fig_trial, to_png
 from docking.oracle import oracle_action, run_oracle_trial
 from docking.report import save_fig2
 from docking.world import ACTION_NAMES, ROBOT_RADIUS, DockingEnv, WorldConfig
@@ -180,13 +179,7 @@ print(f"docked: {success} after {n_steps} actions")
 assert success and n_steps <= cfg.max_steps and oracle_env.docked
 
 # %%
-fig, ax = plt.subplots(figsize=(4, 6.5))
-draw_floor_plan(ax, cfg)
-draw_trajectory(ax, poses, "green")
-ax.set_title("the oracle's trial, seen from above")
-ax.set_ylim(-region.far - 0.1, fp["sideboard"][2] + 0.05)
-ax.set_xlim(region.half_width(region.far) + 0.1, -region.half_width(region.far) - 0.1)
-plt.show()
+display(Image(data=to_png(fig_trial(cfg, poses, "the oracle's trial, seen from above"))))
 
 # %% [markdown]
 # ## Fig. 2

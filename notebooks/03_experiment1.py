@@ -33,9 +33,9 @@
 import numpy as np
 from IPython.display import Image, Markdown, display
 
-from docking.analysis import best_actions, feature_change
+from docking.analysis import best_actions, feature_change, learning_curves
 from docking.experiments import EXPERIMENT_1, SEEDS
-from docking.figures import FIGURES_DIR
+from docking.figures import FIGURES_DIR, fig_rewards, to_png
 from docking.report import (
     configuration_table,
     experiment1_rows,
@@ -86,23 +86,7 @@ for r in results:
 # below, the rewarded training trials when the test success first reaches 100 %.
 
 # %%
-import matplotlib.pyplot as plt  # noqa: E402
-
-fig, ax = plt.subplots(figsize=(7, 3.2))
-for r in results:
-    ax.plot(
-        r.curve_rewarded,
-        100 * r.curve_success,
-        lw=2.5 if r.seed == main.seed else 0.8,
-        label=f"seed {r.seed}" + (" (headline)" if r.seed == main.seed else ""),
-    )
-ax.axvline(25, color="k", ls=":", lw=1)
-ax.text(25.5, 5, "paper: ~25 rewards", fontsize=8)
-ax.set_xlabel("rewarded training trials so far")
-ax.set_ylabel("greedy test success (%)")
-ax.set_ylim(0, 102)
-ax.legend(fontsize=7, ncol=3)
-plt.show()
+display(Image(data=to_png(fig_rewards(learning_curves(results), main.seed))))
 
 # %% [markdown]
 # ## Fig. 3: raw camera images, action and feature receptive fields

@@ -295,6 +295,7 @@ def test_learning_curves_of_several_seeds(result1):
         curves.final_success, [r.test.success_rate for r in (result1, other)]
     )
     np.testing.assert_array_equal(curves.final_trials, [TINY["train_trials"]] * 2)
+    np.testing.assert_array_equal(curves.rewarded[1], other.curve_rewarded)
     assert len(curves.start_far) == 2 and len(curves.start_far[0]) == TINY["train_trials"]
     with pytest.raises(ValueError):
         analysis.learning_curves([])

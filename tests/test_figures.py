@@ -124,6 +124,17 @@ def test_learning_curves_with_one_or_both_experiments(result1, result2, loaded2)
         _drawn(figures.fig_learning_curves(*curves), min_axes=3 * n_columns)
     with pytest.raises(ValueError):
         figures.fig_learning_curves(None, None)
+    fig = _drawn(figures.fig_rewards(c2, headline_seed=0))
+    assert len(fig.axes[0].get_lines()) == 2 + 1  # two seeds and the paper's line
+    assert figures.to_png(fig)[:8] == b"\x89PNG\r\n\x1a\n"
+
+
+def test_fig_trial_draws_the_path_on_the_floor_plan(result1):
+    poses = result1.test.trial_poses(0)
+    fig = _drawn(figures.fig_trial(result1.config.world, poses, "a trial"))
+    ax = fig.axes[0]
+    assert ax.get_title() == "a trial" and ax.xaxis_inverted()
+    np.testing.assert_array_equal(ax.get_lines()[0].get_xydata(), poses[:, [1, 0]])
 
 
 def test_save_figure_writes_png_and_pdf(tmp_path):
