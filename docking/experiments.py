@@ -224,6 +224,26 @@ EXPERIMENT_2 = ExperimentConfig(
     eval_trials=50,
 )
 
+#: The study's second world (notebook 05), closer to the paper's scene and harder to game:
+#: the landmark stands on the floor (no sideboard stops the robot at the dock; it can
+#: overshoot or walk past the landmark's side), the camera looks 30 deg down so that the
+#: landmark's image moves vertically with distance, and the crop is the band of rows it
+#: moves through (10-120). Calibrated against the bounds only (notebook 05 measures them):
+#: the docking region is the paper's 8x20 cm read the other way round (8 cm across, 20 cm
+#: deep), sidesteps are 5 cm (so one can land inside 8 cm), and the start trapezoid is
+#: +-20 deg wide from 0.62 m (beyond the deeper region) to 1.5 m. Everything else is
+#: Experiment 2's.
+FLOOR_WORLD = WorldConfig(
+    scene="floor",
+    camera=CameraConfig(tilt_deg=30.0, crop=(0, 10, 160, 120)),
+    start_near=0.62,
+    start_far=1.5,
+    start_half_angle_deg=20.0,
+    dock_width=0.08,
+    dock_depth=0.20,
+    step_side=0.05,
+)
+
 EXPERIMENTS = {c.name: c for c in (EXPERIMENT_1, EXPERIMENT_2)}
 
 #: Seeds of the multi-seed runs (the paper reports one run) and the seed of the headline
