@@ -89,7 +89,7 @@ class ExperimentConfig:
       curriculum: How the start region's far edge grows during training.
       train_trials: Training trials (beta_a = ``network.beta_a_train``, learning on).
       test_trials: Final test trials (beta_a = ``network.beta_a_test``, no learning) from the
-        world's full start region.
+        world's full start region (0: none, e.g. when held-out trials are the measure).
       eval_every: Every this many training trials the learning curve is measured ...
       eval_trials: ... with this many test trials from the full start region (0: no curve).
       bootstrap_on_truncation: SARSA target at the step limit; see :func:`docking.trial.run_trial`.
@@ -126,7 +126,7 @@ class ExperimentConfig:
             network=check_instance(owner, "network", self.network, NetworkConfig),
             curriculum=check_instance(owner, "curriculum", self.curriculum, Curriculum),
             train_trials=check_int(owner, "train_trials", self.train_trials, lo=1),
-            test_trials=check_int(owner, "test_trials", self.test_trials, lo=1),
+            test_trials=check_int(owner, "test_trials", self.test_trials, lo=0),
             eval_every=check_int(owner, "eval_every", self.eval_every, lo=1),
             eval_trials=check_int(owner, "eval_trials", self.eval_trials, lo=0),
             bootstrap_on_truncation=check_bool(
@@ -273,14 +273,20 @@ class TrialLog:
 
     @classmethod
     def from_records(cls, records: list[TrialRecord], start_far) -> TrialLog:
+        """The log of ``records`` (none is allowed: an empty log)."""
+
+        def joined(name, empty_shape, dtype):
+            parts = [getattr(r, name) for r in records]
+            return np.concatenate(parts) if parts else np.zeros(empty_shape, dtype=dtype)
+
         return cls(
             success=np.array([r.success for r in records], dtype=bool),
             steps=np.array([r.steps for r in records], dtype=np.int64),
-            start_far=np.asarray(start_far, dtype=np.float64),
-            poses=np.concatenate([r.poses for r in records]),
-            actions=np.concatenate([r.actions for r in records]),
-            winners=np.concatenate([r.winners for r in records]),
-            deltas=np.concatenate([r.deltas for r in records]),
+            start_far=np.asarray(start_far, dtype=np.float64).reshape(-1),
+            poses=joined("poses", (0, 3), np.float64),
+            actions=joined("actions", (0,), np.int64),
+            winners=joined("winners", (0,), np.int64),
+            deltas=joined("deltas", (0,), np.float64),
         )
 
     def __len__(self) -> int:
@@ -303,7 +309,8 @@ class TrialLog:
 
     @property
     def success_rate(self) -> float:
-        return float(np.mean(self.success))
+        """The fraction of trials that docked (NaN for an empty log)."""
+        return float(np.mean(self.success)) if len(self.success) else float("nan")
 
 
 @dataclasses.dataclass
