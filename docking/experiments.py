@@ -372,13 +372,6 @@ def initial_network(config: ExperimentConfig, seed: int) -> Network:
     return Network(config.network, _streams(seed)["init"])
 
 
-def feature_change(result: ExperimentResult) -> np.ndarray:
-    """Per feature unit, the cosine between its initial and final weight vector (1 = the
-    unit's receptive field did not change)."""
-    start = initial_network(result.config, result.seed).W
-    return np.einsum("jn,jn->j", start, result.network.W)
-
-
 def evaluate(
     env: DockingEnv, net: Network, rng: np.random.Generator, n_trials: int, config: ExperimentConfig
 ) -> list[TrialRecord]:

@@ -87,6 +87,7 @@ from dm_control.mujoco import engine, wrapper  # noqa: E402
 from dm_env import specs  # noqa: E402
 
 from docking.camera import CameraConfig, preprocess  # noqa: E402
+from docking.region import StartRegion  # noqa: E402
 from docking.validate import (  # noqa: E402
     FieldTypeError,
     check_choice,
@@ -173,7 +174,7 @@ class WorldConfig:
         (about two of Nao's steps). The paper gives no length; it decides how much of the
         25-action budget a start 1.5 m away needs, and with it how often the near-random
         walk of training (beta_a = 2) reaches the dock and how large the learned values
-        are: with 8 cm, Experiment 2 reached 49-76% in our runs, with 15 cm 98%.
+        are (measured in notebook 04, "What the choices do").
       step_side: Length of a left or right sidestep (m); half the docking region's width, so
         one sidestep from anywhere within 10 cm outside the region ends inside it. (Nao's
         walk allows up to 16 cm sideways per step.)
@@ -183,9 +184,9 @@ class WorldConfig:
       max_steps: At most this many actions per trial (paper: 25).
       start_near, start_far: The start trapezoid spans these distances of the robot's
         reference point from the landmark's front plane (m). Experiment 2 ends at 1.5 m.
-      start_half_angle_deg: The trapezoid's lateral half-width grows as
-        ``distance * tan(start_half_angle_deg)``; a wedge with its apex at the landmark, cut
-        at ``start_near`` and ``start_far``.
+      start_half_angle_deg: Half the opening angle of the start trapezoid, a wedge with its
+        apex at the landmark, cut at ``start_near`` and ``start_far``
+        (:class:`docking.region.StartRegion`, which ``DockingEnv`` samples from).
       start_yaw_deg: Start headings are uniform in +-this around facing the landmark's wall.
       dock_center: Distance of the docking region's centre from the landmark's front plane (m);
         the region's near edge lies 1 cm beyond where the robot meets the sideboard (0.45 m).
@@ -556,8 +557,7 @@ class DockingEnv(dm_env.Environment):
         cam = self._config.camera
         self._camera = _make_camera(self._physics, cam.height, cam.width, "eye")
         self._camera_option = _scene_option(show_robot=False, show_dock=False)
-        self._start_near = self._config.start_near
-        self._start_far = self._config.start_far
+        self._start_region = StartRegion.of(self._config)
         self._frame = None
         self._steps = 0
         self._needs_reset = True
@@ -572,14 +572,16 @@ class DockingEnv(dm_env.Environment):
         return self._physics
 
     @property
-    def start_region(self) -> tuple[float, float]:
-        """``(near, far)`` distances of the start trapezoid; the curriculum widens ``far``."""
-        return self._start_near, self._start_far
+    def start_region(self) -> StartRegion:
+        """The start trapezoid of the following trials (the config's, until
+        :meth:`set_start_region` changes its edges)."""
+        return self._start_region
 
     def set_start_region(self, near: float, far: float) -> None:
-        """Change the start trapezoid for the following trials (Learning from Easy Missions)."""
+        """Cut the start trapezoid at other distances for the following trials (Learning from
+        Easy Missions widens ``far``); the same checks as ``WorldConfig.start_near/start_far``."""
         dataclasses.replace(self._config, start_near=near, start_far=far)  # validates
-        self._start_near, self._start_far = float(near), float(far)
+        self._start_region = self._start_region.with_edges(float(near), float(far))
 
     # -- ground truth (never read by the learner) -----------------------------------------
     @property
@@ -710,18 +712,10 @@ class DockingEnv(dm_env.Environment):
         )
 
     def sample_start_pose(self, max_tries: int = 10000) -> np.ndarray:
-        """A uniform random pose in the start trapezoid from which the landmark is inside the
-        crop rectangle (rejection sampling)."""
-        cfg = self._config
-        near, far = self._start_near, self._start_far
-        tan = np.tan(np.radians(cfg.start_half_angle_deg))
+        """A uniform random pose in the start trapezoid (:meth:`StartRegion.sample`) from which
+        the landmark is inside the crop rectangle (rejection sampling)."""
         for _ in range(max_tries):
-            # Uniform over the trapezoid's area: its width grows linearly with distance d,
-            # so d has density proportional to d.
-            d = np.sqrt(self._rng.uniform(near**2, far**2))
-            y = self._rng.uniform(-1.0, 1.0) * d * tan
-            yaw = np.radians(self._rng.uniform(-cfg.start_yaw_deg, cfg.start_yaw_deg))
-            pose = np.array([-d, y, yaw])
+            pose = self._start_region.sample(self._rng)
             if self.landmark_in_crop(pose):
                 return pose
         raise RuntimeError(

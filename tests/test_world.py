@@ -11,6 +11,7 @@ from dm_env import test_utils
 
 from docking.camera import CameraConfig, red_mask
 from docking.oracle import oracle_action
+from docking.region import StartRegion
 from docking.world import (
     _DOCK_GROUP,
     _ROBOT_GROUP,
@@ -100,18 +101,20 @@ def test_landmark_inside_crop_at_every_start(env):
         assert timestep.observation.sum() > 0
         # and the start is in the trapezoid, facing the landmark's wall
         x, y, yaw = env.pose
-        near, far = env.start_region
-        assert near - 1e-9 <= -x <= far + 1e-9
-        assert abs(y) <= -x * np.tan(np.radians(env.config.start_half_angle_deg)) + 1e-9
+        assert env.start_region == StartRegion.of(env.config)
+        assert env.start_region.contains(env.pose)
         assert abs(np.degrees(yaw)) <= env.config.start_yaw_deg + 1e-9
 
 
 def test_start_region_can_be_narrowed(env):
     env.set_start_region(0.6, 0.8)
     try:
+        assert (env.start_region.near, env.start_region.far) == (0.6, 0.8)
+        assert env.start_region.half_angle_deg == env.config.start_half_angle_deg
         for _ in range(50):
             env.reset()
             assert 0.6 - 1e-9 <= -env.pose[0] <= 0.8 + 1e-9
+            assert env.start_region.contains(env.pose)
     finally:
         env.set_start_region(env.config.start_near, env.config.start_far)
     with pytest.raises(ValueError, match="start_far"):
