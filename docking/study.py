@@ -140,6 +140,15 @@ def _experiment2_cells(world_key: str, base: ExperimentConfig, full: bool) -> li
             paper,
         ),
         Cell(
+            f"{p}no-yaw-noise",
+            "rotation",
+            "tested without heading noise (0 deg per step)",
+            _variant(
+                base, name, heldout_world=dataclasses.replace(base.world, step_noise_yaw_deg=0.0)
+            ),
+            paper,
+        ),
+        Cell(
             f"{p}cup-test",
             "distractor",
             "red cup at test only",
