@@ -308,22 +308,20 @@ FAILURE_CLASSES = {
     "R then L, as consecutive actions)",
     "timed_out_near": "the step limit ended the trial within near_m (10 cm) of the docking "
     "region (distance of the reference point to the region's rectangle)",
-    "pressed_beside_dock": "the trial ended against the sideboard's front (within contact_tol, "
+    "pressed_beside_dock": "the trial ended against the sideboard's front (the floor scene: the "
+    "landmark's front) (within contact_tol, "
     "2 cm, of where the robot's body meets it) beside the docking region (|y| > half its width)",
 }
 
 
 def floor_plan(config: WorldConfig) -> dict[str, tuple[float, float, float, float]]:
-    """Floor-plan rectangles ``(x0, y0, x1, y1)`` (m) of ``sideboard``, ``landmark_slab``,
+    """Floor-plan rectangles ``(x0, y0, x1, y1)`` (m) of ``sideboard`` (if the scene has one),
+    ``landmark_slab``,
     ``landmark_post`` and ``dock``, from :func:`docking.world.footprints`. The only place the
     analysis and the figures read the world's footprint keys."""
     fp = footprints(config)
-    return {
-        "sideboard": fp["sideboard"],
-        "landmark_slab": fp["landmark_slab"],
-        "landmark_post": fp["landmark_post"],
-        "dock": fp["dock"],
-    }
+    names = ("sideboard",) if config.scene == "sideboard" else ()
+    return {name: fp[name] for name in names + ("landmark_slab", "landmark_post", "dock")}
 
 
 def _distance_to_rectangle(x, y, rect) -> np.ndarray:
@@ -357,7 +355,10 @@ def failure_taxonomy(
     plan = floor_plan(config)
     dock = plan["dock"]
     dock_centre = np.array([-config.dock_center, 0.0])
-    contact_x = plan["sideboard"][0] - ROBOT_RADIUS  # the robot's reference point at contact
+    # The robot's reference point where its body meets what stops it in front of the landmark:
+    # the sideboard's front, or in the floor scene the landmark's own front face.
+    stop = plan["sideboard"] if "sideboard" in plan else plan["landmark_slab"]
+    contact_x = stop[0] - ROBOT_RADIUS
     left, right = ACTION_LETTERS.index("L"), ACTION_LETTERS.index("R")
     limit = np.radians(heading_deg)
     flags = {name: np.zeros(len(log), dtype=bool) for name in FAILURE_CLASSES}

@@ -30,6 +30,7 @@ Only numpy is used.  All randomness comes from an explicitly passed ``numpy.rand
 from __future__ import annotations
 
 import dataclasses
+import json
 import math
 from dataclasses import dataclass
 from pathlib import Path
@@ -53,7 +54,10 @@ __all__ = ["NetworkConfig", "Network", "RULES", "finite_difference_gradient"]
 #: Sec. II-B.
 RULES = ("local", "nonlocal")
 
-_FORMAT_VERSION = 1
+#: ``"softmax"``: the paper's feature layer (Eq. 1-2); ``"none"``: ``s = I`` (linear SARSA).
+FEATURE_LAYERS = ("softmax", "none")
+
+_FORMAT_VERSION = 2
 
 #: A row of W whose norm after rectification is at most this (rows had unit length before the
 #: update) is treated as all-zero: its direction would be rounding noise.
@@ -90,6 +94,13 @@ class NetworkConfig:
             reward in {0, 1}.  W is drawn first, and Q consumes the same number of draws
             whatever q_init (also 0), so q_init changes nothing else that the same
             generator produces.
+        feature_delta: what modulates Eq. (8). ``None`` (the paper): the TD error delta of
+            Eq. (6). A number ``c``: Eq. (8) keeps its form with delta replaced by the
+            constant ``c``, an unmodulated control (competitive Hebbian feature learning
+            alongside SARSA; Eq. 7 still uses delta).
+        feature_layer: ``"softmax"`` (the paper, Eq. 1-2) or ``"none"``: no feature layer,
+            ``s = I``, a linear SARSA on the pixels (``n_features`` must equal ``n_inputs``;
+            ``W`` is the identity and is never learned).
     """
 
     n_inputs: int = 320  # 32x10 image, Sec. II-A
@@ -104,6 +115,8 @@ class NetworkConfig:
     rule: str = "nonlocal"  # Eq. (8) with its bracket; "local" drops it
     normalize_input: bool = True  # unit-length I before Eq. (1); not in the paper
     q_init: float = 0.0  # Q ~ U[0, q_init]; not in the paper
+    feature_delta: float | None = None  # None: Eq. (8) uses delta; a number: that constant
+    feature_layer: str = "softmax"  # Eq. (1)-(2); "none": linear SARSA on the pixels
 
     def __post_init__(self) -> None:
         owner = "NetworkConfig"
@@ -124,7 +137,15 @@ class NetworkConfig:
             **reals,
             rule=check_choice(owner, "rule", self.rule, RULES),
             normalize_input=check_bool(owner, "normalize_input", self.normalize_input),
+            feature_layer=check_choice(owner, "feature_layer", self.feature_layer, FEATURE_LAYERS),
         )
+        if self.feature_delta is not None:
+            normalise(self, feature_delta=check_real(owner, "feature_delta", self.feature_delta))
+        if self.feature_layer == "none" and self.n_features != self.n_inputs:
+            raise ValueError(
+                f"NetworkConfig.n_features must equal n_inputs ({self.n_inputs}) without a "
+                f"feature layer (feature_layer='none'), got {self.n_features}"
+            )
 
 
 def _softmax(z: np.ndarray) -> np.ndarray:
@@ -166,10 +187,13 @@ class Network:
         if not isinstance(rng, np.random.Generator):
             raise ValueError(f"rng must be a numpy.random.Generator, got {type(rng).__name__}")
         self.config = config
-        W = rng.random((config.n_features, config.n_inputs))
-        # A row of zeros has probability 0 but would be a dead unit: guard anyway.
-        W[np.all(W == 0, axis=1)] = 1.0
-        self.W = W / np.linalg.norm(W, axis=1, keepdims=True)
+        if config.feature_layer == "none":  # s = I: W is the identity, drawn from nothing
+            self.W = np.eye(config.n_inputs)
+        else:
+            W = rng.random((config.n_features, config.n_inputs))
+            # A row of zeros has probability 0 but would be a dead unit: guard anyway.
+            W[np.all(W == 0, axis=1)] = 1.0
+            self.W = W / np.linalg.norm(W, axis=1, keepdims=True)
         self.Q = rng.uniform(0.0, config.q_init, (config.n_actions, config.n_features))
 
     # ------------------------------------------------------------------ construction
@@ -236,6 +260,8 @@ class Network:
         activations give the hard-max limit.
         """
         self._check_vector(I, self.config.n_inputs, "I")
+        if self.config.feature_layer == "none":
+            return I  # no feature layer: linear SARSA on the pixels
         # Eq. (1): h_j = sum_n W_jn I_n
         # Eq. (2): s_j = exp(beta_s h_j) / sum_k exp(beta_s h_k)
         return _softmax(self.config.beta_s * (self.W @ I))
@@ -282,6 +308,8 @@ class Network:
         s = self.features(I)
         dQ = np.zeros_like(self.Q)
         dQ[a] = s  # Eq. (12): dv/dQ_ij = a_i s_j
+        if self.config.feature_layer == "none":  # v = Q[a] . I does not depend on W
+            return dQ, np.zeros_like(self.W)
         q = self.Q[a]
         # Eq. (16), times beta_s: dv/dW_jn = beta_s s_j I_n (Q_ij - sum_k Q_ik s_k), i = a
         dW = np.multiply.outer(self.config.beta_s * s * (q - q @ s), I)
@@ -309,8 +337,11 @@ class Network:
         cfg = self.config
         dQ = np.zeros_like(self.Q)
         dQ[a] = (cfg.eps_q * delta) * s  # Eq. (7), see update()
-        dW = np.multiply.outer(self._feature_factor(s, a) * (cfg.eps_w * delta), I)  # Eq. (8)
-        return dQ, dW
+        if cfg.feature_layer == "none":
+            return dQ, np.zeros_like(self.W)
+        feature_delta = delta if cfg.feature_delta is None else cfg.feature_delta
+        dW = np.multiply.outer(self._feature_factor(s, a) * (cfg.eps_w * feature_delta), I)
+        return dQ, dW  # Eq. (8), see update()
 
     def update(self, I: np.ndarray, s: np.ndarray, a: int, delta: float) -> None:
         """One learning step from input ``I``, its state ``s = features(I)``, the chosen action
@@ -328,13 +359,18 @@ class Network:
         self._check_step(I, s, a, delta)
         cfg = self.config
         # Eq. (8): Delta W_jn = eps_w delta s_j I_n (Q_ij - sum_k Q_ik s_k), i = the chosen
-        # action a; its coefficient per unit j is taken before Q changes.
-        coef = self._feature_factor(s, a) * (cfg.eps_w * delta)
+        # action a (delta: the constant feature_delta in the unmodulated control); its
+        # coefficient per unit j is taken before Q changes.
+        feature_delta = delta if cfg.feature_delta is None else cfg.feature_delta
+        coef = self._feature_factor(s, a) * (cfg.eps_w * feature_delta)
         q_row = self.Q[a] + (cfg.eps_q * delta) * s  # Eq. (7): Delta Q_ij = eps_q delta a_i s_j
         if not math.isfinite(sum(q_row.tolist())):
             raise ValueError(
                 f"the update would make Q non-finite (delta={delta!r}); nothing changed"
             )
+        if cfg.feature_layer == "none":  # nothing else to learn
+            self.Q[a] = q_row
+            return
         # Apply Eq. (8), then rectify and normalize rows (Sec. II-A).
         Wn = np.multiply.outer(coef, I)
         Wn += self.W
@@ -347,6 +383,23 @@ class Network:
                     norms[j] = self._fix_row(Wn, j)
         self.Q[a] = q_row  # nothing can fail from here on: the update is whole or not at all
         np.divide(Wn, norms[:, None], out=self.W)
+
+    def competitive_update(self, I: np.ndarray, rate: float) -> int:
+        """Winner-take-all competitive learning, without delta (not the paper's rule; the
+        first stage of the two-stage learner its Sec. IV names): the unit ``j`` with the
+        largest ``h_j`` (Eq. 1) moves towards the input, ``W_j += rate (I - W_j)``, and is
+        rectified and normalized like every row of W. An all-zero input changes nothing.
+        Returns the winner (-1 for an all-zero input)."""
+        self._check_vector(I, self.config.n_inputs, "I")
+        rate = check_real("Network", "rate", rate, lo=0, hi=1)
+        if self.config.feature_layer == "none" or not I.any():
+            return -1
+        j = int(np.argmax(self.W @ I))  # Eq. (1), the winner of Eq. (2)'s softmax
+        row = np.maximum(self.W[j] + rate * (I - self.W[j]), 0.0)
+        norm = float(np.sqrt(row @ row))
+        if norm > _DEAD_NORM:
+            self.W[j] = row / norm
+        return j
 
     def _fix_row(self, Wn: np.ndarray, j: int) -> float:
         """Make row ``j`` of the rectified candidate ``Wn`` normalizable; return its norm.
@@ -400,24 +453,29 @@ class Network:
         Atomic (:func:`docking.fileio.atomic_write`).
         """
         path = Path(path)
-        arrays = {"W": self.W, "Q": self.Q, "format_version": np.array(_FORMAT_VERSION)}
-        for field in dataclasses.fields(NetworkConfig):
-            arrays[f"config.{field.name}"] = np.array(getattr(self.config, field.name))
+        arrays = {
+            "W": self.W,
+            "Q": self.Q,
+            "format_version": np.array(_FORMAT_VERSION),
+            "config": np.array(json.dumps(dataclasses.asdict(self.config))),
+        }
         atomic_write(path, lambda f: np.savez(f, **arrays))
 
     @classmethod
     def load(cls, path) -> Network:
-        """Read a network written by :meth:`save`."""
+        """Read a network written by :meth:`save` (format 2; format 1 stored one array per
+        config field)."""
         with np.load(Path(path), allow_pickle=False) as data:
             version = int(data["format_version"])
-            if version != _FORMAT_VERSION:
+            if version == 2:
+                config = NetworkConfig(**json.loads(str(data["config"])))
+            elif version == 1:
+                fields = [f.name for f in dataclasses.fields(NetworkConfig)]
+                config = NetworkConfig(
+                    **{f: data[f"config.{f}"].item() for f in fields if f"config.{f}" in data}
+                )
+            else:
                 raise ValueError(f"unsupported network file format_version {version}")
-            kwargs = {}
-            for field in dataclasses.fields(NetworkConfig):
-                key = f"config.{field.name}"
-                if key in data:
-                    kwargs[field.name] = data[key].item()
-            config = NetworkConfig(**kwargs)
             return cls.from_weights(config, data["W"], data["Q"])
 
     def __repr__(self) -> str:

@@ -109,6 +109,9 @@ N_ACTIONS = 4
 _ROBOT_GROUP, _DOCK_GROUP = 1, 3
 
 
+#: The scenes a world can be built as (:attr:`WorldConfig.scene`).
+SCENES = ("sideboard", "floor")
+
 #: The shapes a distractor can have and how many ``size`` values each takes (MuJoCo's geom
 #: sizes: box half-extents x, y, z; cylinder radius and half-height; sphere radius).
 DISTRACTOR_SHAPES = {"box": 3, "cylinder": 2, "sphere": 1}
@@ -193,6 +196,11 @@ class WorldConfig:
         the crop's border.
       camera: The head camera and the observation pipeline.
       distractors: Red objects besides the landmark (:class:`Distractor`); none by default.
+      scene: ``"sideboard"`` (default): the landmark stands on a sideboard at the camera's
+        height, whose front stops the robot at the dock. ``"floor"``: the sideboard is taken
+        away and the landmark stands on the floor at the same place; nothing stops the robot
+        at the dock (it can overshoot or walk past the landmark's side), and with the camera
+        tilted down the landmark's image moves vertically with distance. See :data:`SCENES`.
     """
 
     step_forward: float = 0.15
@@ -210,9 +218,11 @@ class WorldConfig:
     view_margin_px: float = 1.0
     camera: CameraConfig = dataclasses.field(default_factory=CameraConfig)
     distractors: tuple[Distractor, ...] = ()
+    scene: str = "sideboard"
 
     def __post_init__(self):
         owner = "WorldConfig"
+        check_choice(owner, "scene", self.scene, SCENES)
         if not isinstance(self.distractors, (tuple, list)):
             raise FieldTypeError(
                 f"WorldConfig.distractors must be a tuple of Distractor, got {self.distractors!r}"
@@ -255,12 +265,17 @@ class WorldConfig:
                 f"WorldConfig.start_far must be <= {_ROOM_BACK - 0.3} m (the room "
                 f"ends at {_ROOM_BACK} m), got {self.start_far}"
             )
-        closest = ROBOT_RADIUS - _FACTS.sideboard[0]
+        # What stops the robot in front of the landmark: the sideboard's front, or on the
+        # floor the landmark's own front face (x = 0).
+        front, what = (
+            (_FACTS.sideboard[0], "sideboard") if self.scene == "sideboard" else (0.0, "landmark")
+        )
+        closest = ROBOT_RADIUS - front
         if self.dock_center + self.dock_depth / 2 < closest + 0.01:
             raise ValueError(
                 f"WorldConfig.dock_center must keep the region reachable: "
                 f"dock_center + dock_depth/2 >= {closest + 0.01:.2f} m (the robot "
-                f"meets the sideboard at {closest:.2f} m), got "
+                f"meets the {what} at {closest:.2f} m), got "
                 f"dock_center={self.dock_center}"
             )
 
@@ -294,6 +309,13 @@ def make_mjcf(config: WorldConfig) -> mjcf.RootElement:
     dock.pos = [-config.dock_center, 0.0, dock.pos[2]]
     dock.size = [config.dock_depth / 2, config.dock_width / 2, dock.size[2]]
     landmark = root.find("geom", "landmark_slab")
+    if config.scene == "floor":  # take the sideboard away; the landmark stands on the floor
+        sideboard = root.find("geom", "sideboard")
+        top = float(sideboard.pos[2] + sideboard.size[2])
+        sideboard.remove()
+        for name in ("landmark_slab", "landmark_post"):
+            geom = root.find("geom", name)
+            geom.pos = [geom.pos[0], geom.pos[1], geom.pos[2] - top]
     for k, d in enumerate(config.distractors):
         root.worldbody.add(
             "geom",
@@ -703,11 +725,13 @@ class DockingEnv(dm_env.Environment):
 
 
 def footprints(config: WorldConfig) -> dict[str, tuple[float, float, float, float]]:
-    """Floor-plan rectangles ``(x0, y0, x1, y1)`` of the sideboard, the landmark's two boxes and
-    the docking region of ``config``'s compiled scene, for top-down figures."""
+    """Floor-plan rectangles ``(x0, y0, x1, y1)`` of the sideboard (if the scene has one), the
+    landmark's two boxes and the docking region of ``config``'s compiled scene, for top-down
+    figures."""
     model = make_model(config)
     rects = {}
-    for name in ("sideboard", "landmark_slab", "landmark_post", "dock"):
+    names = ("landmark_slab", "landmark_post", "dock")
+    for name in (("sideboard",) if config.scene == "sideboard" else ()) + names:
         lo, hi = _box_bounds(model, name)
         rects[name] = (float(lo[0]), float(lo[1]), float(hi[0]), float(hi[1]))
     return rects

@@ -302,3 +302,26 @@ def test_learning_curves_of_several_seeds(result1):
     different = dataclasses.replace(result1, config=dataclasses.replace(result1.config, name="x"))
     with pytest.raises(ValueError, match="one configuration"):
         analysis.learning_curves([result1, different])
+
+
+def test_floor_plan_and_taxonomy_of_the_floor_scene():
+    from docking.analysis import failure_taxonomy, floor_plan
+    from docking.experiments import FLOOR_WORLD, TrialLog
+    from docking.world import DockingEnv
+
+    plan = floor_plan(FLOOR_WORLD)
+    assert "sideboard" not in plan and {"landmark_slab", "dock"} <= set(plan)
+    # A trial that ended pressed against the landmark's front, beside the region.
+    end_x = plan["landmark_slab"][0] - 0.10
+    poses = np.array([[-1.0, 0.2, 0.0], [end_x, 0.2, 0.0]])
+    log = TrialLog(
+        success=np.array([False]),
+        steps=np.array([1]),
+        start_far=np.array([1.5]),
+        poses=poses,
+        actions=np.array([0]),
+        winners=np.array([0]),
+        deltas=np.array([0.0]),
+    )
+    flags = failure_taxonomy(log, DockingEnv(FLOOR_WORLD, seed=0))
+    assert flags["pressed_beside_dock"][0] and not flags["heading_drift"][0]

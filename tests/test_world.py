@@ -408,3 +408,34 @@ def test_bad_distractors_raise_naming_the_field(kwargs, match):
         Distractor(**kwargs)
     with pytest.raises(ValueError, match="distractors"):
         WorldConfig(distractors=("cup",))
+
+
+def test_the_floor_scene_has_no_sideboard_and_the_landmark_on_the_floor():
+    from docking.experiments import FLOOR_WORLD
+
+    env = DockingEnv(FLOOR_WORLD, seed=0)
+    model = env.physics.model
+    names = {model.geom(k).name for k in range(model.ngeom)}
+    assert "sideboard" not in names and "sideboard" not in footprints(FLOOR_WORLD)
+    slab = env.physics.data.geom("landmark_slab")
+    assert slab.xpos[2] == pytest.approx(model.geom("landmark_slab").size[2])  # on the floor
+    # Nothing stops the robot at the dock: it can walk past the landmark's side ...
+    quiet = DockingEnv(dataclasses.replace(FLOOR_WORLD, step_noise_xy=0.0, step_noise_yaw_deg=0.0))
+    quiet.reset_to([-0.7, 0.25, 0.0])
+    for _ in range(6):
+        quiet.step(FORWARD)
+    assert quiet.pose[0] > 0.0  # beyond the landmark's front face
+    # ... and the landmark's image moves up the frame with distance.
+    rows = []
+    for d in (0.7, 1.0, 1.4):
+        env.physics.set_pose([-d, 0.0, 0.0])
+        env.physics.update_kinematics()
+        rows.append(
+            env.physics.project(env.physics.landmark_corners(), "eye", FLOOR_WORLD.camera)[
+                :, 1
+            ].mean()
+        )
+    assert rows[0] > rows[1] + 10 > rows[2] + 20
+    for _ in range(30):
+        env.reset()
+        assert env.landmark_in_crop()
