@@ -475,6 +475,8 @@ def draw_floor_plan(ax, config: WorldConfig, start_region: StartRegion | None = 
         "dock": dict(facecolor=_DOCK_YELLOW, edgecolor="0.3", linewidth=0.6, zorder=1),
     }
     for name, style in styles.items():
+        if name not in fp:  # a scene without a sideboard
+            continue
         x0, y0, x1, y1 = fp[name]
         ax.add_patch(Rectangle((y0, x0), y1 - y0, x1 - x0, **style))
     region = start_region if start_region is not None else StartRegion.of(config)
@@ -495,6 +497,13 @@ def draw_floor_plan(ax, config: WorldConfig, start_region: StartRegion | None = 
         ax.invert_xaxis()
     ax.set_xlabel("y (m), lateral; the robot's left (+y) is on the left")
     ax.set_ylabel("x (m), approach axis; landmark's front at x = 0")
+
+
+def _plan_extent(config: WorldConfig) -> tuple[float, float, float]:
+    """``(y_min, y_max, x_max)`` over the floor plan's rectangles (m): how far the furniture
+    and the landmark reach across and beyond the landmark's front."""
+    rects = np.array(list(floor_plan(config).values()))
+    return float(rects[:, 1].min()), float(rects[:, 3].max()), float(rects[:, 2].max())
 
 
 def draw_trajectory(ax, poses: np.ndarray, color, start_marker: bool = True, **kwargs) -> None:
@@ -546,19 +555,12 @@ def fig5(
 
     # The plotted area: the floor plan, the start region and every shown path, plus a margin;
     # one metre is drawn the same length on both axes.
-    sideboard = floor_plan(config)["sideboard"]
+    y_min, y_max, x_max = _plan_extent(config)
     ys = np.concatenate(
-        [
-            [
-                region.half_width(region.far),
-                -region.half_width(region.far),
-                sideboard[1],
-                sideboard[3],
-            ]
-        ]
+        [[region.half_width(region.far), -region.half_width(region.far), y_min, y_max]]
         + [p[:, 1] for p in paths.values()]
     )
-    xs = np.concatenate([[-region.far, sideboard[2]]] + [p[:, 0] for p in paths.values()])
+    xs = np.concatenate([[-region.far, x_max]] + [p[:, 0] for p in paths.values()])
     margin = 0.08
     y_lo, y_hi = float(np.min(ys)) - margin, float(np.max(ys)) + margin
     x_lo, x_hi = float(np.min(xs)) - margin, float(np.max(xs)) + margin
@@ -776,7 +778,7 @@ def fig_trial(config: WorldConfig, poses: np.ndarray, title: str, color="green")
     draw_floor_plan(ax, config, region)
     draw_trajectory(ax, poses, color)
     ax.set_title(title)
-    ax.set_ylim(-region.far - 0.1, floor_plan(config)["sideboard"][2] + 0.05)
+    ax.set_ylim(-region.far - 0.1, _plan_extent(config)[2] + 0.05)
     ax.set_xlim(region.half_width(region.far) + 0.1, -region.half_width(region.far) - 0.1)
     return fig
 

@@ -137,6 +137,13 @@ def test_fig_trial_draws_the_path_on_the_floor_plan(result1):
     np.testing.assert_array_equal(ax.get_lines()[0].get_xydata(), poses[:, [1, 0]])
 
 
+def test_floor_plans_of_a_scene_without_a_sideboard(result1):
+    world = dataclasses.replace(result1.config.world, scene="floor")
+    fig = _drawn(figures.fig_trial(world, result1.test.trial_poses(0), "floor scene"))
+    assert len(fig.axes[0].patches) == 3 + 1  # slab, post, dock and the start trapezoid
+    _drawn(figures.fig5(world, analysis.trajectory_sample(result1.test, n=3), "floor"))
+
+
 def test_save_figure_writes_png_and_pdf(tmp_path):
     fig = Figure()
     fig.add_subplot().plot([0, 1], [1, 0])
