@@ -127,6 +127,27 @@ def _copy_package(tmp_path):
     return dst
 
 
+def test_the_fingerprint_is_the_same_in_every_process():
+    """Worker processes (run_seeds) must compute the parent's key: the fingerprint may not
+    depend on the per-process hash seed of str (set iteration order)."""
+    import os
+    import subprocess
+    import sys
+
+    code = "from docking.store import source_fingerprint; print(source_fingerprint())"
+    prints = {
+        subprocess.run(
+            [sys.executable, "-c", code],
+            env={**os.environ, "PYTHONHASHSEED": str(seed)},
+            capture_output=True,
+            text=True,
+            check=True,
+        ).stdout.strip()
+        for seed in (1, 2, 3)
+    }
+    assert prints == {source_fingerprint()}
+
+
 def test_a_code_change_in_trial_py_changes_the_fingerprint(tmp_path):
     package = _copy_package(tmp_path)
     before = source_fingerprint(package)
