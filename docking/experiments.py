@@ -10,58 +10,63 @@
 A run is determined by its :class:`ExperimentConfig` and seed, bit for bit: one
 ``numpy.random.SeedSequence(seed)`` is split into independent streams for the training world,
 the test world, the network's initial weights, and the action choices in training and testing.
-Results are saved atomically to ``results/<name>/seed<k>.npz`` with everything the figures and
-the table need; :func:`run_or_load` re-uses them instead of re-training.
+:mod:`docking.store` saves every run, keyed by what produced it, and re-uses it instead of
+re-training.
 """
 
 from __future__ import annotations
 
 import dataclasses
-import hashlib
 import json
-import os
-import re
-import tempfile
 import time
-from pathlib import Path
 
 import numpy as np
 from tqdm.auto import tqdm
 
-import docking
 from docking.camera import CameraConfig
 from docking.network import Network, NetworkConfig
 from docking.trial import TrialRecord, run_trial
-from docking.world import DockingEnv, WorldConfig, make_model_xml
-
-RESULTS_DIR = Path(__file__).resolve().parent.parent / "results"
+from docking.validate import (
+    check_bool,
+    check_instance,
+    check_int,
+    check_name,
+    check_real,
+    normalise,
+)
+from docking.world import DockingEnv, WorldConfig
 
 
 @dataclasses.dataclass(frozen=True)
 class Curriculum:
     """Learning from Easy Missions (Asada et al.; paper Sec. II-C): the far edge of the start
-    trapezoid grows linearly from ``far_initial`` to ``far_final`` over the first
-    ``grow_trials`` training trials and stays there. ``grow_trials = 0`` means no curriculum.
+    trapezoid grows linearly from ``far_initial`` to the test region's far edge
+    (``world.start_far``) over the first ``grow_trials`` training trials and stays there.
+    ``grow_trials = 0`` means no curriculum (``far_initial`` is then unused).
+
+    Attributes:
+      far_initial: The start region's far edge in the first training trial (m).
+      grow_trials: Training trials over which the far edge grows (0: no curriculum).
     """
 
     far_initial: float
-    far_final: float
     grow_trials: int = 0
 
     def __post_init__(self):
-        if not 0 < self.far_initial <= self.far_final:
-            raise ValueError(
-                f"Curriculum needs 0 < far_initial <= far_final, got "
-                f"far_initial={self.far_initial}, far_final={self.far_final}"
-            )
-        if self.grow_trials < 0:
-            raise ValueError(f"Curriculum.grow_trials must be >= 0, got {self.grow_trials}")
+        normalise(
+            self,
+            far_initial=check_real(
+                "Curriculum", "far_initial", self.far_initial, lo=0, lo_open=True
+            ),
+            grow_trials=check_int("Curriculum", "grow_trials", self.grow_trials, lo=0),
+        )
 
-    def far_at(self, trial: int) -> float:
-        """The far edge of the start region for training trial ``trial`` (0-based)."""
+    def far_at(self, trial: int, far_final: float) -> float:
+        """The far edge of the start region for training trial ``trial`` (0-based) of a
+        curriculum that ends at ``far_final``."""
         if self.grow_trials == 0 or trial >= self.grow_trials:
-            return self.far_final
-        return self.far_initial + (self.far_final - self.far_initial) * trial / self.grow_trials
+            return far_final
+        return self.far_initial + (far_final - self.far_initial) * trial / self.grow_trials
 
 
 @dataclasses.dataclass(frozen=True)
@@ -69,7 +74,8 @@ class ExperimentConfig:
     """One experiment: the world, the network, the curriculum and the trial counts.
 
     Attributes:
-      name: Names the results folder.
+      name: Names the results folder; a safe file-name component (letters, digits, ``.``,
+        ``_``, ``-``). Variants may share a name: results are keyed by the whole configuration.
       world: The world; its ``start_near``/``start_far`` are the test region.
       network: The network and its learning rule.
       curriculum: How the start region's far edge grows during training.
@@ -92,48 +98,52 @@ class ExperimentConfig:
     bootstrap_on_truncation: bool = True
 
     def __post_init__(self):
-        for name in ("train_trials", "test_trials", "eval_every"):
-            if getattr(self, name) < 1:
-                raise ValueError(f"ExperimentConfig.{name} must be >= 1, got {getattr(self, name)}")
-        if self.eval_trials < 0:
-            raise ValueError(f"ExperimentConfig.eval_trials must be >= 0, got {self.eval_trials}")
-        if self.curriculum.far_final != self.world.start_far:
-            raise ValueError(
-                "the curriculum must end at the test region: far_final "
-                f"{self.curriculum.far_final} != world.start_far "
-                f"{self.world.start_far}"
-            )
-        if (
-            self.world.camera.input_shape[0] * self.world.camera.input_shape[1]
-            != self.network.n_inputs
+        owner = "ExperimentConfig"
+        normalise(
+            self,
+            name=check_name(owner, "name", self.name),
+            world=check_instance(owner, "world", self.world, WorldConfig),
+            network=check_instance(owner, "network", self.network, NetworkConfig),
+            curriculum=check_instance(owner, "curriculum", self.curriculum, Curriculum),
+            train_trials=check_int(owner, "train_trials", self.train_trials, lo=1),
+            test_trials=check_int(owner, "test_trials", self.test_trials, lo=1),
+            eval_every=check_int(owner, "eval_every", self.eval_every, lo=1),
+            eval_trials=check_int(owner, "eval_trials", self.eval_trials, lo=0),
+            bootstrap_on_truncation=check_bool(
+                owner, "bootstrap_on_truncation", self.bootstrap_on_truncation
+            ),
+        )
+        world, curriculum = self.world, self.curriculum
+        if curriculum.grow_trials and not (
+            world.start_near < curriculum.far_initial <= world.start_far
         ):
-            raise ValueError("network.n_inputs must equal the camera's input pixels")
+            raise ValueError(
+                f"ExperimentConfig.curriculum.far_initial must lie in the test region "
+                f"({world.start_near:g}, {world.start_far:g}] m (world.start_near, "
+                f"world.start_far), got {curriculum.far_initial:g}"
+            )
+        rows, cols = world.camera.input_shape
+        if rows * cols != self.network.n_inputs:
+            raise ValueError(
+                f"ExperimentConfig.network.n_inputs must equal the camera's {rows}x{cols} input "
+                f"pixels ({rows * cols}), got {self.network.n_inputs}"
+            )
 
     def to_dict(self) -> dict:
-        return dataclasses.asdict(self)
+        """Every field, nested, as JSON-ready Python values (tuples become lists)."""
+        return json.loads(json.dumps(dataclasses.asdict(self)))
 
     @classmethod
     def from_dict(cls, d: dict) -> ExperimentConfig:
-        world = dict(d["world"])
-        camera = dict(world.pop("camera"))
-        camera = CameraConfig(
-            **{k: tuple(v) if isinstance(v, list) else v for k, v in camera.items()}
-        )
+        """The inverse of :meth:`to_dict`; unknown or missing fields raise ``TypeError``."""
+        d = dict(d)
+        world = dict(d.pop("world"))
+        camera = {k: tuple(v) if isinstance(v, list) else v for k, v in world.pop("camera").items()}
         return cls(
-            name=d["name"],
-            world=WorldConfig(camera=camera, **world),
-            network=NetworkConfig(**d["network"]),
-            curriculum=Curriculum(**d["curriculum"]),
-            **{
-                k: d[k]
-                for k in (
-                    "train_trials",
-                    "test_trials",
-                    "eval_every",
-                    "eval_trials",
-                    "bootstrap_on_truncation",
-                )
-            },
+            world=WorldConfig(camera=CameraConfig(**camera), **world),
+            network=NetworkConfig(**d.pop("network")),
+            curriculum=Curriculum(**d.pop("curriculum")),
+            **d,
         )
 
 
@@ -148,7 +158,7 @@ EXPERIMENT_1 = ExperimentConfig(
     name="experiment1",
     world=WorldConfig(start_near=0.58, start_far=0.70),
     network=NetworkConfig(n_features=4, rule="local"),
-    curriculum=Curriculum(far_initial=0.70, far_final=0.70, grow_trials=0),
+    curriculum=Curriculum(far_initial=0.70, grow_trials=0),
     train_trials=100,
     test_trials=200,
     eval_every=5,
@@ -162,7 +172,7 @@ EXPERIMENT_2 = ExperimentConfig(
     name="experiment2",
     world=WorldConfig(start_near=0.58, start_far=1.5),
     network=NetworkConfig(n_features=36, rule="nonlocal"),
-    curriculum=Curriculum(far_initial=0.70, far_final=1.5, grow_trials=1400),
+    curriculum=Curriculum(far_initial=0.70, grow_trials=1400),
     train_trials=2000,
     test_trials=725,
     eval_every=100,
@@ -246,8 +256,6 @@ class ExperimentResult:
     curve_rewarded: np.ndarray  # rewarded training trials so far
     wall_time_train: float
     wall_time_test: float
-    version: str = docking.__version__
-    world_sha256: str | None = None  # the world's fingerprint, as saved (None: a fresh run)
 
     @property
     def test_successes(self) -> int:
@@ -305,7 +313,9 @@ def evaluate(
 
 
 def run_experiment(config: ExperimentConfig, seed: int, progress: bool = True) -> ExperimentResult:
-    """Train and test one network; every random draw comes from ``seed``."""
+    """Train and test one network; every random draw comes from ``seed`` (an int >= 0)."""
+    check_instance("run_experiment", "config", config, ExperimentConfig)
+    seed = check_int("run_experiment", "seed", seed, lo=0)
     rngs = _streams(seed)
     train_env = DockingEnv(config.world, seed=rngs["train_world"])
     test_env = DockingEnv(config.world, seed=rngs["test_world"])
@@ -336,7 +346,7 @@ def run_experiment(config: ExperimentConfig, seed: int, progress: bool = True) -
         leave=False,
     )
     for k in bar:
-        far = config.curriculum.far_at(k)
+        far = config.curriculum.far_at(k, config.world.start_far)
         train_env.set_start_region(near, far)
         rec = run_trial(
             train_env,
@@ -350,7 +360,8 @@ def run_experiment(config: ExperimentConfig, seed: int, progress: bool = True) -
         rewarded += rec.success
         if (k + 1) % config.eval_every == 0:
             measure(k + 1)
-            bar.set_postfix(rewarded=rewarded, test=f"{curve['success'][-1]:.0%}")
+            if curve["success"]:  # eval_trials = 0: no learning curve
+                bar.set_postfix(rewarded=rewarded, test=f"{curve['success'][-1]:.0%}")
     wall_train = time.perf_counter() - t0
 
     t0 = time.perf_counter()
@@ -383,143 +394,3 @@ def run_experiment(config: ExperimentConfig, seed: int, progress: bool = True) -
         wall_time_train=wall_train,
         wall_time_test=wall_test,
     )
-
-
-# ------------------------------------------------------------------------------------------
-# Saving and loading.
-# ------------------------------------------------------------------------------------------
-
-
-def result_path(name: str, seed: int, results_dir: Path | str = RESULTS_DIR) -> Path:
-    return Path(results_dir) / name / f"seed{seed}.npz"
-
-
-def save_result(result: ExperimentResult, path: Path | str) -> Path:
-    """Write ``result`` to ``path`` (.npz) atomically: a temporary file, then a rename."""
-    path = Path(path)
-    path.parent.mkdir(parents=True, exist_ok=True)
-    meta = {
-        "config": result.config.to_dict(),
-        "seed": result.seed,
-        "version": result.version,
-        "world_sha256": world_fingerprint(result.config.world),
-        "wall_time_train": result.wall_time_train,
-        "wall_time_test": result.wall_time_test,
-    }
-    arrays = {
-        "meta": np.array(json.dumps(meta)),
-        "W": result.network.W,
-        "Q": result.network.Q,
-        "curve_trials": result.curve_trials,
-        "curve_success": result.curve_success,
-        "curve_steps": result.curve_steps,
-        "curve_rewarded": result.curve_rewarded,
-    }
-    for part in ("train", "test"):
-        for field in dataclasses.fields(TrialLog):
-            arrays[f"{part}.{field.name}"] = getattr(getattr(result, part), field.name)
-    fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent)
-    try:
-        with os.fdopen(fd, "wb") as f:
-            np.savez_compressed(f, **arrays)
-        os.chmod(tmp, 0o644)  # mkstemp creates 0600
-        os.replace(tmp, path)
-    except BaseException:
-        if os.path.exists(tmp):
-            os.unlink(tmp)
-        raise
-    return path
-
-
-def world_fingerprint(world: WorldConfig) -> str:
-    """SHA-256 of the world's MJCF without comments and layout: it changes with every change
-    of the scene, also of the fixed parts that are not fields of :class:`WorldConfig`."""
-    xml = re.sub(r"<!--.*?-->", "", make_model_xml(world), flags=re.S)
-    return hashlib.sha256(" ".join(xml.split()).encode()).hexdigest()
-
-
-def load_result(path: Path | str) -> ExperimentResult:
-    """Read a result written by :func:`save_result`."""
-    with np.load(path) as data:
-        meta = json.loads(str(data["meta"]))
-        config = ExperimentConfig.from_dict(meta["config"])
-        logs = {
-            part: TrialLog(
-                **{f.name: data[f"{part}.{f.name}"] for f in dataclasses.fields(TrialLog)}
-            )
-            for part in ("train", "test")
-        }
-        return ExperimentResult(
-            config=config,
-            seed=meta["seed"],
-            network=Network.from_weights(config.network, data["W"], data["Q"]),
-            train=logs["train"],
-            test=logs["test"],
-            curve_trials=data["curve_trials"],
-            curve_success=data["curve_success"],
-            curve_steps=data["curve_steps"],
-            curve_rewarded=data["curve_rewarded"],
-            wall_time_train=meta["wall_time_train"],
-            wall_time_test=meta["wall_time_test"],
-            version=meta["version"],
-            world_sha256=meta.get("world_sha256"),
-        )
-
-
-def run_or_load(
-    config: ExperimentConfig,
-    seed: int,
-    results_dir: Path | str = RESULTS_DIR,
-    force: bool = False,
-    progress: bool = True,
-) -> ExperimentResult:
-    """Load the saved result of (``config``, ``seed``) if there is one made with the same
-    configuration; otherwise run it and save it."""
-    path = result_path(config.name, seed, results_dir)
-    if path.exists() and not force:
-        result = load_result(path)
-        if (
-            result.config == config
-            and result.version == docking.__version__
-            and result.world_sha256 == world_fingerprint(config.world)
-        ):
-            return result
-    result = run_experiment(config, seed, progress=progress)
-    save_result(result, path)
-    return result
-
-
-def _run_or_load_job(args) -> str:
-    config, seed, results_dir, force = args
-    run_or_load(config, seed, results_dir, force=force, progress=False)
-    return str(result_path(config.name, seed, results_dir))
-
-
-def run_seeds(
-    config: ExperimentConfig,
-    seeds,
-    results_dir: Path | str = RESULTS_DIR,
-    force: bool = False,
-    processes: int | None = None,
-    progress: bool = True,
-) -> list[ExperimentResult]:
-    """Run (or load) ``config`` for every seed, several seeds at once in worker processes
-    (one per core by default; each renders with its own OpenGL context)."""
-    seeds = [int(s) for s in seeds]
-    processes = processes or min(len(seeds), os.cpu_count() or 1)
-    jobs = [(config, s, results_dir, force) for s in seeds]
-    if processes <= 1:
-        paths = [_run_or_load_job(j) for j in tqdm(jobs, desc=config.name, disable=not progress)]
-    else:
-        import multiprocessing
-
-        with multiprocessing.get_context("spawn").Pool(processes) as pool:
-            paths = list(
-                tqdm(
-                    pool.imap(_run_or_load_job, jobs),
-                    total=len(jobs),
-                    desc=f"{config.name}, {len(seeds)} seeds",
-                    disable=not progress,
-                )
-            )
-    return [load_result(p) for p in paths]

@@ -23,8 +23,6 @@ matplotlib's Agg canvas without pyplot, so the library never opens a window.
 
 from __future__ import annotations
 
-import os
-import tempfile
 import warnings
 from pathlib import Path
 
@@ -36,7 +34,9 @@ from matplotlib.lines import Line2D
 from matplotlib.patches import Circle, Polygon, Rectangle
 
 from docking.camera import CameraConfig
+from docking.fileio import atomic_write
 from docking.network import Network
+from docking.paths import figures_dir
 from docking.world import ACTION_LETTERS, ROBOT_RADIUS, DockingEnv, WorldConfig, footprints
 
 __all__ = [
@@ -55,8 +55,8 @@ __all__ = [
     "save_figure",
 ]
 
-#: Where the notebooks write the figures: ``figures/`` at the repository's root.
-FIGURES_DIR = Path(__file__).resolve().parent.parent / "figures"
+#: Where the notebooks write the figures (:func:`docking.paths.figures_dir` at import time).
+FIGURES_DIR = figures_dir()
 
 #: Robot poses ``[x, y, yaw]`` of the three example views (Fig. 2 D, Fig. 3 top): to the left
 #: of, in front of and to the right of the landmark, 0.68 m from its front plane (inside
@@ -92,39 +92,25 @@ def save_figure(fig: Figure, path) -> tuple[Path, Path]:
 
     ``path`` may end in ``.png`` or ``.pdf`` or have no suffix; both files are written either
     way, each first to a temporary file in the same folder and then renamed into place, so a
-    reader never sees half a figure. The PDF carries no creation date, so regenerating an
-    unchanged figure leaves the file unchanged. Returns the two paths."""
+    reader never sees half a figure (:func:`docking.fileio.atomic_write`). The PDF carries no
+    creation date, so regenerating an unchanged figure leaves the file unchanged. Returns the
+    two paths."""
     path = Path(path)
     if path.suffix.lower() in (".png", ".pdf"):
         path = path.with_suffix("")
-    path.parent.mkdir(parents=True, exist_ok=True)
     written = []
     for fmt in ("png", "pdf"):
-        target = path.parent / f"{path.name}.{fmt}"
-        fd, tmp = tempfile.mkstemp(prefix=f".{target.name}.", suffix=".tmp", dir=target.parent)
-        try:
-            with os.fdopen(fd, "wb") as f:
-                # No creation date in the PDF: the same figure gives the same file.
-                fig.savefig(
-                    f,
-                    format=fmt,
-                    dpi=_DPI,
-                    metadata={"CreationDate": None} if fmt == "pdf" else None,
-                )
-            os.chmod(tmp, 0o666 & ~_umask())  # mkstemp creates 0600; make it an ordinary file
-            os.replace(tmp, target)
-        except BaseException:
-            if os.path.exists(tmp):
-                os.unlink(tmp)
-            raise
-        written.append(target)
+        # No creation date in the PDF: the same figure gives the same file.
+        metadata = {"CreationDate": None} if fmt == "pdf" else None
+        written.append(
+            atomic_write(
+                path.parent / f"{path.name}.{fmt}",
+                lambda f, fmt=fmt, metadata=metadata: fig.savefig(
+                    f, format=fmt, dpi=_DPI, metadata=metadata
+                ),
+            )
+        )
     return written[0], written[1]
-
-
-def _umask() -> int:
-    mask = os.umask(0)
-    os.umask(mask)
-    return mask
 
 
 def _new_figure(width: float, height: float) -> Figure:

@@ -31,12 +31,20 @@ from __future__ import annotations
 
 import dataclasses
 import math
-import os
-import tempfile
 from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
+
+from docking.fileio import atomic_write
+from docking.validate import (
+    FieldTypeError,
+    check_bool,
+    check_choice,
+    check_int,
+    check_real,
+    normalise,
+)
 
 __all__ = ["NetworkConfig", "Network", "RULES", "finite_difference_gradient"]
 
@@ -99,28 +107,25 @@ class NetworkConfig:
     q_init: float = 0.0  # Q ~ U[0, q_init]; not in the paper
 
     def __post_init__(self) -> None:
-        for name in ("n_inputs", "n_features", "n_actions"):
-            value = getattr(self, name)
-            if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or value < 1:
-                raise ValueError(f"{name} must be a positive integer, got {value!r}")
-        for name in ("beta_s", "beta_a_train", "beta_a_test"):
-            value = getattr(self, name)
-            if not _is_real(value) or not (np.isfinite(value) and value > 0):
-                raise ValueError(f"{name} must be a finite number > 0, got {value!r}")
-        if not _is_real(self.gamma) or not 0.0 <= self.gamma <= 1.0:
-            raise ValueError(f"gamma must be in [0, 1], got {self.gamma!r}")
+        owner = "NetworkConfig"
+        counts = {
+            name: check_int(owner, name, getattr(self, name), lo=1, hi=1_000_000)
+            for name in ("n_inputs", "n_features", "n_actions")
+        }
+        reals = {
+            name: check_real(owner, name, getattr(self, name), lo=0, lo_open=True)
+            for name in ("beta_s", "beta_a_train", "beta_a_test")
+        }
+        reals["gamma"] = check_real(owner, "gamma", self.gamma, lo=0, hi=1)
         for name in ("eps_q", "eps_w", "q_init"):
-            value = getattr(self, name)
-            if not _is_real(value) or not (np.isfinite(value) and value >= 0):
-                raise ValueError(f"{name} must be a finite number >= 0, got {value!r}")
-        if self.rule not in RULES:
-            raise ValueError(f"rule must be one of {RULES}, got {self.rule!r}")
-        if not isinstance(self.normalize_input, (bool, np.bool_)):
-            raise ValueError(f"normalize_input must be a bool, got {self.normalize_input!r}")
-
-
-def _is_real(value) -> bool:
-    return isinstance(value, (int, float, np.integer, np.floating)) and not isinstance(value, bool)
+            reals[name] = check_real(owner, name, getattr(self, name), lo=0)
+        normalise(
+            self,
+            **counts,
+            **reals,
+            rule=check_choice(owner, "rule", self.rule, RULES),
+            normalize_input=check_bool(owner, "normalize_input", self.normalize_input),
+        )
 
 
 def _softmax(z: np.ndarray) -> np.ndarray:
@@ -231,6 +236,7 @@ class Network:
         Stable for any finite input: all-zero input gives uniform ``s``; overflowing
         activations give the hard-max limit.
         """
+        self._check_vector(I, self.config.n_inputs, "I")
         return _softmax(self.config.beta_s * (self.W @ I))  # Eq. (1), (2)
 
     def action_probabilities(self, s: np.ndarray, beta_a: float) -> np.ndarray:
@@ -238,12 +244,14 @@ class Network:
 
         ``beta_a >= 0`` (0 gives the uniform random policy).
         """
-        if not 0 <= beta_a < math.inf:
-            raise ValueError(f"beta_a must be a finite number >= 0, got {beta_a!r}")
+        beta_a = check_real("Network", "beta_a", beta_a, lo=0)
+        self._check_vector(s, self.config.n_features, "s")
         return _softmax(beta_a * (self.Q @ s))  # Eq. (3), (4)
 
     def select_action(self, s: np.ndarray, rng: np.random.Generator, beta_a: float) -> int:
         """Sample an action index from Eq. (4), using one ``rng.random()`` draw."""
+        if not isinstance(rng, np.random.Generator):
+            raise FieldTypeError(f"rng must be a numpy.random.Generator, got {type(rng).__name__}")
         p = self.action_probabilities(s, beta_a).tolist()
         u = rng.random() * sum(p)
         last = len(p) - 1
@@ -299,7 +307,7 @@ class Network:
         ``eps_w delta s_j I_n`` (local).  For the non-local rule
         ``Delta W = (eps_w delta / beta_s) * value_gradient(I, a)[1]`` when ``s = features(I)``.
         """
-        self._check_action(a)
+        self._check_step(I, s, a, delta)
         cfg = self.config
         dQ = np.zeros_like(self.Q)
         dQ[a] = (cfg.eps_q * delta) * s  # Eq. (7)
@@ -321,12 +329,14 @@ class Network:
           normalized; that row keeps its previous (unit-length, non-negative) value, i.e. the
           update is rejected for that unit only.  Rows never become NaN.
         """
-        self._check_action(a)
-        if not math.isfinite(delta):
-            raise ValueError(f"delta must be finite, got {delta!r}")
+        self._check_step(I, s, a, delta)
         cfg = self.config
         coef = self._feature_factor(s, a) * (cfg.eps_w * delta)  # before Q changes
-        self.Q[a] += (cfg.eps_q * delta) * s  # Eq. (7): Delta Q_ij = eps_q delta a_i s_j
+        q_row = self.Q[a] + (cfg.eps_q * delta) * s  # Eq. (7): Delta Q_ij = eps_q delta a_i s_j
+        if not math.isfinite(sum(q_row.tolist())):
+            raise ValueError(
+                f"the update would make Q non-finite (delta={delta!r}); nothing changed"
+            )
         # Eq. (8), then rectify and normalize rows (Sec. II-A).
         Wn = np.multiply.outer(coef, I)
         Wn += self.W
@@ -337,6 +347,7 @@ class Network:
             for j, norm in enumerate(nl):
                 if not _DEAD_NORM < norm < math.inf:  # False also for NaN
                     norms[j] = self._fix_row(Wn, j)
+        self.Q[a] = q_row  # nothing can fail from here on: the update is whole or not at all
         np.divide(Wn, norms[:, None], out=self.W)
 
     def _fix_row(self, Wn: np.ndarray, j: int) -> float:
@@ -357,30 +368,44 @@ class Network:
         return float(np.sqrt(row @ row))
 
     def _check_action(self, a) -> None:
-        if not 0 <= a < self.config.n_actions:
-            raise ValueError(f"action a must be in [0, {self.config.n_actions}), got {a!r}")
+        if (
+            isinstance(a, (bool, np.bool_))
+            or not isinstance(a, (int, np.integer))
+            or not 0 <= a < self.config.n_actions
+        ):
+            raise ValueError(
+                f"action a must be an integer in [0, {self.config.n_actions}), got {a!r}"
+            )
+
+    @staticmethod
+    def _check_vector(x, size: int, name: str) -> None:
+        """``x`` must be a finite float ndarray of shape ``(size,)``."""
+        if not isinstance(x, np.ndarray) or x.shape != (size,) or x.dtype.kind != "f":
+            raise ValueError(
+                f"{name} must be a float ndarray of shape ({size},) (see Network.prepare), got "
+                f"{type(x).__name__} {getattr(x, 'dtype', '')} {np.shape(x)}"
+            )
+        if not np.isfinite(x).all():
+            raise ValueError(f"{name} contains NaN or infinite values")
+
+    def _check_step(self, I, s, a, delta) -> None:
+        """Everything a learning step reads, checked before anything changes."""
+        self._check_action(a)
+        self._check_vector(I, self.config.n_inputs, "I")
+        self._check_vector(s, self.config.n_features, "s")
+        check_real("Network", "delta", delta)
 
     # ------------------------------------------------------------------ persistence
     def save(self, path) -> None:
         """Write ``W``, ``Q`` and every config field to ``path`` (.npz, exactly that name).
 
-        Atomic: writes a temporary file in the same directory, then ``os.replace``.
+        Atomic (:func:`docking.fileio.atomic_write`).
         """
         path = Path(path)
         arrays = {"W": self.W, "Q": self.Q, "format_version": np.array(_FORMAT_VERSION)}
         for field in dataclasses.fields(NetworkConfig):
             arrays[f"config.{field.name}"] = np.array(getattr(self.config, field.name))
-        fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent or ".")
-        try:
-            with os.fdopen(fd, "wb") as f:
-                np.savez(f, **arrays)
-                f.flush()
-                os.fsync(f.fileno())
-            os.replace(tmp, path)
-        except BaseException:
-            if os.path.exists(tmp):
-                os.unlink(tmp)
-            raise
+        atomic_write(path, lambda f: np.savez(f, **arrays))
 
     @classmethod
     def load(cls, path) -> Network:

@@ -15,8 +15,8 @@ from docking.experiments import (
     SEEDS,
     ExperimentConfig,
     ExperimentResult,
-    run_seeds,
 )
+from docking.store import run_seeds
 
 #: The paper's figures (Sec. III).
 PAPER = {
@@ -101,7 +101,7 @@ def configuration_table(config: ExperimentConfig) -> str:
     w, n, c = config.world, config.network, config.curriculum
     if c.grow_trials:
         region = (
-            f"far edge {c.far_initial:.2f} m -> {c.far_final:.2f} m, linearly over the "
+            f"far edge {c.far_initial:.2f} m -> {w.start_far:.2f} m, linearly over the "
             f"first {c.grow_trials} trials"
         )
         region_source = "ours: the paper says only 'incrementally enlarged', up to 1.5 m"

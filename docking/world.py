@@ -29,6 +29,7 @@ is visual only.
 from __future__ import annotations
 
 import dataclasses
+import functools
 import os
 
 # Headless rendering by default: EGL through Mesa works on CPU-only machines. Must be set
@@ -41,6 +42,40 @@ if os.environ["MUJOCO_GL"] in ("egl", "osmesa"):
 # and experiments run one process per core.
 os.environ.setdefault("LP_NUM_THREADS", "0")
 
+
+class RenderingUnavailable(RuntimeError):
+    """MuJoCo cannot render here: the ``MUJOCO_GL`` backend is unknown or its library is
+    missing. The message says what to install or set."""
+
+
+#: The rendering backends MuJoCo knows, the library each one loads, and where to get it.
+_GL_BACKENDS = {
+    "egl": ("EGL", "Debian/Ubuntu: apt-get install libegl1 libgl1-mesa-dri (`make setup` does it)"),
+    "osmesa": ("OSMesa", "Debian/Ubuntu: apt-get install libosmesa6"),
+    "glfw": (None, "it needs a display (X11/Wayland); on a headless machine use MUJOCO_GL=egl"),
+}
+
+
+def _check_gl_backend() -> None:
+    """Fail with a clear message, before ``import mujoco`` does with an obscure one, when
+    ``MUJOCO_GL`` names no backend or its library is missing."""
+    import ctypes.util
+
+    backend = os.environ["MUJOCO_GL"]
+    if backend not in _GL_BACKENDS:
+        raise RenderingUnavailable(
+            f"MUJOCO_GL={backend!r} is not a rendering backend MuJoCo knows; use one of "
+            f"{', '.join(_GL_BACKENDS)} (headless machines: MUJOCO_GL=egl)"
+        )
+    library, remedy = _GL_BACKENDS[backend]
+    if library is not None and ctypes.util.find_library(library) is None:
+        raise RenderingUnavailable(
+            f"MUJOCO_GL={backend} needs the {library} library, which is not installed: {remedy}"
+        )
+
+
+_check_gl_backend()
+
 import dm_env  # noqa: E402
 import mujoco  # noqa: E402
 import numpy as np  # noqa: E402
@@ -49,6 +84,7 @@ from dm_control.mujoco import engine, wrapper  # noqa: E402
 from dm_env import specs  # noqa: E402
 
 from docking.camera import CameraConfig, preprocess  # noqa: E402
+from docking.validate import check_instance, check_int, check_real, normalise  # noqa: E402
 
 # Action indices. The paper (Sec. II-C): "four actions - moving forward, backward, right and
 # left"; left and right are sidesteps (Nao walks sideways), not turns.
@@ -110,24 +146,27 @@ class WorldConfig:
     camera: CameraConfig = dataclasses.field(default_factory=CameraConfig)
 
     def __post_init__(self):
-        positive = (
-            "step_forward",
-            "step_side",
-            "start_near",
-            "start_far",
-            "dock_center",
-            "dock_depth",
-            "dock_width",
+        owner = "WorldConfig"
+        real = functools.partial(check_real, owner)
+        normalise(
+            self,
+            step_forward=real("step_forward", self.step_forward, lo=0, hi=1, lo_open=True),
+            step_side=real("step_side", self.step_side, lo=0, hi=1, lo_open=True),
+            step_noise_xy=real("step_noise_xy", self.step_noise_xy, lo=0, hi=0.5),
+            step_noise_yaw_deg=real("step_noise_yaw_deg", self.step_noise_yaw_deg, lo=0, hi=90),
+            max_steps=check_int(owner, "max_steps", self.max_steps, lo=1, hi=100_000),
+            start_near=real("start_near", self.start_near, lo=0, lo_open=True),
+            start_far=real("start_far", self.start_far, lo=0, lo_open=True),
+            start_half_angle_deg=real(
+                "start_half_angle_deg", self.start_half_angle_deg, lo=0, hi=45, hi_open=True
+            ),
+            start_yaw_deg=real("start_yaw_deg", self.start_yaw_deg, lo=0, hi=90),
+            dock_center=real("dock_center", self.dock_center, lo=0, lo_open=True),
+            dock_depth=real("dock_depth", self.dock_depth, lo=0, hi=1, lo_open=True),
+            dock_width=real("dock_width", self.dock_width, lo=0, hi=2, lo_open=True),
+            view_margin_px=real("view_margin_px", self.view_margin_px, lo=0, hi=100),
+            camera=check_instance(owner, "camera", self.camera, CameraConfig),
         )
-        for name in positive:
-            if not getattr(self, name) > 0:
-                raise ValueError(f"WorldConfig.{name} must be > 0, got {getattr(self, name)}")
-        non_negative = ("step_noise_xy", "step_noise_yaw_deg", "start_yaw_deg", "view_margin_px")
-        for name in non_negative:
-            if not getattr(self, name) >= 0:
-                raise ValueError(f"WorldConfig.{name} must be >= 0, got {getattr(self, name)}")
-        if not isinstance(self.max_steps, (int, np.integer)) or self.max_steps < 1:
-            raise ValueError(f"WorldConfig.max_steps must be an integer >= 1, got {self.max_steps}")
         if self.start_far < self.start_near:
             raise ValueError(
                 f"WorldConfig.start_far must be >= start_near "
@@ -142,11 +181,6 @@ class WorldConfig:
             raise ValueError(
                 f"WorldConfig.start_far must be <= {_ROOM_BACK - 0.3} m (the room "
                 f"ends at {_ROOM_BACK} m), got {self.start_far}"
-            )
-        if not 0 <= self.start_half_angle_deg < 45:
-            raise ValueError(
-                f"WorldConfig.start_half_angle_deg must be in [0, 45), got "
-                f"{self.start_half_angle_deg}"
             )
         closest = _ROBOT_RADIUS - _CABINET["front"]
         if self.dock_center + self.dock_depth / 2 < closest + 0.01:
@@ -586,6 +620,7 @@ class DockingEnv(dm_env.Environment):
     ) -> np.ndarray:
         """An RGB render from one of the scene's fixed cameras (``overview``, ``top``), with
         the robot and the virtual docking region drawn, for figures."""
+        _check_frame_size(self._physics, width, height, "render_view width x height")
         return self._physics.render(
             height, width, camera_id=camera, scene_option=_scene_option(show_robot, show_dock)
         )
@@ -663,21 +698,37 @@ def in_dock(pose, config: WorldConfig) -> bool:
 
 
 def _check_action(action) -> int:
-    try:
-        value = int(action)
-        valid = value == action and 0 <= value < N_ACTIONS
-    except (TypeError, ValueError):
-        valid = False
-    if not valid:
+    """The action as an ``int``: exactly the integers ``0..N_ACTIONS-1``, as Python or numpy
+    integers or a 0-d integer array; bools, floats (also integral ones), strings, other
+    shapes and out-of-range values raise ``ValueError``."""
+    value = action[()] if isinstance(action, np.ndarray) and action.ndim == 0 else action
+    if (
+        isinstance(value, (bool, np.bool_))
+        or not isinstance(value, (int, np.integer))
+        or not 0 <= value < N_ACTIONS
+    ):
         raise ValueError(
             f"action must be an integer in 0..{N_ACTIONS - 1} "
             f"({', '.join(ACTION_NAMES)}), got {action!r}"
         )
-    return value
+    return int(value)
+
+
+def _check_frame_size(physics: Physics, width: int, height: int, what: str) -> None:
+    """A frame must fit MuJoCo's offscreen framebuffer (``<visual><global offwidth
+    offheight>`` of the model)."""
+    buffer = physics.model.vis.global_
+    if width > buffer.offwidth or height > buffer.offheight:
+        raise ValueError(
+            f"{what} {width}x{height} is larger than the scene's offscreen framebuffer "
+            f"({buffer.offwidth}x{buffer.offheight}, <visual><global offwidth offheight> of "
+            f"the model); render a smaller frame or enlarge the framebuffer"
+        )
 
 
 def _make_camera(physics: Physics, height: int, width: int, camera: str) -> engine.Camera:
     """A reusable offscreen camera; one clear error if no OpenGL backend can start."""
+    _check_frame_size(physics, width, height, "CameraConfig.width x height")
     try:
         return engine.Camera(physics, height=height, width=width, camera_id=camera)
     except Exception as exc:  # the backends raise many different types

@@ -33,9 +33,10 @@
 import numpy as np
 from IPython.display import Image, Markdown, display
 
-from docking.experiments import EXPERIMENT_1, SEEDS, feature_change, run_seeds
+from docking.experiments import EXPERIMENT_1, SEEDS, feature_change
 from docking.figures import FIGURES_DIR, fig3
 from docking.report import configuration_table, experiment1_rows, headline, markdown_table
+from docking.store import run_seeds
 from docking.world import ACTION_LETTERS, DockingEnv
 
 config = EXPERIMENT_1

@@ -38,10 +38,10 @@ from docking.experiments import (
     HEADLINE_SEED,
     SEEDS,
     feature_change,
-    run_seeds,
 )
 from docking.figures import FIGURES_DIR, fig4, fig5, fig_learning_curves
 from docking.report import experiment2_rows, headline, markdown_table
+from docking.store import run_seeds
 from docking.world import ACTION_LETTERS
 
 config = EXPERIMENT_2
@@ -63,7 +63,7 @@ rows = [
     ("eps_q (Eq. 7), eps_w (Eq. 8)", f"{n.eps_q:g}, {n.eps_w:g}", "ours, the same as Experiment 1"),
     (
         "curriculum (LEM)",
-        f"far edge {c.far_initial:.2f} m -> {c.far_final:.2f} m, linearly over the first {c.grow_trials} trials",
+        f"far edge {c.far_initial:.2f} m -> {w.start_far:.2f} m, linearly over the first {c.grow_trials} trials",
         "ours: the paper says only 'incrementally enlarged'",
     ),
     (

@@ -1,6 +1,7 @@
 """Tests of the experiment runner (issue #4): curriculum, configs, seeding, saving."""
 
 import dataclasses
+import os
 
 import numpy as np
 import pytest
@@ -12,12 +13,9 @@ from docking.experiments import (
     ExperimentConfig,
     feature_change,
     initial_network,
-    load_result,
-    result_path,
     run_experiment,
-    run_or_load,
-    save_result,
 )
+from docking.store import load_result, result_path, run_or_load, save_result
 
 TINY = dataclasses.replace(EXPERIMENT_1, train_trials=4, test_trials=3, eval_every=2, eval_trials=2)
 
@@ -28,15 +26,15 @@ def tiny_result():
 
 
 def test_curriculum_grows_linearly_then_holds():
-    c = Curriculum(far_initial=0.7, far_final=1.5, grow_trials=1400)
-    assert c.far_at(0) == 0.7
-    assert c.far_at(700) == pytest.approx(1.1)
-    assert c.far_at(1400) == 1.5 and c.far_at(1999) == 1.5
-    assert Curriculum(1.0, 1.0).far_at(5) == 1.0
+    c = Curriculum(far_initial=0.7, grow_trials=1400)
+    assert c.far_at(0, 1.5) == 0.7
+    assert c.far_at(700, 1.5) == pytest.approx(1.1)
+    assert c.far_at(1400, 1.5) == 1.5 and c.far_at(1999, 1.5) == 1.5
+    assert Curriculum(1.0).far_at(5, 1.2) == 1.2  # no curriculum: always the test region
     with pytest.raises(ValueError, match="far_initial"):
-        Curriculum(far_initial=1.6, far_final=1.5)
+        Curriculum(far_initial=-1.0)
     with pytest.raises(ValueError, match="grow_trials"):
-        Curriculum(0.7, 1.5, grow_trials=-1)
+        Curriculum(0.7, grow_trials=-1)
 
 
 def test_experiment_configs_match_the_paper():
@@ -45,7 +43,7 @@ def test_experiment_configs_match_the_paper():
     assert EXPERIMENT_2.network.n_features == 36 and EXPERIMENT_2.network.rule == "nonlocal"
     assert EXPERIMENT_2.train_trials == 2000 and EXPERIMENT_2.test_trials == 725
     assert EXPERIMENT_2.world.start_far == 1.5
-    assert EXPERIMENT_2.curriculum.far_initial < EXPERIMENT_2.curriculum.far_final
+    assert EXPERIMENT_2.curriculum.far_initial < EXPERIMENT_2.world.start_far
     for config in (EXPERIMENT_1, EXPERIMENT_2):
         assert config.network.beta_s == 100 and config.network.gamma == 0.9
         assert config.network.beta_a_train == 2 and config.network.beta_a_test == 100
@@ -53,8 +51,8 @@ def test_experiment_configs_match_the_paper():
 
 
 def test_bad_experiment_config_raises():
-    with pytest.raises(ValueError, match="far_final"):
-        dataclasses.replace(EXPERIMENT_1, curriculum=Curriculum(0.7, 0.9))
+    with pytest.raises(ValueError, match="far_initial"):  # grows from beyond the test region
+        dataclasses.replace(EXPERIMENT_1, curriculum=Curriculum(0.9, grow_trials=10))
     with pytest.raises(ValueError, match="train_trials"):
         dataclasses.replace(EXPERIMENT_1, train_trials=0)
 
@@ -106,16 +104,23 @@ def test_save_load_round_trip(tiny_result, tmp_path):
             )
     assert loaded.rewarded_until_mastery == tiny_result.rewarded_until_mastery
     assert not list(path.parent.glob("*.tmp"))  # the temporary file was renamed away
-    assert (path.stat().st_mode & 0o777) == 0o644
+    umask = os.umask(0)
+    os.umask(umask)
+    assert (path.stat().st_mode & 0o777) == 0o666 & ~umask  # an ordinary file
 
 
-def test_run_or_load_reuses_and_reruns_on_change(tmp_path):
+def test_run_or_load_reuses_and_keeps_variants_side_by_side(tmp_path):
     first = run_or_load(TINY, 5, results_dir=tmp_path, progress=False)
-    path = result_path(TINY.name, 5, tmp_path)
+    path = result_path(TINY, 5, tmp_path)
     stamp = path.stat().st_mtime_ns
     again = run_or_load(TINY, 5, results_dir=tmp_path, progress=False)
     assert path.stat().st_mtime_ns == stamp  # loaded, not re-trained
     np.testing.assert_array_equal(again.network.W, first.network.W)
+    # A variant with the same name lives beside the original; neither overwrites the other.
     changed = dataclasses.replace(TINY, test_trials=4)
     rerun = run_or_load(changed, 5, results_dir=tmp_path, progress=False)
-    assert len(rerun.test) == 4 and path.stat().st_mtime_ns != stamp
+    assert len(rerun.test) == 4
+    assert result_path(changed, 5, tmp_path) != path
+    assert path.stat().st_mtime_ns == stamp
+    assert len(run_or_load(TINY, 5, results_dir=tmp_path, progress=False).test) == 3
+    assert path.stat().st_mtime_ns == stamp

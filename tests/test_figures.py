@@ -8,15 +8,9 @@ import pytest
 from matplotlib.figure import Figure
 
 from docking import figures
-from docking.experiments import (
-    EXPERIMENT_1,
-    EXPERIMENT_2,
-    Curriculum,
-    load_result,
-    run_experiment,
-    save_result,
-)
+from docking.experiments import EXPERIMENT_1, EXPERIMENT_2, Curriculum, run_experiment
 from docking.network import Network, NetworkConfig
+from docking.store import load_result, save_result
 from docking.world import ACTION_LETTERS, DockingEnv
 
 TINY = dict(train_trials=4, test_trials=6, eval_every=2, eval_trials=2)
@@ -29,11 +23,7 @@ def result1():
 
 @pytest.fixture(scope="module")
 def result2():
-    curriculum = Curriculum(
-        far_initial=EXPERIMENT_2.curriculum.far_initial,
-        far_final=EXPERIMENT_2.world.start_far,
-        grow_trials=2,
-    )
+    curriculum = Curriculum(far_initial=EXPERIMENT_2.curriculum.far_initial, grow_trials=2)
     config = dataclasses.replace(EXPERIMENT_2, curriculum=curriculum, **TINY)
     return run_experiment(config, seed=0, progress=False)
 
