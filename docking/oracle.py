@@ -32,12 +32,10 @@ def oracle_action(pose, config: WorldConfig) -> int:
 def run_oracle_trial(env: DockingEnv) -> tuple[bool, int, np.ndarray]:
     """One trial of the oracle: ``(success, actions taken, poses)``; ``poses`` holds the
     start pose and the pose after every action."""
-    timestep = env.reset()
-    poses = [env.pose]
-    while not timestep.last():
-        timestep = env.step(oracle_action(env.pose, env.config))
-        poses.append(env.pose)
-    return timestep.reward > 0, env.steps, np.array(poses)
+    from docking.policies import oracle, run_episode  # policies builds on this module
+
+    episode = run_episode(env, oracle)
+    return episode.success, episode.steps, episode.poses
 
 
 def evaluate_oracle(env: DockingEnv, n_trials: int, progress: bool = True) -> dict:

@@ -33,6 +33,8 @@ import hashlib
 import importlib.metadata
 import io
 import json
+import os
+import tempfile
 import warnings
 from pathlib import Path
 
@@ -123,12 +125,18 @@ def source_fingerprint(package_dir: Path | str | None = None) -> str:
     """SHA-256 of the code that computes results (see the module docstring).
 
     ``package_dir`` is the ``docking`` package folder to read (default: this package's)."""
-    package_dir = Path(package_dir) if package_dir else Path(__file__).resolve().parent
-    return _source_fingerprint(package_dir.resolve())
+    package_dir = (Path(package_dir) if package_dir else Path(__file__).parent).resolve()
+    # Cached by the files' sizes and modification times, so an edit is always seen.
+    stamp = tuple(
+        (str(p), st.st_mtime_ns, st.st_size)
+        for p in sorted(package_dir.rglob("*"))
+        if "__pycache__" not in p.parts and p.is_file() and (st := p.stat())
+    )
+    return _source_fingerprint(package_dir, stamp)
 
 
 @functools.lru_cache(maxsize=8)
-def _source_fingerprint(package_dir: Path) -> str:
+def _source_fingerprint(package_dir: Path, stamp: tuple) -> str:
     digest = hashlib.sha256()
     seen, queue = set(), [_ROOT_MODULE]
     while queue:
@@ -338,9 +346,9 @@ def check_writable(results_dir: Path | str | None = None) -> Path:
     root = Path(results_dir) if results_dir is not None else paths.results_dir()
     try:
         root.mkdir(parents=True, exist_ok=True)
-        probe = root / f".write-test.{id(root)}.tmp"
-        probe.write_bytes(b"")
-        probe.unlink()
+        fd, probe = tempfile.mkstemp(prefix=".write-test.", suffix=".tmp", dir=root)
+        os.close(fd)
+        os.unlink(probe)
     except OSError as exc:
         raise PermissionError(
             f"the results folder {str(root)!r} is not writable ({type(exc).__name__}: {exc}); "
@@ -360,6 +368,7 @@ def run_or_load(
     is there, otherwise computed and saved (a bad file is a warning, then replaced).
     ``force`` recomputes and replaces whatever is stored."""
     path = result_path(config, seed, results_dir)
+    remove_stale_temporaries(path)  # of writers killed during an earlier save
     if path.exists() and not force:
         try:
             return load_result(path)
@@ -391,8 +400,6 @@ def run_seeds(
 ) -> list[ExperimentResult]:
     """Run (or load) ``config`` for every seed, several seeds at once in worker processes
     (one per core by default; each renders with its own OpenGL context)."""
-    import os
-
     from tqdm.auto import tqdm
 
     seeds = [check_int("run_seeds", "seeds[]", s, lo=0) for s in seeds]
