@@ -148,7 +148,8 @@ def _source_fingerprint(package_dir: Path, stamp: tuple) -> str:
         if path is None:
             continue
         source = path.read_text(encoding="utf-8")
-        queue.extend(_imported_package_modules(ast.parse(source), name))
+        # Sorted: a set's order changes with the hash seed of each process.
+        queue.extend(sorted(_imported_package_modules(ast.parse(source), name)))
         digest.update(f"module {name}\n{_code_of(source)}\n".encode())
     assets = package_dir / "assets"
     if assets.is_dir():
