@@ -264,7 +264,7 @@ def run_jobs(
     paths_ = [result_path(j.config, j.seed, root) for j in jobs]
     todo = [k for k, j in enumerate(jobs) if force or not _stored(j, root)]
 
-    from tqdm import tqdm
+    from tqdm.auto import tqdm
 
     bar = tqdm(
         total=len(jobs),
