@@ -3,8 +3,9 @@
 A sweep is a list of :class:`Job` s, each one run of :func:`docking.store.run_or_load`. They
 run through ``dask.distributed``:
 
-* by default on an embedded ``LocalCluster``: one worker *process* per core (or per job, if
-  fewer), one thread each, so every worker renders with its own OpenGL context;
+* by default on an embedded cluster: the scheduler of a ``LocalCluster`` in this process and
+  one worker *process* per core (or per job, if fewer), ``dask worker`` with one thread
+  each, so every worker renders with its own OpenGL context;
 * or on an existing cluster, ``scheduler="tcp://HOST:PORT"`` (started with ``dask scheduler``
   and ``dask worker tcp://HOST:PORT``, or by dask-jobqueue on SLURM). The workers must import
   the same ``docking`` code and see the results folder under the same path (one machine or a
@@ -17,9 +18,10 @@ anything, so an interrupted sweep resumes where it stopped and no finished run i
 twice. A job lost with a worker is rescheduled by Dask on another one. A progress bar on the
 terminal (stderr) counts finished jobs.
 
-Worker processes end with the process that started them: Dask's nanny closes a pipe the
-worker watches, and :func:`_die_with_parent` adds ``PR_SET_PDEATHSIG`` (Linux) and a
-``getppid`` watchdog, so neither ``kill -9`` nor ``SIGTERM`` of the parent leaves orphans.
+The embedded cluster's workers end with the process that started them
+(:func:`_die_with_parent`: ``PR_SET_PDEATHSIG`` on Linux and a ``getppid`` watchdog), and
+they are plain subprocesses rather than ``multiprocessing`` children, so neither ``kill -9``
+nor ``SIGTERM`` of the parent leaves orphans or leaked semaphores.
 """
 
 from __future__ import annotations
@@ -167,18 +169,14 @@ def grid_configs(base: ExperimentConfig, grid: Sequence[str]) -> list[Experiment
 
 _PR_SET_PDEATHSIG = 1
 _LOG_VARIABLE = "DASK_LOGGING__DISTRIBUTED"
-_guarded = False
+#: Set in the environment of the embedded cluster's workers: the PID they must die with.
+_PARENT_VARIABLE = "DOCKING_SWEEP_PARENT"
 
 
-def _die_with_parent() -> None:
-    """Make this (worker) process end when its parent does: ``PR_SET_PDEATHSIG`` = SIGKILL
-    where Linux offers it, and a watchdog thread that exits once the process is re-parented
-    (``getppid`` changes). Idempotent."""
-    global _guarded
-    if _guarded:
-        return
-    _guarded = True
-    parent = os.getppid()
+def _die_with_parent(parent: int) -> None:
+    """End this process when ``parent`` (its parent process) ends: ``PR_SET_PDEATHSIG`` =
+    SIGKILL where Linux offers it, and a watchdog thread that exits once the process is
+    re-parented (``getppid`` changes), which also covers a parent that died before."""
     if sys.platform.startswith("linux"):
         try:
             import ctypes
@@ -187,7 +185,7 @@ def _die_with_parent() -> None:
             libc.prctl(_PR_SET_PDEATHSIG, signal.SIGKILL, 0, 0, 0)
         except (OSError, AttributeError):
             pass
-    if os.getppid() != parent:  # the parent died before prctl took effect
+    if os.getppid() != parent:  # the parent died already
         os._exit(1)
 
     def watch() -> None:
@@ -199,13 +197,15 @@ def _die_with_parent() -> None:
 
 
 def dask_setup(worker=None) -> None:
-    """Dask preload hook (``preload=["docking.sweep"]``): guard the worker process."""
-    _die_with_parent()
+    """Dask preload hook (``dask worker --preload docking.sweep``): a worker of the embedded
+    cluster ends with the process that started it. Does nothing in other workers."""
+    parent = os.environ.get(_PARENT_VARIABLE)
+    if parent:
+        _die_with_parent(int(parent))
 
 
 def _run_job(config: ExperimentConfig, seed: int, results_dir: str, force: bool) -> str:
     """The task a worker runs: compute or load one run in the store; its path."""
-    _die_with_parent()
     run_or_load(config, seed, results_dir, force=force, progress=False)
     return str(result_path(config, seed, results_dir))
 
@@ -221,17 +221,97 @@ def _stored(job: Job, results_dir: Path) -> bool:
     return True
 
 
-def _local_cluster(n_workers: int):
-    from distributed import LocalCluster
+class _EmbeddedCluster:
+    """A Dask cluster on this machine: the scheduler in this process (a ``LocalCluster``
+    without in-process workers) and ``n_workers`` worker processes, ``dask worker --no-nanny``
+    with one thread each, that end with this process (:func:`dask_setup`). Workers are plain
+    subprocesses, not ``multiprocessing`` children, so a killed parent leaves neither
+    orphans nor semaphores behind."""
 
-    return LocalCluster(
-        n_workers=n_workers,
-        threads_per_worker=1,
-        processes=True,
-        dashboard_address=None,
-        silence_logs=logging.ERROR,
-        preload=["docking.sweep"],
-    )
+    def __init__(self, n_workers: int):
+        import subprocess
+        import tempfile
+
+        from distributed import Client, LocalCluster
+
+        self._scratch = tempfile.TemporaryDirectory(prefix="docking-dask-")
+        self._procs: list[subprocess.Popen] = []
+        self._cluster = LocalCluster(
+            n_workers=0,
+            processes=False,
+            protocol="tcp",  # not inproc: the workers are other processes
+            host="127.0.0.1",
+            scheduler_port=0,
+            dashboard_address=":0",
+            silence_logs=logging.ERROR,
+        )
+        package_root = str(Path(__file__).resolve().parent.parent)
+        env = {
+            **os.environ,
+            _PARENT_VARIABLE: str(os.getpid()),
+            # The workers import this very package.
+            "PYTHONPATH": os.pathsep.join(
+                p for p in (package_root, os.environ.get("PYTHONPATH")) if p
+            ),
+        }
+        try:
+            for k in range(n_workers):
+                self._procs.append(
+                    subprocess.Popen(
+                        [
+                            sys.executable,
+                            "-m",
+                            "dask",
+                            "worker",
+                            self._cluster.scheduler_address,
+                            "--no-nanny",
+                            "--nthreads",
+                            "1",
+                            "--host",
+                            "127.0.0.1",
+                            "--no-dashboard",
+                            "--name",
+                            f"docking-{k}",
+                            "--local-directory",
+                            self._scratch.name,
+                            "--preload",
+                            "docking.sweep",
+                        ],
+                        env=env,
+                        stdin=subprocess.DEVNULL,
+                    )
+                )
+            self.client = Client(self._cluster)
+            self._wait_for_workers(n_workers)
+        except BaseException:
+            self.close()
+            raise
+
+    def _wait_for_workers(self, n: int, timeout: float = 120.0) -> None:
+        deadline = time.monotonic() + timeout
+        while len(self.client.scheduler_info(n_workers=-1)["workers"]) < n:
+            dead = [p.args[-1] for p in self._procs if p.poll() is not None]
+            if dead or time.monotonic() > deadline:
+                raise RuntimeError(
+                    f"Dask workers did not start ({len(dead)} of {n} exited, see above)"
+                )
+            time.sleep(0.1)
+
+    def close(self) -> None:
+        client = getattr(self, "client", None)
+        if client is not None:
+            client.close()
+        for proc in self._procs:
+            if proc.poll() is None:
+                proc.terminate()
+        for proc in self._procs:
+            try:
+                proc.wait(timeout=10)
+            except Exception:
+                proc.kill()
+                proc.wait()
+        self._cluster.close()
+        self._scratch.cleanup()
 
 
 def run_jobs(
@@ -300,9 +380,10 @@ def _run_on_dask(jobs, todo, root: Path, scheduler, n_workers: int, force: bool,
     logger.setLevel(max(level, logging.WARNING))
     saved_env = os.environ.get(_LOG_VARIABLE)
     os.environ[_LOG_VARIABLE] = "warning"
-    cluster = _local_cluster(n_workers) if scheduler is None else None
+    cluster = None
     try:
-        with Client(cluster if cluster is not None else scheduler) as client:
+        cluster = _EmbeddedCluster(n_workers) if scheduler is None else None
+        with cluster.client if cluster is not None else Client(scheduler) as client:
             sweep = uuid.uuid4().hex[:8]
             futures = [
                 client.submit(
