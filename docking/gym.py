@@ -92,6 +92,7 @@ class DockingGymEnv(gymnasium.Env):
             low=float(spec.minimum), high=float(spec.maximum), shape=spec.shape, dtype=spec.dtype
         )
         self.action_space = spaces.Discrete(N_ACTIONS)
+        self._needs_reset = True
 
     def _info(self) -> dict[str, Any]:
         return {"pose": self.dm_env.pose, "docked": self.dm_env.docked}
@@ -102,12 +103,18 @@ class DockingGymEnv(gymnasium.Env):
         if seed is not None:
             self.dm_env.reseed(self.np_random)
         timestep = self.dm_env.reset()
+        self._needs_reset = False
         return timestep.observation, self._info()
 
     def step(self, action):
+        if self._needs_reset:
+            raise gymnasium.error.ResetNeeded(
+                "call reset() before step(), and again after an episode ends"
+            )
         timestep = self.dm_env.step(action)
         terminated = bool(timestep.last() and timestep.discount == 0.0)
         truncated = bool(timestep.last() and not terminated)
+        self._needs_reset = terminated or truncated
         return timestep.observation, float(timestep.reward), terminated, truncated, self._info()
 
     def render(self):

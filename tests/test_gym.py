@@ -47,6 +47,11 @@ def test_docking_terminates_with_reward():
     env.dm_env.reset_to([-(config.dock_center + config.step_forward), 0.0, 0.0])
     _, reward, terminated, truncated, info = env.step(0)
     assert (reward, terminated, truncated, info["docked"]) == (1.0, True, False, True)
+    with pytest.raises(gymnasium.error.ResetNeeded):
+        env.step(0)
+    fresh = gymnasium.make(docking.gym.ENV_ID).unwrapped
+    with pytest.raises(gymnasium.error.ResetNeeded):
+        fresh.step(0)
 
 
 def _episode(env, seed, actions):
