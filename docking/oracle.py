@@ -15,7 +15,8 @@ from docking.world import BACKWARD, FORWARD, LEFT, RIGHT, DockingEnv, WorldConfi
 
 def oracle_action(pose, config: WorldConfig) -> int:
     """The oracle's action at ``pose``: sidestep while the docking region's centre is more
-    than a quarter of the region's width to the side, otherwise step forward (or back, after
+    than a quarter of the region's width (at least half a sidestep) to the side, otherwise
+    step forward (or back, after
     an overshoot) towards the region's centre. Errors are taken in the robot's body frame,
     so heading drift is accounted for. Aiming at the region's inner half, rather than its
     centre line, leaves room for the drift of the forward steps without wasting sidesteps."""
@@ -23,7 +24,9 @@ def oracle_action(pose, config: WorldConfig) -> int:
     dx, dy = -config.dock_center - x, -y
     ahead = np.cos(yaw) * dx + np.sin(yaw) * dy
     left = -np.sin(yaw) * dx + np.cos(yaw) * dy
-    tolerance = config.dock_width / 4
+    # A quarter of the region's width, but never less than half a sidestep: a sidestep must be
+    # able to land within the tolerance, or the oracle would step to and fro around it.
+    tolerance = max(config.dock_width / 4, config.step_side / 2)
     if abs(left) > tolerance:
         return LEFT if left > 0 else RIGHT
     return FORWARD if ahead > 0 else BACKWARD

@@ -215,9 +215,10 @@ def save_result(result: ExperimentResult, path: Path | str) -> Path:
         "curve_steps": result.curve_steps,
         "curve_rewarded": result.curve_rewarded,
     }
-    for part in ("train", "test"):
-        for field in dataclasses.fields(TrialLog):
-            arrays[f"{part}.{field.name}"] = getattr(getattr(result, part), field.name)
+    for part in ("train", "test", "heldout"):
+        log = getattr(result, part)
+        for field in dataclasses.fields(TrialLog) if log is not None else ():
+            arrays[f"{part}.{field.name}"] = getattr(log, field.name)
     buffer = io.BytesIO()
     np.savez_compressed(buffer, **arrays)
     remove_stale_temporaries(path)
@@ -335,6 +336,9 @@ def _parse(data) -> ExperimentResult:
         network=network,
         train=_trial_log(data, "train", config.train_trials),
         test=_trial_log(data, "test", config.test_trials),
+        heldout=(
+            _trial_log(data, "heldout", config.heldout_trials) if config.heldout_trials else None
+        ),
         **curve,
         wall_time_train=walls[0],
         wall_time_test=walls[1],

@@ -1,7 +1,8 @@
 """The docking world: a domestic room, a Nao-sized robot, a red landmark, a virtual dock.
 
 This is the dm-control rebuild of the paper's Webots scene (Sec. II-C, Fig. 2). Like a
-dm-control ``suite`` domain it has three parts: the MJCF model (:func:`make_model_xml`), a
+dm-control ``suite`` domain it has three parts: the MJCF model (the asset
+``docking/assets/docking.xml``, with the parts the configs choose set by :func:`make_mjcf`), a
 :class:`Physics` with the helpers the task needs (the robot's pose, its camera, the landmark's
 projection), and the task itself as a ``dm_env.Environment`` (:class:`DockingEnv`).
 
@@ -31,6 +32,7 @@ from __future__ import annotations
 import dataclasses
 import functools
 import os
+from pathlib import Path
 
 # Headless rendering by default: EGL through Mesa works on CPU-only machines. Must be set
 # before dm_control.mujoco is imported.
@@ -79,12 +81,21 @@ _check_gl_backend()
 import dm_env  # noqa: E402
 import mujoco  # noqa: E402
 import numpy as np  # noqa: E402
+from dm_control import mjcf  # noqa: E402
 from dm_control import mujoco as dm_mujoco  # noqa: E402
 from dm_control.mujoco import engine, wrapper  # noqa: E402
 from dm_env import specs  # noqa: E402
 
 from docking.camera import CameraConfig, preprocess  # noqa: E402
-from docking.validate import check_instance, check_int, check_real, normalise  # noqa: E402
+from docking.region import StartRegion  # noqa: E402
+from docking.validate import (  # noqa: E402
+    FieldTypeError,
+    check_choice,
+    check_instance,
+    check_int,
+    check_real,
+    normalise,
+)
 
 # Action indices. The paper (Sec. II-C): "four actions - moving forward, backward, right and
 # left"; left and right are sidesteps (Nao walks sideways), not turns.
@@ -98,6 +109,62 @@ N_ACTIONS = 4
 _ROBOT_GROUP, _DOCK_GROUP = 1, 3
 
 
+#: The scenes a world can be built as (:attr:`WorldConfig.scene`).
+SCENES = ("sideboard", "floor")
+
+#: The shapes a distractor can have and how many ``size`` values each takes (MuJoCo's geom
+#: sizes: box half-extents x, y, z; cylinder radius and half-height; sphere radius).
+DISTRACTOR_SHAPES = {"box": 3, "cylinder": 2, "sphere": 1}
+
+
+@dataclasses.dataclass(frozen=True)
+class Distractor:
+    """A red object in the room besides the landmark.
+
+    The paper (Sec. IV): "noise (e.g. other red objects within the visual field) should not
+    affect performance". A distractor has the landmark's red, so it passes the camera's
+    threshold wherever it enters the crop; it is solid (the robot bumps into it).
+
+    Attributes:
+      shape: ``"box"``, ``"cylinder"`` (standing upright) or ``"sphere"``.
+      size: MuJoCo's geom size for the shape (m): box half-extents ``(x, y, z)``, cylinder
+        ``(radius, half-height)``, sphere ``(radius,)``.
+      position: The centre ``(x, y, z)`` in the world frame (m; the landmark's front face is
+        ``x = 0``, the sideboard's top 0.43 m above the floor).
+    """
+
+    shape: str
+    size: tuple[float, ...]
+    position: tuple[float, float, float]
+
+    def __post_init__(self):
+        owner = "Distractor"
+        shape = check_choice(owner, "shape", self.shape, tuple(DISTRACTOR_SHAPES))
+        n = DISTRACTOR_SHAPES[shape]
+        if not isinstance(self.size, (tuple, list)) or len(self.size) != n:
+            raise FieldTypeError(
+                f"Distractor.size of a {shape} must be {n} numbers, got {self.size!r}"
+            )
+        size = tuple(
+            check_real(owner, f"size[{k}]", v, lo=0, hi=1, lo_open=True)
+            for k, v in enumerate(self.size)
+        )
+        if not isinstance(self.position, (tuple, list)) or len(self.position) != 3:
+            raise FieldTypeError(
+                f"Distractor.position must be (x, y, z) in metres, got {self.position!r}"
+            )
+        position = tuple(
+            check_real(owner, f"position[{k}]", v, lo=-5, hi=5) for k, v in enumerate(self.position)
+        )
+        normalise(self, shape=shape, size=size, position=position)
+
+    @classmethod
+    def cup(cls, y: float = 0.30) -> Distractor:
+        """A red cup (7 cm across, 9 cm high) on the sideboard, ``y`` m beside the landmark's
+        axis, level with the landmark's front face."""
+        return cls("cylinder", (0.035, 0.045), (0.03, y, 0.43 + 0.045))
+
+
 @dataclasses.dataclass(frozen=True)
 class WorldConfig:
     """Everything the paper leaves open about the world, with documented defaults.
@@ -107,7 +174,7 @@ class WorldConfig:
         (about two of Nao's steps). The paper gives no length; it decides how much of the
         25-action budget a start 1.5 m away needs, and with it how often the near-random
         walk of training (beta_a = 2) reaches the dock and how large the learned values
-        are: with 8 cm, Experiment 2 reached 49-76% in our runs, with 15 cm 98%.
+        are (measured in notebook 04, "What the choices do").
       step_side: Length of a left or right sidestep (m); half the docking region's width, so
         one sidestep from anywhere within 10 cm outside the region ends inside it. (Nao's
         walk allows up to 16 cm sideways per step.)
@@ -117,9 +184,9 @@ class WorldConfig:
       max_steps: At most this many actions per trial (paper: 25).
       start_near, start_far: The start trapezoid spans these distances of the robot's
         reference point from the landmark's front plane (m). Experiment 2 ends at 1.5 m.
-      start_half_angle_deg: The trapezoid's lateral half-width grows as
-        ``distance * tan(start_half_angle_deg)``; a wedge with its apex at the landmark, cut
-        at ``start_near`` and ``start_far``.
+      start_half_angle_deg: Half the opening angle of the start trapezoid, a wedge with its
+        apex at the landmark, cut at ``start_near`` and ``start_far``
+        (:class:`docking.region.StartRegion`, which ``DockingEnv`` samples from).
       start_yaw_deg: Start headings are uniform in +-this around facing the landmark's wall.
       dock_center: Distance of the docking region's centre from the landmark's front plane (m);
         the region's near edge lies 1 cm beyond where the robot meets the sideboard (0.45 m).
@@ -128,6 +195,12 @@ class WorldConfig:
       view_margin_px: At a start pose the landmark's projection keeps this many pixels from
         the crop's border.
       camera: The head camera and the observation pipeline.
+      distractors: Red objects besides the landmark (:class:`Distractor`); none by default.
+      scene: ``"sideboard"`` (default): the landmark stands on a sideboard at the camera's
+        height, whose front stops the robot at the dock. ``"floor"``: the sideboard is taken
+        away and the landmark stands on the floor at the same place; nothing stops the robot
+        at the dock (it can overshoot or walk past the landmark's side), and with the camera
+        tilted down the landmark's image moves vertically with distance. See :data:`SCENES`.
     """
 
     step_forward: float = 0.15
@@ -144,9 +217,19 @@ class WorldConfig:
     dock_width: float = 0.20
     view_margin_px: float = 1.0
     camera: CameraConfig = dataclasses.field(default_factory=CameraConfig)
+    distractors: tuple[Distractor, ...] = ()
+    scene: str = "sideboard"
 
     def __post_init__(self):
         owner = "WorldConfig"
+        check_choice(owner, "scene", self.scene, SCENES)
+        if not isinstance(self.distractors, (tuple, list)):
+            raise FieldTypeError(
+                f"WorldConfig.distractors must be a tuple of Distractor, got {self.distractors!r}"
+            )
+        for k, d in enumerate(self.distractors):
+            check_instance(owner, f"distractors[{k}]", d, Distractor)
+        object.__setattr__(self, "distractors", tuple(self.distractors))
         real = functools.partial(check_real, owner)
         normalise(
             self,
@@ -182,205 +265,181 @@ class WorldConfig:
                 f"WorldConfig.start_far must be <= {_ROOM_BACK - 0.3} m (the room "
                 f"ends at {_ROOM_BACK} m), got {self.start_far}"
             )
-        closest = _ROBOT_RADIUS - _CABINET["front"]
+        # What stops the robot in front of the landmark: the sideboard's front, or on the
+        # floor the landmark's own front face (x = 0).
+        front, what = (
+            (_FACTS.sideboard[0], "sideboard") if self.scene == "sideboard" else (0.0, "landmark")
+        )
+        closest = ROBOT_RADIUS - front
         if self.dock_center + self.dock_depth / 2 < closest + 0.01:
             raise ValueError(
                 f"WorldConfig.dock_center must keep the region reachable: "
                 f"dock_center + dock_depth/2 >= {closest + 0.01:.2f} m (the robot "
-                f"meets the sideboard at {closest:.2f} m), got "
+                f"meets the {what} at {closest:.2f} m), got "
                 f"dock_center={self.dock_center}"
             )
 
 
 # ----------------------------------------------------------------------------------------
-# The MJCF model.
+# The MJCF model: docking/assets/docking.xml, with the parts the configs choose set here.
 # ----------------------------------------------------------------------------------------
 
-# Fixed geometry of the scene (m). The landmark sits on a sideboard so that it appears near the
-# camera's height at every distance, inside a wide, flat crop band like the paper's 32x10.
-# The sideboard is deep and wide: the robot's body meets its front face at x = -0.45, 1 cm
-# inside the docking region's near edge (so a robot pressed against the sideboard in front of
-# the landmark is docked); a robot cannot walk past the landmark, and one that arrives beside
-# the region stands at the sideboard and has to sidestep along it.
-_CABINET = dict(front=-0.35, back=0.25, width=0.90, height=0.43)
-# The landmark: a red, wide, low slab on the sideboard, 35 cm behind its front, and a red
-# post standing behind it. Seen from the front the two read as an inverted T; from the left or
-# right the post's parallax shifts it to one side (an L or a mirrored L), and the slab foreshortens.
-_SLAB = dict(depth=0.05, width=0.12, height=0.05)
-_POST = dict(depth=0.04, width=0.04, height=0.12, behind=0.15)
-_ROBOT_RADIUS = 0.10  # the collision cylinder around the robot's body
-_ROBOT_MASS = 5.2  # kg, a Nao
-_CAM_FORWARD, _CAM_HEIGHT = 0.07, 0.48  # Nao's top camera: forehead, 0.48 m above the floor
-_ROOM_FRONT, _ROOM_BACK, _ROOM_HALF_WIDTH = 0.45, 3.2, 2.2
-_TIMESTEP = 0.02
-_STEP_MOVE_TIME, _STEP_SETTLE_TIME = 0.3, 0.1  # s: one walking step, then standing still
-_KP_XY, _KP_YAW = 20000.0, 100.0  # servo stiffness (N/m, N m/rad)
+#: The scene's MJCF asset (open it with ``python -m mujoco.viewer --mjcf <this path>``).
+ASSET_PATH = Path(__file__).resolve().parent / "assets" / "docking.xml"
+
+#: The robot's planar joints, in the order of a pose ``[x, y, yaw]``; its servos carry the
+#: same names.
+POSE_JOINTS = ("x", "y", "yaw")
+
+# The timing of one walking step (s): the servo targets glide for _STEP_MOVE_TIME, then hold
+# while the body settles for _STEP_SETTLE_TIME.
+_STEP_MOVE_TIME, _STEP_SETTLE_TIME = 0.3, 0.1
 
 
-def _kv(kp: float, inertia: float) -> float:
-    """Critical damping for a servo of stiffness ``kp`` on ``inertia``."""
-    return 2.0 * float(np.sqrt(kp * inertia))
+def make_mjcf(config: WorldConfig) -> mjcf.RootElement:
+    """The scene of ``config`` as an editable ``dm_control.mjcf`` model: the asset with the eye
+    camera's tilt and field of view and the docking region's position and size set from
+    ``config``."""
+    root = mjcf.from_path(str(ASSET_PATH))
+    cam = config.camera
+    eye = root.find("camera", "eye")
+    eye.xyaxes = _eye_xyaxes(cam.tilt_deg)
+    eye.fovy = cam.fovy_deg
+    dock = root.find("geom", "dock")
+    dock.pos = [-config.dock_center, 0.0, dock.pos[2]]
+    dock.size = [config.dock_depth / 2, config.dock_width / 2, dock.size[2]]
+    landmark = root.find("geom", "landmark_slab")
+    if config.scene == "floor":  # take the sideboard away; the landmark stands on the floor
+        sideboard = root.find("geom", "sideboard")
+        top = float(sideboard.pos[2] + sideboard.size[2])
+        sideboard.remove()
+        for name in ("landmark_slab", "landmark_post"):
+            geom = root.find("geom", name)
+            geom.pos = [geom.pos[0], geom.pos[1], geom.pos[2] - top]
+    for k, d in enumerate(config.distractors):
+        root.worldbody.add(
+            "geom",
+            name=f"distractor{k}",
+            type=d.shape,
+            size=list(d.size),
+            pos=list(d.position),
+            material=landmark.material,
+            group=landmark.group,
+        )
+    return root
 
 
 def make_model_xml(config: WorldConfig) -> str:
-    """The MJCF of the room, the robot and the landmark for ``config``."""
-    cam = config.camera
-    tilt = np.radians(cam.tilt_deg)
-    # MuJoCo cameras look along their -z axis with +y up: x-axis to the robot's right,
-    # y-axis up and tilted forward by the camera's downward pitch.
-    cam_axes = f"0 -1 0 {np.sin(tilt):.6f} 0 {np.cos(tilt):.6f}"
-    c, s, p = _CABINET, _SLAB, _POST
-    dock_x = -config.dock_center
-    yaw_inertia = 0.5 * _ROBOT_MASS * _ROBOT_RADIUS**2
-    return f"""
-<mujoco model="docking">
-  <compiler angle="radian"/>
-  <option timestep="{_TIMESTEP}" integrator="implicitfast" gravity="0 0 -9.81"/>
-  <visual>
-    <!-- No shadow maps and no multisampling: a software-rendered frame is ~20x faster. -->
-    <quality shadowsize="0" offsamples="0" numslices="16" numstacks="10"/>
-    <global offwidth="960" offheight="720"/>
-    <headlight ambient="0.55 0.55 0.55" diffuse="0.4 0.4 0.4" specular="0.05 0.05 0.05"/>
-  </visual>
-  <asset>
-    <!-- Untextured on purpose: texture sampling doubles the cost of a software-rendered
-         frame (measured 1.35 ms vs 0.69 ms at 160x120 under llvmpipe). -->
-    <material name="floor" rgba="0.70 0.62 0.48 1"/>
-    <material name="wall" rgba="0.90 0.88 0.82 1"/>
-    <material name="cabinet" rgba="0.80 0.80 0.82 1"/>
-    <material name="landmark" rgba="0.85 0.05 0.05 1" emission="0.35"/>
-    <material name="sofa" rgba="0.25 0.35 0.55 1"/>
-    <material name="wood" rgba="0.78 0.70 0.56 1"/>
-    <material name="rug" rgba="0.35 0.50 0.40 1"/>
-    <material name="plant" rgba="0.20 0.55 0.25 1"/>
-    <material name="pot" rgba="0.35 0.35 0.38 1"/>
-    <material name="nao_white" rgba="0.93 0.93 0.93 1"/>
-    <material name="nao_grey" rgba="0.45 0.47 0.50 1"/>
-    <material name="nao_blue" rgba="0.25 0.45 0.80 1"/>
-    <material name="nao_eye" rgba="0.10 0.10 0.12 1"/>
-    <material name="dock" rgba="1.0 0.9 0.0 0.6"/>
-  </asset>
-  <default>
-    <geom contype="1" conaffinity="1" friction="0.6 0.005 0.0001"/>
-    <default class="visual">
-      <geom contype="0" conaffinity="0" density="0" group="{_ROBOT_GROUP}"/>
-    </default>
-  </default>
-  <worldbody>
-    <light name="ceiling" pos="-1.0 0 2.6" dir="0.3 0 -1" diffuse="0.3 0.3 0.3"
-           specular="0.1 0.1 0.1" castshadow="false"/>
-    <geom name="floor" type="plane" size="{_ROOM_BACK + 0.5} {_ROOM_HALF_WIDTH + 0.5} 0.1"
-          material="floor"/>
-    <!-- Walls -->
-    <geom name="wall_front" type="box" pos="{_ROOM_FRONT + 0.05} 0 1.2"
-          size="0.05 {_ROOM_HALF_WIDTH + 0.1} 1.2" material="wall"/>
-    <geom name="wall_back" type="box" pos="{-_ROOM_BACK - 0.05} 0 1.2"
-          size="0.05 {_ROOM_HALF_WIDTH + 0.1} 1.2" material="wall"/>
-    <geom name="wall_left" type="box" pos="{(_ROOM_FRONT - _ROOM_BACK) / 2} {_ROOM_HALF_WIDTH + 0.05} 1.2"
-          size="{(_ROOM_FRONT + _ROOM_BACK) / 2} 0.05 1.2" material="wall"/>
-    <geom name="wall_right" type="box" pos="{(_ROOM_FRONT - _ROOM_BACK) / 2} {-_ROOM_HALF_WIDTH - 0.05} 1.2"
-          size="{(_ROOM_FRONT + _ROOM_BACK) / 2} 0.05 1.2" material="wall"/>
-    <!-- The landmark's sideboard and the landmark (the only red things in the room) -->
-    <geom name="cabinet" type="box" pos="{(c["front"] + c["back"]) / 2} 0 {c["height"] / 2}"
-          size="{(c["back"] - c["front"]) / 2} {c["width"] / 2} {c["height"] / 2}"
-          material="cabinet"/>
-    <geom name="landmark_slab" type="box"
-          pos="{s["depth"] / 2} 0 {c["height"] + s["height"] / 2}"
-          size="{s["depth"] / 2} {s["width"] / 2} {s["height"] / 2}" material="landmark"/>
-    <geom name="landmark_post" type="box"
-          pos="{p["behind"] + p["depth"] / 2} 0 {c["height"] + p["height"] / 2}"
-          size="{p["depth"] / 2} {p["width"] / 2} {p["height"] / 2}" material="landmark"/>
-    <!-- Furniture: a sofa, a low table, a shelf, a plant, a rug -->
-    <body name="sofa" pos="-2.75 0.3 0">
-      <geom type="box" pos="0 0 0.22" size="0.40 0.95 0.22" material="sofa"/>
-      <geom type="box" pos="-0.30 0 0.55" size="0.10 0.95 0.20" material="sofa"/>
-      <geom type="box" pos="0 0.90 0.35" size="0.40 0.10 0.12" material="sofa"/>
-      <geom type="box" pos="0 -0.90 0.35" size="0.40 0.10 0.12" material="sofa"/>
-    </body>
-    <body name="table" pos="-1.6 1.55 0">
-      <geom type="box" pos="0 0 0.40" size="0.35 0.25 0.02" material="wood"/>
-      <geom type="cylinder" pos="0.3 0.2 0.19" size="0.02 0.19" material="wood"/>
-      <geom type="cylinder" pos="-0.3 0.2 0.19" size="0.02 0.19" material="wood"/>
-      <geom type="cylinder" pos="0.3 -0.2 0.19" size="0.02 0.19" material="wood"/>
-      <geom type="cylinder" pos="-0.3 -0.2 0.19" size="0.02 0.19" material="wood"/>
-    </body>
-    <body name="shelf" pos="0.2 -1.45 0">
-      <geom type="box" pos="0 0 0.55" size="0.18 0.45 0.55" material="wood"/>
-    </body>
-    <body name="plant" pos="0.15 1.3 0">
-      <geom type="cylinder" pos="0 0 0.15" size="0.13 0.15" material="pot"/>
-      <geom type="ellipsoid" pos="0 0 0.55" size="0.22 0.22 0.3" material="plant"/>
-    </body>
-    <geom name="rug" type="box" pos="-2.0 -0.2 0.002" size="0.8 0.6 0.002" material="rug"
-          contype="0" conaffinity="0"/>
-    <!-- The virtual docking region: drawn in overviews only, never seen by the robot -->
-    <geom name="dock" type="box" pos="{dock_x} 0 0.003"
-          size="{config.dock_depth / 2} {config.dock_width / 2} 0.003" material="dock"
-          contype="0" conaffinity="0" group="{_DOCK_GROUP}"/>
-    <!-- A Nao-sized humanoid (0.58 m) on a planar, servo-driven base -->
-    <body name="robot" pos="0 0 0">
-      <joint name="x" type="slide" axis="1 0 0" damping="0"/>
-      <joint name="y" type="slide" axis="0 1 0" damping="0"/>
-      <joint name="yaw" type="hinge" axis="0 0 1" damping="0"/>
-      <geom name="body_collider" type="cylinder" pos="0 0 0.30" size="{_ROBOT_RADIUS} 0.27"
-            mass="{_ROBOT_MASS}" rgba="0 0 0 0" group="4"/>
-      <site name="reference" pos="0 0 0.005" size="0.01"/>
-      <geom class="visual" type="box" pos="0.02 0.05 0.015" size="0.08 0.04 0.015" material="nao_grey"/>
-      <geom class="visual" type="box" pos="0.02 -0.05 0.015" size="0.08 0.04 0.015" material="nao_grey"/>
-      <geom class="visual" type="capsule" fromto="0 0.05 0.04 0 0.05 0.15" size="0.033" material="nao_white"/>
-      <geom class="visual" type="capsule" fromto="0 -0.05 0.04 0 -0.05 0.15" size="0.033" material="nao_white"/>
-      <geom class="visual" type="sphere" pos="0.01 0.05 0.155" size="0.034" material="nao_grey"/>
-      <geom class="visual" type="sphere" pos="0.01 -0.05 0.155" size="0.034" material="nao_grey"/>
-      <geom class="visual" type="capsule" fromto="0 0.05 0.16 0 0.05 0.26" size="0.036" material="nao_white"/>
-      <geom class="visual" type="capsule" fromto="0 -0.05 0.16 0 -0.05 0.26" size="0.036" material="nao_white"/>
-      <geom class="visual" type="box" pos="0 0 0.28" size="0.05 0.085 0.03" material="nao_grey"/>
-      <geom class="visual" type="box" pos="0 0 0.365" size="0.055 0.075 0.065" material="nao_white"/>
-      <geom class="visual" type="cylinder" pos="0.052 0 0.37" euler="0 1.5708 0" size="0.03 0.006" material="nao_blue"/>
-      <geom class="visual" type="sphere" pos="0 0.1 0.41" size="0.03" material="nao_grey"/>
-      <geom class="visual" type="sphere" pos="0 -0.1 0.41" size="0.03" material="nao_grey"/>
-      <geom class="visual" type="capsule" fromto="0 0.11 0.40 0.03 0.12 0.30" size="0.024" material="nao_white"/>
-      <geom class="visual" type="capsule" fromto="0 -0.11 0.40 0.03 -0.12 0.30" size="0.024" material="nao_white"/>
-      <geom class="visual" type="capsule" fromto="0.03 0.12 0.30 0.08 0.12 0.24" size="0.021" material="nao_grey"/>
-      <geom class="visual" type="capsule" fromto="0.03 -0.12 0.30 0.08 -0.12 0.24" size="0.021" material="nao_grey"/>
-      <geom class="visual" type="cylinder" pos="0 0 0.44" size="0.025 0.015" material="nao_grey"/>
-      <geom class="visual" type="ellipsoid" pos="0 0 0.505" size="0.062 0.068 0.062" material="nao_white"/>
-      <geom class="visual" type="sphere" pos="0.052 0.025 0.51" size="0.012" material="nao_eye"/>
-      <geom class="visual" type="sphere" pos="0.052 -0.025 0.51" size="0.012" material="nao_eye"/>
-      <geom class="visual" type="cylinder" pos="0 0.066 0.505" euler="1.5708 0 0" size="0.035 0.008" material="nao_grey"/>
-      <geom class="visual" type="cylinder" pos="0 -0.066 0.505" euler="1.5708 0 0" size="0.035 0.008" material="nao_grey"/>
-      <camera name="eye" pos="{_CAM_FORWARD} 0 {_CAM_HEIGHT}" xyaxes="{cam_axes}"
-              fovy="{cam.fovy_deg}"/>
-    </body>
-    <camera name="overview" pos="-1.55 -0.95 1.05" mode="targetbody" target="overview_target" fovy="45"/>
-    <body name="overview_target" pos="-0.40 0.0 0.3"/>
-    <camera name="top" pos="-0.85 0 2.6" xyaxes="0 -1 0 1 0 0" fovy="50"/>
-  </worldbody>
-  <actuator>
-    <position name="x" joint="x" kp="{_KP_XY}" kv="{_kv(_KP_XY, _ROBOT_MASS)}"
-              forcerange="-400 400"/>
-    <position name="y" joint="y" kp="{_KP_XY}" kv="{_kv(_KP_XY, _ROBOT_MASS)}"
-              forcerange="-400 400"/>
-    <position name="yaw" joint="yaw" kp="{_KP_YAW}" kv="{_kv(_KP_YAW, yaw_inertia)}"
-              forcerange="-40 40"/>
-  </actuator>
-</mujoco>
-"""
+    """The MJCF of ``config``'s scene as one string (every number at full precision); the
+    model of :func:`make_model` and of :class:`DockingEnv` is compiled from it."""
+    return make_mjcf(config).to_xml_string()
+
+
+def make_model(config: WorldConfig) -> mujoco.MjModel:
+    """The compiled MuJoCo model of ``config``'s scene."""
+    return mujoco.MjModel.from_xml_string(make_model_xml(config))
+
+
+def _eye_xyaxes(tilt_deg: float) -> list[float]:
+    """The eye camera's ``xyaxes`` for a downward pitch of ``tilt_deg``: x to the robot's
+    right, y up and tilted forward. Rounded to 6 decimals, as the scene has always been
+    written (so that runs stay bit-identical)."""
+    tilt = np.radians(tilt_deg)
+    sin, cos = float(f"{np.sin(tilt):.6f}"), float(f"{np.cos(tilt):.6f}")
+    return [0.0, -1.0, 0.0, sin, 0.0, cos]
+
+
+def _box_bounds(model: mujoco.MjModel, name: str) -> tuple[np.ndarray, np.ndarray]:
+    """World-frame corners ``(low, high)`` of an axis-aligned box geom of the world body,
+    rounded to 1e-12 m (pos +- size leaves float noise in the last bit)."""
+    geom = model.geom(name)
+    if geom.type[0] != mujoco.mjtGeom.mjGEOM_BOX or geom.bodyid[0] != 0:
+        raise ValueError(f"{ASSET_PATH}: geom {name!r} must be a box of the world body")
+    if not np.array_equal(geom.quat, [1.0, 0.0, 0.0, 0.0]):
+        raise ValueError(f"{ASSET_PATH}: geom {name!r} must be axis-aligned")
+    return np.round(geom.pos - geom.size, 12), np.round(geom.pos + geom.size, 12)
+
+
+@functools.cache
+def _asset_model() -> mujoco.MjModel:
+    return mujoco.MjModel.from_xml_path(str(ASSET_PATH))
+
+
+@dataclasses.dataclass(frozen=True)
+class SceneFacts:
+    """The fixed sizes of the scene that checks and figures need, read from the compiled
+    asset (m).
+
+    Attributes:
+      room_front, room_back: The room's inner faces along ``x``: the wall behind the landmark
+        at ``x = room_front`` and the one behind the start region at ``x = -room_back``.
+      room_half_width: The side walls' inner faces are ``y = +-room_half_width``.
+      sideboard: The sideboard's floor rectangle ``(x0, y0, x1, y1)``; ``x0`` is its front.
+      sideboard_height: Its top (the landmark stands on it).
+      robot_radius: Radius of the robot's collision cylinder.
+      camera_height: Height of the robot's eye camera above the floor.
+    """
+
+    room_front: float
+    room_back: float
+    room_half_width: float
+    sideboard: tuple[float, float, float, float]
+    sideboard_height: float
+    robot_radius: float
+    camera_height: float
+
+
+def scene_facts(model: mujoco.MjModel | None = None) -> SceneFacts:
+    """The :class:`SceneFacts` of ``model`` (default: the asset as written)."""
+    model = _asset_model() if model is None else model
+    lo, hi = _box_bounds(model, "sideboard")
+    robot = model.body("robot").id
+    eye = model.camera("eye")
+    if model.geom("body_collider").bodyid[0] != robot or eye.bodyid[0] != robot:
+        raise ValueError(f"{ASSET_PATH}: body_collider and eye must belong to the robot")
+    return SceneFacts(
+        room_front=float(_box_bounds(model, "wall_front")[0][0]),
+        room_back=float(-_box_bounds(model, "wall_back")[1][0]),
+        room_half_width=float(_box_bounds(model, "wall_left")[0][1]),
+        sideboard=(float(lo[0]), float(lo[1]), float(hi[0]), float(hi[1])),
+        sideboard_height=float(hi[2]),
+        robot_radius=float(model.geom("body_collider").size[0]),
+        camera_height=float(eye.pos[2]),
+    )
 
 
 class Physics(dm_mujoco.Physics):
-    """MuJoCo physics of the docking world with the helpers the task needs."""
+    """MuJoCo physics of the docking world with the helpers the task needs.
+
+    The robot's pose ``[x, y, yaw]`` is read and written through the joints and servos named
+    in :data:`POSE_JOINTS` (``physics.named.data.qpos[["x", "y", "yaw"]]``); their addresses
+    are looked up once, when the model is loaded, and must be consecutive, so that the hot
+    path uses plain slices."""
+
+    def _reload_from_data(self, data) -> None:
+        super()._reload_from_data(data)
+        model = self.model.ptr
+        self._qpos = _consecutive([model.joint(n).qposadr[0] for n in POSE_JOINTS], "qpos")
+        self._qvel = _consecutive([model.joint(n).dofadr[0] for n in POSE_JOINTS], "qvel")
+        self._ctrl = _consecutive([model.actuator(n).id for n in POSE_JOINTS], "ctrl")
+        steps = [_STEP_MOVE_TIME / model.opt.timestep, _STEP_SETTLE_TIME / model.opt.timestep]
+        self._n_move, self._n_settle = (int(round(n)) for n in steps)
 
     def pose(self) -> np.ndarray:
         """The robot's ground-truth pose ``[x, y, yaw]`` (m, m, rad)."""
-        return np.array(self.data.qpos[:3], dtype=np.float64)
+        return np.array(self.data.qpos[self._qpos], dtype=np.float64)
+
+    def servo_targets(self) -> np.ndarray:
+        """The pose ``[x, y, yaw]`` the servos currently hold (a view)."""
+        return self.data.ctrl[self._ctrl]
 
     def set_pose(self, pose) -> None:
         """Place the robot at ``pose`` at rest, with its servos holding it there."""
         pose = np.asarray(pose, dtype=np.float64)
         with self.reset_context():
-            self.data.qpos[:3] = pose
-            self.data.qvel[:3] = 0.0
-            self.data.ctrl[:3] = pose
+            self.data.qpos[self._qpos] = pose
+            self.data.qvel[self._qvel] = 0.0
+            self.data.ctrl[self._ctrl] = pose
 
     def walk_to(self, target, stop=None) -> bool:
         """One walking step: the servo targets glide from the current pose to ``target``
@@ -389,26 +448,32 @@ class Physics(dm_mujoco.Physics):
 
         ``stop(pose)`` (optional) is checked after every physics step; once it holds, the
         robot halts on the spot and ``walk_to`` returns True (the dock's detector)."""
-        start = np.array(self.data.ctrl[:3])
+        qpos = self.data.qpos[self._qpos]  # views of the robot's pose and servo targets
+        ctrl = self.data.ctrl[self._ctrl]
+        start = np.array(ctrl)
         target = np.asarray(target, dtype=np.float64)
-        n_move = int(round(_STEP_MOVE_TIME / _TIMESTEP))
-        n_settle = int(round(_STEP_SETTLE_TIME / _TIMESTEP))
-        qpos, ctrl = self.data.qpos, self.data.ctrl
+        n_move, n_settle = self._n_move, self._n_settle
         stopped = False
         for k in range(1, n_move + n_settle + 1):
             if k <= n_move:
                 u = k / n_move
-                ctrl[:3] = start + (target - start) * (u * u * (3.0 - 2.0 * u))
+                ctrl[:] = start + (target - start) * (u * u * (3.0 - 2.0 * u))
             mujoco.mj_step(self.model.ptr, self.data.ptr)
             if stop is not None and stop(qpos):
                 stopped = True
                 break
         # The servos now hold the body where it actually is, so a blocked step does not
         # keep pushing into the obstacle during the next one.
-        ctrl[:3] = qpos[:3]
-        self.data.qvel[:3] = 0.0
+        ctrl[:] = qpos
+        self.data.qvel[self._qvel] = 0.0
         self.forward()
         return stopped
+
+    def place(self, pose) -> None:
+        """Move the robot to ``pose`` for geometric queries: ``qpos`` and the kinematics only
+        (velocities, servo targets and dynamics are left as they are)."""
+        self.data.qpos[self._qpos] = pose
+        self.update_kinematics()
 
     def update_kinematics(self) -> None:
         """Recompute body and camera frames from ``qpos`` (no dynamics)."""
@@ -439,6 +504,17 @@ class Physics(dm_mujoco.Physics):
         uv = np.stack([u, v], axis=1)
         uv[depth <= 1e-6] = np.nan
         return uv
+
+
+def _consecutive(addresses, what: str) -> slice:
+    """The slice of ``addresses`` if they are consecutive (fast views), else ValueError."""
+    first = int(addresses[0])
+    if list(addresses) != list(range(first, first + len(addresses))):
+        raise ValueError(
+            f"{ASSET_PATH}: the {what} addresses of {POSE_JOINTS} must be consecutive, "
+            f"got {list(addresses)}"
+        )
+    return slice(first, first + len(addresses))
 
 
 def _scene_option(show_robot: bool, show_dock: bool) -> wrapper.MjvOption:
@@ -481,8 +557,7 @@ class DockingEnv(dm_env.Environment):
         cam = self._config.camera
         self._camera = _make_camera(self._physics, cam.height, cam.width, "eye")
         self._camera_option = _scene_option(show_robot=False, show_dock=False)
-        self._start_near = self._config.start_near
-        self._start_far = self._config.start_far
+        self._start_region = StartRegion.of(self._config)
         self._frame = None
         self._steps = 0
         self._needs_reset = True
@@ -508,14 +583,16 @@ class DockingEnv(dm_env.Environment):
         return self._physics
 
     @property
-    def start_region(self) -> tuple[float, float]:
-        """``(near, far)`` distances of the start trapezoid; the curriculum widens ``far``."""
-        return self._start_near, self._start_far
+    def start_region(self) -> StartRegion:
+        """The start trapezoid of the following trials (the config's, until
+        :meth:`set_start_region` changes its edges)."""
+        return self._start_region
 
     def set_start_region(self, near: float, far: float) -> None:
-        """Change the start trapezoid for the following trials (Learning from Easy Missions)."""
+        """Cut the start trapezoid at other distances for the following trials (Learning from
+        Easy Missions widens ``far``); the same checks as ``WorldConfig.start_near/start_far``."""
         dataclasses.replace(self._config, start_near=near, start_far=far)  # validates
-        self._start_near, self._start_far = float(near), float(far)
+        self._start_region = self._start_region.with_edges(float(near), float(far))
 
     # -- ground truth (never read by the learner) -----------------------------------------
     @property
@@ -582,7 +659,7 @@ class DockingEnv(dm_env.Environment):
         noise = self._rng.normal(0.0, 1.0, size=3)
         forward += cfg.step_noise_xy * noise[0]
         side += cfg.step_noise_xy * noise[1]
-        x, y, yaw = self._physics.data.ctrl[:3]
+        x, y, yaw = self._physics.servo_targets()
         cos, sin = np.cos(yaw), np.sin(yaw)
         return np.array(
             [
@@ -632,12 +709,10 @@ class DockingEnv(dm_env.Environment):
         margin = self._config.view_margin_px if margin is None else margin
         if pose is not None:
             saved = self._physics.pose()
-            self._physics.data.qpos[:3] = pose
-            self._physics.update_kinematics()
+            self._physics.place(pose)
         uv = self._physics.project(self._physics.landmark_corners(), "eye", cam)
         if pose is not None:
-            self._physics.data.qpos[:3] = saved
-            self._physics.update_kinematics()
+            self._physics.place(saved)
         x0, y0, x1, y1 = cam.crop
         return bool(
             np.all(np.isfinite(uv))
@@ -648,18 +723,10 @@ class DockingEnv(dm_env.Environment):
         )
 
     def sample_start_pose(self, max_tries: int = 10000) -> np.ndarray:
-        """A uniform random pose in the start trapezoid from which the landmark is inside the
-        crop rectangle (rejection sampling)."""
-        cfg = self._config
-        near, far = self._start_near, self._start_far
-        tan = np.tan(np.radians(cfg.start_half_angle_deg))
+        """A uniform random pose in the start trapezoid (:meth:`StartRegion.sample`) from which
+        the landmark is inside the crop rectangle (rejection sampling)."""
         for _ in range(max_tries):
-            # Uniform over the trapezoid's area: its width grows linearly with distance d,
-            # so d has density proportional to d.
-            d = np.sqrt(self._rng.uniform(near**2, far**2))
-            y = self._rng.uniform(-1.0, 1.0) * d * tan
-            yaw = np.radians(self._rng.uniform(-cfg.start_yaw_deg, cfg.start_yaw_deg))
-            pose = np.array([-d, y, yaw])
+            pose = self._start_region.sample(self._rng)
             if self.landmark_in_crop(pose):
                 return pose
         raise RuntimeError(
@@ -669,24 +736,23 @@ class DockingEnv(dm_env.Environment):
 
 
 def footprints(config: WorldConfig) -> dict[str, tuple[float, float, float, float]]:
-    """Floor-plan rectangles ``(x0, y0, x1, y1)`` of the sideboard, the landmark's two boxes and
-    the docking region, for top-down figures."""
-    c, s, p = _CABINET, _SLAB, _POST
-    return {
-        "cabinet": (c["front"], -c["width"] / 2, c["back"], c["width"] / 2),
-        "landmark_slab": (0.0, -s["width"] / 2, s["depth"], s["width"] / 2),
-        "landmark_post": (p["behind"], -p["width"] / 2, p["behind"] + p["depth"], p["width"] / 2),
-        "dock": (
-            -config.dock_center - config.dock_depth / 2,
-            -config.dock_width / 2,
-            -config.dock_center + config.dock_depth / 2,
-            config.dock_width / 2,
-        ),
-    }
+    """Floor-plan rectangles ``(x0, y0, x1, y1)`` of the sideboard (if the scene has one), the
+    landmark's two boxes and the docking region of ``config``'s compiled scene, for top-down
+    figures."""
+    model = make_model(config)
+    rects = {}
+    names = ("landmark_slab", "landmark_post", "dock")
+    for name in (("sideboard",) if config.scene == "sideboard" else ()) + names:
+        lo, hi = _box_bounds(model, name)
+        rects[name] = (float(lo[0]), float(lo[1]), float(hi[0]), float(hi[1]))
+    return rects
 
+
+_FACTS = scene_facts()
+_ROOM_BACK = _FACTS.room_back
 
 #: Radius of the robot's collision cylinder (m), for drawing its footprint.
-ROBOT_RADIUS = _ROBOT_RADIUS
+ROBOT_RADIUS = _FACTS.robot_radius
 
 
 def in_dock(pose, config: WorldConfig) -> bool:

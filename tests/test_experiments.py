@@ -11,7 +11,6 @@ from docking.experiments import (
     EXPERIMENT_2,
     Curriculum,
     ExperimentConfig,
-    feature_change,
     initial_network,
     run_experiment,
 )
@@ -86,8 +85,7 @@ def test_the_record_is_complete(tiny_result):
     assert r.curve_rewarded[-1] <= int(r.train.success.sum())
     assert r.wall_time_train > 0 and r.wall_time_test > 0
     # The learning run starts from initial_network(config, seed).
-    assert feature_change(r).shape == (TINY.network.n_features,)
-    assert np.all(feature_change(r) <= 1 + 1e-9)
+    # (docking.analysis.feature_change compares them; tests/test_analysis.py tests it.)
     assert initial_network(TINY, 3).W.shape == r.network.W.shape
 
 
@@ -124,3 +122,48 @@ def test_run_or_load_reuses_and_keeps_variants_side_by_side(tmp_path):
     assert path.stat().st_mtime_ns == stamp
     assert len(run_or_load(TINY, 5, results_dir=tmp_path, progress=False).test) == 3
     assert path.stat().st_mtime_ns == stamp
+
+
+def test_near_only_curriculum_trains_nearer_than_it_tests():
+    c = Curriculum(far_initial=0.7, grow_trials=0, far_final=0.7)
+    assert c.far_at(0, 1.5) == 0.7 and c.far_at(1999, 1.5) == 0.7
+    grow = Curriculum(far_initial=0.7, grow_trials=10, far_final=1.0)
+    assert grow.far_at(5, 1.5) == pytest.approx(0.85) and grow.far_at(10, 1.5) == 1.0
+    with pytest.raises(ValueError, match="far_final"):
+        dataclasses.replace(EXPERIMENT_2, curriculum=Curriculum(0.7, far_final=1.6))
+    config = dataclasses.replace(TINY, curriculum=Curriculum(0.6, far_final=0.6))
+    result = run_experiment(config, seed=1, progress=False)
+    assert np.all(result.train.start_far == 0.6)
+    assert np.all(-result.train.starts[:, 0] <= 0.6 + 1e-9)
+
+
+def test_heldout_trials_use_their_own_streams_and_change_nothing_else(tiny_result, tmp_path):
+    from docking.world import Distractor
+
+    world = dataclasses.replace(TINY.world, distractors=(Distractor.cup(),))
+    config = dataclasses.replace(TINY, heldout_trials=5, heldout_world=world)
+    result = run_experiment(config, seed=3, progress=False)
+    np.testing.assert_array_equal(result.network.W, tiny_result.network.W)
+    np.testing.assert_array_equal(result.test.poses, tiny_result.test.poses)
+    assert len(result.heldout) == 5
+    assert not np.array_equal(result.heldout.starts[:2], result.test.starts[:2])
+    path = save_result(result, tmp_path / "r.npz")
+    loaded = load_result(path)
+    np.testing.assert_array_equal(loaded.heldout.poses, result.heldout.poses)
+    assert loaded.config.heldout_world == world
+    assert tiny_result.heldout is None
+
+
+def test_two_stage_pretraining_moves_w_without_delta():
+    config = dataclasses.replace(
+        TINY,
+        network=dataclasses.replace(TINY.network, eps_w=0.0),
+        pretrain_trials=3,
+        pretrain_rate=0.2,
+    )
+    result = run_experiment(config, seed=3, progress=False)
+    start = initial_network(config, 3).W
+    moved = np.flatnonzero(np.abs(result.network.W - start).max(axis=1) > 1e-6)
+    assert len(moved) >= 1  # the winners moved towards the frames, SARSA left W alone
+    np.testing.assert_allclose(np.linalg.norm(result.network.W, axis=1), 1.0)
+    assert result.network.W.min() >= 0

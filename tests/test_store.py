@@ -275,3 +275,12 @@ def test_run_or_load_is_quick_to_load(stored):
     t0 = time.perf_counter()
     run_or_load(TINY, SEED, results_dir=results_dir, progress=False)
     assert time.perf_counter() - t0 < 5
+
+
+def test_a_run_without_a_final_test_saves_and_loads(tmp_path):
+    config = dataclasses.replace(TINY, test_trials=0, heldout_trials=2)
+    result = run_or_load(config, 1, results_dir=tmp_path, progress=False)
+    assert len(result.test) == 0 and result.test.poses.shape == (0, 3)
+    assert len(result.heldout) == 2
+    loaded = load_result(result_path(config, 1, tmp_path))
+    assert len(loaded.test) == 0 and np.isnan(loaded.test.success_rate)

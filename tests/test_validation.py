@@ -124,7 +124,7 @@ BAD_EXPERIMENT_FIELDS = {
     "network": [None, EXPERIMENT_1.world],
     "curriculum": [None, 0.7],
     "train_trials": [0, -1, 2.5, True, math.inf, "100", None],
-    "test_trials": [0, 1.0, False],
+    "test_trials": [-1, 1.0, False],
     "eval_every": [0, 0.5, None],
     "eval_trials": [-1, 2.0, math.nan],
     "bootstrap_on_truncation": ["abc", 1, 0, None, "True"],

@@ -3,6 +3,7 @@
 import dataclasses
 
 import dm_env
+import mujoco
 import numpy as np
 import pytest
 from absl.testing import absltest
@@ -10,16 +11,23 @@ from dm_env import test_utils
 
 from docking.camera import CameraConfig, red_mask
 from docking.oracle import oracle_action
+from docking.region import StartRegion
 from docking.world import (
+    _DOCK_GROUP,
+    _ROBOT_GROUP,
+    ASSET_PATH,
     BACKWARD,
     FORWARD,
     LEFT,
+    POSE_JOINTS,
     RIGHT,
     ROBOT_RADIUS,
     DockingEnv,
     WorldConfig,
     footprints,
     in_dock,
+    make_model,
+    scene_facts,
 )
 
 QUIET = WorldConfig(step_noise_xy=0.0, step_noise_yaw_deg=0.0)
@@ -93,18 +101,20 @@ def test_landmark_inside_crop_at_every_start(env):
         assert timestep.observation.sum() > 0
         # and the start is in the trapezoid, facing the landmark's wall
         x, y, yaw = env.pose
-        near, far = env.start_region
-        assert near - 1e-9 <= -x <= far + 1e-9
-        assert abs(y) <= -x * np.tan(np.radians(env.config.start_half_angle_deg)) + 1e-9
+        assert env.start_region == StartRegion.of(env.config)
+        assert env.start_region.contains(env.pose)
         assert abs(np.degrees(yaw)) <= env.config.start_yaw_deg + 1e-9
 
 
 def test_start_region_can_be_narrowed(env):
     env.set_start_region(0.6, 0.8)
     try:
+        assert (env.start_region.near, env.start_region.far) == (0.6, 0.8)
+        assert env.start_region.half_angle_deg == env.config.start_half_angle_deg
         for _ in range(50):
             env.reset()
             assert 0.6 - 1e-9 <= -env.pose[0] <= 0.8 + 1e-9
+            assert env.start_region.contains(env.pose)
     finally:
         env.set_start_region(env.config.start_near, env.config.start_far)
     with pytest.raises(ValueError, match="start_far"):
@@ -185,7 +195,7 @@ def test_step_limit_ends_trial_as_truncation(quiet_env):
 
 
 def test_walking_into_the_landmark_does_not_pass_through(quiet_env):
-    # Beside the docking region (so the trial does not end) and straight at the cabinet.
+    # Beside the docking region (so the trial does not end) and straight at the sideboard.
     quiet_env.reset_to([-0.7, QUIET.dock_width / 2 + 0.03, 0.0])
     xs = []
     for _ in range(8):  # 0.25 m to the sideboard, then five steps more
@@ -193,7 +203,7 @@ def test_walking_into_the_landmark_does_not_pass_through(quiet_env):
         xs.append(quiet_env.pose[0])
         assert not timestep.last()
     # The robot's collision cylinder stops at the sideboard's front face.
-    x0 = footprints(QUIET)["cabinet"][0]
+    x0 = footprints(QUIET)["sideboard"][0]
     assert max(xs) <= x0 - ROBOT_RADIUS + 0.01
     assert max(xs) >= x0 - ROBOT_RADIUS - 0.01  # it did reach the sideboard
     assert np.ptp(xs[-4:]) < 0.01  # and stays there
@@ -271,3 +281,161 @@ def test_robot_pressed_against_the_sideboard_in_front_of_the_landmark_is_docked(
     assert not quiet_env.docked  # still beside the region, pressed against the sideboard
     timestep = quiet_env.step(RIGHT)
     assert timestep.last() and timestep.reward == 1.0
+
+
+# -- the scene as an MJCF asset (issue 8) ---------------------------------------------------
+
+
+def test_asset_compiles_standalone_and_matches_the_default_world():
+    # The asset alone (as the viewer opens it) is the scene of the default WorldConfig.
+    standalone = mujoco.MjModel.from_xml_path(str(ASSET_PATH))
+    model = make_model(WorldConfig())
+    for field in ("geom_size", "geom_pos", "cam_quat", "cam_fovy", "actuator_biasprm"):
+        np.testing.assert_array_equal(getattr(standalone, field), getattr(model, field))
+
+
+def test_config_sets_camera_and_dock_in_the_compiled_model():
+    cfg = WorldConfig(
+        dock_center=0.5, dock_depth=0.1, dock_width=0.3, camera=CameraConfig(tilt_deg=7.0)
+    )
+    model = make_model(cfg)
+    np.testing.assert_allclose(model.geom("dock").pos[:2], [-0.5, 0.0])
+    np.testing.assert_allclose(model.geom("dock").size[:2], [0.05, 0.15])
+    assert model.cam("eye").fovy[0] == cfg.camera.fovy_deg
+    # The camera's optical axis (-z) points forward and down by the tilt.
+    optical_axis = -model.cam("eye").mat0.reshape(3, 3)[:, 2]
+    np.testing.assert_allclose(
+        optical_axis, [np.cos(np.radians(7.0)), 0.0, -np.sin(np.radians(7.0))], atol=1e-6
+    )
+    assert footprints(cfg)["dock"] == pytest.approx((-0.55, -0.15, -0.45, 0.15))
+
+
+def test_scene_facts_are_read_from_the_compiled_model():
+    facts = scene_facts()
+    model = make_model(WorldConfig())
+    assert facts.robot_radius == ROBOT_RADIUS == model.geom("body_collider").size[0]
+    assert facts.sideboard == footprints(WorldConfig())["sideboard"]
+    sideboard = model.geom("sideboard")
+    assert facts.sideboard[0] == pytest.approx(sideboard.pos[0] - sideboard.size[0])
+    assert facts.sideboard_height == pytest.approx(2 * sideboard.size[2])
+    assert facts.camera_height == model.cam("eye").pos[2]
+    # The landmark stands on the sideboard, its front face is x = 0.
+    slab = footprints(WorldConfig())["landmark_slab"]
+    assert slab[0] == 0.0
+    assert model.geom("landmark_slab").pos[2] - model.geom("landmark_slab").size[2] == (
+        pytest.approx(facts.sideboard_height)
+    )
+    # The start region fits in the room.
+    assert WorldConfig().start_far < facts.room_back
+
+
+def test_servos_are_critically_damped():
+    # kv = 2 sqrt(kp * inertia) as the asset's comment says, with the compiled robot's mass
+    # (x, y) and yaw inertia.
+    model = make_model(WorldConfig())
+    robot = model.body("robot")
+    inertia = {"x": robot.mass[0], "y": robot.mass[0], "yaw": robot.inertia[2]}
+    for name, value in inertia.items():
+        actuator = model.actuator(name)
+        kp, kv = actuator.gainprm[0], -actuator.biasprm[2]
+        assert kv == pytest.approx(2 * np.sqrt(kp * value), rel=1e-9), name
+
+
+def test_pose_is_read_through_the_named_joints(quiet_env):
+    quiet_env.reset_to([-0.9, 0.1, 0.05])
+    quiet_env.step(LEFT)
+    named = quiet_env.physics.named.data.qpos[list(POSE_JOINTS)]
+    np.testing.assert_array_equal(quiet_env.pose, named)
+    np.testing.assert_array_equal(
+        quiet_env.physics.servo_targets(), quiet_env.physics.named.data.ctrl[list(POSE_JOINTS)]
+    )
+
+
+def test_geom_groups_of_the_asset():
+    model = make_model(WorldConfig())
+    groups = {model.geom(i).name: int(model.geom_group[i]) for i in range(model.ngeom)}
+    assert groups["dock"] == _DOCK_GROUP
+    robot = model.body("robot").id
+    visual = [
+        i
+        for i in range(model.ngeom)
+        if model.geom_bodyid[i] == robot and model.geom(i).name != "body_collider"
+    ]
+    assert visual and all(model.geom_group[i] == _ROBOT_GROUP for i in visual)
+
+
+def test_a_distractor_is_red_solid_and_seen_when_in_view():
+    from docking.experiments import EXPERIMENT_2, ExperimentConfig
+    from docking.world import Distractor
+
+    cup = Distractor.cup(y=0.30)
+    world = WorldConfig(distractors=(cup,))
+    plain, with_cup = DockingEnv(seed=0), DockingEnv(world, seed=0)
+    geom = with_cup.physics.model.geom("distractor0")
+    np.testing.assert_allclose(geom.size[:2], cup.size)
+    np.testing.assert_allclose(with_cup.physics.data.geom("distractor0").xpos, cup.position)
+    # Seen from straight in front, far enough back, the cup enters the crop beside the landmark.
+    pose = [-1.4, 0.0, 0.0]
+    seen = with_cup.reset_to(pose).observation
+    baseline = plain.reset_to(pose).observation
+    assert seen.sum() > baseline.sum() + 0.5
+    # The cup stands on the robot's left (+y): it appears left of the landmark in the image,
+    # and the landmark's own pixels are unchanged.
+    assert np.array_equal(seen[:, 13:], baseline[:, 13:])
+    assert seen[:, :13].sum() > 0.5 and baseline[:, :13].sum() == 0
+    # The default world has none, and a config with one round-trips through a dict.
+    assert WorldConfig().distractors == ()
+    config = dataclasses.replace(
+        EXPERIMENT_2, world=dataclasses.replace(EXPERIMENT_2.world, distractors=(cup,))
+    )
+    assert ExperimentConfig.from_dict(config.to_dict()) == config
+
+
+@pytest.mark.parametrize(
+    "kwargs,match",
+    [
+        (dict(shape="cone", size=(0.1,), position=(0, 0, 0)), "Distractor.shape"),
+        (dict(shape="box", size=(0.1, 0.1), position=(0, 0, 0)), "Distractor.size"),
+        (dict(shape="sphere", size=(-0.1,), position=(0, 0, 0)), r"Distractor.size\[0\]"),
+        (dict(shape="sphere", size=(0.1,), position=(0, 0)), "Distractor.position"),
+        (dict(shape="sphere", size=(0.1,), position=(0, float("nan"), 0)), "position"),
+    ],
+)
+def test_bad_distractors_raise_naming_the_field(kwargs, match):
+    from docking.world import Distractor
+
+    with pytest.raises(ValueError, match=match):
+        Distractor(**kwargs)
+    with pytest.raises(ValueError, match="distractors"):
+        WorldConfig(distractors=("cup",))
+
+
+def test_the_floor_scene_has_no_sideboard_and_the_landmark_on_the_floor():
+    from docking.experiments import FLOOR_WORLD
+
+    env = DockingEnv(FLOOR_WORLD, seed=0)
+    model = env.physics.model
+    names = {model.geom(k).name for k in range(model.ngeom)}
+    assert "sideboard" not in names and "sideboard" not in footprints(FLOOR_WORLD)
+    slab = env.physics.data.geom("landmark_slab")
+    assert slab.xpos[2] == pytest.approx(model.geom("landmark_slab").size[2])  # on the floor
+    # Nothing stops the robot at the dock: it can walk past the landmark's side ...
+    quiet = DockingEnv(dataclasses.replace(FLOOR_WORLD, step_noise_xy=0.0, step_noise_yaw_deg=0.0))
+    quiet.reset_to([-0.7, 0.25, 0.0])
+    for _ in range(6):
+        quiet.step(FORWARD)
+    assert quiet.pose[0] > 0.0  # beyond the landmark's front face
+    # ... and the landmark's image moves up the frame with distance.
+    rows = []
+    for d in (0.7, 1.0, 1.4):
+        env.physics.set_pose([-d, 0.0, 0.0])
+        env.physics.update_kinematics()
+        rows.append(
+            env.physics.project(env.physics.landmark_corners(), "eye", FLOOR_WORLD.camera)[
+                :, 1
+            ].mean()
+        )
+    assert rows[0] > rows[1] + 10 > rows[2] + 20
+    for _ in range(30):
+        env.reset()
+        assert env.landmark_in_crop()
