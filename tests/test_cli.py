@@ -22,6 +22,7 @@ def _cli(args, tmp_path, module="docking", timeout=300):
         "PYTHONPATH": os.pathsep.join([str(REPO), os.environ.get("PYTHONPATH", "")]),
         "DOCKING_RESULTS": str(tmp_path / "results"),
         "DOCKING_FIGURES": str(tmp_path / "figures"),
+        "COLUMNS": "250",  # help text on one line per option
     }
     return subprocess.run(
         [sys.executable, "-m", module, *args],
