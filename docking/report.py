@@ -1,7 +1,9 @@
 """The results table (the paper's numbers beside this reproduction's) and the figures.
 
-``python -m docking.report`` loads the saved runs of both experiments (running any that are
-missing) and prints the table in Markdown; the notebooks show the same table.
+``python -m docking report`` (the CLI, :mod:`docking.cli`) loads the saved runs of both
+experiments (running any that are missing) and prints the table in Markdown; with
+``--readme README.md`` it also rewrites the README's table between the markers
+:data:`README_START` and :data:`README_END`. The notebooks show the same tables.
 
 The ``save_fig*`` functions are the callers of the figures: each computes the figure's arrays
 with :mod:`docking.analysis`, draws them with :mod:`docking.figures`, saves the figure
@@ -18,14 +20,11 @@ from matplotlib.figure import Figure
 
 from docking import analysis, figures
 from docking.experiments import (
-    EXPERIMENT_1,
-    EXPERIMENT_2,
     HEADLINE_SEED,
     SEEDS,
     ExperimentConfig,
     ExperimentResult,
 )
-from docking.store import run_seeds
 from docking.world import DockingEnv
 
 #: The paper's figures (Sec. III).
@@ -285,11 +284,55 @@ def markdown_table(rows: list[tuple[str, str, str]]) -> str:
     return "\n".join(lines)
 
 
-def main() -> None:
-    results1 = run_seeds(EXPERIMENT_1, SEEDS[EXPERIMENT_1.name])
-    results2 = run_seeds(EXPERIMENT_2, SEEDS[EXPERIMENT_2.name])
-    print(markdown_table(experiment1_rows(results1) + experiment2_rows(results2)))
+#: The README's generated block lies between these lines.
+README_START = "<!-- results:start -->"
+README_END = "<!-- results:end -->"
+
+
+def results_table(results1: list[ExperimentResult], results2: list[ExperimentResult]) -> str:
+    """The results table of both experiments in Markdown."""
+    return markdown_table(experiment1_rows(results1) + experiment2_rows(results2))
+
+
+def replace_block(text: str, block: str) -> str:
+    """``text`` with the lines between :data:`README_START` and :data:`README_END` replaced
+    by ``block``; ``ValueError`` unless each marker occurs once, in that order."""
+    starts, ends = text.count(README_START), text.count(README_END)
+    if starts != 1 or ends != 1 or text.index(README_START) > text.index(README_END):
+        raise ValueError(
+            f"the README must hold one {README_START!r} line followed by one {README_END!r} "
+            f"line (found {starts} and {ends})"
+        )
+    head, rest = text.split(README_START, 1)
+    _, tail = rest.split(README_END, 1)
+    return f"{head}{README_START}\n{block.strip()}\n{README_END}{tail}"
+
+
+def update_readme(path, table: str) -> bool:
+    """Write ``table`` into the README at ``path`` between the markers (atomically); whether
+    the file changed."""
+    from pathlib import Path
+
+    from docking.fileio import atomic_write
+
+    path = Path(path)
+    text = path.read_text(encoding="utf-8")
+    new = replace_block(text, table)
+    if new == text:
+        return False
+    atomic_write(path, lambda f: f.write(new.encode("utf-8")))
+    return True
+
+
+def main(argv=None) -> int:
+    """``python -m docking.report [--readme README.md]``: the same as ``python -m docking
+    report``."""
+    import sys
+
+    from docking.cli import main as cli_main
+
+    return cli_main(["report", *(sys.argv[1:] if argv is None else argv)])
 
 
 if __name__ == "__main__":
-    main()
+    raise SystemExit(main())

@@ -389,12 +389,6 @@ def run_or_load(
     return result
 
 
-def _run_or_load_job(args) -> str:
-    config, seed, results_dir, force = args
-    run_or_load(config, seed, results_dir, force=force, progress=False)
-    return str(result_path(config, seed, results_dir))
-
-
 def run_seeds(
     config: ExperimentConfig,
     seeds,
@@ -404,25 +398,19 @@ def run_seeds(
     progress: bool = True,
 ) -> list[ExperimentResult]:
     """Run (or load) ``config`` for every seed, several seeds at once in worker processes
-    (one per core by default; each renders with its own OpenGL context)."""
-    from tqdm.auto import tqdm
+    (one per core by default; each renders with its own OpenGL context): a sweep of one
+    configuration on an embedded Dask ``LocalCluster`` (:func:`docking.sweep.run_jobs`),
+    or one seed after another in this process if ``processes <= 1``. Stored runs are loaded,
+    not recomputed."""
+    from docking.sweep import jobs_for, run_jobs
 
     seeds = [check_int("run_seeds", "seeds[]", s, lo=0) for s in seeds]
-    check_writable(results_dir)
-    processes = processes or min(len(seeds), os.cpu_count() or 1)
-    jobs = [(config, s, results_dir, force) for s in seeds]
-    if processes <= 1:
-        paths_ = [_run_or_load_job(j) for j in tqdm(jobs, desc=config.name, disable=not progress)]
-    else:
-        import multiprocessing
-
-        with multiprocessing.get_context("spawn").Pool(processes) as pool:
-            paths_ = list(
-                tqdm(
-                    pool.imap(_run_or_load_job, jobs),
-                    total=len(jobs),
-                    desc=f"{config.name}, {len(seeds)} seeds",
-                    disable=not progress,
-                )
-            )
+    paths_ = run_jobs(
+        jobs_for([config], seeds),
+        results_dir,
+        workers=processes or None,
+        force=force,
+        progress=progress,
+        desc=f"{config.name}, {len(seeds)} seeds",
+    )
     return [load_result(p) for p in paths_]

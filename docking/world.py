@@ -563,6 +563,17 @@ class DockingEnv(dm_env.Environment):
         self._needs_reset = True
 
     # -- configuration -------------------------------------------------------------------
+    def reseed(self, seed=None) -> None:
+        """Replace the random generator that drives start poses and step noise.
+
+        ``seed`` is what the constructor takes: an int, ``None`` (fresh OS entropy) or a
+        ``numpy.random.Generator`` (used as is, not copied). After ``reseed(k)`` the env
+        produces the same trials for the same actions as ``DockingEnv(config, seed=k)``.
+        The current trial is ended: the next ``step`` starts a new one.
+        """
+        self._rng = _as_generator(seed)
+        self._needs_reset = True
+
     @property
     def config(self) -> WorldConfig:
         return self._config

@@ -1,0 +1,237 @@
+"""The command line, ``python -m docking`` (also installed as ``docking``).
+
+Built by tyro from the configuration dataclasses and their docstrings, so every field of an
+:class:`~docking.experiments.ExperimentConfig` is an option with its documented default::
+
+    python -m docking run experiment2 --seeds 0-19 --network.eps-w 0
+    python -m docking sweep experiment2 --seeds 0-9 --grid network.eps_w=0,0.05 \\
+        --scheduler tcp://127.0.0.1:8786
+    python -m docking report --readme README.md
+    python -m docking benchmark --steps 2000
+
+``run`` and ``sweep`` store every run in the results store (:mod:`docking.store`), keyed by
+its configuration and seed: stored runs are loaded, not recomputed, so an interrupted command
+resumes where it stopped. Progress bars go to the terminal (stderr). ``--help`` (of the
+command and of each subcommand) prints usage and starts nothing.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import signal
+import sys
+from pathlib import Path
+from typing import Annotated, Union
+
+import numpy as np
+import tyro
+
+from docking.experiments import EXPERIMENTS, HEADLINE_SEED, SEEDS, ExperimentConfig
+
+PROG = "python -m docking"
+DESCRIPTION = (
+    "Kleesiek et al. (2011) on dm-control: run the experiments, sweep parameters on a Dask "
+    "cluster, print the results table, benchmark the environment."
+)
+
+# One subcommand per named experiment, its configuration as the defaults.
+_Experiment = Union[  # noqa: UP007 (tyro needs a runtime Union of Annotated members)
+    tuple(
+        Annotated[
+            ExperimentConfig,
+            tyro.conf.subcommand(
+                name,
+                default=config,
+                description=f"{name} as in docking.experiments; any field can be overridden",
+            ),
+        ]
+        for name, config in EXPERIMENTS.items()
+    )
+]
+_ExperimentArg = Annotated[_Experiment, tyro.conf.arg(name=""), tyro.conf.OmitSubcommandPrefixes]
+
+
+def _seeds_of(config: ExperimentConfig, text: str | None) -> list[int]:
+    from docking.sweep import parse_seeds
+
+    if text is None:
+        return list(SEEDS.get(config.name, (HEADLINE_SEED,)))
+    return parse_seeds(text)
+
+
+def _summary(results) -> str:
+    rates = np.array([r.test.success_rate for r in results])
+    per_seed = ", ".join(f"{r.seed}: {r.test_successes}/{len(r.test.success)}" for r in results)
+    return f"test success mean {100 * rates.mean():.1f}% (min {100 * rates.min():.1f}%; {per_seed})"
+
+
+@dataclasses.dataclass
+class Run:
+    """Run (or load) an experiment for several seeds; every run is saved in the results store.
+
+    EXPERIMENT names a configuration of docking.experiments.EXPERIMENTS; options after it
+    override its fields (e.g. --network.eps-w 0, --train-trials 500)."""
+
+    experiment: _ExperimentArg
+    seeds: str | None = None
+    """Seeds as ranges or lists: 0-19, 0,3,5 or 0-4,10 (default: the experiment's seeds in
+    docking.experiments.SEEDS)."""
+    processes: int | None = None
+    """Worker processes of the embedded Dask cluster (default: one per core); 1 runs the seeds
+    one after another in this process."""
+    scheduler: str | None = None
+    """Run on an existing Dask cluster instead, e.g. tcp://HOST:8786."""
+    results_dir: Path | None = None
+    """The results store (default: DOCKING_RESULTS, the checkout's results/ or ./results)."""
+    force: bool = False
+    """Recompute and replace stored runs."""
+
+    def execute(self) -> int:
+        from docking.store import load_result
+        from docking.sweep import jobs_for, run_jobs
+
+        config = self.experiment
+        seeds = _seeds_of(config, self.seeds)
+        paths = run_jobs(
+            jobs_for([config], seeds),
+            self.results_dir,
+            scheduler=self.scheduler,
+            workers=self.processes,
+            force=self.force,
+            desc=f"{config.name}, {len(seeds)} seeds",
+        )
+        results = [load_result(p) for p in paths]
+        print(f"{config.name}: {_summary(results)}")
+        print(f"stored in {paths[0].parent}")
+        return 0
+
+
+@dataclasses.dataclass
+class Sweep:
+    """Run (or load) a parameter grid x seeds as jobs on a Dask cluster (embedded by default).
+
+    EXPERIMENT is the base configuration; options after it override its fields, --grid
+    entries vary them. Each (configuration, seed) is one job; results land in the store, so
+    an interrupted sweep resumes and finished runs are never recomputed."""
+
+    experiment: _ExperimentArg
+    seeds: str | None = None
+    """Seeds as ranges or lists: 0-19, 0,3,5 (default: the experiment's seeds)."""
+    grid: tuple[str, ...] = ()
+    """Fields to vary, each PATH=V1,V2,...; all combinations are run, e.g.
+    --grid network.eps_w=0,0.05 world.step_forward=0.1,0.15."""
+    scheduler: str | None = None
+    """Address of an existing Dask scheduler (tcp://HOST:PORT; started with `dask scheduler`,
+    workers with `dask worker tcp://HOST:PORT`). Default: an embedded LocalCluster."""
+    processes: int | None = None
+    """Worker processes of the embedded cluster (default: one per core)."""
+    results_dir: Path | None = None
+    """The results store (default: DOCKING_RESULTS, the checkout's results/ or ./results);
+    with a remote cluster it must be the same path on every worker (a shared file system)."""
+    force: bool = False
+    """Recompute and replace stored runs."""
+
+    def execute(self) -> int:
+        from docking.store import load_result
+        from docking.sweep import grid_configs, jobs_for, run_jobs
+
+        configs = grid_configs(self.experiment, self.grid)
+        seeds = _seeds_of(self.experiment, self.seeds)
+        jobs = jobs_for(configs, seeds)
+        paths = run_jobs(
+            jobs,
+            self.results_dir,
+            scheduler=self.scheduler,
+            workers=self.processes,
+            force=self.force,
+            desc=f"sweep: {len(configs)} configurations x {len(seeds)} seeds",
+        )
+        for k, config in enumerate(configs):
+            chunk = paths[k * len(seeds) : (k + 1) * len(seeds)]
+            label = " ".join(f"{e.partition('=')[0]}={_value(config, e)}" for e in self.grid)
+            results = [load_result(p) for p in chunk]
+            print(f"{label or config.name}: {_summary(results)} [{chunk[0].parent}]")
+        return 0
+
+
+def _value(config, entry: str):
+    value = config
+    for name in entry.partition("=")[0].strip().replace("-", "_").split("."):
+        value = getattr(value, name)
+    return value
+
+
+@dataclasses.dataclass
+class Report:
+    """Print the results table (the paper's numbers beside ours) from the stored runs of
+    both experiments and their seeds, running any that are missing."""
+
+    readme: Path | None = None
+    """Also write the table into this README, between <!-- results:start --> and
+    <!-- results:end -->."""
+    processes: int | None = None
+    """Worker processes for missing runs (default: one per core)."""
+    results_dir: Path | None = None
+    """The results store (default: DOCKING_RESULTS, the checkout's results/ or ./results)."""
+
+    def execute(self) -> int:
+        from docking.experiments import EXPERIMENT_1, EXPERIMENT_2
+        from docking.report import results_table, update_readme
+        from docking.store import run_seeds
+
+        results = [
+            run_seeds(c, SEEDS[c.name], self.results_dir, processes=self.processes)
+            for c in (EXPERIMENT_1, EXPERIMENT_2)
+        ]
+        table = results_table(*results)
+        print(table)
+        if self.readme is not None:
+            changed = update_readme(self.readme, table)
+            print(f"{self.readme}: {'updated' if changed else 'already up to date'}")
+        return 0
+
+
+@dataclasses.dataclass
+class Benchmark:
+    """Environment steps per second (render + physics + preprocessing); its options:
+    python -m docking benchmark --help."""
+
+    def execute(self) -> int:  # pragma: no cover - main() dispatches before tyro
+        from docking.benchmark import main
+
+        return main([])
+
+
+Command = Union[  # noqa: UP007
+    Annotated[Run, tyro.conf.subcommand("run")],
+    Annotated[Sweep, tyro.conf.subcommand("sweep")],
+    Annotated[Report, tyro.conf.subcommand("report")],
+    Annotated[Benchmark, tyro.conf.subcommand("benchmark")],
+]
+
+
+def _exit_on_sigterm(signum, frame):
+    # SystemExit unwinds the stack: a running sweep closes its cluster and workers.
+    raise SystemExit(128 + signum)
+
+
+def main(argv=None) -> int:
+    """Parse ``argv`` (default ``sys.argv[1:]``) and run the subcommand; its exit status."""
+    argv = sys.argv[1:] if argv is None else list(argv)
+    if argv and argv[0] == "benchmark":  # the benchmark parses its own options
+        from docking.benchmark import main as benchmark_main
+
+        return benchmark_main(argv[1:])
+    command = tyro.cli(
+        Command,
+        args=argv,
+        prog=PROG,
+        description=DESCRIPTION,
+        config=(tyro.conf.CascadeSubcommandArgs,),
+    )
+    signal.signal(signal.SIGTERM, _exit_on_sigterm)
+    try:
+        return command.execute()
+    except ValueError as exc:  # bad input (seeds, grid entries, configuration values)
+        print(f"{PROG}: error: {exc}", file=sys.stderr)
+        return 2

@@ -1,0 +1,418 @@
+"""Sweeps: many (configuration, seed) runs on a Dask cluster, saved in the results store.
+
+A sweep is a list of :class:`Job` s, each one run of :func:`docking.store.run_or_load`. They
+run through ``dask.distributed``:
+
+* by default on an embedded cluster: the scheduler of a ``LocalCluster`` in this process and
+  one worker *process* per core (or per job, if fewer), ``dask worker`` with one thread
+  each, so every worker renders with its own OpenGL context;
+* or on an existing cluster, ``scheduler="tcp://HOST:PORT"`` (started with ``dask scheduler``
+  and ``dask worker tcp://HOST:PORT``, or by dask-jobqueue on SLURM). The workers must import
+  the same ``docking`` code and see the results folder under the same path (one machine or a
+  shared file system).
+
+Each job computes its run on a worker, which saves it in the store under the key of its
+configuration and seed (:func:`docking.store.result_path`) and returns the path. A run that is
+already stored is loaded instead, and the client skips stored runs before it submits
+anything, so an interrupted sweep resumes where it stopped and no finished run is computed
+twice. A job lost with a worker is rescheduled by Dask on another one. A progress bar on the
+terminal (stderr) counts finished jobs.
+
+The embedded cluster's workers end with the process that started them
+(:func:`_die_with_parent`: ``PR_SET_PDEATHSIG`` on Linux and a ``getppid`` watchdog), and
+they are plain subprocesses rather than ``multiprocessing`` children, so neither ``kill -9``
+nor ``SIGTERM`` of the parent leaves orphans or leaked semaphores.
+"""
+
+from __future__ import annotations
+
+import asyncio
+import dataclasses
+import itertools
+import logging
+import os
+import signal
+import sys
+import threading
+import time
+import uuid
+from collections.abc import Iterable, Sequence
+from pathlib import Path
+
+from docking import paths
+from docking.experiments import ExperimentConfig
+from docking.store import CorruptResult, check_writable, load_result, result_path, run_or_load
+from docking.validate import check_instance, check_int
+
+__all__ = [
+    "Job",
+    "apply_override",
+    "grid_configs",
+    "jobs_for",
+    "parse_seeds",
+    "run_jobs",
+]
+
+
+@dataclasses.dataclass(frozen=True)
+class Job:
+    """One run of a sweep: an experiment configuration and a seed."""
+
+    config: ExperimentConfig
+    seed: int
+
+    def __post_init__(self):
+        check_instance("Job", "config", self.config, ExperimentConfig)
+        object.__setattr__(self, "seed", check_int("Job", "seed", self.seed, lo=0))
+
+
+def jobs_for(configs: Iterable[ExperimentConfig], seeds: Iterable[int]) -> list[Job]:
+    """Every configuration with every seed, configuration-major."""
+    seeds = list(seeds)
+    return [Job(c, s) for c in configs for s in seeds]
+
+
+# ------------------------------------------------------------------------------------------
+# Seeds and parameter grids from the command line.
+# ------------------------------------------------------------------------------------------
+
+
+def parse_seeds(text: str) -> list[int]:
+    """Seeds from ``"0-19"``, ``"0,3,5"`` or ``"0-4,10-12"`` (ranges include both ends)."""
+    seeds: list[int] = []
+    for part in str(text).replace(" ", "").split(","):
+        bounds = part.split("-")
+        try:
+            if len(bounds) > 2:
+                raise ValueError
+            lo, hi = int(bounds[0]), int(bounds[-1])
+            if lo < 0 or hi < lo:
+                raise ValueError
+        except ValueError:
+            raise ValueError(
+                f"seeds must be integers >= 0 or ranges like 0-19, separated by commas; got "
+                f"{text!r}"
+            ) from None
+        seeds.extend(range(lo, hi + 1))
+    if len(set(seeds)) != len(seeds):
+        raise ValueError(f"seeds must not repeat; got {text!r}")
+    return seeds
+
+
+def _convert(value: str, current, where: str):
+    if isinstance(current, bool):
+        lowered = value.lower()
+        if lowered in ("true", "1", "yes"):
+            return True
+        if lowered in ("false", "0", "no"):
+            return False
+        raise ValueError(f"{where} takes true or false, got {value!r}")
+    if isinstance(current, int):
+        try:
+            return int(value)
+        except ValueError:
+            raise ValueError(f"{where} takes an integer, got {value!r}") from None
+    if isinstance(current, float):
+        try:
+            return float(value)
+        except ValueError:
+            raise ValueError(f"{where} takes a number, got {value!r}") from None
+    if isinstance(current, str):
+        return value
+    raise ValueError(f"{where} ({type(current).__name__}) cannot be set from the command line")
+
+
+def apply_override(config, path: str, value: str):
+    """A copy of the (nested, frozen) dataclass ``config`` with the field at the dotted
+    ``path`` (e.g. ``"network.eps_w"``; dashes may replace underscores) set to ``value``,
+    converted to the field's current type; the dataclasses validate the result."""
+    head, _, rest = path.replace("-", "_").partition(".")
+    names = {f.name for f in dataclasses.fields(config)}
+    where = f"{type(config).__name__}.{head}"
+    if head not in names:
+        raise ValueError(f"{where} is not a field (fields: {', '.join(sorted(names))})")
+    current = getattr(config, head)
+    if rest:
+        if not dataclasses.is_dataclass(current):
+            raise ValueError(f"{where} has no field {rest!r}")
+        new = apply_override(current, rest, value)
+    else:
+        if dataclasses.is_dataclass(current):
+            raise ValueError(f"{where} is a group of fields; name one of them ({where}.FIELD)")
+        new = _convert(value, current, where)
+    return dataclasses.replace(config, **{head: new})
+
+
+def grid_configs(base: ExperimentConfig, grid: Sequence[str]) -> list[ExperimentConfig]:
+    """The configurations of a parameter grid: every combination of the values of each
+    ``"path=v1,v2,..."`` entry (e.g. ``"network.eps_w=0,0.05"``) applied to ``base``."""
+    axes = []
+    for entry in grid:
+        path, sep, values = entry.partition("=")
+        if not sep or not path or not values:
+            raise ValueError(
+                f"a grid entry is PATH=V1,V2,... (e.g. network.eps_w=0,0.05); got {entry!r}"
+            )
+        axes.append([(path.strip(), v.strip()) for v in values.split(",")])
+    configs = []
+    for combination in itertools.product(*axes):
+        config = base
+        for path, value in combination:
+            config = apply_override(config, path, value)
+        configs.append(config)
+    return configs
+
+
+# ------------------------------------------------------------------------------------------
+# Workers.
+# ------------------------------------------------------------------------------------------
+
+_PR_SET_PDEATHSIG = 1
+_LOG_VARIABLE = "DASK_LOGGING__DISTRIBUTED"
+#: Set in the environment of the embedded cluster's workers: the PID they must die with.
+_PARENT_VARIABLE = "DOCKING_SWEEP_PARENT"
+
+
+def _die_with_parent(parent: int) -> None:
+    """End this process when ``parent`` (its parent process) ends: ``PR_SET_PDEATHSIG`` =
+    SIGKILL where Linux offers it, and a watchdog thread that exits once the process is
+    re-parented (``getppid`` changes), which also covers a parent that died before."""
+    if sys.platform.startswith("linux"):
+        try:
+            import ctypes
+
+            libc = ctypes.CDLL(None, use_errno=True)
+            libc.prctl(_PR_SET_PDEATHSIG, signal.SIGKILL, 0, 0, 0)
+        except (OSError, AttributeError):
+            pass
+    if os.getppid() != parent:  # the parent died already
+        os._exit(1)
+
+    def watch() -> None:
+        while os.getppid() == parent:
+            time.sleep(0.5)
+        os._exit(1)
+
+    threading.Thread(target=watch, name="docking-parent-watchdog", daemon=True).start()
+
+
+def dask_setup(worker=None) -> None:
+    """Dask preload hook (``dask worker --preload docking.sweep``): a worker of the embedded
+    cluster ends with the process that started it. Does nothing in other workers."""
+    parent = os.environ.get(_PARENT_VARIABLE)
+    if parent:
+        _die_with_parent(int(parent))
+
+
+def _run_job(config: ExperimentConfig, seed: int, results_dir: str, force: bool) -> str:
+    """The task a worker runs: compute or load one run in the store; its path."""
+    run_or_load(config, seed, results_dir, force=force, progress=False)
+    return str(result_path(config, seed, results_dir))
+
+
+def _stored(job: Job, results_dir: Path) -> bool:
+    path = result_path(job.config, job.seed, results_dir)
+    if not path.exists():
+        return False
+    try:
+        load_result(path)
+    except CorruptResult:
+        return False  # the worker warns and recomputes it
+    return True
+
+
+class _EmbeddedCluster:
+    """A Dask cluster on this machine: the scheduler in this process (a ``LocalCluster``
+    without in-process workers) and ``n_workers`` worker processes, ``dask worker --no-nanny``
+    with one thread each, that end with this process (:func:`dask_setup`). Workers are plain
+    subprocesses, not ``multiprocessing`` children, so a killed parent leaves neither
+    orphans nor semaphores behind."""
+
+    def __init__(self, n_workers: int):
+        import subprocess
+        import tempfile
+
+        from distributed import Client, LocalCluster
+
+        self._scratch = tempfile.TemporaryDirectory(prefix="docking-dask-")
+        self._procs: list[subprocess.Popen] = []
+        self._cluster = LocalCluster(
+            n_workers=0,
+            processes=False,
+            protocol="tcp",  # not inproc: the workers are other processes
+            host="127.0.0.1",
+            scheduler_port=0,
+            dashboard_address=":0",
+            silence_logs=logging.ERROR,
+        )
+        package_root = str(Path(__file__).resolve().parent.parent)
+        env = {
+            **os.environ,
+            _PARENT_VARIABLE: str(os.getpid()),
+            # The workers import this very package.
+            "PYTHONPATH": os.pathsep.join(
+                p for p in (package_root, os.environ.get("PYTHONPATH")) if p
+            ),
+        }
+        try:
+            for k in range(n_workers):
+                self._procs.append(
+                    subprocess.Popen(
+                        [
+                            sys.executable,
+                            "-m",
+                            "dask",
+                            "worker",
+                            self._cluster.scheduler_address,
+                            "--no-nanny",
+                            "--nthreads",
+                            "1",
+                            "--host",
+                            "127.0.0.1",
+                            "--no-dashboard",
+                            "--name",
+                            f"docking-{k}",
+                            "--local-directory",
+                            self._scratch.name,
+                            "--preload",
+                            "docking.sweep",
+                        ],
+                        env=env,
+                        stdin=subprocess.DEVNULL,
+                    )
+                )
+            self.client = Client(self._cluster)
+            self._wait_for_workers(n_workers)
+        except BaseException:
+            self.close()
+            raise
+
+    def _wait_for_workers(self, n: int, timeout: float = 120.0) -> None:
+        deadline = time.monotonic() + timeout
+        while len(self.client.scheduler_info(n_workers=-1)["workers"]) < n:
+            dead = [p.args[-1] for p in self._procs if p.poll() is not None]
+            if dead or time.monotonic() > deadline:
+                raise RuntimeError(
+                    f"Dask workers did not start ({len(dead)} of {n} exited, see above)"
+                )
+            time.sleep(0.1)
+
+    def close(self) -> None:
+        client = getattr(self, "client", None)
+        if client is not None:
+            client.close()
+        for proc in self._procs:
+            if proc.poll() is None:
+                proc.terminate()
+        for proc in self._procs:
+            try:
+                proc.wait(timeout=10)
+            except Exception:
+                proc.kill()
+                proc.wait()
+        self._cluster.close()
+        self._scratch.cleanup()
+
+
+def run_jobs(
+    jobs: Sequence[Job],
+    results_dir: Path | str | None = None,
+    scheduler: str | None = None,
+    workers: int | None = None,
+    force: bool = False,
+    progress: bool = True,
+    desc: str = "runs",
+) -> list[Path]:
+    """Run (or load) every job; the paths of their stored results, in the order of ``jobs``.
+
+    Args:
+      jobs: The (configuration, seed) runs.
+      results_dir: The results store (default :func:`docking.paths.results_dir`).
+      scheduler: Address of an existing Dask scheduler (``tcp://HOST:PORT``); ``None`` starts
+        an embedded ``LocalCluster`` of ``workers`` processes.
+      workers: Worker processes of the embedded cluster (default: one per core, at most one
+        per job to run). ``1`` runs the jobs one after another in this process, no Dask.
+      force: Recompute and replace stored runs.
+      progress: Show a bar of finished jobs on stderr.
+      desc: The bar's label.
+    """
+    jobs = [check_instance("run_jobs", "jobs[]", j, Job) for j in jobs]
+    if workers is not None:
+        workers = check_int("run_jobs", "workers", workers, lo=1)
+    root = check_writable(results_dir if results_dir is not None else paths.results_dir())
+    root = root.resolve()
+    paths_ = [result_path(j.config, j.seed, root) for j in jobs]
+    todo = [k for k, j in enumerate(jobs) if force or not _stored(j, root)]
+
+    from tqdm.auto import tqdm
+
+    bar = tqdm(
+        total=len(jobs),
+        initial=len(jobs) - len(todo),
+        desc=desc,
+        unit="run",
+        disable=not progress,
+        file=sys.stderr,
+        dynamic_ncols=True,
+    )
+    try:
+        if not todo:
+            return paths_
+        n_workers = workers or min(len(todo), os.cpu_count() or 1)
+        if scheduler is None and n_workers <= 1:
+            for k in todo:
+                _run_job(jobs[k].config, jobs[k].seed, str(root), force)
+                bar.update(1)
+            return paths_
+        _run_on_dask(jobs, todo, root, scheduler, n_workers, force, bar)
+        return paths_
+    finally:
+        bar.close()
+
+
+def _run_on_dask(jobs, todo, root: Path, scheduler, n_workers: int, force: bool, bar) -> None:
+    from distributed import Client, wait
+
+    # distributed logs at INFO through the root handler that absl (dm-control) installs;
+    # warnings (a lost worker) stay visible. Worker processes read the variable at start.
+    logger = logging.getLogger("distributed")
+    level = logger.level
+    logger.setLevel(max(level, logging.WARNING))
+    saved_env = os.environ.get(_LOG_VARIABLE)
+    os.environ[_LOG_VARIABLE] = "warning"
+    cluster = None
+    try:
+        cluster = _EmbeddedCluster(n_workers) if scheduler is None else None
+        with cluster.client if cluster is not None else Client(scheduler) as client:
+            sweep = uuid.uuid4().hex[:8]
+            futures = [
+                client.submit(
+                    _run_job,
+                    jobs[k].config,
+                    jobs[k].seed,
+                    str(root),
+                    force,
+                    key=f"docking-{jobs[k].config.name}-seed{jobs[k].seed}-{sweep}-{k}",
+                    pure=False,
+                )
+                for k in todo
+            ]
+            pending = set(futures)
+            while pending:
+                # Wake every second so the bar's clock moves while long runs compute.
+                try:
+                    done, pending = wait(pending, timeout=1.0, return_when="FIRST_COMPLETED")
+                except (TimeoutError, asyncio.TimeoutError):  # distinct before 3.11
+                    bar.refresh()
+                    continue
+                for future in done:
+                    future.result()  # re-raises a job's exception here
+                bar.update(len(done))
+    finally:
+        if cluster is not None:
+            cluster.close()
+        logger.setLevel(level)
+        if saved_env is None:
+            os.environ.pop(_LOG_VARIABLE, None)
+        else:
+            os.environ[_LOG_VARIABLE] = saved_env

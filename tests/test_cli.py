@@ -1,0 +1,129 @@
+"""The command line: --help starts nothing; run, sweep and report through real processes."""
+
+from __future__ import annotations
+
+import os
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import pytest
+
+from docking.report import README_END, README_START, replace_block, update_readme
+
+REPO = Path(__file__).resolve().parent.parent
+TINY_ARGS = ["--train-trials", "4", "--test-trials", "3", "--eval-every", "2", "--eval-trials", "2"]
+
+
+def _cli(args, tmp_path, module="docking", timeout=300):
+    env = {
+        **os.environ,
+        "PYTHONPATH": os.pathsep.join([str(REPO), os.environ.get("PYTHONPATH", "")]),
+        "DOCKING_RESULTS": str(tmp_path / "results"),
+        "DOCKING_FIGURES": str(tmp_path / "figures"),
+        "COLUMNS": "250",  # help text on one line per option
+    }
+    return subprocess.run(
+        [sys.executable, "-m", module, *args],
+        cwd=tmp_path,
+        env=env,
+        capture_output=True,
+        text=True,
+        timeout=timeout,
+    )
+
+
+@pytest.mark.parametrize(
+    "args",
+    [
+        [],
+        ["run"],
+        ["run", "experiment2"],
+        ["sweep"],
+        ["sweep", "experiment1"],
+        ["report"],
+        ["benchmark"],
+    ],
+    ids=lambda a: " ".join(a) or "top",
+)
+def test_help_prints_usage_and_starts_nothing(args, tmp_path):
+    start = time.monotonic()
+    out = _cli([*args, "--help"], tmp_path, timeout=60)
+    elapsed = time.monotonic() - start
+    assert out.returncode == 0, out.stderr
+    assert "usage:" in out.stdout
+    assert not (tmp_path / "results").exists() and not (tmp_path / "figures").exists()
+    assert list(tmp_path.iterdir()) == []
+    assert elapsed < 20, f"--help took {elapsed:.1f} s"
+
+
+def test_report_module_help_does_not_train(tmp_path):
+    out = _cli(["--help"], tmp_path, module="docking.report", timeout=60)
+    assert out.returncode == 0 and "usage:" in out.stdout
+    assert list(tmp_path.iterdir()) == []
+
+
+def test_help_lists_subcommands_and_overrides(tmp_path):
+    top = _cli(["--help"], tmp_path).stdout
+    for name in ("run", "sweep", "report", "benchmark"):
+        assert name in top
+    run = _cli(["run", "experiment2", "--help"], tmp_path).stdout
+    assert "--network.eps-w" in run and "--seeds" in run and "(default: 2000)" in run
+
+
+def test_bad_input_is_a_clear_error(tmp_path):
+    out = _cli(["run", "experiment1", "--seeds", "5-2"], tmp_path)
+    assert out.returncode == 2 and "seeds must be" in out.stderr
+    out = _cli(["sweep", "experiment1", "--grid", "network.nope=1"], tmp_path)
+    assert out.returncode == 2 and "NetworkConfig.nope" in out.stderr
+    out = _cli(["run", "experiment1", "--network.eps-w", "-1"], tmp_path)
+    assert out.returncode == 2 and "NetworkConfig.eps_w" in out.stderr
+    assert not (tmp_path / "results").exists()
+
+
+def test_run_stores_runs_and_loads_them_again(tmp_path):
+    args = ["run", "experiment1", "--seeds", "0-1", "--processes", "1", *TINY_ARGS]
+    out = _cli([*args, "--network.eps-w", "0"], tmp_path)
+    assert out.returncode == 0, out.stderr
+    assert "experiment1: test success mean" in out.stdout
+    files = sorted((tmp_path / "results").rglob("seed*.npz"))
+    assert [f.name for f in files] == ["seed0.npz", "seed1.npz"]
+    assert "experiment1, 2 seeds" in out.stderr  # the progress bar, on the terminal
+    mtimes = [f.stat().st_mtime_ns for f in files]
+    again = _cli([*args, "--network.eps-w", "0"], tmp_path)
+    assert again.returncode == 0 and again.stdout == out.stdout
+    assert [f.stat().st_mtime_ns for f in files] == mtimes  # loaded, not recomputed
+
+
+def test_sweep_runs_every_grid_point(tmp_path):
+    grid = ["--grid", "network.eps_w=0,0.05", "world.step_noise_xy=0.0,0.01"]
+    out = _cli(
+        ["sweep", "experiment1", "--seeds", "2", "--processes", "1", *TINY_ARGS, *grid], tmp_path
+    )
+    assert out.returncode == 0, out.stderr
+    assert len(out.stdout.strip().splitlines()) == 4
+    assert len(list((tmp_path / "results").rglob("seed2.npz"))) == 4
+
+
+def test_replace_block():
+    text = f"# T\n\nbefore\n{README_START}\nold\n{README_END}\nafter\n"
+    assert replace_block(text, "| new |\n") == (
+        f"# T\n\nbefore\n{README_START}\n| new |\n{README_END}\nafter\n"
+    )
+    for bad in ("no markers", f"{README_END}\n{README_START}", f"{README_START}{README_START}"):
+        with pytest.raises(ValueError, match="must hold one"):
+            replace_block(bad, "x")
+
+
+def test_update_readme(tmp_path):
+    readme = tmp_path / "README.md"
+    readme.write_text(f"a\n{README_START}\n{README_END}\nb\n")
+    assert update_readme(readme, "| t |") is True
+    assert readme.read_text() == f"a\n{README_START}\n| t |\n{README_END}\nb\n"
+    assert update_readme(readme, "| t |") is False
+
+
+def test_project_readme_has_the_markers():
+    text = (REPO / "README.md").read_text()
+    assert text.count(README_START) == 1 and text.count(README_END) == 1

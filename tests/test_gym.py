@@ -1,0 +1,116 @@
+"""The Gymnasium adapter: the env checker, make, seeding, and an async vector env."""
+
+import gymnasium
+import numpy as np
+import pytest
+from gymnasium.utils.env_checker import check_env
+
+import docking.gym
+from docking.world import DockingEnv, WorldConfig
+
+
+def test_check_env_passes():
+    env = gymnasium.make(docking.gym.ENV_ID)
+    check_env(env.unwrapped, skip_render_check=False)
+    env.close()
+
+
+def test_make_takes_world_fields_and_returns_spaces():
+    env = gymnasium.make(docking.gym.ENV_ID, start_far=1.0, max_steps=3, seed=0)
+    assert env.unwrapped.config == WorldConfig(start_far=1.0, max_steps=3)
+    assert env.observation_space.shape == (10, 32)
+    assert env.observation_space.dtype == np.float32
+    assert env.action_space.n == 4
+    obs, info = env.reset()
+    assert obs in env.observation_space
+    assert set(info) == {"pose", "docked"}
+    # Walking backwards never docks: the third action is a time-limit truncation.
+    for k in range(3):
+        obs, reward, terminated, truncated, info = env.step(1)
+        assert reward == 0.0 and not terminated
+        assert truncated == (k == 2)
+    env.close()
+
+
+def test_make_rejects_unknown_fields():
+    with pytest.raises(TypeError, match="unknown nonsense"):
+        gymnasium.make(docking.gym.ENV_ID, nonsense=1)
+    with pytest.raises(ValueError, match="WorldConfig.step_forward"):
+        gymnasium.make(docking.gym.ENV_ID, step_forward=-1.0)
+
+
+def test_docking_terminates_with_reward():
+    env = gymnasium.make(docking.gym.ENV_ID, seed=0).unwrapped
+    env.reset()
+    config = env.config
+    # Place the robot one forward step short of the dock's centre, facing it.
+    env.dm_env.reset_to([-(config.dock_center + config.step_forward), 0.0, 0.0])
+    _, reward, terminated, truncated, info = env.step(0)
+    assert (reward, terminated, truncated, info["docked"]) == (1.0, True, False, True)
+    with pytest.raises(gymnasium.error.ResetNeeded):
+        env.step(0)
+    fresh = gymnasium.make(docking.gym.ENV_ID).unwrapped
+    with pytest.raises(gymnasium.error.ResetNeeded):
+        fresh.step(0)
+
+
+def _episode(env, seed, actions):
+    obs, _ = env.reset(seed=seed)
+    observations = [obs]
+    for a in actions:
+        obs, _, terminated, truncated, _ = env.step(a)
+        observations.append(obs)
+        if terminated or truncated:
+            break
+    return np.stack(observations)
+
+
+def test_same_seed_same_observations_and_matches_dm_env():
+    actions = [0, 2, 0, 3, 1, 0, 0]
+    env_a = gymnasium.make(docking.gym.ENV_ID)
+    env_b = gymnasium.make(docking.gym.ENV_ID)
+    first = _episode(env_a, 7, actions)
+    np.testing.assert_array_equal(first, _episode(env_b, 7, actions))
+    np.testing.assert_array_equal(first, _episode(env_a, 7, actions))  # reseeding again
+    assert not np.array_equal(first[0], _episode(env_a, 8, actions)[0])
+
+    # reset(seed=k) is the dm_env's DockingEnv(seed=k), through DockingEnv.reseed.
+    dm = DockingEnv(WorldConfig(), seed=7)
+    dm_obs = [dm.reset().observation]
+    for a in actions[: len(first) - 1]:
+        dm_obs.append(dm.step(a).observation)
+    np.testing.assert_array_equal(first, np.stack(dm_obs))
+    # The constructor's seed is the same as reset(seed=...).
+    env_c = gymnasium.make(docking.gym.ENV_ID, seed=7)
+    np.testing.assert_array_equal(env_c.reset()[0], first[0])
+
+
+def test_reseed_replaces_the_generator():
+    env = DockingEnv(WorldConfig(), seed=3)
+    first = env.reset().observation
+    env.reset()
+    env.reseed(3)
+    np.testing.assert_array_equal(env.reset().observation, first)
+    env.reseed(np.random.default_rng(3))
+    np.testing.assert_array_equal(env.reset().observation, first)
+    with pytest.raises(ValueError, match="seed must be"):
+        env.reseed("three")
+
+
+def test_async_vector_env_with_spawn():
+    envs = gymnasium.make_vec(
+        docking.gym.ENV_ID,
+        num_envs=2,
+        vectorization_mode="async",
+        vector_kwargs={"context": "spawn"},
+    )
+    try:
+        obs, _ = envs.reset(seed=[1, 2])
+        assert obs.shape == (2, 10, 32)
+        for _ in range(3):
+            obs, reward, terminated, truncated, _ = envs.step(np.array([0, 2]))
+            assert obs.shape == (2, 10, 32) and reward.shape == (2,)
+        single = gymnasium.make(docking.gym.ENV_ID)
+        np.testing.assert_array_equal(single.reset(seed=2)[0], envs.reset(seed=[1, 2])[0][1])
+    finally:
+        envs.close()

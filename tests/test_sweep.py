@@ -1,0 +1,310 @@
+"""Sweeps on Dask: a real scheduler and workers on 127.0.0.1, bit-identical results, a worker
+killed mid-sweep, resuming, and no orphaned worker processes."""
+
+from __future__ import annotations
+
+import dataclasses
+import json
+import os
+import signal
+import socket
+import subprocess
+import sys
+import threading
+import time
+from pathlib import Path
+
+import numpy as np
+import psutil
+import pytest
+
+from docking.experiments import EXPERIMENT_1
+from docking.store import load_result, run_seeds
+from docking.sweep import Job, apply_override, grid_configs, jobs_for, parse_seeds, run_jobs
+
+REPO = Path(__file__).resolve().parent.parent
+TINY = dataclasses.replace(EXPERIMENT_1, train_trials=4, test_trials=3, eval_every=2, eval_trials=2)
+# About 2 s per run: long enough to kill something while runs are in flight.
+SLOW = dataclasses.replace(
+    EXPERIMENT_1, train_trials=120, test_trials=10, eval_every=120, eval_trials=0
+)
+SLOW_ARGS = ["--train-trials", "120", "--test-trials", "10", "--eval-every", "120"]
+SLOW_ARGS += ["--eval-trials", "0"]
+
+
+def _env() -> dict[str, str]:
+    return {
+        **os.environ,
+        "PYTHONPATH": os.pathsep.join([str(REPO), os.environ.get("PYTHONPATH", "")]),
+        "MUJOCO_GL": os.environ.get("MUJOCO_GL", "egl"),
+    }
+
+
+def _free_port() -> int:
+    with socket.socket() as s:
+        s.bind(("127.0.0.1", 0))
+        return s.getsockname()[1]
+
+
+def _stop(proc: subprocess.Popen) -> None:
+    """Stop ``proc`` by its PID (SIGTERM, then SIGKILL) and check that it and every process
+    it started are gone."""
+    try:
+        family = [psutil.Process(proc.pid), *psutil.Process(proc.pid).children(recursive=True)]
+    except psutil.NoSuchProcess:
+        family = []
+    if proc.poll() is None:
+        os.kill(proc.pid, signal.SIGTERM)
+        try:
+            proc.wait(timeout=20)
+        except subprocess.TimeoutExpired:
+            os.kill(proc.pid, signal.SIGKILL)
+            proc.wait(timeout=10)
+    _, alive = psutil.wait_procs(family, timeout=15)
+    assert not alive, f"left running: {alive}"
+
+
+@dataclasses.dataclass
+class DaskCluster:
+    address: str
+    scheduler: subprocess.Popen
+    workers: list[subprocess.Popen]
+
+
+@pytest.fixture
+def dask_cluster(tmp_path):
+    """``dask scheduler`` and two ``dask worker`` processes (one thread each) on 127.0.0.1."""
+    from distributed import Client
+
+    port = _free_port()
+    address = f"tcp://127.0.0.1:{port}"
+    logs = tmp_path / "dask-logs"
+    logs.mkdir()
+    procs: list[subprocess.Popen] = []
+
+    def start(name, args):
+        log = open(logs / f"{name}.log", "wb")
+        proc = subprocess.Popen(
+            [sys.executable, "-m", "dask", *args], env=_env(), stdout=log, stderr=log
+        )
+        log.close()
+        procs.append(proc)
+        return proc
+
+    try:
+        scheduler = start(
+            "scheduler",
+            ["scheduler", "--host", "127.0.0.1", "--port", str(port), "--no-dashboard"],
+        )
+        deadline = time.monotonic() + 60
+        while True:
+            try:
+                socket.create_connection(("127.0.0.1", port), timeout=1).close()
+                break
+            except OSError:
+                assert scheduler.poll() is None, (logs / "scheduler.log").read_text()
+                assert time.monotonic() < deadline, "the scheduler did not start in 60 s"
+                time.sleep(0.2)
+        workers = [
+            start(
+                f"worker{k}",
+                [
+                    "worker",
+                    address,
+                    "--host",
+                    "127.0.0.1",
+                    "--nworkers",
+                    "1",
+                    "--nthreads",
+                    "1",
+                    "--no-dashboard",
+                    "--name",
+                    f"worker{k}",
+                    "--local-directory",
+                    str(tmp_path / f"worker{k}"),
+                ],
+            )
+            for k in range(2)
+        ]
+        with Client(address, timeout=60) as client:
+            client.wait_for_workers(2, timeout=120)
+        yield DaskCluster(address, scheduler, workers)
+    finally:
+        for proc in reversed(procs):
+            _stop(proc)
+
+
+def _same_files(a: Path, b: Path) -> None:
+    """Every stored run under ``a`` is under ``b`` at the same relative path with equal
+    arrays and equal metadata (but for the wall times)."""
+    files_a = sorted(p.relative_to(a) for p in a.rglob("seed*.npz"))
+    files_b = sorted(p.relative_to(b) for p in b.rglob("seed*.npz"))
+    assert files_a and files_a == files_b
+    for rel in files_a:
+        with np.load(a / rel) as x, np.load(b / rel) as y:
+            assert sorted(x.files) == sorted(y.files)
+            for name in x.files:
+                if name == "meta":
+                    mx, my = json.loads(str(x[name])), json.loads(str(y[name]))
+                    for m in (mx, my):
+                        m.pop("wall_time_train"), m.pop("wall_time_test")
+                    assert mx == my
+                else:
+                    np.testing.assert_array_equal(x[name], y[name], err_msg=f"{rel}: {name}")
+                    assert x[name].dtype == y[name].dtype
+
+
+# ------------------------------------------------------------------------------------------
+
+
+def test_parse_seeds():
+    assert parse_seeds("0-4") == [0, 1, 2, 3, 4]
+    assert parse_seeds("0,3,5") == [0, 3, 5]
+    assert parse_seeds("0-2, 10-11") == [0, 1, 2, 10, 11]
+    assert parse_seeds("7") == [7]
+    for bad in ("", "a", "3-1", "-1", "1-2-3", "0,0", "1.5"):
+        with pytest.raises(ValueError, match="seeds"):
+            parse_seeds(bad)
+
+
+def test_grid_and_overrides():
+    configs = grid_configs(TINY, ["network.eps_w=0,0.05", "world.step-forward=0.12,0.15"])
+    assert [(c.network.eps_w, c.world.step_forward) for c in configs] == [
+        (0.0, 0.12),
+        (0.0, 0.15),
+        (0.05, 0.12),
+        (0.05, 0.15),
+    ]
+    assert grid_configs(TINY, []) == [TINY]
+    assert apply_override(TINY, "network.rule", "nonlocal").network.rule == "nonlocal"
+    assert apply_override(TINY, "bootstrap_on_truncation", "false").bootstrap_on_truncation is False
+    assert apply_override(TINY, "train_trials", "7").train_trials == 7
+    with pytest.raises(ValueError, match="NetworkConfig.nope is not a field"):
+        apply_override(TINY, "network.nope", "1")
+    with pytest.raises(ValueError, match="ExperimentConfig.world is a group"):
+        apply_override(TINY, "world", "1")
+    with pytest.raises(ValueError, match="ExperimentConfig.train_trials takes an integer"):
+        apply_override(TINY, "train_trials", "many")
+    with pytest.raises(ValueError, match="NetworkConfig.eps_w"):
+        apply_override(TINY, "network.eps_w", "-1")  # the dataclass validates
+    with pytest.raises(ValueError, match="PATH=V1,V2"):
+        grid_configs(TINY, ["network.eps_w"])
+    with pytest.raises(ValueError, match="seed"):
+        Job(TINY, -1)
+
+
+def test_source_fingerprint_is_the_same_in_every_process():
+    code = "from docking.store import source_fingerprint; print(source_fingerprint())"
+    prints = {
+        subprocess.run(
+            [sys.executable, "-c", code],
+            env={**_env(), "PYTHONHASHSEED": str(hash_seed)},
+            capture_output=True,
+            text=True,
+            check=True,
+        ).stdout
+        for hash_seed in (1, 2, 3)
+    }
+    assert len(prints) == 1
+
+
+def test_local_cluster_and_in_process_give_identical_files(tmp_path):
+    jobs = jobs_for(grid_configs(TINY, ["network.eps_w=0,0.05"]), [0, 1])
+    in_process = run_jobs(jobs, tmp_path / "a", workers=1, progress=False)
+    on_cluster = run_jobs(jobs, tmp_path / "b", workers=2, progress=False)
+    assert [p.relative_to(tmp_path / "a") for p in in_process] == [
+        p.relative_to(tmp_path / "b") for p in on_cluster
+    ]
+    _same_files(tmp_path / "a", tmp_path / "b")
+    # run_seeds is a sweep of one configuration.
+    results = run_seeds(TINY, [0, 1], tmp_path / "c", processes=2, progress=False)
+    assert [r.seed for r in results] == [0, 1]
+    _same_files(tmp_path / "c", tmp_path / "a" / ".." / "c")
+
+
+def test_sweep_resumes_without_recomputing(tmp_path):
+    first = run_jobs(jobs_for([TINY], [0, 1]), tmp_path, workers=1, progress=False)
+    mtimes = [p.stat().st_mtime_ns for p in first]
+    time.sleep(0.05)
+    paths = run_jobs(jobs_for([TINY], [0, 1, 2, 3]), tmp_path, workers=2, progress=False)
+    assert paths[:2] == first and [p.stat().st_mtime_ns for p in first] == mtimes
+    assert all(p.exists() for p in paths)
+    forced = run_jobs(jobs_for([TINY], [0]), tmp_path, workers=1, force=True, progress=False)
+    assert forced[0].stat().st_mtime_ns != mtimes[0]
+
+
+def test_remote_cluster_gives_files_identical_to_a_local_sweep(dask_cluster, tmp_path):
+    jobs = jobs_for(grid_configs(TINY, ["network.eps_w=0,0.05"]), [0, 1, 2])
+    local = run_jobs(jobs, tmp_path / "local", workers=2, progress=False)
+    remote = run_jobs(jobs, tmp_path / "remote", scheduler=dask_cluster.address, progress=False)
+    assert len(remote) == len(local) == 6
+    _same_files(tmp_path / "local", tmp_path / "remote")
+    for p in remote:
+        load_result(p)  # valid
+
+
+def test_killing_a_worker_mid_sweep_loses_no_finished_run(dask_cluster, tmp_path):
+    jobs = jobs_for([SLOW], range(6))
+    outcome: dict = {}
+
+    def sweep():
+        try:
+            outcome["paths"] = run_jobs(
+                jobs, tmp_path, scheduler=dask_cluster.address, progress=False
+            )
+        except BaseException as exc:  # reported by the assertion below
+            outcome["error"] = exc
+
+    thread = threading.Thread(target=sweep)
+    thread.start()
+    deadline = time.monotonic() + 120
+    while not list(tmp_path.rglob("seed*.npz")):
+        assert thread.is_alive(), outcome
+        assert time.monotonic() < deadline, "no run finished within 120 s"
+        time.sleep(0.05)
+    finished = {p: p.stat().st_mtime_ns for p in tmp_path.rglob("seed*.npz")}
+    victim = dask_cluster.workers[0]
+    family = [psutil.Process(victim.pid), *psutil.Process(victim.pid).children(recursive=True)]
+    os.kill(victim.pid, signal.SIGKILL)
+    _, alive = psutil.wait_procs(family, timeout=15)
+    assert not alive, f"the killed worker left {alive}"
+    thread.join(timeout=300)
+    assert not thread.is_alive(), "the sweep did not complete"
+    assert "error" not in outcome, outcome.get("error")
+    assert len(finished) < len(jobs), "the worker was killed only after the sweep"
+    assert sorted(outcome["paths"]) == sorted(tmp_path.rglob("seed*.npz"))
+    for p in outcome["paths"]:
+        load_result(p)
+    for p, mtime in finished.items():  # finished before the kill: kept, never recomputed
+        assert p.stat().st_mtime_ns == mtime
+
+
+@pytest.mark.parametrize("signum", [signal.SIGKILL, signal.SIGTERM], ids=["kill-9", "sigterm"])
+def test_workers_end_with_their_parent(signum, tmp_path):
+    args = ["sweep", "experiment1", "--seeds", "0-5", "--processes", "2", *SLOW_ARGS]
+    parent = subprocess.Popen(
+        [sys.executable, "-m", "docking", *args, "--results-dir", str(tmp_path)],
+        env=_env(),
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
+    )
+    try:
+        deadline = time.monotonic() + 120
+        while not list(tmp_path.rglob("seed*.npz")):
+            assert parent.poll() is None, parent.communicate()
+            assert time.monotonic() < deadline, "no run finished within 120 s"
+            time.sleep(0.05)
+        family = psutil.Process(parent.pid).children(recursive=True)
+        assert len(family) >= 2  # the two worker processes (and multiprocessing helpers)
+        os.kill(parent.pid, signum)
+        _, alive = psutil.wait_procs(family, timeout=10)
+        assert not alive, f"orphaned after {signal.Signals(signum).name}: {alive}"
+        _, stderr = parent.communicate(timeout=30)  # EOF: every writer of the pipe is gone
+        assert "leaked semaphore" not in stderr
+        assert "resource_tracker" not in stderr
+        assert parent.returncode == (-signal.SIGKILL if signum == signal.SIGKILL else 128 + 15)
+    finally:
+        if parent.poll() is None:
+            parent.kill()
+            parent.wait()
