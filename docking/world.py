@@ -49,10 +49,10 @@ import mujoco  # noqa: E402
 import numpy as np  # noqa: E402
 from dm_control import mjcf  # noqa: E402
 from dm_control import mujoco as dm_mujoco  # noqa: E402
-from dm_control.mujoco import engine, wrapper  # noqa: E402
 from dm_env import specs  # noqa: E402
 
 from docking.camera import CameraConfig, preprocess  # noqa: E402
+from docking.render import SceneRenderer  # noqa: E402
 
 # Action indices. The paper (Sec. II-C): "four actions - moving forward, backward, right and
 # left"; left and right are sidesteps (Nao walks sideways), not turns.
@@ -61,9 +61,9 @@ ACTION_NAMES = ("forward", "backward", "left", "right")
 ACTION_LETTERS = ("F", "B", "L", "R")
 N_ACTIONS = 4
 
-# Geom groups: 0 the room (seen by everyone), 1 the robot's visual body (hidden from its own
+# Geom groups of the asset: 0 the room, 1 the robot's visual body (hidden from its own
 # camera), 3 the virtual docking region (only in overview renders).
-_ROBOT_GROUP, _DOCK_GROUP = 1, 3
+_ROOM_GROUP, _ROBOT_GROUP, _DOCK_GROUP = 0, 1, 3
 
 
 @dataclasses.dataclass(frozen=True)
@@ -288,6 +288,9 @@ class Physics(dm_mujoco.Physics):
         self._ctrl = _consecutive([model.actuator(n).id for n in POSE_JOINTS], "ctrl")
         steps = [_STEP_MOVE_TIME / model.opt.timestep, _STEP_SETTLE_TIME / model.opt.timestep]
         self._n_move, self._n_settle = (int(round(n)) for n in steps)
+        # Smoothstep u^2 (3 - 2u) of the gliding phase, u = k / n_move for k = 1..n_move.
+        u = [k / self._n_move for k in range(1, self._n_move + 1)]
+        self._smoothstep = np.array([[v * v * (3.0 - 2.0 * v)] for v in u])
 
     def pose(self) -> np.ndarray:
         """The robot's ground-truth pose ``[x, y, yaw]`` (m, m, rad)."""
@@ -298,12 +301,15 @@ class Physics(dm_mujoco.Physics):
         return self.data.ctrl[self._ctrl]
 
     def set_pose(self, pose) -> None:
-        """Place the robot at ``pose`` at rest, with its servos holding it there."""
+        """Place the robot at ``pose`` at rest, with its servos holding it there: the
+        simulation state is reset (time, velocities, warm starts), then the kinematics are
+        brought up to date for rendering (the next ``mj_step`` computes everything else)."""
         pose = np.asarray(pose, dtype=np.float64)
-        with self.reset_context():
-            self.data.qpos[self._qpos] = pose
-            self.data.qvel[self._qvel] = 0.0
-            self.data.ctrl[self._ctrl] = pose
+        mujoco.mj_resetData(self.model.ptr, self.data.ptr)
+        self.data.qpos[self._qpos] = pose
+        self.data.qvel[self._qvel] = 0.0
+        self.data.ctrl[self._ctrl] = pose
+        self.update_kinematics()
 
     def walk_to(self, target, stop=None) -> bool:
         """One walking step: the servo targets glide from the current pose to ``target``
@@ -311,18 +317,19 @@ class Physics(dm_mujoco.Physics):
         stop the body where it meets an obstacle.
 
         ``stop(pose)`` (optional) is checked after every physics step; once it holds, the
-        robot halts on the spot and ``walk_to`` returns True (the dock's detector)."""
+        robot halts on the spot and ``walk_to`` returns True (the dock's detector). On
+        return the kinematics are up to date for rendering."""
+        model, data = self.model.ptr, self.data.ptr
         qpos = self.data.qpos[self._qpos]  # views of the robot's pose and servo targets
         ctrl = self.data.ctrl[self._ctrl]
         start = np.array(ctrl)
-        target = np.asarray(target, dtype=np.float64)
-        n_move, n_settle = self._n_move, self._n_settle
+        # The servo targets of the gliding phase, one row per physics step.
+        targets = start + (np.asarray(target, dtype=np.float64) - start) * self._smoothstep
         stopped = False
-        for k in range(1, n_move + n_settle + 1):
-            if k <= n_move:
-                u = k / n_move
-                ctrl[:] = start + (target - start) * (u * u * (3.0 - 2.0 * u))
-            mujoco.mj_step(self.model.ptr, self.data.ptr)
+        for k in range(self._n_move + self._n_settle):
+            if k < self._n_move:
+                ctrl[:] = targets[k]
+            mujoco.mj_step(model, data)
             if stop is not None and stop(qpos):
                 stopped = True
                 break
@@ -330,7 +337,7 @@ class Physics(dm_mujoco.Physics):
         # keep pushing into the obstacle during the next one.
         ctrl[:] = qpos
         self.data.qvel[self._qvel] = 0.0
-        self.forward()
+        self.update_kinematics()
         return stopped
 
     def place(self, pose) -> None:
@@ -381,13 +388,6 @@ def _consecutive(addresses, what: str) -> slice:
     return slice(first, first + len(addresses))
 
 
-def _scene_option(show_robot: bool, show_dock: bool) -> wrapper.MjvOption:
-    option = wrapper.MjvOption()
-    option.geomgroup[_ROBOT_GROUP] = int(show_robot)
-    option.geomgroup[_DOCK_GROUP] = int(show_dock)
-    return option
-
-
 def _as_generator(seed) -> np.random.Generator:
     if isinstance(seed, np.random.Generator):
         return seed
@@ -419,8 +419,20 @@ class DockingEnv(dm_env.Environment):
         self._rng = _as_generator(seed)
         self._physics = Physics.from_xml_string(make_model_xml(self._config))
         cam = self._config.camera
-        self._camera = _make_camera(self._physics, cam.height, cam.width, "eye")
-        self._camera_option = _scene_option(show_robot=False, show_dock=False)
+        self._renderer = _make_camera(self._physics)
+        # What the robot's camera sees of the room, lit by its headlight alone: the room's
+        # ceiling light, which overview renders use, would make each software-rendered frame
+        # ~50% slower, and the red threshold does not need it.
+        self._eye_view = self._renderer.view(
+            "eye", cam.width, cam.height, groups=_EYE_GROUPS, lights=False
+        )
+        dc, half_depth, half_width = (
+            self._config.dock_center,
+            self._config.dock_depth / 2,
+            self._config.dock_width / 2,
+        )
+        # The dock's detector, checked at every physics step (in_dock's test, inlined).
+        self._in_dock = lambda p: abs(p[0] + dc) <= half_depth and abs(p[1]) <= half_width
         self._start_near = self._config.start_near
         self._start_far = self._config.start_far
         self._frame = None
@@ -501,9 +513,6 @@ class DockingEnv(dm_env.Environment):
         return dm_env.transition(reward=0.0, observation=observation)
 
     # -- internals ------------------------------------------------------------------------
-    def _in_dock(self, pose) -> bool:
-        return in_dock(pose, self._config)
-
     def _step_target(self, action: int) -> np.ndarray:
         cfg = self._config
         forward = (cfg.step_forward, -cfg.step_forward, 0.0, 0.0)[action]
@@ -522,22 +531,14 @@ class DockingEnv(dm_env.Environment):
         )
 
     def _observe(self) -> np.ndarray:
-        frame = self.render_camera()
-        self._frame = frame
+        frame = self._eye_view.render(self._physics.data.ptr)
+        self._frame = frame.copy()
         return preprocess(frame, self._config.camera)
 
     def render_camera(self) -> np.ndarray:
-        """The robot's RGB camera frame (the robot's body and the dock are not drawn).
-
-        Lit by the camera's headlight alone: the room's ceiling light, which overview renders
-        use, would make each software-rendered frame ~50% slower, and the red threshold
-        does not need it."""
-        lights = self._physics.model.light_active
-        lights[:] = 0
-        try:
-            return self._camera.render(scene_option=self._camera_option)
-        finally:
-            lights[:] = 1
+        """The robot's RGB camera frame of the current pose, as a new array (the robot's body
+        and the dock are not drawn; lit by the camera's headlight alone)."""
+        return self._eye_view.render(self._physics.data.ptr).copy()
 
     def render_view(
         self,
@@ -549,9 +550,10 @@ class DockingEnv(dm_env.Environment):
     ) -> np.ndarray:
         """An RGB render from one of the scene's fixed cameras (``overview``, ``top``), with
         the robot and the virtual docking region drawn, for figures."""
-        return self._physics.render(
-            height, width, camera_id=camera, scene_option=_scene_option(show_robot, show_dock)
-        )
+        groups = [g for g in range(6) if g not in (_ROBOT_GROUP, _DOCK_GROUP) and g < 3]
+        groups += [_ROBOT_GROUP] * show_robot + [_DOCK_GROUP] * show_dock
+        view = self._renderer.view(camera, width, height, groups=groups, lights=True)
+        return view.render(self._physics.data.ptr).copy()
 
     def landmark_in_crop(self, pose=None, margin: float | None = None) -> bool:
         """Whether the whole landmark projects inside the crop rectangle from ``pose``
@@ -608,6 +610,9 @@ def footprints(config: WorldConfig) -> dict[str, tuple[float, float, float, floa
 _FACTS = scene_facts()
 _ROOM_BACK = _FACTS.room_back
 
+# The geom groups the robot's camera draws: the room (its body and the dock are hidden).
+_EYE_GROUPS = (_ROOM_GROUP,)
+
 #: Radius of the robot's collision cylinder (m), for drawing its footprint.
 ROBOT_RADIUS = _FACTS.robot_radius
 
@@ -634,10 +639,10 @@ def _check_action(action) -> int:
     return value
 
 
-def _make_camera(physics: Physics, height: int, width: int, camera: str) -> engine.Camera:
-    """A reusable offscreen camera; one clear error if no OpenGL backend can start."""
+def _make_camera(physics: Physics) -> SceneRenderer:
+    """The renderer of ``physics``' scene; one clear error if no OpenGL backend can start."""
     try:
-        return engine.Camera(physics, height=height, width=width, camera_id=camera)
+        return SceneRenderer(physics.model.ptr)
     except Exception as exc:  # the backends raise many different types
         backend = os.environ.get("MUJOCO_GL", "")
         raise RuntimeError(
