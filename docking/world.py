@@ -51,7 +51,7 @@ from dm_control import mjcf  # noqa: E402
 from dm_control import mujoco as dm_mujoco  # noqa: E402
 from dm_env import specs  # noqa: E402
 
-from docking.camera import CameraConfig, preprocess  # noqa: E402
+from docking.camera import CameraConfig, preprocess_band  # noqa: E402
 from docking.render import SceneRenderer  # noqa: E402
 
 # Action indices. The paper (Sec. II-C): "four actions - moving forward, backward, right and
@@ -62,8 +62,9 @@ ACTION_LETTERS = ("F", "B", "L", "R")
 N_ACTIONS = 4
 
 # Geom groups of the asset: 0 the room, 1 the robot's visual body (hidden from its own
-# camera), 3 the virtual docking region (only in overview renders).
-_ROOM_GROUP, _ROBOT_GROUP, _DOCK_GROUP = 0, 1, 3
+# camera), 2 what the robot's camera draws (everything that can appear red), 3 the virtual
+# docking region (only in overview renders).
+_ROOM_GROUP, _ROBOT_GROUP, _EYE_GROUP, _DOCK_GROUP = 0, 1, 2, 3
 
 
 @dataclasses.dataclass(frozen=True)
@@ -420,11 +421,16 @@ class DockingEnv(dm_env.Environment):
         self._physics = Physics.from_xml_string(make_model_xml(self._config))
         cam = self._config.camera
         self._renderer = _make_camera(self._physics)
-        # What the robot's camera sees of the room, lit by its headlight alone: the room's
-        # ceiling light, which overview renders use, would make each software-rendered frame
-        # ~50% slower, and the red threshold does not need it.
+        # The robot's camera, lit by its headlight alone (the room's ceiling light, which
+        # overview renders use, would make each software-rendered frame ~50% slower, and the
+        # red threshold does not need it). Its observations render only the crop band (the
+        # frame's projection narrowed to it) and only the geoms that can change the input
+        # (group 2); `frame` renders the whole frame with the room, for figures.
+        self._eye_band = self._renderer.view(
+            "eye", cam.width, cam.height, groups=(_EYE_GROUP,), lights=False, window=cam.crop
+        )
         self._eye_view = self._renderer.view(
-            "eye", cam.width, cam.height, groups=_EYE_GROUPS, lights=False
+            "eye", cam.width, cam.height, groups=(_ROOM_GROUP, _EYE_GROUP), lights=False
         )
         dc, half_depth, half_width = (
             self._config.dock_center,
@@ -436,6 +442,7 @@ class DockingEnv(dm_env.Environment):
         self._start_near = self._config.start_near
         self._start_far = self._config.start_far
         self._frame = None
+        self._observed = False
         self._steps = 0
         self._needs_reset = True
 
@@ -471,7 +478,11 @@ class DockingEnv(dm_env.Environment):
 
     @property
     def frame(self) -> np.ndarray | None:
-        """The raw RGB camera frame behind the latest observation."""
+        """The robot's whole RGB camera frame (with the room) at the latest observation, for
+        figures; rendered on first access. The observation came from its crop band with the
+        landmark alone drawn, which has the same red pixels (``tests/test_world.py``)."""
+        if self._frame is None and self._observed:
+            self._frame = self.render_camera()
         return self._frame
 
     @property
@@ -531,9 +542,8 @@ class DockingEnv(dm_env.Environment):
         )
 
     def _observe(self) -> np.ndarray:
-        frame = self._eye_view.render(self._physics.data.ptr)
-        self._frame = frame.copy()
-        return preprocess(frame, self._config.camera)
+        self._frame, self._observed = None, True
+        return preprocess_band(self._eye_band.render(self._physics.data.ptr), self._config.camera)
 
     def render_camera(self) -> np.ndarray:
         """The robot's RGB camera frame of the current pose, as a new array (the robot's body
@@ -550,8 +560,8 @@ class DockingEnv(dm_env.Environment):
     ) -> np.ndarray:
         """An RGB render from one of the scene's fixed cameras (``overview``, ``top``), with
         the robot and the virtual docking region drawn, for figures."""
-        groups = [g for g in range(6) if g not in (_ROBOT_GROUP, _DOCK_GROUP) and g < 3]
-        groups += [_ROBOT_GROUP] * show_robot + [_DOCK_GROUP] * show_dock
+        groups = [_ROOM_GROUP, _EYE_GROUP] + [_ROBOT_GROUP] * show_robot
+        groups += [_DOCK_GROUP] * show_dock
         view = self._renderer.view(camera, width, height, groups=groups, lights=True)
         return view.render(self._physics.data.ptr).copy()
 
@@ -609,9 +619,6 @@ def footprints(config: WorldConfig) -> dict[str, tuple[float, float, float, floa
 
 _FACTS = scene_facts()
 _ROOM_BACK = _FACTS.room_back
-
-# The geom groups the robot's camera draws: the room (its body and the dock are hidden).
-_EYE_GROUPS = (_ROOM_GROUP,)
 
 #: Radius of the robot's collision cylinder (m), for drawing its footprint.
 ROBOT_RADIUS = _FACTS.robot_radius

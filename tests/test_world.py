@@ -9,11 +9,13 @@ import pytest
 from absl.testing import absltest
 from dm_env import test_utils
 
-from docking.camera import CameraConfig, red_mask
+from docking.camera import CameraConfig, preprocess, red_mask
 from docking.oracle import oracle_action
 from docking.world import (
     _DOCK_GROUP,
+    _EYE_GROUP,
     _ROBOT_GROUP,
+    _ROOM_GROUP,
     ASSET_PATH,
     BACKWARD,
     FORWARD,
@@ -316,12 +318,12 @@ def test_scene_facts_are_read_from_the_compiled_model():
     assert facts.sideboard[0] == pytest.approx(sideboard.pos[0] - sideboard.size[0])
     assert facts.sideboard_height == pytest.approx(2 * sideboard.size[2])
     assert facts.camera_height == model.cam("eye").pos[2]
-    # The landmark stands on the sideboard, its front face is x = 0.
+    # The landmark stands on the sideboard (a hairline above it), its front face is x = 0.
     slab = footprints(WorldConfig())["landmark_slab"]
     assert slab[0] == 0.0
-    assert model.geom("landmark_slab").pos[2] - model.geom("landmark_slab").size[2] == (
-        pytest.approx(facts.sideboard_height)
-    )
+    for name in ("landmark_slab", "landmark_post"):
+        bottom = model.geom(name).pos[2] - model.geom(name).size[2]
+        assert 0 < bottom - facts.sideboard_height <= 0.001 + 1e-12
     # The start region fits in the room.
     assert WorldConfig().start_far < facts.room_back
 
@@ -359,3 +361,141 @@ def test_geom_groups_of_the_asset():
         if model.geom_bodyid[i] == robot and model.geom(i).name != "body_collider"
     ]
     assert visual and all(model.geom_group[i] == _ROBOT_GROUP for i in visual)
+
+
+# -- what the robot's camera renders (issue 9) -----------------------------------------------
+
+
+def _poses_across_the_start_region(n=60, seed=0):
+    """Start poses across the full start region, plus poses near the sideboard's edges and
+    pressed against its front (where the landmark is closest and lowest in the image)."""
+    env = DockingEnv(seed=seed)
+    poses = [env.sample_start_pose() for _ in range(n)]
+    facts = scene_facts()
+    front = facts.sideboard[0] - facts.robot_radius
+    for y in (facts.sideboard[1], -0.2, 0.0, 0.2, facts.sideboard[3]):
+        for yaw in (-0.15, 0.0, 0.15):
+            poses.append(np.array([front - 0.001, y, yaw]))
+    return env, poses
+
+
+def _render(env, groups, window=None):
+    cam = env.config.camera
+    view = env._renderer.view(
+        "eye", cam.width, cam.height, groups=groups, lights=False, window=window
+    )
+    return view.render(env.physics.data.ptr).copy()
+
+
+def test_band_render_equals_the_crop_of_the_full_frame():
+    # The narrowed frustum renders the crop's pixels of the full frame: at most 2 pixels per
+    # frame may differ (rounding where a triangle's edge crosses a pixel centre; 0 measured).
+    env, poses = _poses_across_the_start_region()
+    x0, y0, x1, y1 = env.config.camera.crop
+    worst = 0
+    for pose in poses:
+        env.reset_to(pose)
+        for groups in ((_EYE_GROUP,), (_ROOM_GROUP, _EYE_GROUP)):
+            full = _render(env, groups)[y0:y1, x0:x1]
+            band = _render(env, groups, window=env.config.camera.crop)
+            worst = max(worst, int(np.sum(np.any(full != band, axis=2))))
+    assert worst <= 2
+
+
+def test_hiding_the_other_geoms_does_not_change_the_observation():
+    # The robot's camera draws only group 2 (the landmark); with the room drawn as well, the
+    # red mask of the crop is the same, pixel for pixel, and so is the observation.
+    env, poses = _poses_across_the_start_region()
+    cam = env.config.camera
+    x0, y0, x1, y1 = cam.crop
+    seen = 0
+    for pose in poses:
+        observation = env.reset_to(pose).observation
+        with_room = _render(env, (_ROOM_GROUP, _EYE_GROUP))
+        alone = _render(env, (_EYE_GROUP,))
+        np.testing.assert_array_equal(red_mask(with_room, cam), red_mask(alone, cam))
+        np.testing.assert_array_equal(preprocess(with_room, cam), observation)
+        seen += bool(red_mask(alone, cam)[y0:y1, x0:x1].any())
+    assert seen >= len(poses) - 6  # beside the sideboard's ends the landmark is out of view
+
+
+def test_only_the_camera_group_can_appear_red():
+    # Every geom whose colour passes the red threshold (hue and saturation do not depend on
+    # the headlight's shading) is in the camera's group: the landmark's two boxes.
+    model = make_model(WorldConfig())
+    cam = WorldConfig().camera
+    red = []
+    for i in range(model.ngeom):
+        matid = model.geom_matid[i]
+        rgba = model.mat_rgba[matid] if matid >= 0 else model.geom_rgba[i]
+        if rgba[3] == 0:
+            continue  # never drawn
+        pixel = np.uint8(np.round(255 * np.array(rgba[:3]))).reshape(1, 1, 3)
+        if red_mask(pixel, cam).any():
+            red.append(model.geom(i).name)
+            assert model.geom_group[i] == _EYE_GROUP, model.geom(i).name
+    assert sorted(red) == ["landmark_post", "landmark_slab"]
+
+
+def test_no_hidden_geom_can_occlude_the_landmark():
+    # Rays from the robot's camera to points on the landmark's faces that lie in its crop,
+    # from a 10 cm grid over the whole floor the robot can stand on, facing anywhere (every
+    # 10 deg), hit no geom outside the camera's group first: the walls stand behind every
+    # line of sight, the sideboard's top below it (the camera is above it and the landmark
+    # floats above it), and the furniture that can be in the way (the sofa's arms, the shelf,
+    # the plant) is in the camera's group. From the start region none is in the way.
+    model = make_model(WorldConfig())
+    data = mujoco.MjData(model)
+    facts = scene_facts()
+    eye = model.cam("eye")
+    forward, height = float(eye.pos[0]), float(eye.pos[2])
+    points = []
+    for name in ("landmark_slab", "landmark_post"):
+        centre, size = model.geom(name).pos, model.geom(name).size
+        grid = np.linspace(-0.999, 0.999, 5)
+        for axis in range(3):
+            for sign in (-1.0, 1.0):
+                for a in grid:
+                    for b in grid:
+                        local = np.empty(3)
+                        local[axis] = sign
+                        local[[k for k in range(3) if k != axis]] = (a, b)
+                        points.append(centre + local * size)
+    points = np.array(points)
+    mujoco.mj_forward(model, data)
+    hidden = np.array([g != _EYE_GROUP for g in range(6)], dtype=np.uint8)
+    robot = model.body("robot").id
+    # The robot's collision cylinder must fit: skip stands inside a collidable geom.
+    blocked = []
+    for i in range(model.ngeom):
+        if model.geom_contype[i] and model.geom_type[i] != mujoco.mjtGeom.mjGEOM_PLANE:
+            if model.geom_bodyid[i] != robot:
+                half = np.abs(data.geom_xmat[i].reshape(3, 3)[:2, :2]) @ model.geom_aabb[i, 3:5]
+                blocked.append((data.geom_xpos[i][:2], half))
+    cam = WorldConfig().camera
+    x0, y0, x1, y1 = cam.crop
+    tilt = np.radians(cam.tilt_deg)
+    geomid = np.zeros(1, dtype=np.int32)
+    stands, rays = 0, 0
+    for x in np.arange(-facts.room_back + 0.1, facts.room_front, 0.1):
+        for y in np.arange(-facts.room_half_width + 0.1, facts.room_half_width, 0.1):
+            if any(np.all(np.abs([x, y] - c) < h + facts.robot_radius) for c, h in blocked):
+                continue
+            stands += 1
+            for yaw in np.radians(np.arange(0, 360, 10)):
+                c, s = np.cos(yaw), np.sin(yaw)
+                camera = np.array([x + forward * c, y + forward * s, height])
+                ahead = np.array([c * np.cos(tilt), s * np.cos(tilt), -np.sin(tilt)])
+                right = np.array([s, -c, 0.0])
+                up = np.cross(right, ahead)
+                vecs = points - camera
+                depth = vecs @ ahead
+                with np.errstate(divide="ignore", invalid="ignore"):
+                    u = cam.width / 2 + cam.focal_px * (vecs @ right) / depth
+                    v = cam.height / 2 - cam.focal_px * (vecs @ up) / depth
+                in_crop = (depth > 0) & (u >= x0) & (u <= x1) & (v >= y0) & (v <= y1)
+                for vec in vecs[in_crop]:
+                    rays += 1
+                    hit = mujoco.mj_ray(model, data, camera, vec, hidden, 1, robot, geomid)
+                    assert hit < 0 or hit > 1 - 1e-9, (x, y, yaw, model.geom(geomid[0]).name)
+    assert stands > 500 and rays > 100_000
