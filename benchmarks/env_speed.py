@@ -1,59 +1,11 @@
-"""Benchmark: environment steps per second (render + physics + preprocessing).
+"""Benchmark of the docking world against its floor, and of a full Experiment 2 seed.
 
-Runs random actions in `DockingEnv` with the default world and prints steps/s overall and the
-time spent in each part of a step. Target (issue #2): at least 1000 steps/s on a 2-core
-CPU-only machine with MUJOCO_GL=egl (Mesa llvmpipe).
+A thin wrapper of :mod:`docking.benchmark` (also ``python -m docking benchmark``):
 
-    python benchmarks/env_speed.py [--steps N]
+    python benchmarks/env_speed.py [--repeats 5] [--steps 2000] [--seeds 0 1] [--quick]
 """
 
-import argparse
-import time
-
-import numpy as np
-
-from docking.camera import preprocess
-from docking.world import DockingEnv
-
-
-def main() -> None:
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--steps", type=int, default=5000)
-    args = parser.parse_args()
-    env = DockingEnv(seed=0)
-    rng = np.random.default_rng(1)
-    env.reset()
-    for _ in range(200):  # warm up the GL context and caches
-        env.step(int(rng.integers(4)))
-    start = time.perf_counter()
-    for _ in range(args.steps):
-        env.step(int(rng.integers(4)))
-    total = time.perf_counter() - start
-
-    n = 1000
-    t0 = time.perf_counter()
-    for _ in range(n):
-        frame = env.render_camera()
-    t_render = (time.perf_counter() - t0) / n
-    t0 = time.perf_counter()
-    for _ in range(n):
-        preprocess(frame, env.config.camera)
-    t_pre = (time.perf_counter() - t0) / n
-    target = env.physics.data.ctrl[:3].copy()
-    t0 = time.perf_counter()
-    for _ in range(n):
-        env.physics.walk_to(target)
-    t_phys = (time.perf_counter() - t0) / n
-
-    print(
-        f"environment steps/s (render + physics + preprocessing, incl. resets): "
-        f"{args.steps / total:.0f}"
-    )
-    print(
-        f"  per step: {1e3 * total / args.steps:.3f} ms; render {1e3 * t_render:.3f} ms, "
-        f"physics {1e3 * t_phys:.3f} ms, preprocessing {1e3 * t_pre:.3f} ms"
-    )
-
+from docking.benchmark import main
 
 if __name__ == "__main__":
     main()

@@ -15,6 +15,8 @@ llvmpipe); :mod:`docking.world` sets it before MuJoCo is imported.
 
 from __future__ import annotations
 
+import atexit
+import ctypes
 import os
 
 import mujoco
@@ -34,20 +36,49 @@ def _gl_context():
         # own offscreen framebuffers (visual/global offwidth x offheight).
         _CONTEXT = GLContext(960, 720)
         _CONTEXT.make_current()
+        # Free it before the backend shuts down at exit (atexit runs handlers in reverse).
+        atexit.register(_free_context)
     else:
         _make_current(_CONTEXT)
     return _CONTEXT
 
 
+def _free_context() -> None:
+    global _CONTEXT, _BOUND
+    _BOUND = None
+    if _CONTEXT is not None:
+        _CONTEXT.free()
+        _CONTEXT = None
+
+
 def _make_current(context) -> None:
     """Make ``context`` current unless it already is (one cheap query per frame with EGL)."""
-    if os.environ.get("MUJOCO_GL") == "egl":
-        from mujoco.egl import egl_ext as EGL
-
-        current = EGL.eglGetCurrentContext()
-        if current and current.address == context._context.address:
+    if _current_context is not None:
+        if _current_context() == _address(context):
             return
     context.make_current()
+
+
+def _egl_current_context():
+    """libEGL's ``eglGetCurrentContext`` as a bare ctypes function (PyOpenGL's wrapper costs
+    ~15 us a call), or None when rendering does not go through EGL."""
+    if os.environ.get("MUJOCO_GL") != "egl":
+        return None
+    try:
+        function = ctypes.CDLL("libEGL.so.1").eglGetCurrentContext
+    except (OSError, AttributeError):
+        return None
+    function.restype, function.argtypes = ctypes.c_void_p, []
+    return function
+
+
+def _address(context) -> int | None:
+    """The EGL context handle of a ``mujoco.egl.GLContext`` as an int."""
+    handle = getattr(context, "_context", None)
+    return ctypes.cast(handle, ctypes.c_void_p).value if handle is not None else None
+
+
+_current_context = _egl_current_context()
 
 
 class SceneRenderer:
