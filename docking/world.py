@@ -25,6 +25,13 @@ four actions is one walking step whose target is displaced by noise in position 
 and the servos walk the body there through MuJoCo physics, so collisions with the landmark's
 sideboard, the walls and the furniture are real. The humanoid itself (torso, head, arms, legs)
 is visual only.
+
+Rendering (:mod:`docking.render`): the robot's camera renders, for each observation, only the
+crop rectangle of its frame (the projection narrowed to it) and only geom group 2 of the
+asset, the geoms that can change the input (what can appear red, and what can stand between
+the camera and the landmark); ``tests/test_world.py`` shows that this gives the pixels of the
+whole frame with the whole room. Figures get the whole frame (``DockingEnv.frame``) and the
+overview cameras (``DockingEnv.render_view``).
 """
 
 from __future__ import annotations
