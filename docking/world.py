@@ -201,9 +201,11 @@ def make_mjcf(config: WorldConfig) -> mjcf.RootElement:
     return root
 
 
+@functools.lru_cache(maxsize=16)
 def make_model_xml(config: WorldConfig) -> str:
     """The MJCF of ``config``'s scene as one string (every number at full precision); the
-    model of :func:`make_model` and of :class:`DockingEnv` is compiled from it."""
+    model of :func:`make_model` and of :class:`DockingEnv` is compiled from it (cached per
+    config: a run builds three environments of one world)."""
     return make_mjcf(config).to_xml_string()
 
 
@@ -444,6 +446,7 @@ class DockingEnv(dm_env.Environment):
             self._config.dock_depth / 2,
             self._config.dock_width / 2,
         )
+        self._noise_yaw_rad = np.radians(self._config.step_noise_yaw_deg)
         # The dock's detector, checked at every physics step (in_dock's test, inlined).
         self._in_dock = lambda p: abs(p[0] + dc) <= half_depth and abs(p[1]) <= half_width
         self._start_near = self._config.start_near
@@ -544,7 +547,7 @@ class DockingEnv(dm_env.Environment):
             [
                 x + cos * forward - sin * side,
                 y + sin * forward + cos * side,
-                yaw + np.radians(cfg.step_noise_yaw_deg) * noise[2],
+                yaw + self._noise_yaw_rad * noise[2],
             ]
         )
 
