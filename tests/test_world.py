@@ -388,18 +388,20 @@ def _render(env, groups, window=None):
 
 
 def test_band_render_equals_the_crop_of_the_full_frame():
-    # The narrowed frustum renders the crop's pixels of the full frame: at most 2 pixels per
-    # frame may differ (rounding where a triangle's edge crosses a pixel centre; 0 measured).
+    # The narrowed frustum renders the crop's pixels of the full frame, up to rounding where a
+    # triangle's edge crosses a pixel's centre: with the camera's group (what observations
+    # render) at most 1 pixel per frame (1 in 515 frames measured), with the whole room at most
+    # 8 (5 measured, at the walls' and the floor's edges); never a pixel of the red mask.
     env, poses = _poses_across_the_start_region()
-    x0, y0, x1, y1 = env.config.camera.crop
-    worst = 0
-    for pose in poses:
-        env.reset_to(pose)
-        for groups in ((_EYE_GROUP,), (_ROOM_GROUP, _EYE_GROUP)):
+    cam = env.config.camera
+    x0, y0, x1, y1 = cam.crop
+    for groups, allowed in (((_EYE_GROUP,), 1), ((_ROOM_GROUP, _EYE_GROUP), 8)):
+        for pose in poses:
+            env.reset_to(pose)
             full = _render(env, groups)[y0:y1, x0:x1]
-            band = _render(env, groups, window=env.config.camera.crop)
-            worst = max(worst, int(np.sum(np.any(full != band, axis=2))))
-    assert worst <= 2
+            band = _render(env, groups, window=cam.crop)
+            assert np.sum(np.any(full != band, axis=2)) <= allowed
+            np.testing.assert_array_equal(red_mask(full, cam), red_mask(band, cam))
 
 
 def test_hiding_the_other_geoms_does_not_change_the_observation():
