@@ -29,6 +29,8 @@ import dataclasses
 import cv2
 import numpy as np
 
+from docking.validate import check_int, check_int_tuple, check_real, normalise
+
 
 @dataclasses.dataclass(frozen=True)
 class CameraConfig:
@@ -57,25 +59,38 @@ class CameraConfig:
     min_value: int = 60
 
     def __post_init__(self):
-        for name in ("width", "height"):
-            if getattr(self, name) < 1:
-                raise ValueError(f"CameraConfig.{name} must be >= 1, got {getattr(self, name)}")
-        if not 0.0 < self.fovy_deg < 180.0:
-            raise ValueError(f"CameraConfig.fovy_deg must be in (0, 180), got {self.fovy_deg}")
-        if not -90.0 <= self.tilt_deg <= 90.0:
-            raise ValueError(f"CameraConfig.tilt_deg must be in [-90, 90], got {self.tilt_deg}")
-        x0, y0, x1, y1 = self.crop
-        if not (0 <= x0 < x1 <= self.width and 0 <= y0 < y1 <= self.height):
+        owner = "CameraConfig"
+        width = check_int(owner, "width", self.width, lo=1, hi=4096)
+        height = check_int(owner, "height", self.height, lo=1, hi=4096)
+        fovy = check_real(
+            owner, "fovy_deg", self.fovy_deg, lo=0, hi=180, lo_open=True, hi_open=True
+        )
+        tilt = check_real(owner, "tilt_deg", self.tilt_deg, lo=-90, hi=90)
+        crop = check_int_tuple(owner, "crop", self.crop, 4, lo=0)
+        x0, y0, x1, y1 = crop
+        if not (x0 < x1 <= width and y0 < y1 <= height):
             raise ValueError(
                 f"CameraConfig.crop must satisfy 0 <= x0 < x1 <= width and 0 <= y0 < y1 <= "
-                f"height, got {self.crop} for a {self.width}x{self.height} frame"
+                f"height, got {crop} for a {width}x{height} frame"
             )
-        if len(self.input_shape) != 2 or min(self.input_shape) < 1:
+        input_shape = check_int_tuple(owner, "input_shape", self.input_shape, 2, lo=1)
+        if input_shape[0] > y1 - y0 or input_shape[1] > x1 - x0:
             raise ValueError(
-                f"CameraConfig.input_shape must be (rows, cols) >= 1, got {self.input_shape}"
+                f"CameraConfig.input_shape (rows, cols) must fit the crop's {y1 - y0} rows and "
+                f"{x1 - x0} columns (it averages blocks of the crop), got {input_shape}"
             )
-        if not 0 <= self.hue_tol <= 90:
-            raise ValueError(f"CameraConfig.hue_tol must be in [0, 90], got {self.hue_tol}")
+        normalise(
+            self,
+            width=width,
+            height=height,
+            fovy_deg=fovy,
+            tilt_deg=tilt,
+            crop=crop,
+            input_shape=input_shape,
+            hue_tol=check_int(owner, "hue_tol", self.hue_tol, lo=0, hi=90),
+            min_saturation=check_int(owner, "min_saturation", self.min_saturation, lo=0, hi=255),
+            min_value=check_int(owner, "min_value", self.min_value, lo=0, hi=255),
+        )
 
     @property
     def fovx_deg(self) -> float:

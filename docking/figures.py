@@ -1,4 +1,4 @@
-"""The paper's figures, rebuilt from this reproduction's world and results.
+"""The paper's figures, drawn from arrays: this module draws and does nothing else.
 
 * :func:`fig2_scene` -- Fig. 2: the scene, the robot's camera view with the crop rectangle, the
   32x10 input; plus the views from the left of, in front of and to the right of the landmark.
@@ -8,24 +8,22 @@
 * :func:`fig5` -- Fig. 5: sample test trajectories seen from above.
 * :func:`fig_learning_curves` -- test success and steps during training (not in the paper).
 
+Every figure function takes the arrays that :mod:`docking.analysis` computes (and
+configurations for geometry and labels) and returns a :class:`matplotlib.figure.Figure`; it
+renders nothing, runs no network and writes no file. The caller saves the figure with
+:func:`save_figure` (``.png`` and ``.pdf``). The figures are drawn on matplotlib's Agg canvas
+without pyplot, so the library never opens a window.
+
 Conventions, as in the paper's captions: "Strong weights are displayed dark" -- every weight
 or input image uses a reversed gray colormap (white = 0), without interpolation and with square
 pixels, so a 32x10 field looks 32x10. Each receptive field is scaled from 0 to its own maximum
 (written under it, so a weak field is not mistaken for a strong one; negative values, if any,
 show white); network inputs use the fixed scale 0..1. Action fields are shown in the paper's
 order L, R, F, B.
-
-Every figure function takes data in and a path out: it saves the figure as ``.png`` and
-``.pdf`` next to each other (each written to a temporary file in the same folder, then renamed
-into place) and returns the :class:`matplotlib.figure.Figure`. The figures are drawn on
-matplotlib's Agg canvas without pyplot, so the library never opens a window.
 """
 
 from __future__ import annotations
 
-import os
-import tempfile
-import warnings
 from pathlib import Path
 
 import numpy as np
@@ -35,15 +33,25 @@ from matplotlib.figure import Figure
 from matplotlib.lines import Line2D
 from matplotlib.patches import Circle, Polygon, Rectangle
 
+from docking.analysis import (
+    Decisions,
+    ExampleViews,
+    LearningCurves,
+    MeanInputs,
+    TrajectorySample,
+    best_actions,
+    floor_plan,
+)
 from docking.camera import CameraConfig
-from docking.network import Network
-from docking.world import ACTION_LETTERS, ROBOT_RADIUS, DockingEnv, WorldConfig, footprints
+from docking.experiments import ExperimentConfig
+from docking.fileio import atomic_write
+from docking.paths import figures_dir
+from docking.region import StartRegion
+from docking.world import ACTION_LETTERS, ROBOT_RADIUS, WorldConfig
 
 __all__ = [
     "FIGURES_DIR",
-    "VIEW_POSES",
     "PAPER_ACTION_ORDER",
-    "receptive_fields",
     "fig2_scene",
     "fig3",
     "fig4",
@@ -51,24 +59,11 @@ __all__ = [
     "fig_learning_curves",
     "draw_floor_plan",
     "draw_trajectory",
-    "sample_trials",
     "save_figure",
 ]
 
-#: Where the notebooks write the figures: ``figures/`` at the repository's root.
-FIGURES_DIR = Path(__file__).resolve().parent.parent / "figures"
-
-#: Robot poses ``[x, y, yaw]`` of the three example views (Fig. 2 D, Fig. 3 top): to the left
-#: of, in front of and to the right of the landmark, 0.68 m from its front plane (inside
-#: Experiment 1's start region, 0.58-0.70 m) and 0.15 m to the side (near the edge of the start
-#: trapezoid, whose half-width there is 0.68 m * tan(14 deg) = 0.17 m). The robot faces +x and
-#: its left is +y, so a robot standing *left of* the landmark is at +y and sees the landmark on
-#: the right of its image; it has to step right to dock.
-VIEW_POSES = {
-    "left": (-0.68, 0.15, 0.0),
-    "front": (-0.68, 0.0, 0.0),
-    "right": (-0.68, -0.15, 0.0),
-}
+#: Where the notebooks write the figures (:func:`docking.paths.figures_dir` at import time).
+FIGURES_DIR = figures_dir()
 
 #: The order in which the paper shows the action units (Figs. 3 and 4): L, R, F, B.
 PAPER_ACTION_ORDER = tuple(ACTION_LETTERS.index(letter) for letter in "LRFB")
@@ -92,39 +87,25 @@ def save_figure(fig: Figure, path) -> tuple[Path, Path]:
 
     ``path`` may end in ``.png`` or ``.pdf`` or have no suffix; both files are written either
     way, each first to a temporary file in the same folder and then renamed into place, so a
-    reader never sees half a figure. The PDF carries no creation date, so regenerating an
-    unchanged figure leaves the file unchanged. Returns the two paths."""
+    reader never sees half a figure (:func:`docking.fileio.atomic_write`). The PDF carries no
+    creation date, so regenerating an unchanged figure leaves the file unchanged. Returns the
+    two paths."""
     path = Path(path)
     if path.suffix.lower() in (".png", ".pdf"):
         path = path.with_suffix("")
-    path.parent.mkdir(parents=True, exist_ok=True)
     written = []
     for fmt in ("png", "pdf"):
-        target = path.parent / f"{path.name}.{fmt}"
-        fd, tmp = tempfile.mkstemp(prefix=f".{target.name}.", suffix=".tmp", dir=target.parent)
-        try:
-            with os.fdopen(fd, "wb") as f:
-                # No creation date in the PDF: the same figure gives the same file.
-                fig.savefig(
-                    f,
-                    format=fmt,
-                    dpi=_DPI,
-                    metadata={"CreationDate": None} if fmt == "pdf" else None,
-                )
-            os.chmod(tmp, 0o666 & ~_umask())  # mkstemp creates 0600; make it an ordinary file
-            os.replace(tmp, target)
-        except BaseException:
-            if os.path.exists(tmp):
-                os.unlink(tmp)
-            raise
-        written.append(target)
+        # No creation date in the PDF: the same figure gives the same file.
+        metadata = {"CreationDate": None} if fmt == "pdf" else None
+        written.append(
+            atomic_write(
+                path.parent / f"{path.name}.{fmt}",
+                lambda f, fmt=fmt, metadata=metadata: fig.savefig(
+                    f, format=fmt, dpi=_DPI, metadata=metadata
+                ),
+            )
+        )
     return written[0], written[1]
-
-
-def _umask() -> int:
-    mask = os.umask(0)
-    os.umask(mask)
-    return mask
 
 
 def _new_figure(width: float, height: float) -> Figure:
@@ -208,93 +189,34 @@ def _view_title(name: str, pose) -> str:
     return f"{where}\n(x = {pose[0]:+.2f} m, y = {pose[1]:+.2f} m)"
 
 
-def _check_views(poses) -> dict:
-    poses = dict(VIEW_POSES if poses is None else poses)
-    if len(poses) != 3:
-        raise ValueError(f"poses must name three views, got {list(poses)}")
-    return {name: np.asarray(p, dtype=np.float64) for name, p in poses.items()}
-
-
-# ------------------------------------------------------------------------------------------
-# Receptive fields.
-# ------------------------------------------------------------------------------------------
-
-
-def receptive_fields(net: Network, shape=None) -> tuple[np.ndarray, np.ndarray]:
-    """The receptive fields of the action and the feature units, as images.
-
-    * Feature unit ``j``: its weight row ``W_j`` (Eq. 1, ``h_j = sum_n W_jn I_n``), reshaped to
-      the input image.
-    * Action unit ``i``: its action weights mapped back into input space through the feature
-      layer, ``RF_i = sum_j Q_ij W_j`` (i.e. the rows of ``Q @ W``). With a winner-take-all
-      feature layer (``s`` nearly one-hot) an input that matches ``W_j`` drives action ``i``
-      with ``Q_ij``, so ``RF_i`` shows which inputs favour action ``i``.
-
-    Args:
-      net: A network (``W``: features x inputs, ``Q``: actions x features).
-      shape: ``(rows, cols)`` of the input image; default the camera's 32x10 input
-        (``CameraConfig().input_shape``). Inputs are flattened row-major (``Network.prepare``).
-
-    Returns:
-      ``(action_rf, feature_rf)`` of shapes ``(n_actions, rows, cols)`` and
-      ``(n_features, rows, cols)``, in action index order (``ACTION_LETTERS``) and unit order.
-    """
-    shape = tuple(CameraConfig().input_shape if shape is None else shape)
-    if int(np.prod(shape)) != net.W.shape[1]:
-        raise ValueError(f"shape {shape} does not hold the network's {net.W.shape[1]} inputs")
-    action_rf = (net.Q @ net.W).reshape(-1, *shape)
-    feature_rf = net.W.reshape(-1, *shape)
-    return action_rf, feature_rf
-
-
-def _best_action(net: Network, j: int) -> int | None:
-    """``argmax_i Q_ij``: the action feature unit ``j`` votes for; None if it has no positive
-    action weight (an unused unit)."""
-    column = net.Q[:, j]
-    return int(np.argmax(column)) if np.max(column) > 0 else None
-
-
-def _decide(net: Network, observation: np.ndarray) -> tuple[int, float, int]:
-    """The winning feature unit, its activation ``s_j`` and the greedy action (argmax of
-    Eq. 3) for ``observation``."""
-    s = net.features(net.prepare(observation))
-    winner = int(np.argmax(s))
-    return winner, float(s[winner]), int(np.argmax(net.Q @ s))
-
-
 # ------------------------------------------------------------------------------------------
 # Fig. 2: the scene.
 # ------------------------------------------------------------------------------------------
 
 
-def fig2_scene(env: DockingEnv, path, poses=None, overview_size=(800, 600)) -> Figure:
+def fig2_scene(camera: CameraConfig, views: ExampleViews, overview: np.ndarray) -> Figure:
     """The paper's Fig. 2 for this world, plus the three example views of Fig. 3 (top).
 
     (A) An overview render of the room: the robot in front of the docking region (yellow;
     virtual, never seen by the robot) and the red landmark on its sideboard. (B) The robot's
-    camera frame at the same pose, the crop rectangle drawn white and dotted. (C) The 32x10
-    network input after cropping, red thresholding and downsizing (coverage fraction of each
-    pixel, 1 = dark). (D) The camera frames and inputs from the left of, in front of and to
-    the right of the landmark.
+    camera frame at the middle view's pose, the crop rectangle drawn white and dotted. (C) The
+    32x10 network input after cropping, red thresholding and downsizing (coverage fraction of
+    each pixel, 1 = dark). (D) The camera frames and inputs of the three views, ordered left,
+    front, right.
 
     Args:
-      env: The docking environment; it is moved to each pose in turn (``reset_to``), so a
-        running trial is abandoned.
-      path: Where to save (``.png`` and ``.pdf``; see :func:`save_figure`).
-      poses: Three named poses ``{name: [x, y, yaw]}`` for row D, ordered left, front, right;
-        panels A-C use the middle one. Default :data:`VIEW_POSES`.
-      overview_size: ``(width, height)`` of the overview render in pixels.
+      camera: The camera (frame size, crop, input shape).
+      views: Three views (:func:`docking.analysis.example_views`).
+      overview: The overview render (:func:`docking.analysis.overview`) at the middle pose.
     """
-    poses = _check_views(poses)
-    names = list(poses)
-    camera = env.config.camera
-    frames, inputs = {}, {}
-    for name, pose in poses.items():
-        timestep = env.reset_to(pose)
-        frames[name], inputs[name] = env.frame.copy(), np.array(timestep.observation)
+    names = list(views.names)
+    if len(names) != 3:
+        raise ValueError(f"fig2_scene needs three views, got {names}")
+    poses = dict(zip(names, views.poses, strict=True))
+    frames = dict(zip(names, views.frames, strict=True))
+    inputs = dict(zip(names, views.inputs, strict=True))
     main = names[1]
-    env.reset_to(poses[main])
-    overview = env.render_view("overview", *overview_size)
+    overview_size = (overview.shape[1], overview.shape[0])
 
     rows, cols = camera.input_shape
     frame_aspect = camera.height / camera.width
@@ -351,7 +273,6 @@ def fig2_scene(env: DockingEnv, path, poses=None, overview_size=(800, 600)) -> F
         _image(ax_i, inputs[name], vmax=1.0)
         if k == 0:
             _letter(fig, ax_f, "D")
-    save_figure(fig, path)
     return fig
 
 
@@ -375,7 +296,15 @@ def _row_label(fig: Figure, ax, text: str) -> None:
     )
 
 
-def fig3(result, env: DockingEnv, path, poses=None) -> Figure:
+def fig3(
+    config: ExperimentConfig,
+    seed: int,
+    views: ExampleViews,
+    decisions: Decisions,
+    action_rf: np.ndarray,
+    feature_rf: np.ndarray,
+    Q: np.ndarray,
+) -> Figure:
     """The paper's Fig. 3 for Experiment 1 (4 feature units).
 
     Top: the camera frames from the left of, in front of and to the right of the landmark
@@ -386,16 +315,17 @@ def fig3(result, env: DockingEnv, path, poses=None) -> Figure:
     contributes to most (``argmax_i Q_ij``). Strong weights dark, each field scaled 0..max.
 
     Args:
-      result: An :class:`~docking.experiments.ExperimentResult` (run or loaded).
-      env: An environment for the three camera frames (its camera should be the result's).
-      path: Where to save (``.png`` and ``.pdf``).
-      poses: The three views; default :data:`VIEW_POSES`.
+      config: The experiment (camera, sizes and labels).
+      seed: The run's seed (for the title).
+      views: The three views (:func:`docking.analysis.example_views`).
+      decisions: The network's decisions on ``views.inputs``
+        (:func:`docking.analysis.decisions`).
+      action_rf, feature_rf: :func:`docking.analysis.receptive_fields` of the network.
+      Q: The network's action weights (for the unit titles).
     """
-    net = result.network
-    shape = result.config.world.camera.input_shape
-    action_rf, feature_rf = receptive_fields(net, shape)
-    poses = _check_views(poses)
-    camera = env.config.camera
+    shape = config.world.camera.input_shape
+    camera = config.world.camera
+    best = best_actions(Q)
     frame_aspect = camera.height / camera.width
     rf_aspect = shape[0] / shape[1]
     n_feat = feature_rf.shape[0]
@@ -412,18 +342,21 @@ def fig3(result, env: DockingEnv, path, poses=None) -> Figure:
     H = y_bot + feat_rows * (c4 * rf_aspect + label_h) + (feat_rows - 1) * 0.35 + 0.1
     fig = _new_figure(W, H)
     fig.suptitle(
-        f"Experiment 1 ({n_feat} feature units, {result.config.network.rule} rule), "
-        f"seed {result.seed}, after {result.config.train_trials} training trials",
+        f"Experiment 1 ({n_feat} feature units, {config.network.rule} rule), "
+        f"seed {seed}, after {config.train_trials} training trials",
         fontsize=10,
         y=1 - 0.08 / H,
         va="top",
     )
 
-    for k, (name, pose) in enumerate(poses.items()):
-        timestep = env.reset_to(pose)
-        winner, activation, action = _decide(net, timestep.observation)
+    for k, (name, pose) in enumerate(zip(views.names, views.poses, strict=True)):
+        winner, activation, action = (
+            int(decisions.winners[k]),
+            float(decisions.activations[k]),
+            int(decisions.actions[k]),
+        )
         ax = _axes(fig, margin_l + k * (c3 + gap), y_top, c3, c3 * frame_aspect)
-        _image(ax, env.frame)
+        _image(ax, views.frames[k])
         _crop_rectangle(ax, camera)
         ax.set_title(_view_title(name, pose).split("\n")[0], fontsize=9, pad=3)
         ax.set_xlabel(
@@ -449,63 +382,15 @@ def fig3(result, env: DockingEnv, path, poses=None) -> Figure:
             c4,
             c4 * rf_aspect,
         )
-        best = _best_action(net, j)
         label = (
-            f"unit {j} \u2192 {ACTION_LETTERS[best]} (Q = {net.Q[best, j]:.2f})"
-            if best is not None
+            f"unit {j} \u2192 {ACTION_LETTERS[best[j]]} (Q = {Q[best[j], j]:.2f})"
+            if best[j] >= 0
             else f"unit {j}: no action"
         )
         _weight_map(ax, feature_rf[j], label, title_size=9)
         if j == 0:
             _row_label(fig, ax, "feature\nunits")
-    save_figure(fig, path)
     return fig
-
-
-def mean_winning_inputs(
-    net: Network, world: WorldConfig, n: int = 1500, seed: int = 0
-) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
-    """What the units respond to: mean network inputs over ``n`` start views.
-
-    Samples ``n`` start poses of ``world``'s start region (``DockingEnv(world, seed).reset()``,
-    one rendered frame each) and averages the observations (the 10x32 input before Eq. 1)
-    separately for every feature unit that wins (``argmax_j s_j``, Eq. 2) and for every greedy
-    action (``argmax_i h_i``, Eq. 3).
-
-    Returns ``(action_mean, unit_mean, action_counts, unit_counts)``: ``(n_actions, rows,
-    cols)``, ``(n_features, rows, cols)`` (zeros where a unit never wins) and the counts.
-    """
-    if n < 1:
-        raise ValueError(f"n must be >= 1, got {n}")
-    env = DockingEnv(world, seed=seed)
-    shape = world.camera.input_shape
-    n_act, n_feat = net.config.n_actions, net.config.n_features
-    action_sum, unit_sum = np.zeros((n_act,) + shape), np.zeros((n_feat,) + shape)
-    action_counts = np.zeros(n_act, dtype=np.int64)
-    unit_counts = np.zeros(n_feat, dtype=np.int64)
-    for _ in range(n):
-        obs = env.reset().observation
-        s = net.features(net.prepare(obs))
-        j, i = int(np.argmax(s)), int(np.argmax(net.Q @ s))
-        unit_sum[j] += obs
-        unit_counts[j] += 1
-        action_sum[i] += obs
-        action_counts[i] += 1
-    env.close()
-    with np.errstate(invalid="ignore", divide="ignore"):
-        action_mean = np.nan_to_num(action_sum / action_counts[:, None, None])
-        unit_mean = np.nan_to_num(unit_sum / unit_counts[:, None, None])
-    return action_mean, unit_mean, action_counts, unit_counts
-
-
-def _strongest_units(net: Network) -> dict[int, list[str]]:
-    """For L, R and F, the feature unit with the largest action weight (``argmax_j Q_ij``)."""
-    framed: dict[int, list[str]] = {}
-    for letter in "LRF":
-        i = ACTION_LETTERS.index(letter)
-        if np.max(net.Q[i]) > 0:  # an action no unit votes for has no strongest unit
-            framed.setdefault(int(np.argmax(net.Q[i])), []).append(letter)
-    return framed
 
 
 # Layout of one block of Fig. 4 (inches): heading, 4 action panels, then the unit grid.
@@ -583,32 +468,38 @@ def _field_block(
             )
 
 
-def fig4(result, path, columns: int | None = None, n_samples: int = 1500) -> Figure:
+def fig4(
+    config: ExperimentConfig,
+    seed: int,
+    action_rf: np.ndarray,
+    feature_rf: np.ndarray,
+    mean_inputs: MeanInputs,
+    framed: dict[int, list[str]],
+    columns: int | None = None,
+) -> Figure:
     """The paper's Fig. 4 for Experiment 2 (36 feature units), in two halves.
 
     Left, the weights (as in the paper): the action units' receptive fields
     ``sum_j Q_ij W_j`` (L, R, F, B) above the feature units' receptive fields ``W_j`` (6x6).
-    Right, what the units respond to: the mean input over ``n_samples`` start views of the
-    test region for which each action is the greedy one, and for which each feature unit
-    wins (see :func:`mean_winning_inputs`; blank where a unit never wins). In both halves the
-    unit that contributes most to each of L, R and F (``argmax_j Q_ij``) is framed in red.
-    Strong dark, each panel scaled 0..its maximum.
+    Right, what the units respond to: the mean input over the sampled start views for which
+    each action is the greedy one, and for which each feature unit wins (blank where a unit
+    never wins). In both halves the units in ``framed`` (the one that contributes most to each
+    of L, R and F, ``argmax_j Q_ij``) are framed in red. Strong dark, each panel scaled 0..its
+    maximum.
 
     Args:
-      result: An :class:`~docking.experiments.ExperimentResult` (run or loaded).
-      path: Where to save (``.png`` and ``.pdf``).
+      config: The experiment (input shape and labels).
+      seed: The run's seed (for the title).
+      action_rf, feature_rf: :func:`docking.analysis.receptive_fields` of the network.
+      mean_inputs: :func:`docking.analysis.mean_winning_inputs` of the network.
+      framed: :func:`docking.analysis.strongest_units` of the network.
       columns: Grid columns; default ``ceil(sqrt(n_features))``.
-      n_samples: Start views for the right half.
     """
-    net = result.network
-    shape = result.config.world.camera.input_shape
-    action_rf, feature_rf = receptive_fields(net, shape)
-    action_mean, unit_mean, action_counts, unit_counts = mean_winning_inputs(
-        net, result.config.world, n=n_samples
-    )
+    shape = config.world.camera.input_shape
+    action_mean, unit_mean, action_counts, unit_counts = mean_inputs
+    n_samples = int(np.sum(action_counts))
     n_feat = feature_rf.shape[0]
     columns = columns or int(np.ceil(np.sqrt(n_feat)))
-    framed = _strongest_units(net)
 
     W, margin, middle = 15.0, 0.3, 0.6
     half = (W - 2 * margin - middle) / 2
@@ -616,8 +507,8 @@ def fig4(result, path, columns: int | None = None, n_samples: int = 1500) -> Fig
     H = top + _block_geometry(half, shape[0] / shape[1], n_feat, columns)[3] + 0.5
     fig = _new_figure(W, H)
     fig.suptitle(
-        f"Experiment 2 ({n_feat} feature units, {result.config.network.rule} rule), "
-        f"seed {result.seed}, after {result.config.train_trials} training trials",
+        f"Experiment 2 ({n_feat} feature units, {config.network.rule} rule), "
+        f"seed {seed}, after {config.train_trials} training trials",
         fontsize=11,
         y=1 - 0.06 / H,
         va="top",
@@ -657,7 +548,6 @@ def fig4(result, path, columns: int | None = None, n_samples: int = 1500) -> Fig
         color="0.3",
         va="bottom",
     )
-    save_figure(fig, path)
     return fig
 
 
@@ -669,13 +559,11 @@ def fig4(result, path, columns: int | None = None, n_samples: int = 1500) -> Fig
 # robot's left (+y) is on the reader's left, as it is for a robot walking up the page.
 
 
-def draw_floor_plan(
-    ax, config: WorldConfig, start_region: tuple[float, float] | None = None
-) -> None:
+def draw_floor_plan(ax, config: WorldConfig, start_region: StartRegion | None = None) -> None:
     """Draw the floor plan on ``ax`` (horizontal: y, inverted; vertical: x): the grey sideboard,
     the landmark's red boxes, the yellow docking region and, dashed, the start trapezoid
-    ``start_region = (near, far)`` (default the config's)."""
-    fp = footprints(config)
+    (default the config's, ``StartRegion.of(config)``)."""
+    fp = floor_plan(config)
     styles = {
         "sideboard": dict(facecolor=_SIDEBOARD_GREY, edgecolor="0.4", zorder=1),
         "landmark_slab": dict(facecolor=_LANDMARK_RED, edgecolor="none", zorder=2),
@@ -685,9 +573,8 @@ def draw_floor_plan(
     for name, style in styles.items():
         x0, y0, x1, y1 = fp[name]
         ax.add_patch(Rectangle((y0, x0), y1 - y0, x1 - x0, **style))
-    near, far = start_region if start_region is not None else (config.start_near, config.start_far)
-    tan = np.tan(np.radians(config.start_half_angle_deg))
-    corners = [(near * tan, -near), (far * tan, -far), (-far * tan, -far), (-near * tan, -near)]
+    region = start_region if start_region is not None else StartRegion.of(config)
+    corners = region.corners()[:, ::-1]  # (y, x): y is the horizontal axis
     ax.add_patch(
         Polygon(
             corners,
@@ -727,57 +614,47 @@ def draw_trajectory(ax, poses: np.ndarray, color, start_marker: bool = True, **k
         )
 
 
-def sample_trials(success: np.ndarray, n: int, seed: int = 0, min_failures: int = 3) -> np.ndarray:
-    """A seeded random sample of ``n`` trial indices that represents the success rate but
-    shows failures when there are any: failures get ``round(n * failure rate)`` places, at
-    least ``min(min_failures, failures)``. Sorted indices; fewer if there are fewer trials."""
-    success = np.asarray(success, dtype=bool)
-    rng = np.random.default_rng(seed)
-    fails, oks = np.flatnonzero(~success), np.flatnonzero(success)
-    n = min(n, len(success))
-    n_fail = int(round(n * len(fails) / max(len(success), 1)))
-    n_fail = min(len(fails), max(n_fail, min(min_failures, len(fails), n)))
-    n_ok = min(n - n_fail, len(oks))
-    n_fail = min(len(fails), n - n_ok)
-    chosen = np.concatenate(
-        [rng.choice(fails, n_fail, replace=False), rng.choice(oks, n_ok, replace=False)]
-    ).astype(np.int64)
-    return np.sort(chosen)
-
-
-def fig5(result, path, n: int = 30, seed: int = 0) -> Figure:
+def fig5(
+    config: WorldConfig,
+    sample: TrajectorySample,
+    label: str,
+    start_region: StartRegion | None = None,
+    shade_seed: int = 0,
+) -> Figure:
     """The paper's Fig. 5: sample test trajectories of the robot seen from above.
 
-    ``n`` test trials chosen by :func:`sample_trials` (seeded; failures shown if there are
-    any). Successful trials in different shades of green, failures in red, start points as
-    open circles; the docking region yellow (its size from the config), the sideboard grey, the
+    Successful trials in different shades of green, failures in red, start points as open
+    circles; the docking region yellow (its size from the config), the sideboard grey, the
     landmark's two boxes red, the test start trapezoid dashed, and the robot's body (radius
     ``ROBOT_RADIUS``) drawn once at the end of a successful trial for scale.
 
     Args:
-      result: An :class:`~docking.experiments.ExperimentResult` (run or loaded).
-      path: Where to save (``.png`` and ``.pdf``).
-      n: Trials to show.
-      seed: Seed of the sample.
+      config: The world (floor plan, docking region, start region).
+      sample: The trials to show (:func:`docking.analysis.trajectory_sample`).
+      label: Names the run in the title, e.g. ``"experiment2, seed 0"``.
+      start_region: The start trapezoid to draw; default the config's.
+      shade_seed: Seeds the order of the shades of green (so neighbouring paths differ).
     """
-    config = result.config.world
-    log = result.test
-    chosen = sample_trials(log.success, n, seed)
-    ok = [k for k in chosen if log.success[k]]
-    bad = [k for k in chosen if not log.success[k]]
-    paths = {k: log.trial_poses(k) for k in chosen}
+    region = start_region if start_region is not None else StartRegion.of(config)
+    ok = [m for m in range(len(sample.indices)) if sample.success[m]]
+    bad = [m for m in range(len(sample.indices)) if not sample.success[m]]
+    paths = dict(enumerate(sample.paths))
 
     # The plotted area: the floor plan, the start region and every shown path, plus a margin;
     # one metre is drawn the same length on both axes.
-    tan = np.tan(np.radians(config.start_half_angle_deg))
-    fp = footprints(config)
+    sideboard = floor_plan(config)["sideboard"]
     ys = np.concatenate(
-        [[config.start_far * tan, -config.start_far * tan, fp["sideboard"][1], fp["sideboard"][3]]]
+        [
+            [
+                region.half_width(region.far),
+                -region.half_width(region.far),
+                sideboard[1],
+                sideboard[3],
+            ]
+        ]
         + [p[:, 1] for p in paths.values()]
     )
-    xs = np.concatenate(
-        [[-config.start_far, fp["sideboard"][2]]] + [p[:, 0] for p in paths.values()]
-    )
+    xs = np.concatenate([[-region.far, sideboard[2]]] + [p[:, 0] for p in paths.values()])
     margin = 0.08
     y_lo, y_hi = float(np.min(ys)) - margin, float(np.max(ys)) + margin
     x_lo, x_hi = float(np.min(xs)) - margin, float(np.max(xs)) + margin
@@ -788,13 +665,13 @@ def fig5(result, path, n: int = 30, seed: int = 0) -> Figure:
     H = 0.55 + plot_h + 0.6 + legend_h
     fig = _new_figure(W, H)
     ax = _axes(fig, 0.9, 0.55, plot_w, plot_h)
-    draw_floor_plan(ax, config)
+    draw_floor_plan(ax, config, region)
     ax.set_xlim(y_hi, y_lo)  # inverted: +y (the robot's left) on the left
     ax.set_ylim(x_lo, x_hi)
 
     # Shades of green, shuffled (seeded) so that neighbouring paths differ.
     shades = colormaps["Greens"](np.linspace(0.45, 0.95, max(len(ok), 1)))
-    shades = shades[np.random.default_rng(seed).permutation(len(shades))]
+    shades = shades[np.random.default_rng(shade_seed).permutation(len(shades))]
     for m, k in enumerate(ok):
         draw_trajectory(ax, paths[k], shades[m])
     for k in bad:
@@ -813,10 +690,10 @@ def fig5(result, path, n: int = 30, seed: int = 0) -> Figure:
             )
         )
 
+    n, docked = sample.n_trials, sample.n_docked
     ax.set_title(
-        f"{result.config.name}, seed {result.seed}: {len(chosen)} of {len(log)} test "
-        f"trials\n(all {len(log)}: {int(np.sum(log.success))} docked, "
-        f"{100 * log.success_rate:.0f}%)",
+        f"{label}: {len(sample.indices)} of {n} test trials\n(all {n}: {docked} docked, "
+        f"{100 * (docked / n):.0f}%)",
         fontsize=9,
     )
     dock_cm = f"{100 * config.dock_depth:.0f}x{100 * config.dock_width:.0f} cm"
@@ -843,7 +720,7 @@ def fig5(result, path, n: int = 30, seed: int = 0) -> Figure:
             [],
             color="0.45",
             linestyle="--",
-            label=f"start region ({config.start_near:.2f}-{config.start_far:.2f} m)",
+            label=f"start region ({region.near:.2f}-{region.far:.2f} m)",
         ),
         Rectangle(
             (0, 0),
@@ -871,7 +748,6 @@ def fig5(result, path, n: int = 30, seed: int = 0) -> Figure:
         frameon=False,
         bbox_to_anchor=(0.15 / W, 1 - (0.55 + plot_h + 0.6) / H),
     )
-    save_figure(fig, path)
     return fig
 
 
@@ -883,38 +759,24 @@ def fig5(result, path, n: int = 30, seed: int = 0) -> Figure:
 _PAPER_SUCCESS = {"experiment1": 1.0, "experiment2": 0.95}
 
 
-def _mean_curve(xs: list[np.ndarray], ys: list[np.ndarray]) -> tuple[np.ndarray, np.ndarray]:
-    """Mean over runs at the learning-curve points all runs share (NaNs ignored)."""
-    common = xs[0]
-    for x in xs[1:]:
-        common = np.intersect1d(common, x)
-    stack = np.array(
-        [[y[np.flatnonzero(x == c)[0]] for c in common] for x, y in zip(xs, ys, strict=True)],
-        dtype=np.float64,
-    )
-    with warnings.catch_warnings():  # an all-NaN column (no success anywhere) stays NaN
-        warnings.simplefilter("ignore", RuntimeWarning)
-        mean = np.nanmean(stack, axis=0)
-    return common, mean
-
-
-def fig_learning_curves(results1: list, results2: list, path) -> Figure:
+def fig_learning_curves(curves1: LearningCurves | None, curves2: LearningCurves | None) -> Figure:
     """Learning curves of both experiments (not a figure of the paper).
 
-    One column per experiment with results (an empty list skips its column). Top: test
-    success rate (greedy trials from the full start region) against training trials; thin
-    lines one per seed, the thick line their mean; a diamond per seed at the end is the final
-    test's success rate; dashed, the paper's final result (100% and 95%). Middle: mean actions
-    of the successful test trials, with the step limit dotted. Bottom: the start region's far
-    edge during training (the curriculum of Experiment 2, "Learning from Easy Missions").
+    One column per experiment with curves (``None`` skips its column), from
+    :func:`docking.analysis.learning_curves`. Top: test success rate (greedy trials from the
+    full start region) against training trials; thin lines one per seed, the thick line their
+    mean; a diamond per seed at the end is the final test's success rate; dashed, the paper's
+    final result (100% and 95%). Middle: mean actions of the successful test trials, with the
+    step limit dotted. Bottom: the start region's far edge during training (the curriculum of
+    Experiment 2, "Learning from Easy Missions").
     """
     columns = [
-        (label, list(rs))
-        for label, rs in (("Experiment 1", results1), ("Experiment 2", results2))
-        if len(rs)
+        (label, curves)
+        for label, curves in (("Experiment 1", curves1), ("Experiment 2", curves2))
+        if curves is not None
     ]
     if not columns:
-        raise ValueError("fig_learning_curves needs results of at least one experiment")
+        raise ValueError("fig_learning_curves needs the curves of at least one experiment")
     W = 4.6 * len(columns) + 0.6
     fig = _new_figure(W, 7.6)
     grid = fig.add_gridspec(
@@ -928,19 +790,19 @@ def fig_learning_curves(results1: list, results2: list, path) -> Figure:
         top=0.93,
         bottom=0.08,
     )
-    for col, (label, results) in enumerate(columns):
+    for col, (label, curves) in enumerate(columns):
         ax_s = fig.add_subplot(grid[0, col])
         ax_n = fig.add_subplot(grid[1, col], sharex=ax_s)
         ax_c = fig.add_subplot(grid[2, col], sharex=ax_s)
-        cfg = results[0].config
+        cfg = curves.config
         color = f"C{col}"
         thin = dict(color=color, alpha=0.35, lw=0.8)
-        for r in results:
-            ax_s.plot(r.curve_trials, 100 * r.curve_success, **thin)
-            ax_n.plot(r.curve_trials, r.curve_steps, **thin)
+        for k in range(len(curves.seeds)):
+            ax_s.plot(curves.trials[k], 100 * curves.success[k], **thin)
+            ax_n.plot(curves.trials[k], curves.steps[k], **thin)
             ax_s.plot(
-                r.config.train_trials,
-                100 * r.test.success_rate,
+                curves.final_trials[k],
+                100 * curves.final_success[k],
                 "D",
                 color=color,
                 alpha=0.6,
@@ -948,17 +810,14 @@ def fig_learning_curves(results1: list, results2: list, path) -> Figure:
                 clip_on=False,
                 zorder=4,
             )
-        xs = [r.curve_trials for r in results]
-        x, mean_s = _mean_curve(xs, [r.curve_success for r in results])
-        ax_s.plot(x, 100 * mean_s, color=color, lw=2.2)
-        x, mean_n = _mean_curve(xs, [r.curve_steps for r in results])
-        ax_n.plot(x, mean_n, color=color, lw=2.2)
+        ax_s.plot(curves.mean_trials, 100 * curves.mean_success, color=color, lw=2.2)
+        ax_n.plot(curves.mean_trials, curves.mean_steps, color=color, lw=2.2)
 
         # Legend: what a thin line, the thick line and a diamond are.
         ax_s.plot(
             [], [], **thin, label=f"one seed ({cfg.eval_trials} test trials every {cfg.eval_every})"
         )
-        ax_s.plot([], [], color=color, lw=2.2, label=f"mean of {len(results)} seeds")
+        ax_s.plot([], [], color=color, lw=2.2, label=f"mean of {len(curves.seeds)} seeds")
         ax_s.plot(
             [],
             [],
@@ -989,20 +848,20 @@ def fig_learning_curves(results1: list, results2: list, path) -> Figure:
         ax_n.legend(fontsize=7, loc="lower right", framealpha=0.9)
 
         # The start region during training (the seeds share the configuration's curriculum).
-        trials = np.arange(len(results[0].train.start_far))
+        trials = np.arange(len(curves.start_far[0]))
         ax_c.fill_between(
             trials,
             cfg.world.start_near,
-            results[0].train.start_far,
+            curves.start_far[0],
             color=color,
             alpha=0.2,
             lw=0,
             step="post",
         )
-        for r in results:
+        for start_far in curves.start_far:
             ax_c.plot(
-                np.arange(len(r.train.start_far)),
-                r.train.start_far,
+                np.arange(len(start_far)),
+                start_far,
                 color=color,
                 lw=1.0,
                 drawstyle="steps-post",
@@ -1017,7 +876,6 @@ def fig_learning_curves(results1: list, results2: list, path) -> Figure:
             ax.tick_params(labelbottom=False)
         for ax in (ax_s, ax_n, ax_c):
             ax.grid(alpha=0.3, lw=0.5)
-        last = max(r.config.train_trials for r in results)
+        last = int(np.max(curves.final_trials))
         ax_s.set_xlim(0, last * 1.03)  # room for the final-test diamonds
-    save_figure(fig, path)
     return fig

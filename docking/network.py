@@ -1,28 +1,28 @@
 """The two-layer network of Kleesiek et al. (2011), Sec. II-A and II-B.
 
 Input layer (pixels ``I``) -> softmax feature layer (weights ``W``, state ``s``) -> Q-value
-action layer (weights ``Q``).  Both layers learn from the same SARSA prediction error delta:
+action layer (weights ``Q``).  Both layers learn from the same SARSA prediction error delta.
+Each of the paper's equations is written out once, in a comment at the line that computes it:
 
-* Eq. (1)-(2): ``h_j = sum_n W_jn I_n``,  ``s = softmax(beta_s * h)``
-* Eq. (3)-(4): ``h_i = sum_j Q_ij s_j``,  ``P(a_i = 1) = softmax(beta_a * h)_i``
-* Eq. (5):     ``v = sum_kl Q_kl a_k s_l = Q[a] . s``  (``a`` one-hot)
-* Eq. (7):     ``Delta Q_ij = eps_q * delta * a_i * s_j``
-* Eq. (8):     ``Delta W_jn = eps_w * delta * s_j * I_n * (Q_ij - sum_k Q_ik s_k)``
-               (``i`` = the chosen action)
+* Eq. (1)-(2), the feature layer: :meth:`Network.features`;
+* Eq. (3)-(4), the action layer and the policy: :meth:`Network.action_probabilities`;
+* Eq. (5), the value of the chosen action: :meth:`Network.value`;
+* Eq. (7)-(8), the learning rules: :meth:`Network.update` (:meth:`Network.increments` returns
+  the same changes without applying them), after which ``W`` is rectified (``W >= 0``) and each
+  row normalized to unit length (Sec. II-A);
+* Eq. (12) and (16), the exact gradient of Eq. (5): :meth:`Network.value_gradient`.
 
-after which ``W`` is rectified (``W >= 0``) and each row normalized to unit length (Sec. II-A).
-:meth:`Network.increments` returns the raw changes of Eq. (7)-(8), :meth:`Network.update`
-applies them.
+Eq. (6), the prediction error delta, is computed by :func:`docking.trial.run_trial`.
 
-Sign convention: ``delta = r + gamma v' - v`` (Eq. 6) is the target minus the estimate, so every
-update is ``+ eps * delta * dv/dtheta``, i.e. gradient *descent* on the energy of Eq. (9)
-(Eq. 11: ``-dE/dtheta = delta dv/dtheta``).
+Sign convention: delta (Eq. 6) is the target minus the estimate, so every update adds
+``eps * delta * dv/dtheta``, i.e. gradient *descent* on the energy of Eq. (9) (Eq. 11).
 
-beta_s: Eq. (16) says "proportional to"; the exact derivative of ``v`` w.r.t. ``W_jn`` carries an
-extra factor ``beta_s`` (from ``dh -> beta_s dh`` inside the softmax).  As in the paper, the
-learning rule :meth:`Network.update` leaves it out (it is absorbed into ``eps_w``), whereas
+beta_s: Eq. (16) says "proportional to"; the exact derivative of ``v`` w.r.t. ``W`` carries an
+extra factor ``beta_s`` (from the softmax of Eq. 2).  As in the paper, the learning rule
+:meth:`Network.update` leaves it out (it is absorbed into ``eps_w``), whereas
 :meth:`Network.value_gradient` returns the exact gradient including ``beta_s`` so that it can be
 checked against finite differences.  The effective gradient step on ``W`` is ``eps_w / beta_s``.
+Notebook 01 derives Eq. (9)-(16) and checks the code against them.
 
 Only numpy is used.  All randomness comes from an explicitly passed ``numpy.random.Generator``.
 """
@@ -30,22 +30,34 @@ Only numpy is used.  All randomness comes from an explicitly passed ``numpy.rand
 from __future__ import annotations
 
 import dataclasses
+import json
 import math
-import os
-import tempfile
 from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
 
+from docking.fileio import atomic_write
+from docking.validate import (
+    FieldTypeError,
+    check_bool,
+    check_choice,
+    check_int,
+    check_real,
+    normalise,
+)
+
 __all__ = ["NetworkConfig", "Network", "RULES", "finite_difference_gradient"]
 
-#: The two feature-layer learning rules: ``"nonlocal"`` is Eq. (8)/(16) with the bracket
-#: ``(Q_ij - sum_k Q_ik s_k)``; ``"local"`` drops the bracket (``delta s_j I_n``), the
-#: "purely local learning rule" of Sec. II-B.
+#: The two feature-layer learning rules: ``"nonlocal"`` is Eq. (8) as printed, with its bracket
+#: (the gradient of Eq. 16); ``"local"`` drops the bracket, the "purely local learning rule" of
+#: Sec. II-B.
 RULES = ("local", "nonlocal")
 
-_FORMAT_VERSION = 1
+#: ``"softmax"``: the paper's feature layer (Eq. 1-2); ``"none"``: ``s = I`` (linear SARSA).
+FEATURE_LAYERS = ("softmax", "none")
+
+_FORMAT_VERSION = 2
 
 #: A row of W whose norm after rectification is at most this (rows had unit length before the
 #: update) is treated as all-zero: its direction would be rounding noise.
@@ -67,13 +79,12 @@ class NetworkConfig:
         beta_a_test: inverse temperature of Eq. (4) during testing; paper: 100.
         gamma: discount factor of Eq. (6); paper: 0.9.
         eps_q: learning rate of the action weights, Eq. (7) (the paper only gives
-            "proportional to"; 0.1 is our choice: in both experiments 0.05 learned too slowly
-            within the paper's trial counts and 0.2 or 0.5 let the greedy policy flip from
-            evaluation to evaluation, see notebooks 03 and 04).
+            "proportional to"; 0.1 is our choice, calibrated against other values in
+            notebooks 03 and 04, "What the choices do").
         eps_w: learning rate of the feature weights, Eq. (8) (not in the paper; 0.05 is our
             choice).  The factor beta_s of the exact gradient is absorbed into it.
-        rule: ``"nonlocal"`` = Eq. (8)/(16) with the bracket ``(Q_ij - sum_k Q_ik s_k)``;
-            ``"local"`` = drop the bracket, ``Delta W_jn = eps_w delta s_j I_n`` (Sec. II-B).
+        rule: ``"nonlocal"`` = Eq. (8) with its bracket; ``"local"`` = Eq. (8) without the
+            bracket (Sec. II-B); see :data:`RULES`.
         normalize_input: scale each input vector ``I`` to unit Euclidean length before Eq. (1)
             (an all-zero input stays zero).  Not in the paper; it makes ``h_j`` a cosine
             similarity in [0, 1] (rows of W have unit length too), so that beta_s = 100 has
@@ -83,6 +94,13 @@ class NetworkConfig:
             reward in {0, 1}.  W is drawn first, and Q consumes the same number of draws
             whatever q_init (also 0), so q_init changes nothing else that the same
             generator produces.
+        feature_delta: what modulates Eq. (8). ``None`` (the paper): the TD error delta of
+            Eq. (6). A number ``c``: Eq. (8) keeps its form with delta replaced by the
+            constant ``c``, an unmodulated control (competitive Hebbian feature learning
+            alongside SARSA; Eq. 7 still uses delta).
+        feature_layer: ``"softmax"`` (the paper, Eq. 1-2) or ``"none"``: no feature layer,
+            ``s = I``, a linear SARSA on the pixels (``n_features`` must equal ``n_inputs``;
+            ``W`` is the identity and is never learned).
     """
 
     n_inputs: int = 320  # 32x10 image, Sec. II-A
@@ -94,33 +112,40 @@ class NetworkConfig:
     gamma: float = 0.9  # Eq. (6)
     eps_q: float = 0.1  # learning rate of Eq. (7); not in the paper
     eps_w: float = 0.05  # learning rate of Eq. (8); not in the paper
-    rule: str = "nonlocal"  # Eq. (8)/(16) with bracket; "local" drops it
+    rule: str = "nonlocal"  # Eq. (8) with its bracket; "local" drops it
     normalize_input: bool = True  # unit-length I before Eq. (1); not in the paper
     q_init: float = 0.0  # Q ~ U[0, q_init]; not in the paper
+    feature_delta: float | None = None  # None: Eq. (8) uses delta; a number: that constant
+    feature_layer: str = "softmax"  # Eq. (1)-(2); "none": linear SARSA on the pixels
 
     def __post_init__(self) -> None:
-        for name in ("n_inputs", "n_features", "n_actions"):
-            value = getattr(self, name)
-            if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or value < 1:
-                raise ValueError(f"{name} must be a positive integer, got {value!r}")
-        for name in ("beta_s", "beta_a_train", "beta_a_test"):
-            value = getattr(self, name)
-            if not _is_real(value) or not (np.isfinite(value) and value > 0):
-                raise ValueError(f"{name} must be a finite number > 0, got {value!r}")
-        if not _is_real(self.gamma) or not 0.0 <= self.gamma <= 1.0:
-            raise ValueError(f"gamma must be in [0, 1], got {self.gamma!r}")
+        owner = "NetworkConfig"
+        counts = {
+            name: check_int(owner, name, getattr(self, name), lo=1, hi=1_000_000)
+            for name in ("n_inputs", "n_features", "n_actions")
+        }
+        reals = {
+            name: check_real(owner, name, getattr(self, name), lo=0, lo_open=True)
+            for name in ("beta_s", "beta_a_train", "beta_a_test")
+        }
+        reals["gamma"] = check_real(owner, "gamma", self.gamma, lo=0, hi=1)
         for name in ("eps_q", "eps_w", "q_init"):
-            value = getattr(self, name)
-            if not _is_real(value) or not (np.isfinite(value) and value >= 0):
-                raise ValueError(f"{name} must be a finite number >= 0, got {value!r}")
-        if self.rule not in RULES:
-            raise ValueError(f"rule must be one of {RULES}, got {self.rule!r}")
-        if not isinstance(self.normalize_input, (bool, np.bool_)):
-            raise ValueError(f"normalize_input must be a bool, got {self.normalize_input!r}")
-
-
-def _is_real(value) -> bool:
-    return isinstance(value, (int, float, np.integer, np.floating)) and not isinstance(value, bool)
+            reals[name] = check_real(owner, name, getattr(self, name), lo=0)
+        normalise(
+            self,
+            **counts,
+            **reals,
+            rule=check_choice(owner, "rule", self.rule, RULES),
+            normalize_input=check_bool(owner, "normalize_input", self.normalize_input),
+            feature_layer=check_choice(owner, "feature_layer", self.feature_layer, FEATURE_LAYERS),
+        )
+        if self.feature_delta is not None:
+            normalise(self, feature_delta=check_real(owner, "feature_delta", self.feature_delta))
+        if self.feature_layer == "none" and self.n_features != self.n_inputs:
+            raise ValueError(
+                f"NetworkConfig.n_features must equal n_inputs ({self.n_inputs}) without a "
+                f"feature layer (feature_layer='none'), got {self.n_features}"
+            )
 
 
 def _softmax(z: np.ndarray) -> np.ndarray:
@@ -162,10 +187,13 @@ class Network:
         if not isinstance(rng, np.random.Generator):
             raise ValueError(f"rng must be a numpy.random.Generator, got {type(rng).__name__}")
         self.config = config
-        W = rng.random((config.n_features, config.n_inputs))
-        # A row of zeros has probability 0 but would be a dead unit: guard anyway.
-        W[np.all(W == 0, axis=1)] = 1.0
-        self.W = W / np.linalg.norm(W, axis=1, keepdims=True)
+        if config.feature_layer == "none":  # s = I: W is the identity, drawn from nothing
+            self.W = np.eye(config.n_inputs)
+        else:
+            W = rng.random((config.n_features, config.n_inputs))
+            # A row of zeros has probability 0 but would be a dead unit: guard anyway.
+            W[np.all(W == 0, axis=1)] = 1.0
+            self.W = W / np.linalg.norm(W, axis=1, keepdims=True)
         self.Q = rng.uniform(0.0, config.q_init, (config.n_actions, config.n_features))
 
     # ------------------------------------------------------------------ construction
@@ -226,24 +254,33 @@ class Network:
         return I
 
     def features(self, I: np.ndarray) -> np.ndarray:
-        """Feature-layer state ``s``: Eq. (1) ``h = W I`` and Eq. (2) ``s = softmax(beta_s h)``.
+        """Feature-layer state ``s`` of the prepared input ``I``, Eq. (1)-(2).
 
         Stable for any finite input: all-zero input gives uniform ``s``; overflowing
         activations give the hard-max limit.
         """
-        return _softmax(self.config.beta_s * (self.W @ I))  # Eq. (1), (2)
+        self._check_vector(I, self.config.n_inputs, "I")
+        if self.config.feature_layer == "none":
+            return I  # no feature layer: linear SARSA on the pixels
+        # Eq. (1): h_j = sum_n W_jn I_n
+        # Eq. (2): s_j = exp(beta_s h_j) / sum_k exp(beta_s h_k)
+        return _softmax(self.config.beta_s * (self.W @ I))
 
     def action_probabilities(self, s: np.ndarray, beta_a: float) -> np.ndarray:
-        """Eq. (3) ``h = Q s`` and Eq. (4) ``P(a_i = 1) = softmax(beta_a h)_i``.
+        """The policy: the probability of each action for the feature state ``s``, Eq. (3)-(4).
 
         ``beta_a >= 0`` (0 gives the uniform random policy).
         """
-        if not 0 <= beta_a < math.inf:
-            raise ValueError(f"beta_a must be a finite number >= 0, got {beta_a!r}")
-        return _softmax(beta_a * (self.Q @ s))  # Eq. (3), (4)
+        beta_a = check_real("Network", "beta_a", beta_a, lo=0)
+        self._check_vector(s, self.config.n_features, "s")
+        # Eq. (3): h_i = sum_j Q_ij s_j
+        # Eq. (4): P(a_i = 1) = exp(beta_a h_i) / sum_k exp(beta_a h_k)
+        return _softmax(beta_a * (self.Q @ s))
 
     def select_action(self, s: np.ndarray, rng: np.random.Generator, beta_a: float) -> int:
         """Sample an action index from Eq. (4), using one ``rng.random()`` draw."""
+        if not isinstance(rng, np.random.Generator):
+            raise FieldTypeError(f"rng must be a numpy.random.Generator, got {type(rng).__name__}")
         p = self.action_probabilities(s, beta_a).tolist()
         u = rng.random() * sum(p)
         last = len(p) - 1
@@ -255,79 +292,86 @@ class Network:
         return last
 
     def value(self, I: np.ndarray, a: int) -> float:
-        """Eq. (5): ``v = sum_kl Q_kl a_k s_l = Q[a] . s(I)`` for the one-hot action ``a``."""
+        """The value of action ``a`` for the prepared input ``I``, Eq. (5)."""
         self._check_action(a)
-        return float(self.Q[a] @ self.features(I))  # Eq. (5)
+        return float(self.Q[a] @ self.features(I))  # Eq. (5): v = sum_kl Q_kl a_k s_l, a one-hot
 
     def value_gradient(self, I: np.ndarray, a: int) -> tuple[np.ndarray, np.ndarray]:
         """Exact gradient of ``v(I, a)`` (Eq. 5) w.r.t. ``Q`` and ``W``.
 
-        Returns ``(dQ, dW)`` with
-        ``dQ_ij = a_i s_j`` (Eq. 12) and
-        ``dW_jn = beta_s * s_j * I_n * (Q_aj - sum_k Q_ak s_k)`` (Eq. 16).
-
-        Eq. (16) is written "proportional to" and omits the factor ``beta_s`` that the chain
-        rule through ``s = softmax(beta_s h)`` produces; this method includes it, so it is the
-        exact derivative (it matches finite differences).  :meth:`update` omits it, as the
-        paper does (absorbed into ``eps_w``).
+        Returns ``(dQ, dW)``, Eq. (12) and Eq. (16).  Eq. (16) is written "proportional to" and
+        omits the factor ``beta_s`` that the chain rule through the softmax of Eq. (2) produces;
+        this method includes it, so it is the exact derivative (it matches finite
+        differences).  :meth:`update` omits it, as the paper does (absorbed into ``eps_w``).
         """
         self._check_action(a)
         s = self.features(I)
         dQ = np.zeros_like(self.Q)
-        dQ[a] = s  # Eq. (12)
+        dQ[a] = s  # Eq. (12): dv/dQ_ij = a_i s_j
+        if self.config.feature_layer == "none":  # v = Q[a] . I does not depend on W
+            return dQ, np.zeros_like(self.W)
         q = self.Q[a]
-        dW = np.multiply.outer(self.config.beta_s * s * (q - q @ s), I)  # Eq. (16) times beta_s
+        # Eq. (16), times beta_s: dv/dW_jn = beta_s s_j I_n (Q_ij - sum_k Q_ik s_k), i = a
+        dW = np.multiply.outer(self.config.beta_s * s * (q - q @ s), I)
         return dQ, dW
 
     # ------------------------------------------------------------------ learning
     def _feature_factor(self, s: np.ndarray, a: int) -> np.ndarray:
-        """Per-unit factor of Eq. (8) without delta and I: ``s_j (Q_aj - sum_k Q_ak s_k)`` for
-        the non-local rule, ``s_j`` for the local rule (current, i.e. pre-update, Q)."""
+        """Per unit ``j``, the factor of Eq. (8) that is neither delta nor the input: ``s_j``
+        times the bracket for the non-local rule, ``s_j`` alone for the local rule (with the
+        current, i.e. pre-update, Q)."""
         if self.config.rule == "nonlocal":
             q = self.Q[a]
-            return s * (q - q @ s)  # Eq. (8)/(16): s_j (Q_ij - sum_k Q_ik s_k)
-        return s  # local rule: Eq. (8) without the bracket
+            return s * (q - q @ s)  # s_j times the bracket of Eq. (8)
+        return s  # the local rule: Eq. (8) without the bracket
 
     def increments(
         self, I: np.ndarray, s: np.ndarray, a: int, delta: float
     ) -> tuple[np.ndarray, np.ndarray]:
         """The raw weight changes ``(Delta Q, Delta W)`` of Eq. (7) and (8) for the configured
-        rule, before W is rectified and normalized; nothing is modified.
-
-        ``Delta Q_ij = eps_q delta a_i s_j`` (Eq. 7);
-        ``Delta W_jn = eps_w delta s_j I_n (Q_aj - sum_k Q_ak s_k)`` (Eq. 8, non-local) or
-        ``eps_w delta s_j I_n`` (local).  For the non-local rule
+        rule, as :meth:`update` computes them, before W is rectified and normalized; nothing is
+        modified.  For the non-local rule
         ``Delta W = (eps_w delta / beta_s) * value_gradient(I, a)[1]`` when ``s = features(I)``.
         """
-        self._check_action(a)
+        self._check_step(I, s, a, delta)
         cfg = self.config
         dQ = np.zeros_like(self.Q)
-        dQ[a] = (cfg.eps_q * delta) * s  # Eq. (7)
-        dW = np.multiply.outer(self._feature_factor(s, a) * (cfg.eps_w * delta), I)  # Eq. (8)
-        return dQ, dW
+        dQ[a] = (cfg.eps_q * delta) * s  # Eq. (7), see update()
+        if cfg.feature_layer == "none":
+            return dQ, np.zeros_like(self.W)
+        feature_delta = delta if cfg.feature_delta is None else cfg.feature_delta
+        dW = np.multiply.outer(self._feature_factor(s, a) * (cfg.eps_w * feature_delta), I)
+        return dQ, dW  # Eq. (8), see update()
 
     def update(self, I: np.ndarray, s: np.ndarray, a: int, delta: float) -> None:
         """One learning step from input ``I``, its state ``s = features(I)``, the chosen action
         ``a`` and the TD error ``delta`` (Eq. 6), in place.
 
-        * Eq. (7): ``Q[a] += eps_q * delta * s``.
-        * Eq. (8), ``rule="nonlocal"``:
-          ``W_jn += eps_w * delta * s_j * I_n * (Q_aj - sum_k Q_ak s_k)``
-          with the *pre-update* Q; ``rule="local"``: ``W_jn += eps_w * delta * s_j * I_n``.
-          No factor beta_s (absorbed into eps_w, see the module docstring).  These are the
-          increments returned by :meth:`increments`.
+        * Eq. (7) on the chosen action's row of Q.
+        * Eq. (8) on W, with the *pre-update* Q in its bracket (``rule="local"``: without the
+          bracket).  No factor beta_s (absorbed into eps_w, see the module docstring).  These
+          are the increments returned by :meth:`increments`.
         * Then W is rectified (``W >= 0``) and every row scaled to unit length (Sec. II-A).
           A row that the update would make exactly zero (all weights pushed to <= 0) cannot be
           normalized; that row keeps its previous (unit-length, non-negative) value, i.e. the
           update is rejected for that unit only.  Rows never become NaN.
         """
-        self._check_action(a)
-        if not math.isfinite(delta):
-            raise ValueError(f"delta must be finite, got {delta!r}")
+        self._check_step(I, s, a, delta)
         cfg = self.config
-        coef = self._feature_factor(s, a) * (cfg.eps_w * delta)  # before Q changes
-        self.Q[a] += (cfg.eps_q * delta) * s  # Eq. (7): Delta Q_ij = eps_q delta a_i s_j
-        # Eq. (8), then rectify and normalize rows (Sec. II-A).
+        # Eq. (8): Delta W_jn = eps_w delta s_j I_n (Q_ij - sum_k Q_ik s_k), i = the chosen
+        # action a (delta: the constant feature_delta in the unmodulated control); its
+        # coefficient per unit j is taken before Q changes.
+        feature_delta = delta if cfg.feature_delta is None else cfg.feature_delta
+        coef = self._feature_factor(s, a) * (cfg.eps_w * feature_delta)
+        q_row = self.Q[a] + (cfg.eps_q * delta) * s  # Eq. (7): Delta Q_ij = eps_q delta a_i s_j
+        if not math.isfinite(sum(q_row.tolist())):
+            raise ValueError(
+                f"the update would make Q non-finite (delta={delta!r}); nothing changed"
+            )
+        if cfg.feature_layer == "none":  # nothing else to learn
+            self.Q[a] = q_row
+            return
+        # Apply Eq. (8), then rectify and normalize rows (Sec. II-A).
         Wn = np.multiply.outer(coef, I)
         Wn += self.W
         np.maximum(Wn, 0.0, out=Wn)
@@ -337,7 +381,25 @@ class Network:
             for j, norm in enumerate(nl):
                 if not _DEAD_NORM < norm < math.inf:  # False also for NaN
                     norms[j] = self._fix_row(Wn, j)
+        self.Q[a] = q_row  # nothing can fail from here on: the update is whole or not at all
         np.divide(Wn, norms[:, None], out=self.W)
+
+    def competitive_update(self, I: np.ndarray, rate: float) -> int:
+        """Winner-take-all competitive learning, without delta (not the paper's rule; the
+        first stage of the two-stage learner its Sec. IV names): the unit ``j`` with the
+        largest ``h_j`` (Eq. 1) moves towards the input, ``W_j += rate (I - W_j)``, and is
+        rectified and normalized like every row of W. An all-zero input changes nothing.
+        Returns the winner (-1 for an all-zero input)."""
+        self._check_vector(I, self.config.n_inputs, "I")
+        rate = check_real("Network", "rate", rate, lo=0, hi=1)
+        if self.config.feature_layer == "none" or not I.any():
+            return -1
+        j = int(np.argmax(self.W @ I))  # Eq. (1), the winner of Eq. (2)'s softmax
+        row = np.maximum(self.W[j] + rate * (I - self.W[j]), 0.0)
+        norm = float(np.sqrt(row @ row))
+        if norm > _DEAD_NORM:
+            self.W[j] = row / norm
+        return j
 
     def _fix_row(self, Wn: np.ndarray, j: int) -> float:
         """Make row ``j`` of the rectified candidate ``Wn`` normalizable; return its norm.
@@ -357,44 +419,63 @@ class Network:
         return float(np.sqrt(row @ row))
 
     def _check_action(self, a) -> None:
-        if not 0 <= a < self.config.n_actions:
-            raise ValueError(f"action a must be in [0, {self.config.n_actions}), got {a!r}")
+        if (
+            isinstance(a, (bool, np.bool_))
+            or not isinstance(a, (int, np.integer))
+            or not 0 <= a < self.config.n_actions
+        ):
+            raise ValueError(
+                f"action a must be an integer in [0, {self.config.n_actions}), got {a!r}"
+            )
+
+    @staticmethod
+    def _check_vector(x, size: int, name: str) -> None:
+        """``x`` must be a finite float ndarray of shape ``(size,)``."""
+        if not isinstance(x, np.ndarray) or x.shape != (size,) or x.dtype.kind != "f":
+            raise ValueError(
+                f"{name} must be a float ndarray of shape ({size},) (see Network.prepare), got "
+                f"{type(x).__name__} {getattr(x, 'dtype', '')} {np.shape(x)}"
+            )
+        if not np.isfinite(x).all():
+            raise ValueError(f"{name} contains NaN or infinite values")
+
+    def _check_step(self, I, s, a, delta) -> None:
+        """Everything a learning step reads, checked before anything changes."""
+        self._check_action(a)
+        self._check_vector(I, self.config.n_inputs, "I")
+        self._check_vector(s, self.config.n_features, "s")
+        check_real("Network", "delta", delta)
 
     # ------------------------------------------------------------------ persistence
     def save(self, path) -> None:
         """Write ``W``, ``Q`` and every config field to ``path`` (.npz, exactly that name).
 
-        Atomic: writes a temporary file in the same directory, then ``os.replace``.
+        Atomic (:func:`docking.fileio.atomic_write`).
         """
         path = Path(path)
-        arrays = {"W": self.W, "Q": self.Q, "format_version": np.array(_FORMAT_VERSION)}
-        for field in dataclasses.fields(NetworkConfig):
-            arrays[f"config.{field.name}"] = np.array(getattr(self.config, field.name))
-        fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent or ".")
-        try:
-            with os.fdopen(fd, "wb") as f:
-                np.savez(f, **arrays)
-                f.flush()
-                os.fsync(f.fileno())
-            os.replace(tmp, path)
-        except BaseException:
-            if os.path.exists(tmp):
-                os.unlink(tmp)
-            raise
+        arrays = {
+            "W": self.W,
+            "Q": self.Q,
+            "format_version": np.array(_FORMAT_VERSION),
+            "config": np.array(json.dumps(dataclasses.asdict(self.config))),
+        }
+        atomic_write(path, lambda f: np.savez(f, **arrays))
 
     @classmethod
     def load(cls, path) -> Network:
-        """Read a network written by :meth:`save`."""
+        """Read a network written by :meth:`save` (format 2; format 1 stored one array per
+        config field)."""
         with np.load(Path(path), allow_pickle=False) as data:
             version = int(data["format_version"])
-            if version != _FORMAT_VERSION:
+            if version == 2:
+                config = NetworkConfig(**json.loads(str(data["config"])))
+            elif version == 1:
+                fields = [f.name for f in dataclasses.fields(NetworkConfig)]
+                config = NetworkConfig(
+                    **{f: data[f"config.{f}"].item() for f in fields if f"config.{f}" in data}
+                )
+            else:
                 raise ValueError(f"unsupported network file format_version {version}")
-            kwargs = {}
-            for field in dataclasses.fields(NetworkConfig):
-                key = f"config.{field.name}"
-                if key in data:
-                    kwargs[field.name] = data[key].item()
-            config = NetworkConfig(**kwargs)
             return cls.from_weights(config, data["W"], data["Q"])
 
     def __repr__(self) -> str:

@@ -15,7 +15,8 @@ from docking.world import BACKWARD, FORWARD, LEFT, RIGHT, DockingEnv, WorldConfi
 
 def oracle_action(pose, config: WorldConfig) -> int:
     """The oracle's action at ``pose``: sidestep while the docking region's centre is more
-    than a quarter of the region's width to the side, otherwise step forward (or back, after
+    than a quarter of the region's width (at least half a sidestep) to the side, otherwise
+    step forward (or back, after
     an overshoot) towards the region's centre. Errors are taken in the robot's body frame,
     so heading drift is accounted for. Aiming at the region's inner half, rather than its
     centre line, leaves room for the drift of the forward steps without wasting sidesteps."""
@@ -23,7 +24,9 @@ def oracle_action(pose, config: WorldConfig) -> int:
     dx, dy = -config.dock_center - x, -y
     ahead = np.cos(yaw) * dx + np.sin(yaw) * dy
     left = -np.sin(yaw) * dx + np.cos(yaw) * dy
-    tolerance = config.dock_width / 4
+    # A quarter of the region's width, but never less than half a sidestep: a sidestep must be
+    # able to land within the tolerance, or the oracle would step to and fro around it.
+    tolerance = max(config.dock_width / 4, config.step_side / 2)
     if abs(left) > tolerance:
         return LEFT if left > 0 else RIGHT
     return FORWARD if ahead > 0 else BACKWARD
@@ -32,12 +35,10 @@ def oracle_action(pose, config: WorldConfig) -> int:
 def run_oracle_trial(env: DockingEnv) -> tuple[bool, int, np.ndarray]:
     """One trial of the oracle: ``(success, actions taken, poses)``; ``poses`` holds the
     start pose and the pose after every action."""
-    timestep = env.reset()
-    poses = [env.pose]
-    while not timestep.last():
-        timestep = env.step(oracle_action(env.pose, env.config))
-        poses.append(env.pose)
-    return timestep.reward > 0, env.steps, np.array(poses)
+    from docking.policies import oracle, run_episode  # policies builds on this module
+
+    episode = run_episode(env, oracle)
+    return episode.success, episode.steps, episode.poses
 
 
 def evaluate_oracle(env: DockingEnv, n_trials: int, progress: bool = True) -> dict:

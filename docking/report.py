@@ -1,13 +1,22 @@
-"""The results table: the paper's numbers beside this reproduction's.
+"""The results table (the paper's numbers beside this reproduction's) and the figures.
 
 ``python -m docking.report`` loads the saved runs of both experiments (running any that are
 missing) and prints the table in Markdown; the notebooks show the same table.
+
+The ``save_fig*`` functions are the callers of the figures: each computes the figure's arrays
+with :mod:`docking.analysis`, draws them with :mod:`docking.figures`, saves the figure
+(``.png`` and ``.pdf``, :func:`docking.figures.save_figure`) and returns it. The notebooks use
+them; :func:`save_figures` makes every figure from the runs of both experiments.
 """
 
 from __future__ import annotations
 
-import numpy as np
+from pathlib import Path
 
+import numpy as np
+from matplotlib.figure import Figure
+
+from docking import analysis, figures
 from docking.experiments import (
     EXPERIMENT_1,
     EXPERIMENT_2,
@@ -15,8 +24,9 @@ from docking.experiments import (
     SEEDS,
     ExperimentConfig,
     ExperimentResult,
-    run_seeds,
 )
+from docking.store import run_seeds
+from docking.world import DockingEnv
 
 #: The paper's figures (Sec. III).
 PAPER = {
@@ -101,7 +111,7 @@ def configuration_table(config: ExperimentConfig) -> str:
     w, n, c = config.world, config.network, config.curriculum
     if c.grow_trials:
         region = (
-            f"far edge {c.far_initial:.2f} m -> {c.far_final:.2f} m, linearly over the "
+            f"far edge {c.far_initial:.2f} m -> {w.start_far:.2f} m, linearly over the "
             f"first {c.grow_trials} trials"
         )
         region_source = "ours: the paper says only 'incrementally enlarged', up to 1.5 m"
@@ -170,6 +180,103 @@ def configuration_table(config: ExperimentConfig) -> str:
     ]
     lines = ["| choice | value | source |", "|---|---|---|"]
     return "\n".join(lines + [f"| {a} | {b} | {s} |" for a, b, s in rows])
+
+
+def save_fig2(env: DockingEnv, folder: Path | str | None = None) -> Figure:
+    """Fig. 2 (the scene) from ``env``'s world, saved as ``fig2_scene`` in ``folder`` (default
+    :data:`docking.figures.FIGURES_DIR`). ``env`` is moved to the example poses."""
+    views = analysis.example_views(env)
+    overview = analysis.overview(env, views.poses[1])
+    fig = figures.fig2_scene(env.config.camera, views, overview)
+    figures.save_figure(fig, _folder(folder) / "fig2_scene")
+    return fig
+
+
+def save_fig3(
+    result: ExperimentResult, env: DockingEnv, folder: Path | str | None = None
+) -> Figure:
+    """Fig. 3 (Experiment 1's views, decisions and receptive fields) of ``result``, saved as
+    ``fig3_experiment1``; ``env`` renders the three views (its camera should be the run's)."""
+    net = result.network
+    views = analysis.example_views(env)
+    action_rf, feature_rf = analysis.receptive_fields(net, result.config.world.camera.input_shape)
+    fig = figures.fig3(
+        result.config,
+        result.seed,
+        views,
+        analysis.decisions(net, views.inputs),
+        action_rf,
+        feature_rf,
+        net.Q,
+    )
+    figures.save_figure(fig, _folder(folder) / "fig3_experiment1")
+    return fig
+
+
+def save_fig4(
+    result: ExperimentResult, folder: Path | str | None = None, n_samples: int = 1500
+) -> Figure:
+    """Fig. 4 (Experiment 2's receptive fields and the mean input of each unit over
+    ``n_samples`` start views) of ``result``, saved as ``fig4_experiment2``."""
+    net = result.network
+    action_rf, feature_rf = analysis.receptive_fields(net, result.config.world.camera.input_shape)
+    mean_inputs = analysis.mean_winning_inputs(net, result.config.world, n=n_samples)
+    fig = figures.fig4(
+        result.config,
+        result.seed,
+        action_rf,
+        feature_rf,
+        mean_inputs,
+        analysis.strongest_units(net.Q),
+    )
+    figures.save_figure(fig, _folder(folder) / "fig4_experiment2")
+    return fig
+
+
+def save_fig5(
+    result: ExperimentResult, folder: Path | str | None = None, n: int = 30, seed: int = 0
+) -> Figure:
+    """Fig. 5 (``n`` sample test trajectories of ``result``, chosen with ``seed``), saved as
+    ``fig5_trajectories``."""
+    sample = analysis.trajectory_sample(result.test, n, seed)
+    label = f"{result.config.name}, seed {result.seed}"
+    fig = figures.fig5(result.config.world, sample, label, shade_seed=seed)
+    figures.save_figure(fig, _folder(folder) / "fig5_trajectories")
+    return fig
+
+
+def save_learning_curves(
+    results1: list[ExperimentResult],
+    results2: list[ExperimentResult],
+    folder: Path | str | None = None,
+) -> Figure:
+    """The learning curves of both experiments (an empty list skips one), saved as
+    ``learning_curves``."""
+    curves = [analysis.learning_curves(r) if len(r) else None for r in (results1, results2)]
+    fig = figures.fig_learning_curves(*curves)
+    figures.save_figure(fig, _folder(folder) / "learning_curves")
+    return fig
+
+
+def save_figures(
+    results1: list[ExperimentResult],
+    results2: list[ExperimentResult],
+    folder: Path | str | None = None,
+) -> list[Figure]:
+    """Every figure: Fig. 2 (default world), Fig. 3 (headline run of ``results1``), Figs. 4
+    and 5 (headline run of ``results2``) and the learning curves."""
+    main1, main2 = headline(results1), headline(results2)
+    return [
+        save_fig2(DockingEnv(seed=0), folder),
+        save_fig3(main1, DockingEnv(main1.config.world, seed=0), folder),
+        save_fig4(main2, folder),
+        save_fig5(main2, folder),
+        save_learning_curves(results1, results2, folder),
+    ]
+
+
+def _folder(folder: Path | str | None) -> Path:
+    return figures.FIGURES_DIR if folder is None else Path(folder)
 
 
 def markdown_table(rows: list[tuple[str, str, str]]) -> str:

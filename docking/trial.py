@@ -37,6 +37,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from .network import Network
+from .validate import FieldTypeError, check_bool, check_instance, check_real
 
 __all__ = ["TrialRecord", "run_trial"]
 
@@ -94,13 +95,21 @@ def run_trial(
     Returns:
         A :class:`TrialRecord`.
     """
-    if not isinstance(rng, np.random.Generator):
-        raise ValueError(f"rng must be a numpy.random.Generator, got {type(rng).__name__}")
+    check_instance("run_trial", "net", net, Network)
+    check_instance("run_trial", "rng", rng, np.random.Generator)
+    learn = check_bool("run_trial", "learn", learn)
+    bootstrap_on_truncation = check_bool(
+        "run_trial", "bootstrap_on_truncation", bootstrap_on_truncation
+    )
+    if not (callable(getattr(env, "reset", None)) and callable(getattr(env, "step", None))):
+        raise FieldTypeError(
+            f"run_trial.env must be a dm_env.Environment (reset() and step()), got "
+            f"{type(env).__name__}"
+        )
     cfg = net.config
     if beta_a is None:
         beta_a = cfg.beta_a_train if learn else cfg.beta_a_test  # Eq. (4)
-    if not 0 <= beta_a < float("inf"):
-        raise ValueError(f"beta_a must be a finite number >= 0, got {beta_a!r}")
+    beta_a = check_real("run_trial", "beta_a", beta_a, lo=0)
     gamma = cfg.gamma  # Eq. (6)
     has_pose = hasattr(env, "pose")
 

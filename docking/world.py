@@ -51,6 +51,40 @@ if os.environ["MUJOCO_GL"] in ("egl", "osmesa"):
 # and experiments run one process per core.
 os.environ.setdefault("LP_NUM_THREADS", "0")
 
+
+class RenderingUnavailable(RuntimeError):
+    """MuJoCo cannot render here: the ``MUJOCO_GL`` backend is unknown or its library is
+    missing. The message says what to install or set."""
+
+
+#: The rendering backends MuJoCo knows, the library each one loads, and where to get it.
+_GL_BACKENDS = {
+    "egl": ("EGL", "Debian/Ubuntu: apt-get install libegl1 libgl1-mesa-dri (`make setup` does it)"),
+    "osmesa": ("OSMesa", "Debian/Ubuntu: apt-get install libosmesa6"),
+    "glfw": (None, "it needs a display (X11/Wayland); on a headless machine use MUJOCO_GL=egl"),
+}
+
+
+def _check_gl_backend() -> None:
+    """Fail with a clear message, before ``import mujoco`` does with an obscure one, when
+    ``MUJOCO_GL`` names no backend or its library is missing."""
+    import ctypes.util
+
+    backend = os.environ["MUJOCO_GL"]
+    if backend not in _GL_BACKENDS:
+        raise RenderingUnavailable(
+            f"MUJOCO_GL={backend!r} is not a rendering backend MuJoCo knows; use one of "
+            f"{', '.join(_GL_BACKENDS)} (headless machines: MUJOCO_GL=egl)"
+        )
+    library, remedy = _GL_BACKENDS[backend]
+    if library is not None and ctypes.util.find_library(library) is None:
+        raise RenderingUnavailable(
+            f"MUJOCO_GL={backend} needs the {library} library, which is not installed: {remedy}"
+        )
+
+
+_check_gl_backend()
+
 import dm_env  # noqa: E402
 import mujoco  # noqa: E402
 import numpy as np  # noqa: E402
@@ -59,7 +93,16 @@ from dm_control import mujoco as dm_mujoco  # noqa: E402
 from dm_env import specs  # noqa: E402
 
 from docking.camera import CameraConfig, preprocess_band  # noqa: E402
+from docking.region import StartRegion  # noqa: E402
 from docking.render import SceneRenderer  # noqa: E402
+from docking.validate import (  # noqa: E402
+    FieldTypeError,
+    check_choice,
+    check_instance,
+    check_int,
+    check_real,
+    normalise,
+)
 
 # Action indices. The paper (Sec. II-C): "four actions - moving forward, backward, right and
 # left"; left and right are sidesteps (Nao walks sideways), not turns.
@@ -74,6 +117,62 @@ N_ACTIONS = 4
 _ROOM_GROUP, _ROBOT_GROUP, _EYE_GROUP, _DOCK_GROUP = 0, 1, 2, 3
 
 
+#: The scenes a world can be built as (:attr:`WorldConfig.scene`).
+SCENES = ("sideboard", "floor")
+
+#: The shapes a distractor can have and how many ``size`` values each takes (MuJoCo's geom
+#: sizes: box half-extents x, y, z; cylinder radius and half-height; sphere radius).
+DISTRACTOR_SHAPES = {"box": 3, "cylinder": 2, "sphere": 1}
+
+
+@dataclasses.dataclass(frozen=True)
+class Distractor:
+    """A red object in the room besides the landmark.
+
+    The paper (Sec. IV): "noise (e.g. other red objects within the visual field) should not
+    affect performance". A distractor has the landmark's red, so it passes the camera's
+    threshold wherever it enters the crop; it is solid (the robot bumps into it).
+
+    Attributes:
+      shape: ``"box"``, ``"cylinder"`` (standing upright) or ``"sphere"``.
+      size: MuJoCo's geom size for the shape (m): box half-extents ``(x, y, z)``, cylinder
+        ``(radius, half-height)``, sphere ``(radius,)``.
+      position: The centre ``(x, y, z)`` in the world frame (m; the landmark's front face is
+        ``x = 0``, the sideboard's top 0.43 m above the floor).
+    """
+
+    shape: str
+    size: tuple[float, ...]
+    position: tuple[float, float, float]
+
+    def __post_init__(self):
+        owner = "Distractor"
+        shape = check_choice(owner, "shape", self.shape, tuple(DISTRACTOR_SHAPES))
+        n = DISTRACTOR_SHAPES[shape]
+        if not isinstance(self.size, (tuple, list)) or len(self.size) != n:
+            raise FieldTypeError(
+                f"Distractor.size of a {shape} must be {n} numbers, got {self.size!r}"
+            )
+        size = tuple(
+            check_real(owner, f"size[{k}]", v, lo=0, hi=1, lo_open=True)
+            for k, v in enumerate(self.size)
+        )
+        if not isinstance(self.position, (tuple, list)) or len(self.position) != 3:
+            raise FieldTypeError(
+                f"Distractor.position must be (x, y, z) in metres, got {self.position!r}"
+            )
+        position = tuple(
+            check_real(owner, f"position[{k}]", v, lo=-5, hi=5) for k, v in enumerate(self.position)
+        )
+        normalise(self, shape=shape, size=size, position=position)
+
+    @classmethod
+    def cup(cls, y: float = 0.30) -> Distractor:
+        """A red cup (7 cm across, 9 cm high) on the sideboard, ``y`` m beside the landmark's
+        axis, level with the landmark's front face."""
+        return cls("cylinder", (0.035, 0.045), (0.03, y, 0.43 + 0.045))
+
+
 @dataclasses.dataclass(frozen=True)
 class WorldConfig:
     """Everything the paper leaves open about the world, with documented defaults.
@@ -83,7 +182,7 @@ class WorldConfig:
         (about two of Nao's steps). The paper gives no length; it decides how much of the
         25-action budget a start 1.5 m away needs, and with it how often the near-random
         walk of training (beta_a = 2) reaches the dock and how large the learned values
-        are: with 8 cm, Experiment 2 reached 49-76% in our runs, with 15 cm 98%.
+        are (measured in notebook 04, "What the choices do").
       step_side: Length of a left or right sidestep (m); half the docking region's width, so
         one sidestep from anywhere within 10 cm outside the region ends inside it. (Nao's
         walk allows up to 16 cm sideways per step.)
@@ -93,9 +192,9 @@ class WorldConfig:
       max_steps: At most this many actions per trial (paper: 25).
       start_near, start_far: The start trapezoid spans these distances of the robot's
         reference point from the landmark's front plane (m). Experiment 2 ends at 1.5 m.
-      start_half_angle_deg: The trapezoid's lateral half-width grows as
-        ``distance * tan(start_half_angle_deg)``; a wedge with its apex at the landmark, cut
-        at ``start_near`` and ``start_far``.
+      start_half_angle_deg: Half the opening angle of the start trapezoid, a wedge with its
+        apex at the landmark, cut at ``start_near`` and ``start_far``
+        (:class:`docking.region.StartRegion`, which ``DockingEnv`` samples from).
       start_yaw_deg: Start headings are uniform in +-this around facing the landmark's wall.
       dock_center: Distance of the docking region's centre from the landmark's front plane (m);
         the region's near edge lies 1 cm beyond where the robot meets the sideboard (0.45 m).
@@ -104,6 +203,12 @@ class WorldConfig:
       view_margin_px: At a start pose the landmark's projection keeps this many pixels from
         the crop's border.
       camera: The head camera and the observation pipeline.
+      distractors: Red objects besides the landmark (:class:`Distractor`); none by default.
+      scene: ``"sideboard"`` (default): the landmark stands on a sideboard at the camera's
+        height, whose front stops the robot at the dock. ``"floor"``: the sideboard is taken
+        away and the landmark stands on the floor at the same place; nothing stops the robot
+        at the dock (it can overshoot or walk past the landmark's side), and with the camera
+        tilted down the landmark's image moves vertically with distance. See :data:`SCENES`.
     """
 
     step_forward: float = 0.15
@@ -120,26 +225,39 @@ class WorldConfig:
     dock_width: float = 0.20
     view_margin_px: float = 1.0
     camera: CameraConfig = dataclasses.field(default_factory=CameraConfig)
+    distractors: tuple[Distractor, ...] = ()
+    scene: str = "sideboard"
 
     def __post_init__(self):
-        positive = (
-            "step_forward",
-            "step_side",
-            "start_near",
-            "start_far",
-            "dock_center",
-            "dock_depth",
-            "dock_width",
+        owner = "WorldConfig"
+        check_choice(owner, "scene", self.scene, SCENES)
+        if not isinstance(self.distractors, (tuple, list)):
+            raise FieldTypeError(
+                f"WorldConfig.distractors must be a tuple of Distractor, got {self.distractors!r}"
+            )
+        for k, d in enumerate(self.distractors):
+            check_instance(owner, f"distractors[{k}]", d, Distractor)
+        object.__setattr__(self, "distractors", tuple(self.distractors))
+        real = functools.partial(check_real, owner)
+        normalise(
+            self,
+            step_forward=real("step_forward", self.step_forward, lo=0, hi=1, lo_open=True),
+            step_side=real("step_side", self.step_side, lo=0, hi=1, lo_open=True),
+            step_noise_xy=real("step_noise_xy", self.step_noise_xy, lo=0, hi=0.5),
+            step_noise_yaw_deg=real("step_noise_yaw_deg", self.step_noise_yaw_deg, lo=0, hi=90),
+            max_steps=check_int(owner, "max_steps", self.max_steps, lo=1, hi=100_000),
+            start_near=real("start_near", self.start_near, lo=0, lo_open=True),
+            start_far=real("start_far", self.start_far, lo=0, lo_open=True),
+            start_half_angle_deg=real(
+                "start_half_angle_deg", self.start_half_angle_deg, lo=0, hi=45, hi_open=True
+            ),
+            start_yaw_deg=real("start_yaw_deg", self.start_yaw_deg, lo=0, hi=90),
+            dock_center=real("dock_center", self.dock_center, lo=0, lo_open=True),
+            dock_depth=real("dock_depth", self.dock_depth, lo=0, hi=1, lo_open=True),
+            dock_width=real("dock_width", self.dock_width, lo=0, hi=2, lo_open=True),
+            view_margin_px=real("view_margin_px", self.view_margin_px, lo=0, hi=100),
+            camera=check_instance(owner, "camera", self.camera, CameraConfig),
         )
-        for name in positive:
-            if not getattr(self, name) > 0:
-                raise ValueError(f"WorldConfig.{name} must be > 0, got {getattr(self, name)}")
-        non_negative = ("step_noise_xy", "step_noise_yaw_deg", "start_yaw_deg", "view_margin_px")
-        for name in non_negative:
-            if not getattr(self, name) >= 0:
-                raise ValueError(f"WorldConfig.{name} must be >= 0, got {getattr(self, name)}")
-        if not isinstance(self.max_steps, (int, np.integer)) or self.max_steps < 1:
-            raise ValueError(f"WorldConfig.max_steps must be an integer >= 1, got {self.max_steps}")
         if self.start_far < self.start_near:
             raise ValueError(
                 f"WorldConfig.start_far must be >= start_near "
@@ -155,17 +273,17 @@ class WorldConfig:
                 f"WorldConfig.start_far must be <= {_ROOM_BACK - 0.3} m (the room "
                 f"ends at {_ROOM_BACK} m), got {self.start_far}"
             )
-        if not 0 <= self.start_half_angle_deg < 45:
-            raise ValueError(
-                f"WorldConfig.start_half_angle_deg must be in [0, 45), got "
-                f"{self.start_half_angle_deg}"
-            )
-        closest = ROBOT_RADIUS - _FACTS.sideboard[0]
+        # What stops the robot in front of the landmark: the sideboard's front, or on the
+        # floor the landmark's own front face (x = 0).
+        front, what = (
+            (_FACTS.sideboard[0], "sideboard") if self.scene == "sideboard" else (0.0, "landmark")
+        )
+        closest = ROBOT_RADIUS - front
         if self.dock_center + self.dock_depth / 2 < closest + 0.01:
             raise ValueError(
                 f"WorldConfig.dock_center must keep the region reachable: "
                 f"dock_center + dock_depth/2 >= {closest + 0.01:.2f} m (the robot "
-                f"meets the sideboard at {closest:.2f} m), got "
+                f"meets the {what} at {closest:.2f} m), got "
                 f"dock_center={self.dock_center}"
             )
 
@@ -198,7 +316,83 @@ def make_mjcf(config: WorldConfig) -> mjcf.RootElement:
     dock = root.find("geom", "dock")
     dock.pos = [-config.dock_center, 0.0, dock.pos[2]]
     dock.size = [config.dock_depth / 2, config.dock_width / 2, dock.size[2]]
+    landmark = root.find("geom", "landmark_slab")
+    if config.scene == "floor":  # take the sideboard away; the landmark stands on the floor
+        sideboard = root.find("geom", "sideboard")
+        top = float(sideboard.pos[2] + sideboard.size[2])
+        sideboard.remove()
+        for name in ("landmark_slab", "landmark_post"):
+            geom = root.find("geom", name)
+            geom.pos = [geom.pos[0], geom.pos[1], geom.pos[2] - top]
+    for k, d in enumerate(config.distractors):
+        root.worldbody.add(
+            "geom",
+            name=f"distractor{k}",
+            type=d.shape,
+            size=list(d.size),
+            pos=list(d.position),
+            material=landmark.material,
+            group=landmark.group,
+        )
+    _mark_occluders(root)
     return root
+
+
+def _mark_occluders(root: mjcf.RootElement) -> None:
+    """Put into the robot camera's geom group every geom that could stand between the camera
+    and a red geom (those of the group already: the landmark, the distractors), so that the
+    camera can draw that group alone.
+
+    A line of sight from the camera to a point of a red geom never runs below the lower of
+    the two, so a geom whose top lies below ``min(camera height, lowest red bottom)`` cannot
+    cut it (the sideboard's top, 1 mm below the landmark); nor can the room's walls and floor
+    (the room is a box and the camera and the red geoms are inside it), nor the robot's own
+    body (hidden from its camera). Every other geom is drawn. ``tests/test_world.py`` checks
+    the result by casting rays over the whole floor."""
+    red = [g for g in root.find_all("geom") if g.group == _EYE_GROUP]
+    eye = root.find("camera", "eye")
+    lowest = min(_geom_extent_z(g)[0] for g in red)
+    level = min(lowest, _z_in_world(eye.parent) + eye.pos[2])
+    robot = root.find("body", "robot")
+    for geom in root.find_all("geom"):
+        if geom.group == _EYE_GROUP or geom.group == _DOCK_GROUP:
+            continue
+        if geom.name == "floor" or (geom.name or "").startswith("wall_"):
+            continue
+        if _inside(geom, robot):
+            continue
+        if _geom_extent_z(geom)[1] >= level:
+            geom.group = _EYE_GROUP
+
+
+def _z_in_world(body) -> float:
+    """Height of a body's frame (the scene's bodies are not rotated)."""
+    z = 0.0
+    while body is not None and getattr(body, "tag", None) == "body":
+        z += float(body.pos[2]) if body.pos is not None else 0.0
+        body = body.parent
+    return z
+
+
+def _inside(element, body) -> bool:
+    while element is not None:
+        if element is body:
+            return True
+        element = element.parent
+    return False
+
+
+def _geom_extent_z(geom) -> tuple[float, float]:
+    """``(bottom, top)`` of an upright geom of a non-rotated body (boxes, cylinders,
+    spheres, ellipsoids and planes, as the room's furniture and the distractors are)."""
+    if geom.quat is not None or geom.euler is not None or geom.fromto is not None:
+        raise ValueError(f"{ASSET_PATH}: geom {geom.name!r} must be upright for _mark_occluders")
+    size = list(geom.size) if geom.size is not None else [0.0]
+    half = {"box": size[-1], "ellipsoid": size[-1], "cylinder": size[1] if len(size) > 1 else 0}
+    kind = geom.type or "sphere"
+    h = half.get(kind, size[0] if kind == "sphere" else 0.0)
+    z = _z_in_world(geom.parent) + (float(geom.pos[2]) if geom.pos is not None else 0.0)
+    return z - h, z + h
 
 
 @functools.lru_cache(maxsize=16)
@@ -429,7 +623,7 @@ class DockingEnv(dm_env.Environment):
         self._rng = _as_generator(seed)
         self._physics = Physics.from_xml_string(make_model_xml(self._config))
         cam = self._config.camera
-        self._renderer = _make_camera(self._physics)
+        self._renderer = _make_camera(self._physics, cam.height, cam.width)
         # The robot's camera, lit by its headlight alone (the room's ceiling light, which
         # overview renders use, would make each software-rendered frame ~50% slower, and the
         # red threshold does not need it). Its observations render only the crop band (the
@@ -449,8 +643,7 @@ class DockingEnv(dm_env.Environment):
         self._noise_yaw_rad = np.radians(self._config.step_noise_yaw_deg)
         # The dock's detector, checked at every physics step (in_dock's test, inlined).
         self._in_dock = lambda p: abs(p[0] + dc) <= half_depth and abs(p[1]) <= half_width
-        self._start_near = self._config.start_near
-        self._start_far = self._config.start_far
+        self._start_region = StartRegion.of(self._config)
         self._frame = None
         self._observed = False
         self._steps = 0
@@ -466,14 +659,16 @@ class DockingEnv(dm_env.Environment):
         return self._physics
 
     @property
-    def start_region(self) -> tuple[float, float]:
-        """``(near, far)`` distances of the start trapezoid; the curriculum widens ``far``."""
-        return self._start_near, self._start_far
+    def start_region(self) -> StartRegion:
+        """The start trapezoid of the following trials (the config's, until
+        :meth:`set_start_region` changes its edges)."""
+        return self._start_region
 
     def set_start_region(self, near: float, far: float) -> None:
-        """Change the start trapezoid for the following trials (Learning from Easy Missions)."""
+        """Cut the start trapezoid at other distances for the following trials (Learning from
+        Easy Missions widens ``far``); the same checks as ``WorldConfig.start_near/start_far``."""
         dataclasses.replace(self._config, start_near=near, start_far=far)  # validates
-        self._start_near, self._start_far = float(near), float(far)
+        self._start_region = self._start_region.with_edges(float(near), float(far))
 
     # -- ground truth (never read by the learner) -----------------------------------------
     @property
@@ -570,6 +765,7 @@ class DockingEnv(dm_env.Environment):
     ) -> np.ndarray:
         """An RGB render from one of the scene's fixed cameras (``overview``, ``top``), with
         the robot and the virtual docking region drawn, for figures."""
+        _check_frame_size(self._physics, width, height, "render_view width x height")
         groups = [_ROOM_GROUP, _EYE_GROUP] + [_ROBOT_GROUP] * show_robot
         groups += [_DOCK_GROUP] * show_dock
         view = self._renderer.view(camera, width, height, groups=groups, lights=True)
@@ -596,18 +792,10 @@ class DockingEnv(dm_env.Environment):
         )
 
     def sample_start_pose(self, max_tries: int = 10000) -> np.ndarray:
-        """A uniform random pose in the start trapezoid from which the landmark is inside the
-        crop rectangle (rejection sampling)."""
-        cfg = self._config
-        near, far = self._start_near, self._start_far
-        tan = np.tan(np.radians(cfg.start_half_angle_deg))
+        """A uniform random pose in the start trapezoid (:meth:`StartRegion.sample`) from which
+        the landmark is inside the crop rectangle (rejection sampling)."""
         for _ in range(max_tries):
-            # Uniform over the trapezoid's area: its width grows linearly with distance d,
-            # so d has density proportional to d.
-            d = np.sqrt(self._rng.uniform(near**2, far**2))
-            y = self._rng.uniform(-1.0, 1.0) * d * tan
-            yaw = np.radians(self._rng.uniform(-cfg.start_yaw_deg, cfg.start_yaw_deg))
-            pose = np.array([-d, y, yaw])
+            pose = self._start_region.sample(self._rng)
             if self.landmark_in_crop(pose):
                 return pose
         raise RuntimeError(
@@ -617,11 +805,13 @@ class DockingEnv(dm_env.Environment):
 
 
 def footprints(config: WorldConfig) -> dict[str, tuple[float, float, float, float]]:
-    """Floor-plan rectangles ``(x0, y0, x1, y1)`` of the sideboard, the landmark's two boxes and
-    the docking region of ``config``'s compiled scene, for top-down figures."""
+    """Floor-plan rectangles ``(x0, y0, x1, y1)`` of the sideboard (if the scene has one), the
+    landmark's two boxes and the docking region of ``config``'s compiled scene, for top-down
+    figures."""
     model = make_model(config)
     rects = {}
-    for name in ("sideboard", "landmark_slab", "landmark_post", "dock"):
+    names = ("landmark_slab", "landmark_post", "dock")
+    for name in (("sideboard",) if config.scene == "sideboard" else ()) + names:
         lo, hi = _box_bounds(model, name)
         rects[name] = (float(lo[0]), float(lo[1]), float(hi[0]), float(hi[1]))
     return rects
@@ -643,21 +833,38 @@ def in_dock(pose, config: WorldConfig) -> bool:
 
 
 def _check_action(action) -> int:
-    try:
-        value = int(action)
-        valid = value == action and 0 <= value < N_ACTIONS
-    except (TypeError, ValueError):
-        valid = False
-    if not valid:
+    """The action as an ``int``: exactly the integers ``0..N_ACTIONS-1``, as Python or numpy
+    integers or a 0-d integer array; bools, floats (also integral ones), strings, other
+    shapes and out-of-range values raise ``ValueError``."""
+    value = action[()] if isinstance(action, np.ndarray) and action.ndim == 0 else action
+    if (
+        isinstance(value, (bool, np.bool_))
+        or not isinstance(value, (int, np.integer))
+        or not 0 <= value < N_ACTIONS
+    ):
         raise ValueError(
             f"action must be an integer in 0..{N_ACTIONS - 1} "
             f"({', '.join(ACTION_NAMES)}), got {action!r}"
         )
-    return value
+    return int(value)
 
 
-def _make_camera(physics: Physics) -> SceneRenderer:
-    """The renderer of ``physics``' scene; one clear error if no OpenGL backend can start."""
+def _check_frame_size(physics: Physics, width: int, height: int, what: str) -> None:
+    """A frame must fit MuJoCo's offscreen framebuffer (``<visual><global offwidth
+    offheight>`` of the model)."""
+    buffer = physics.model.vis.global_
+    if width > buffer.offwidth or height > buffer.offheight:
+        raise ValueError(
+            f"{what} {width}x{height} is larger than the scene's offscreen framebuffer "
+            f"({buffer.offwidth}x{buffer.offheight}, <visual><global offwidth offheight> of "
+            f"the model); render a smaller frame or enlarge the framebuffer"
+        )
+
+
+def _make_camera(physics: Physics, height: int, width: int) -> SceneRenderer:
+    """The renderer of ``physics``' scene, checked for a ``width x height`` camera frame;
+    one clear error if no OpenGL backend can start."""
+    _check_frame_size(physics, width, height, "CameraConfig.width x height")
     try:
         return SceneRenderer(physics.model.ptr)
     except Exception as exc:  # the backends raise many different types

@@ -29,12 +29,20 @@
 
 # %%
 import dataclasses
+import inspect
 
 import matplotlib.pyplot as plt
 import numpy as np
 import sympy as sp
+from IPython.display import Code, display
 
 from docking.network import Network, NetworkConfig
+
+
+def show_code(function):
+    """Display the library's source of ``function`` (what runs, not a copy of it)."""
+    display(Code(inspect.getsource(function), language="python"))
+
 
 # %% [markdown]
 # ## The network (Sec. II-A)
@@ -43,6 +51,13 @@ from docking.network import Network, NetworkConfig
 #
 # $$h_j = \sum_n W_{jn} I_n \quad (1) \qquad s_j = \frac{e^{\beta^s h_j}}{\sum_k e^{\beta^s h_k}} \quad (2)$$
 #
+# The library computes Eq. (1)-(2) in `Network.features` (`_softmax` subtracts the maximum
+# before exponentiating, so that $\beta^s = 100$ cannot overflow):
+
+# %%
+show_code(Network.features)
+
+# %% [markdown]
 # $$h_i = \sum_j Q_{ij} s_j \quad (3) \qquad \mathrm{Prob}(a_i = 1) = \frac{e^{\beta^a h_i}}{\sum_k e^{\beta^a h_k}} \quad (4)$$
 #
 # The value of the chosen action ($a$ is one-hot, $a_i = 1$) and the SARSA prediction error:
@@ -53,6 +68,15 @@ from docking.network import Network, NetworkConfig
 #
 # $$\Delta Q_{ij} \propto \delta a_i s_j \quad (7) \qquad \Delta W_{jn} \propto \delta s_j I_n \Big(Q_{ij} - \sum_k Q_{ik} s_k\Big) \quad (8)$$
 #
+# The library's Eq. (7)-(8), in `Network.update`, with the learning rates $\varepsilon_Q$,
+# $\varepsilon_W$ for "$\propto$"; `_feature_factor` is $s_j$ times the bracket of Eq. (8)
+# for the non-local rule (and $s_j$ alone for the local rule of Sec. II-B):
+
+# %%
+show_code(Network.update)
+show_code(Network._feature_factor)
+
+# %% [markdown]
 # ## Derivation (Sec. II-B)
 #
 # **Energy.** With parameters $\theta = (Q, W)$, the values $v(\theta)$ should approach the true
@@ -104,11 +128,8 @@ from docking.network import Network, NetworkConfig
 #   $\varepsilon\,\delta\,\partial v/\partial\theta$: a positive $\delta$ raises $v$ towards the
 #   target, which is descent on $E$ (Eq. 11).
 # * **$\beta^s$.** `Network.value_gradient` returns the *exact* derivative, including the factor
-#   $\beta^s$ of Eq. (14)–(16).  `Network.update` implements Eq. (7)–(8) as printed, without
-#   $\beta^s$:
-#   $\Delta Q_{ij} = \varepsilon_Q \delta a_i s_j$,
-#   $\Delta W_{jn} = \varepsilon_W \delta s_j I_n (Q_{ij} - \sum_k Q_{ik} s_k)$.
-#   So the step on $W$ is a gradient step of size $\varepsilon_W / \beta^s$: with $\beta^s = 100$
+#   $\beta^s$ of Eq. (14)–(16).  `Network.update` (shown above) implements Eq. (7)–(8) as
+#   printed, without $\beta^s$.  So the step on $W$ is a gradient step of size $\varepsilon_W / \beta^s$: with $\beta^s = 100$
 #   and $\varepsilon_W = 0.05$ that is $5 \cdot 10^{-4}$ times $\delta\,\partial v/\partial W$.
 #   The bracket uses $Q$ *before* its own update in the same step.
 # * **Rectify and normalize** (Sec. II-A): after each step, $W \leftarrow \max(W, 0)$ and every row

@@ -54,13 +54,15 @@ import matplotlib.pyplot as plt
 import numpy as np
 from IPython.display import Image, Markdown, display
 
+from docking.analysis import VIEW_POSES, floor_plan
 from docking.experiments import EXPERIMENT_1, EXPERIMENT_2
-from docking.figures import FIGURES_DIR, VIEW_POSES, draw_floor_plan, draw_trajectory, fig2_scene
+from docking.figures import FIGURES_DIR, draw_floor_plan, draw_trajectory
 from docking.oracle import oracle_action, run_oracle_trial
-from docking.world import ACTION_NAMES, ROBOT_RADIUS, DockingEnv, WorldConfig, footprints
+from docking.report import save_fig2
+from docking.world import ACTION_NAMES, ROBOT_RADIUS, DockingEnv, WorldConfig
 
 env = DockingEnv(seed=0)
-cfg, cam = env.config, env.config.camera
+cfg, cam, region = env.config, env.config.camera, env.start_region
 model = env.physics.model
 assert cfg == WorldConfig()  # the defaults; the experiments change only the start region
 assert all(
@@ -78,9 +80,8 @@ assert all(
 
 # %%
 size = {g: 2 * model.geom(g).size for g in ("sideboard", "landmark_slab", "landmark_post")}
-fp = footprints(cfg)
+fp = floor_plan(cfg)
 cam_height = float(model.camera("eye").pos[2])
-tan = np.tan(np.radians(cfg.start_half_angle_deg))
 x0, y0, x1, y1 = cam.crop
 rows, cols = cam.input_shape
 cm = lambda metres: f"{100 * metres:.0f} cm"  # noqa: E731
@@ -94,7 +95,7 @@ display(
 | step noise | {100 * cfg.step_noise_xy:.0f} cm per axis, {cfg.step_noise_yaw_deg:.0f}° heading (std.) | the paper's Webots movement noise; heading errors add up and are never corrected (no turning action), as in the paper |
 | step limit | {cfg.max_steps} actions | paper |
 | docking region | {cm(cfg.dock_width)} across × {cm(cfg.dock_depth)} deep, centre {cm(cfg.dock_center)} in front of the landmark | paper: 8×20 cm. 20 cm across: the robot must arrive squarely in front of the landmark; 8 cm deep along the approach: at the right distance. It is checked at every physics step of a walking step and the robot halts inside, so a step cannot jump over it |
-| start trapezoid | {cfg.start_near:.2f}–{cfg.start_far:.2f} m from the landmark's front, half-width = distance × tan {cfg.start_half_angle_deg:.0f}° ({cm(cfg.start_near * tan)}–{cm(cfg.start_far * tan)}); heading ±{cfg.start_yaw_deg:.0f}° | paper: trapezoid, up to 1.5 m. A wedge with its apex at the landmark keeps it in the camera's view; start poses are re-drawn until the whole landmark lies inside the crop (paper: "within its field of view"). Experiment 1 uses {EXPERIMENT_1.world.start_near:.2f}–{EXPERIMENT_1.world.start_far:.2f} m |
+| start trapezoid | {cfg.start_near:.2f}–{cfg.start_far:.2f} m from the landmark's front, half-width = distance × tan {region.half_angle_deg:.0f}° ({cm(region.half_width(region.near))}–{cm(region.half_width(region.far))}); heading ±{cfg.start_yaw_deg:.0f}° | paper: trapezoid, up to 1.5 m. A wedge with its apex at the landmark keeps it in the camera's view; start poses are re-drawn until the whole landmark lies inside the crop (paper: "within its field of view"). Experiment 1 uses {EXPERIMENT_1.world.start_near:.2f}–{EXPERIMENT_1.world.start_far:.2f} m |
 | camera | {cam.width}×{cam.height} px, {cam.fovy_deg}° vertical ({cam.fovx_deg:.1f}° horizontal) field of view, {cm(cam_height)} above the floor, tilted {cam.tilt_deg:.0f}° down | Nao's top camera (47.6°×60.9°, forehead height) |
 | crop | columns {x0}–{x1}, rows {y0}–{y1} ({x1 - x0}×{y1 - y0} px) | a wide, flat band like the 32×10 input: each input pixel averages a {(x1 - x0) // cols}×{(y1 - y0) // rows} block |
 | threshold | hue within {cam.hue_tol} (OpenCV units, 0–180) of red, saturation ≥ {cam.min_saturation}, value ≥ {cam.min_value} | only the landmark passes, whatever the shading of its faces |
@@ -120,9 +121,8 @@ display(
 
 # %%
 corners = {
-    f"{d:.2f} m, y = {s * d * tan:+.2f} m": (-d, s * d * tan, 0.0)
-    for d in (cfg.start_near, cfg.start_far)
-    for s in (-1, 0, 1)
+    f"{-x:.2f} m, y = {y:+.2f} m": (x, y, 0.0)
+    for x, y in np.concatenate([region.corners(), [(-region.near, 0.0), (-region.far, 0.0)]])
 }
 for name, pose in corners.items():
     env.physics.set_pose(pose)
@@ -148,7 +148,7 @@ for name, pose in VIEW_POSES.items():
     obs = timestep.observation
     assert obs.shape == cam.input_shape == (10, 32)
     assert env.landmark_in_crop(pose)
-    assert abs(pose[1]) <= -pose[0] * tan  # inside the start trapezoid
+    assert region.contains(pose)  # inside the start trapezoid
     red_rows = np.flatnonzero(obs.sum(axis=1) > 0)
     post, slab = (
         np.sum(obs[row] * np.arange(cols)) / obs[row].sum() for row in red_rows[[0, -1]]
@@ -184,8 +184,8 @@ fig, ax = plt.subplots(figsize=(4, 6.5))
 draw_floor_plan(ax, cfg)
 draw_trajectory(ax, poses, "green")
 ax.set_title("the oracle's trial, seen from above")
-ax.set_ylim(-cfg.start_far - 0.1, fp["sideboard"][2] + 0.05)
-ax.set_xlim(cfg.start_far * tan + 0.1, -cfg.start_far * tan - 0.1)
+ax.set_ylim(-region.far - 0.1, fp["sideboard"][2] + 0.05)
+ax.set_xlim(region.half_width(region.far) + 0.1, -region.half_width(region.far) - 0.1)
 plt.show()
 
 # %% [markdown]
@@ -198,8 +198,5 @@ plt.show()
 # receives from each.
 
 # %%
-fig2 = fig2_scene(env, FIGURES_DIR / "fig2_scene")
-for suffix in (".png", ".pdf"):
-    assert (FIGURES_DIR / f"fig2_scene{suffix}").stat().st_size > 0
-print("saved figures/fig2_scene.png and figures/fig2_scene.pdf")
+save_fig2(env)  # analysis.example_views + analysis.overview -> figures.fig2_scene -> save
 display(Image(filename=str(FIGURES_DIR / "fig2_scene.png")))

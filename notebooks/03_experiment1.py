@@ -33,9 +33,17 @@
 import numpy as np
 from IPython.display import Image, Markdown, display
 
-from docking.experiments import EXPERIMENT_1, SEEDS, feature_change, run_seeds
-from docking.figures import FIGURES_DIR, fig3
-from docking.report import configuration_table, experiment1_rows, headline, markdown_table
+from docking.analysis import best_actions, feature_change
+from docking.experiments import EXPERIMENT_1, SEEDS
+from docking.figures import FIGURES_DIR
+from docking.report import (
+    configuration_table,
+    experiment1_rows,
+    headline,
+    markdown_table,
+    save_fig3,
+)
+from docking.store import run_seeds
 from docking.world import ACTION_LETTERS, DockingEnv
 
 config = EXPERIMENT_1
@@ -104,19 +112,18 @@ plt.show()
 # are dark, as in the paper.
 
 # %%
-env = DockingEnv(config.world, seed=0)
-fig3(main, env, FIGURES_DIR / "fig3_experiment1")
+save_fig3(main, DockingEnv(config.world, seed=0))  # analysis -> figures.fig3 -> save
 display(Image(filename=str(FIGURES_DIR / "fig3_experiment1.png")))
 
 # %%
 winners, counts = np.unique(main.test.winners, return_counts=True)
 usage = dict(zip(winners.tolist(), counts.tolist(), strict=False))
-best = main.network.Q.argmax(axis=0)
+best = best_actions(main.network.Q)
 change = feature_change(main)
 for j in range(config.network.n_features):
     print(
         f"unit {j}: wins {usage.get(j, 0):4d} test decisions, best action "
-        f"{ACTION_LETTERS[best[j]]}, cosine to its initial weights {change[j]:.2f}"
+        f"{ACTION_LETTERS[best[j]] if best[j] >= 0 else 'none'}, cosine to its initial weights {change[j]:.2f}"
     )
 backward = np.mean(main.test.actions == ACTION_LETTERS.index("B"))
 print(f"backward actions in the test trials: {100 * backward:.1f}%")

@@ -32,17 +32,20 @@
 import numpy as np
 from IPython.display import Image, Markdown, display
 
-from docking.experiments import (
-    EXPERIMENT_1,
-    EXPERIMENT_2,
-    HEADLINE_SEED,
-    SEEDS,
-    feature_change,
-    run_seeds,
+from docking.analysis import FAILURE_CLASSES, failure_taxonomy, feature_change
+from docking.experiments import EXPERIMENT_1, EXPERIMENT_2, SEEDS
+from docking.figures import FIGURES_DIR
+from docking.report import (
+    configuration_table,
+    experiment2_rows,
+    headline,
+    markdown_table,
+    save_fig4,
+    save_fig5,
+    save_learning_curves,
 )
-from docking.figures import FIGURES_DIR, fig4, fig5, fig_learning_curves
-from docking.report import experiment2_rows, headline, markdown_table
-from docking.world import ACTION_LETTERS
+from docking.store import run_seeds
+from docking.world import ACTION_LETTERS, DockingEnv
 
 config = EXPERIMENT_2
 
@@ -52,48 +55,7 @@ config = EXPERIMENT_2
 # Read from `docking.experiments.EXPERIMENT_2`; everything not named as the paper's is ours.
 
 # %%
-w, n, c = config.world, config.network, config.curriculum
-rows = [
-    ("feature units / rule", f"{n.n_features} / {n.rule}", "paper"),
-    (
-        "beta_s, beta_a (train, test), gamma",
-        f"{n.beta_s:g}, ({n.beta_a_train:g}, {n.beta_a_test:g}), {n.gamma:g}",
-        "paper",
-    ),
-    ("eps_q (Eq. 7), eps_w (Eq. 8)", f"{n.eps_q:g}, {n.eps_w:g}", "ours, the same as Experiment 1"),
-    (
-        "curriculum (LEM)",
-        f"far edge {c.far_initial:.2f} m -> {c.far_final:.2f} m, linearly over the first {c.grow_trials} trials",
-        "ours: the paper says only 'incrementally enlarged'",
-    ),
-    (
-        "test region",
-        f"{w.start_near:.2f}-{w.start_far:.2f} m from the landmark, ±{w.start_half_angle_deg:g}° wide",
-        "paper: up to 1.5 m",
-    ),
-    (
-        "steps / noise",
-        f"{100 * w.step_forward:.0f} cm forward, {100 * w.step_side:.0f} cm sideways; {100 * w.step_noise_xy:.0f} cm, {w.step_noise_yaw_deg:g}° per step",
-        "ours",
-    ),
-    (
-        "trials",
-        f"{config.train_trials} training, {config.test_trials} test, at most {w.max_steps} actions",
-        "paper",
-    ),
-    (
-        "learning curve",
-        f"{config.eval_trials} greedy trials from the full region every {config.eval_every} training trials",
-        "ours",
-    ),
-    ("seeds", f"{SEEDS[config.name]}, headline seed {HEADLINE_SEED}", "ours"),
-]
-display(
-    Markdown(
-        "| choice | value | source |\n|---|---|---|\n"
-        + "\n".join(f"| {a} | {b} | {s} |" for a, b, s in rows)
-    )
-)
+display(Markdown(configuration_table(config)))
 
 # %% [markdown]
 # ## Run (or load)
@@ -117,7 +79,7 @@ for r in results:
 
 # %%
 results1 = run_seeds(EXPERIMENT_1, SEEDS[EXPERIMENT_1.name])
-fig_learning_curves(results1, results, FIGURES_DIR / "learning_curves")
+save_learning_curves(results1, results)  # analysis.learning_curves -> figure -> save
 display(Image(filename=str(FIGURES_DIR / "learning_curves.png")))
 
 # %% [markdown]
@@ -130,7 +92,7 @@ display(Image(filename=str(FIGURES_DIR / "learning_curves.png")))
 # ## Fig. 4: receptive fields of the action and feature units
 
 # %%
-fig4(main, FIGURES_DIR / "fig4_experiment2")
+save_fig4(main)  # receptive fields, mean winning inputs -> figures.fig4 -> save
 display(Image(filename=str(FIGURES_DIR / "fig4_experiment2.png")))
 
 # %% [markdown]
@@ -171,23 +133,31 @@ print(
 # ## Fig. 5: sample test trajectories
 
 # %%
-fig5(main, FIGURES_DIR / "fig5_trajectories")
+save_fig5(main)  # analysis.trajectory_sample -> figures.fig5 -> save
 display(Image(filename=str(FIGURES_DIR / "fig5_trajectories.png")))
 
+# %% [markdown]
+# **Why trials fail.** Each failed test trial of every seed, classified from its logged poses
+# and actions by `docking.analysis.failure_taxonomy` (a trial can fall in several classes):
+
 # %%
-fails = np.flatnonzero(~main.test.success)
-starts = main.test.starts
-yaw_end = np.array([main.test.trial_poses(k)[-1, 2] for k in range(len(main.test.success))])
-print(f"{len(fails)} failed test trials of {len(main.test.success)}")
-if len(fails):
-    print(
-        f"  |final heading| of failures: median {np.degrees(np.median(np.abs(yaw_end[fails]))):.1f} deg, "
-        f"successes: {np.degrees(np.median(np.abs(yaw_end[main.test.success]))):.1f} deg"
+env = DockingEnv(config.world, seed=0)
+flags = [failure_taxonomy(r.test, env) for r in results]
+failed = [~r.test.success for r in results]
+n_failed = int(sum(f.sum() for f in failed))
+rows = [
+    (name, int(sum(np.sum(fl[name] & f) for fl, f in zip(flags, failed, strict=True))), text)
+    for name, text in FAILURE_CLASSES.items()
+]
+display(
+    Markdown(
+        f"{n_failed} failed test trials over {len(results)} seeds\n\n| class | failures | share "
+        "| definition |\n|---|---|---|---|\n"
+        + "\n".join(f"| {n} | {c} | {100 * c / max(n_failed, 1):.0f}% | {t} |" for n, c, t in rows)
     )
-    print(
-        f"  start distance of failures: median {np.median(-starts[fails, 0]):.2f} m, "
-        f"of all trials {np.median(-starts[:, 0]):.2f} m"
-    )
+)
+
+# %%
 actions = np.bincount(main.test.actions, minlength=4) / len(main.test.actions)
 print(
     "test action frequencies: "

@@ -1,6 +1,7 @@
 """Tests of the experiment runner (issue #4): curriculum, configs, seeding, saving."""
 
 import dataclasses
+import os
 
 import numpy as np
 import pytest
@@ -10,14 +11,10 @@ from docking.experiments import (
     EXPERIMENT_2,
     Curriculum,
     ExperimentConfig,
-    feature_change,
     initial_network,
-    load_result,
-    result_path,
     run_experiment,
-    run_or_load,
-    save_result,
 )
+from docking.store import load_result, result_path, run_or_load, save_result
 
 TINY = dataclasses.replace(EXPERIMENT_1, train_trials=4, test_trials=3, eval_every=2, eval_trials=2)
 
@@ -28,15 +25,15 @@ def tiny_result():
 
 
 def test_curriculum_grows_linearly_then_holds():
-    c = Curriculum(far_initial=0.7, far_final=1.5, grow_trials=1400)
-    assert c.far_at(0) == 0.7
-    assert c.far_at(700) == pytest.approx(1.1)
-    assert c.far_at(1400) == 1.5 and c.far_at(1999) == 1.5
-    assert Curriculum(1.0, 1.0).far_at(5) == 1.0
+    c = Curriculum(far_initial=0.7, grow_trials=1400)
+    assert c.far_at(0, 1.5) == 0.7
+    assert c.far_at(700, 1.5) == pytest.approx(1.1)
+    assert c.far_at(1400, 1.5) == 1.5 and c.far_at(1999, 1.5) == 1.5
+    assert Curriculum(1.0).far_at(5, 1.2) == 1.2  # no curriculum: always the test region
     with pytest.raises(ValueError, match="far_initial"):
-        Curriculum(far_initial=1.6, far_final=1.5)
+        Curriculum(far_initial=-1.0)
     with pytest.raises(ValueError, match="grow_trials"):
-        Curriculum(0.7, 1.5, grow_trials=-1)
+        Curriculum(0.7, grow_trials=-1)
 
 
 def test_experiment_configs_match_the_paper():
@@ -45,7 +42,7 @@ def test_experiment_configs_match_the_paper():
     assert EXPERIMENT_2.network.n_features == 36 and EXPERIMENT_2.network.rule == "nonlocal"
     assert EXPERIMENT_2.train_trials == 2000 and EXPERIMENT_2.test_trials == 725
     assert EXPERIMENT_2.world.start_far == 1.5
-    assert EXPERIMENT_2.curriculum.far_initial < EXPERIMENT_2.curriculum.far_final
+    assert EXPERIMENT_2.curriculum.far_initial < EXPERIMENT_2.world.start_far
     for config in (EXPERIMENT_1, EXPERIMENT_2):
         assert config.network.beta_s == 100 and config.network.gamma == 0.9
         assert config.network.beta_a_train == 2 and config.network.beta_a_test == 100
@@ -53,8 +50,8 @@ def test_experiment_configs_match_the_paper():
 
 
 def test_bad_experiment_config_raises():
-    with pytest.raises(ValueError, match="far_final"):
-        dataclasses.replace(EXPERIMENT_1, curriculum=Curriculum(0.7, 0.9))
+    with pytest.raises(ValueError, match="far_initial"):  # grows from beyond the test region
+        dataclasses.replace(EXPERIMENT_1, curriculum=Curriculum(0.9, grow_trials=10))
     with pytest.raises(ValueError, match="train_trials"):
         dataclasses.replace(EXPERIMENT_1, train_trials=0)
 
@@ -88,8 +85,7 @@ def test_the_record_is_complete(tiny_result):
     assert r.curve_rewarded[-1] <= int(r.train.success.sum())
     assert r.wall_time_train > 0 and r.wall_time_test > 0
     # The learning run starts from initial_network(config, seed).
-    assert feature_change(r).shape == (TINY.network.n_features,)
-    assert np.all(feature_change(r) <= 1 + 1e-9)
+    # (docking.analysis.feature_change compares them; tests/test_analysis.py tests it.)
     assert initial_network(TINY, 3).W.shape == r.network.W.shape
 
 
@@ -106,16 +102,68 @@ def test_save_load_round_trip(tiny_result, tmp_path):
             )
     assert loaded.rewarded_until_mastery == tiny_result.rewarded_until_mastery
     assert not list(path.parent.glob("*.tmp"))  # the temporary file was renamed away
-    assert (path.stat().st_mode & 0o777) == 0o644
+    umask = os.umask(0)
+    os.umask(umask)
+    assert (path.stat().st_mode & 0o777) == 0o666 & ~umask  # an ordinary file
 
 
-def test_run_or_load_reuses_and_reruns_on_change(tmp_path):
+def test_run_or_load_reuses_and_keeps_variants_side_by_side(tmp_path):
     first = run_or_load(TINY, 5, results_dir=tmp_path, progress=False)
-    path = result_path(TINY.name, 5, tmp_path)
+    path = result_path(TINY, 5, tmp_path)
     stamp = path.stat().st_mtime_ns
     again = run_or_load(TINY, 5, results_dir=tmp_path, progress=False)
     assert path.stat().st_mtime_ns == stamp  # loaded, not re-trained
     np.testing.assert_array_equal(again.network.W, first.network.W)
+    # A variant with the same name lives beside the original; neither overwrites the other.
     changed = dataclasses.replace(TINY, test_trials=4)
     rerun = run_or_load(changed, 5, results_dir=tmp_path, progress=False)
-    assert len(rerun.test) == 4 and path.stat().st_mtime_ns != stamp
+    assert len(rerun.test) == 4
+    assert result_path(changed, 5, tmp_path) != path
+    assert path.stat().st_mtime_ns == stamp
+    assert len(run_or_load(TINY, 5, results_dir=tmp_path, progress=False).test) == 3
+    assert path.stat().st_mtime_ns == stamp
+
+
+def test_near_only_curriculum_trains_nearer_than_it_tests():
+    c = Curriculum(far_initial=0.7, grow_trials=0, far_final=0.7)
+    assert c.far_at(0, 1.5) == 0.7 and c.far_at(1999, 1.5) == 0.7
+    grow = Curriculum(far_initial=0.7, grow_trials=10, far_final=1.0)
+    assert grow.far_at(5, 1.5) == pytest.approx(0.85) and grow.far_at(10, 1.5) == 1.0
+    with pytest.raises(ValueError, match="far_final"):
+        dataclasses.replace(EXPERIMENT_2, curriculum=Curriculum(0.7, far_final=1.6))
+    config = dataclasses.replace(TINY, curriculum=Curriculum(0.6, far_final=0.6))
+    result = run_experiment(config, seed=1, progress=False)
+    assert np.all(result.train.start_far == 0.6)
+    assert np.all(-result.train.starts[:, 0] <= 0.6 + 1e-9)
+
+
+def test_heldout_trials_use_their_own_streams_and_change_nothing_else(tiny_result, tmp_path):
+    from docking.world import Distractor
+
+    world = dataclasses.replace(TINY.world, distractors=(Distractor.cup(),))
+    config = dataclasses.replace(TINY, heldout_trials=5, heldout_world=world)
+    result = run_experiment(config, seed=3, progress=False)
+    np.testing.assert_array_equal(result.network.W, tiny_result.network.W)
+    np.testing.assert_array_equal(result.test.poses, tiny_result.test.poses)
+    assert len(result.heldout) == 5
+    assert not np.array_equal(result.heldout.starts[:2], result.test.starts[:2])
+    path = save_result(result, tmp_path / "r.npz")
+    loaded = load_result(path)
+    np.testing.assert_array_equal(loaded.heldout.poses, result.heldout.poses)
+    assert loaded.config.heldout_world == world
+    assert tiny_result.heldout is None
+
+
+def test_two_stage_pretraining_moves_w_without_delta():
+    config = dataclasses.replace(
+        TINY,
+        network=dataclasses.replace(TINY.network, eps_w=0.0),
+        pretrain_trials=3,
+        pretrain_rate=0.2,
+    )
+    result = run_experiment(config, seed=3, progress=False)
+    start = initial_network(config, 3).W
+    moved = np.flatnonzero(np.abs(result.network.W - start).max(axis=1) > 1e-6)
+    assert len(moved) >= 1  # the winners moved towards the frames, SARSA left W alone
+    np.testing.assert_allclose(np.linalg.norm(result.network.W, axis=1), 1.0)
+    assert result.network.W.min() >= 0

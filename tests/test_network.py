@@ -364,3 +364,43 @@ def test_synthetic_task_learns_policy_and_relevant_features(seed):
     assert before < 0.2  # random start: about the chance fraction 0.125
     assert after > 0.7
     assert after > 1.8 * _informative_fraction(means)  # noise pixels actively suppressed
+
+
+def test_a_constant_feature_delta_replaces_delta_in_eq_8_only():
+    import dataclasses as dc
+
+    base = NetworkConfig(n_inputs=6, n_features=3, n_actions=2, eps_w=0.3)
+    rng = np.random.default_rng(0)
+    net = Network(base, rng)
+    net.Q[:] = rng.random(net.Q.shape)
+    control = Network.from_weights(dc.replace(base, feature_delta=0.25), net.W, net.Q)
+    I = net.prepare(rng.random(6))
+    s = net.features(I)
+    dQ, dW = net.increments(I, s, 1, 0.25)
+    dQc, dWc = control.increments(I, s, 1, -0.8)  # any delta: W moves as if delta = 0.25
+    np.testing.assert_array_equal(dWc, dW)
+    np.testing.assert_allclose(dQc, dQ * (-0.8 / 0.25))  # Eq. (7) still uses delta
+    control.update(I, s, 1, -0.8)
+    net.update(I, s, 1, 0.25)
+    np.testing.assert_array_equal(control.W, net.W)
+    with pytest.raises(ValueError, match="feature_delta"):
+        NetworkConfig(feature_delta=float("nan"))
+
+
+def test_without_a_feature_layer_the_network_is_linear_sarsa_on_the_pixels():
+    config = NetworkConfig(n_inputs=6, n_features=6, n_actions=3, feature_layer="none")
+    net = Network(config, np.random.default_rng(1))
+    np.testing.assert_array_equal(net.W, np.eye(6))
+    I = net.prepare(np.arange(6.0))
+    assert net.features(I) is I
+    W = net.W.copy()
+    net.update(I, I, 2, 0.5)
+    np.testing.assert_allclose(net.Q[2], config.eps_q * 0.5 * I)
+    np.testing.assert_array_equal(net.W, W)
+    assert net.value(I, 2) == pytest.approx(config.eps_q * 0.5 * I @ I)
+    dQ, dW = net.value_gradient(I, 2)
+    np.testing.assert_array_equal(dQ[2], I) and np.testing.assert_array_equal(dW, 0 * W)
+    with pytest.raises(ValueError, match="n_features must equal n_inputs"):
+        NetworkConfig(n_features=4, feature_layer="none")
+    with pytest.raises(ValueError, match="feature_layer"):
+        NetworkConfig(feature_layer="relu")

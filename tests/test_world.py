@@ -11,6 +11,7 @@ from dm_env import test_utils
 
 from docking.camera import CameraConfig, preprocess, red_mask
 from docking.oracle import oracle_action
+from docking.region import StartRegion
 from docking.world import (
     _DOCK_GROUP,
     _EYE_GROUP,
@@ -102,18 +103,20 @@ def test_landmark_inside_crop_at_every_start(env):
         assert timestep.observation.sum() > 0
         # and the start is in the trapezoid, facing the landmark's wall
         x, y, yaw = env.pose
-        near, far = env.start_region
-        assert near - 1e-9 <= -x <= far + 1e-9
-        assert abs(y) <= -x * np.tan(np.radians(env.config.start_half_angle_deg)) + 1e-9
+        assert env.start_region == StartRegion.of(env.config)
+        assert env.start_region.contains(env.pose)
         assert abs(np.degrees(yaw)) <= env.config.start_yaw_deg + 1e-9
 
 
 def test_start_region_can_be_narrowed(env):
     env.set_start_region(0.6, 0.8)
     try:
+        assert (env.start_region.near, env.start_region.far) == (0.6, 0.8)
+        assert env.start_region.half_angle_deg == env.config.start_half_angle_deg
         for _ in range(50):
             env.reset()
             assert 0.6 - 1e-9 <= -env.pose[0] <= 0.8 + 1e-9
+            assert env.start_region.contains(env.pose)
     finally:
         env.set_start_region(env.config.start_near, env.config.start_far)
     with pytest.raises(ValueError, match="start_far"):
@@ -366,17 +369,34 @@ def test_geom_groups_of_the_asset():
 # -- what the robot's camera renders (issue 9) -----------------------------------------------
 
 
-def _poses_across_the_start_region(n=60, seed=0):
-    """Start poses across the full start region, plus poses near the sideboard's edges and
-    pressed against its front (where the landmark is closest and lowest in the image)."""
-    env = DockingEnv(seed=seed)
+def _worlds():
+    from docking.experiments import FLOOR_WORLD
+    from docking.world import Distractor
+
+    cup = WorldConfig(distractors=(Distractor.cup(y=0.30),))
+    return {"sideboard": WorldConfig(), "floor": FLOOR_WORLD, "cup": cup}
+
+
+def _poses_across_the_start_region(world=None, n=60, seed=0):
+    """Start poses across the full start region, plus poses close to the landmark: pressed
+    against the sideboard's front and at its edges (where the landmark is closest and lowest
+    in the image), or in and around the docking region in the floor scene."""
+    world = WorldConfig() if world is None else world
+    env = DockingEnv(world, seed=seed)
     poses = [env.sample_start_pose() for _ in range(n)]
     facts = scene_facts()
-    front = facts.sideboard[0] - facts.robot_radius
-    for y in (facts.sideboard[1], -0.2, 0.0, 0.2, facts.sideboard[3]):
+    if world.scene == "sideboard":
+        near, ys = facts.sideboard[0] - facts.robot_radius - 0.001, facts.sideboard[1::2]
+    else:
+        near, ys = -world.dock_center - world.dock_depth / 2, (-0.3, 0.3)
+    for y in (ys[0], -0.2, 0.0, 0.2, ys[1]):
         for yaw in (-0.15, 0.0, 0.15):
-            poses.append(np.array([front - 0.001, y, yaw]))
+            poses.append(np.array([near, y, yaw]))
     return env, poses
+
+
+def _names(model):
+    return {model.geom(i).name for i in range(model.ngeom)}
 
 
 def _render(env, groups, window=None):
@@ -387,27 +407,29 @@ def _render(env, groups, window=None):
     return view.render(env.physics.data.ptr).copy()
 
 
-def test_band_render_equals_the_crop_of_the_full_frame():
+@pytest.mark.parametrize("world", ["sideboard", "floor", "cup"])
+def test_band_render_equals_the_crop_of_the_full_frame(world):
     # The narrowed frustum renders the crop's pixels of the full frame, up to rounding where a
-    # triangle's edge crosses a pixel's centre: with the camera's group (what observations
-    # render) at most 1 pixel per frame (1 in 515 frames measured), with the whole room at most
-    # 8 (5 measured, at the walls' and the floor's edges); never a pixel of the red mask.
-    env, poses = _poses_across_the_start_region()
+    # triangle's edge crosses a pixel's centre: at most 8 pixels per frame (measured in the
+    # default world: 1 in 515 frames with the camera's group, up to 5 with the whole room, at
+    # the walls' and the floor's edges), never a pixel of the red mask.
+    env, poses = _poses_across_the_start_region(_worlds()[world])
     cam = env.config.camera
     x0, y0, x1, y1 = cam.crop
-    for groups, allowed in (((_EYE_GROUP,), 1), ((_ROOM_GROUP, _EYE_GROUP), 8)):
+    for groups in ((_EYE_GROUP,), (_ROOM_GROUP, _EYE_GROUP)):
         for pose in poses:
             env.reset_to(pose)
             full = _render(env, groups)[y0:y1, x0:x1]
             band = _render(env, groups, window=cam.crop)
-            assert np.sum(np.any(full != band, axis=2)) <= allowed
+            assert np.sum(np.any(full != band, axis=2)) <= 8
             np.testing.assert_array_equal(red_mask(full, cam), red_mask(band, cam))
 
 
-def test_hiding_the_other_geoms_does_not_change_the_observation():
+@pytest.mark.parametrize("world", ["sideboard", "floor", "cup"])
+def test_hiding_the_other_geoms_does_not_change_the_observation(world):
     # The robot's camera draws only group 2 (the landmark); with the room drawn as well, the
     # red mask of the crop is the same, pixel for pixel, and so is the observation.
-    env, poses = _poses_across_the_start_region()
+    env, poses = _poses_across_the_start_region(_worlds()[world])
     cam = env.config.camera
     x0, y0, x1, y1 = cam.crop
     seen = 0
@@ -439,21 +461,26 @@ def test_only_the_camera_group_can_appear_red():
     assert sorted(red) == ["landmark_post", "landmark_slab"]
 
 
-def test_no_hidden_geom_can_occlude_the_landmark():
-    # Rays from the robot's camera to points on the landmark's faces that lie in its crop,
-    # from a 10 cm grid over the whole floor the robot can stand on, facing anywhere (every
-    # 10 deg), hit no geom outside the camera's group first: the walls stand behind every
-    # line of sight, the sideboard's top below it (the camera is above it and the landmark
-    # floats above it), and the furniture that can be in the way (the sofa's arms, the shelf,
-    # the plant) is in the camera's group. From the start region none is in the way.
-    model = make_model(WorldConfig())
+@pytest.mark.parametrize("world", ["sideboard", "floor", "cup"])
+def test_no_hidden_geom_can_occlude_the_landmark(world):
+    # Rays from the robot's camera to points on the faces of the red geoms (the landmark, a
+    # distractor) that lie in its crop, from a 10 cm grid over the whole floor the robot can
+    # stand on, facing anywhere (every 10 deg), hit no geom outside the camera's group
+    # first: the walls stand behind every line of sight, the sideboard's top below it (the
+    # camera is above it and the landmark floats above it), and the furniture that can be in
+    # the way is in the camera's group (docking.world._mark_occluders).
+    config = _worlds()[world]
+    model = make_model(config)
     data = mujoco.MjData(model)
     facts = scene_facts()
     eye = model.cam("eye")
     forward, height = float(eye.pos[0]), float(eye.pos[2])
     points = []
-    for name in ("landmark_slab", "landmark_post"):
-        centre, size = model.geom(name).pos, model.geom(name).size
+    red = [n for n in ("landmark_slab", "landmark_post", "distractor0") if n in _names(model)]
+    for name in red:
+        # The geom's bounding box (its faces for the boxes).
+        k = model.geom(name).id
+        centre, size = model.geom_pos[k] + model.geom_aabb[k, :3], model.geom_aabb[k, 3:]
         grid = np.linspace(-0.999, 0.999, 5)
         for axis in range(3):
             for sign in (-1.0, 1.0):
@@ -474,7 +501,7 @@ def test_no_hidden_geom_can_occlude_the_landmark():
             if model.geom_bodyid[i] != robot:
                 half = np.abs(data.geom_xmat[i].reshape(3, 3)[:2, :2]) @ model.geom_aabb[i, 3:5]
                 blocked.append((data.geom_xpos[i][:2], half))
-    cam = WorldConfig().camera
+    cam = config.camera
     x0, y0, x1, y1 = cam.crop
     tilt = np.radians(cam.tilt_deg)
     geomid = np.zeros(1, dtype=np.int32)
@@ -501,3 +528,81 @@ def test_no_hidden_geom_can_occlude_the_landmark():
                     hit = mujoco.mj_ray(model, data, camera, vec, hidden, 1, robot, geomid)
                     assert hit < 0 or hit > 1 - 1e-9, (x, y, yaw, model.geom(geomid[0]).name)
     assert stands > 500 and rays > 100_000
+
+
+def test_a_distractor_is_red_solid_and_seen_when_in_view():
+    from docking.experiments import EXPERIMENT_2, ExperimentConfig
+    from docking.world import Distractor
+
+    cup = Distractor.cup(y=0.30)
+    world = WorldConfig(distractors=(cup,))
+    plain, with_cup = DockingEnv(seed=0), DockingEnv(world, seed=0)
+    geom = with_cup.physics.model.geom("distractor0")
+    np.testing.assert_allclose(geom.size[:2], cup.size)
+    np.testing.assert_allclose(with_cup.physics.data.geom("distractor0").xpos, cup.position)
+    # Seen from straight in front, far enough back, the cup enters the crop beside the landmark.
+    pose = [-1.4, 0.0, 0.0]
+    seen = with_cup.reset_to(pose).observation
+    baseline = plain.reset_to(pose).observation
+    assert seen.sum() > baseline.sum() + 0.5
+    # The cup stands on the robot's left (+y): it appears left of the landmark in the image,
+    # and the landmark's own pixels are unchanged.
+    assert np.array_equal(seen[:, 13:], baseline[:, 13:])
+    assert seen[:, :13].sum() > 0.5 and baseline[:, :13].sum() == 0
+    # The default world has none, and a config with one round-trips through a dict.
+    assert WorldConfig().distractors == ()
+    config = dataclasses.replace(
+        EXPERIMENT_2, world=dataclasses.replace(EXPERIMENT_2.world, distractors=(cup,))
+    )
+    assert ExperimentConfig.from_dict(config.to_dict()) == config
+
+
+@pytest.mark.parametrize(
+    "kwargs,match",
+    [
+        (dict(shape="cone", size=(0.1,), position=(0, 0, 0)), "Distractor.shape"),
+        (dict(shape="box", size=(0.1, 0.1), position=(0, 0, 0)), "Distractor.size"),
+        (dict(shape="sphere", size=(-0.1,), position=(0, 0, 0)), r"Distractor.size\[0\]"),
+        (dict(shape="sphere", size=(0.1,), position=(0, 0)), "Distractor.position"),
+        (dict(shape="sphere", size=(0.1,), position=(0, float("nan"), 0)), "position"),
+    ],
+)
+def test_bad_distractors_raise_naming_the_field(kwargs, match):
+    from docking.world import Distractor
+
+    with pytest.raises(ValueError, match=match):
+        Distractor(**kwargs)
+    with pytest.raises(ValueError, match="distractors"):
+        WorldConfig(distractors=("cup",))
+
+
+def test_the_floor_scene_has_no_sideboard_and_the_landmark_on_the_floor():
+    from docking.experiments import FLOOR_WORLD
+
+    env = DockingEnv(FLOOR_WORLD, seed=0)
+    model = env.physics.model
+    names = {model.geom(k).name for k in range(model.ngeom)}
+    assert "sideboard" not in names and "sideboard" not in footprints(FLOOR_WORLD)
+    slab = env.physics.data.geom("landmark_slab")
+    # On the floor, a hairline (1 mm) above it like on the sideboard (no z-fighting).
+    assert slab.xpos[2] - model.geom("landmark_slab").size[2] == pytest.approx(0.001)
+    # Nothing stops the robot at the dock: it can walk past the landmark's side ...
+    quiet = DockingEnv(dataclasses.replace(FLOOR_WORLD, step_noise_xy=0.0, step_noise_yaw_deg=0.0))
+    quiet.reset_to([-0.7, 0.25, 0.0])
+    for _ in range(6):
+        quiet.step(FORWARD)
+    assert quiet.pose[0] > 0.0  # beyond the landmark's front face
+    # ... and the landmark's image moves up the frame with distance.
+    rows = []
+    for d in (0.7, 1.0, 1.4):
+        env.physics.set_pose([-d, 0.0, 0.0])
+        env.physics.update_kinematics()
+        rows.append(
+            env.physics.project(env.physics.landmark_corners(), "eye", FLOOR_WORLD.camera)[
+                :, 1
+            ].mean()
+        )
+    assert rows[0] > rows[1] + 10 > rows[2] + 20
+    for _ in range(30):
+        env.reset()
+        assert env.landmark_in_crop()

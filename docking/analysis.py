@@ -1,0 +1,456 @@
+"""What the figures and the notebooks compute, as functions that return arrays.
+
+Analysis is kept apart from drawing (rliable's way): every function here takes networks,
+results, trial logs or an environment and returns numbers and arrays; :mod:`docking.figures`
+takes those arrays and returns a figure; the caller (a notebook or :mod:`docking.report`) saves
+it. Nothing here draws or writes files.
+
+* Weights: :func:`receptive_fields`, :func:`best_actions`, :func:`strongest_units`,
+  :func:`feature_change`.
+* Decisions: :func:`decide` (one observation), :func:`decisions` (many).
+* Views: :data:`VIEW_POSES`, :func:`example_views` (frames and inputs at given poses),
+  :func:`overview` (a render of the room), :func:`mean_winning_inputs` (what the units
+  respond to over many start views).
+* Trials: :func:`sample_trials`, :func:`trajectory_sample`, :func:`failure_taxonomy`.
+* Learning curves: :func:`mean_curve`, :func:`learning_curves`.
+* Geometry for floor plans: :func:`floor_plan`.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import warnings
+from typing import NamedTuple
+
+import numpy as np
+
+from docking.camera import CameraConfig
+from docking.experiments import ExperimentConfig, ExperimentResult, TrialLog, initial_network
+from docking.network import Network
+from docking.world import ACTION_LETTERS, ROBOT_RADIUS, DockingEnv, WorldConfig, footprints
+
+__all__ = [
+    "VIEW_POSES",
+    "FAILURE_CLASSES",
+    "ExampleViews",
+    "Decisions",
+    "MeanInputs",
+    "TrajectorySample",
+    "LearningCurves",
+    "receptive_fields",
+    "best_actions",
+    "strongest_units",
+    "feature_change",
+    "decide",
+    "decisions",
+    "example_views",
+    "overview",
+    "mean_winning_inputs",
+    "sample_trials",
+    "trajectory_sample",
+    "mean_curve",
+    "learning_curves",
+    "floor_plan",
+    "failure_taxonomy",
+]
+
+#: Robot poses ``[x, y, yaw]`` of the three example views (Fig. 2 D, Fig. 3 top): to the left
+#: of, in front of and to the right of the landmark, 0.68 m from its front plane (inside
+#: Experiment 1's start region, 0.58-0.70 m) and 0.15 m to the side (near the edge of the start
+#: trapezoid, whose half-width there is ``StartRegion.half_width(0.68)`` = 0.17 m). The robot
+#: faces +x and its left is +y, so a robot standing *left of* the landmark is at +y and sees
+#: the landmark on the right of its image; it has to step right to dock.
+VIEW_POSES = {
+    "left": (-0.68, 0.15, 0.0),
+    "front": (-0.68, 0.0, 0.0),
+    "right": (-0.68, -0.15, 0.0),
+}
+
+
+# ------------------------------------------------------------------------------------------
+# Weights.
+# ------------------------------------------------------------------------------------------
+
+
+def receptive_fields(net: Network, shape=None) -> tuple[np.ndarray, np.ndarray]:
+    """The receptive fields of the action and the feature units, as images.
+
+    * Feature unit ``j``: its weight row ``W_j`` (Eq. 1), reshaped to the input image.
+    * Action unit ``i``: its action weights mapped back into input space through the feature
+      layer, ``RF_i = sum_j Q_ij W_j`` (i.e. the rows of ``Q @ W``). With a winner-take-all
+      feature layer (``s`` nearly one-hot) an input that matches ``W_j`` drives action ``i``
+      with ``Q_ij``, so ``RF_i`` shows which inputs favour action ``i``.
+
+    Args:
+      net: A network (``W``: features x inputs, ``Q``: actions x features).
+      shape: ``(rows, cols)`` of the input image; default the camera's 32x10 input
+        (``CameraConfig().input_shape``). Inputs are flattened row-major (``Network.prepare``).
+
+    Returns:
+      ``(action_rf, feature_rf)`` of shapes ``(n_actions, rows, cols)`` and
+      ``(n_features, rows, cols)``, in action index order (``ACTION_LETTERS``) and unit order.
+    """
+    shape = tuple(CameraConfig().input_shape if shape is None else shape)
+    if int(np.prod(shape)) != net.W.shape[1]:
+        raise ValueError(f"shape {shape} does not hold the network's {net.W.shape[1]} inputs")
+    action_rf = (net.Q @ net.W).reshape(-1, *shape)
+    feature_rf = net.W.reshape(-1, *shape)
+    return action_rf, feature_rf
+
+
+def best_actions(Q: np.ndarray) -> np.ndarray:
+    """Per feature unit ``j``, the action it votes for most, ``argmax_i Q_ij``; -1 for a unit
+    with no positive action weight (an unused unit). Shape ``(n_features,)``."""
+    Q = np.asarray(Q)
+    best = np.argmax(Q, axis=0).astype(np.int64)
+    best[np.max(Q, axis=0) <= 0] = -1
+    return best
+
+
+def strongest_units(Q: np.ndarray, letters: str = "LRF") -> dict[int, list[str]]:
+    """For each action in ``letters``, the feature unit with the largest action weight
+    (``argmax_j Q_ij``), as ``{unit: [letters]}``; an action no unit votes for (all
+    ``Q_ij <= 0``) has no strongest unit."""
+    framed: dict[int, list[str]] = {}
+    for letter in letters:
+        i = ACTION_LETTERS.index(letter)
+        if np.max(Q[i]) > 0:
+            framed.setdefault(int(np.argmax(Q[i])), []).append(letter)
+    return framed
+
+
+def feature_change(result: ExperimentResult) -> np.ndarray:
+    """Per feature unit, the cosine between its initial and final weight vector (1 = the
+    unit's receptive field did not change). Rows of W have unit length, so the cosine is the
+    dot product. Shape ``(n_features,)``."""
+    start = initial_network(result.config, result.seed).W
+    return np.einsum("jn,jn->j", start, result.network.W)
+
+
+# ------------------------------------------------------------------------------------------
+# Decisions.
+# ------------------------------------------------------------------------------------------
+
+
+class Decisions(NamedTuple):
+    """Per observation: the winning feature unit (``argmax_j s_j``, Eq. 2), its activation
+    ``s_j`` and the greedy action (``argmax_i h_i``, Eq. 3)."""
+
+    winners: np.ndarray  # int64
+    activations: np.ndarray  # float64
+    actions: np.ndarray  # int64
+
+
+def decide(net: Network, observation: np.ndarray) -> tuple[int, float, int]:
+    """The winning feature unit, its activation ``s_j`` and the greedy action (argmax of
+    Eq. 3) for one ``observation``."""
+    s = net.features(net.prepare(observation))
+    winner = int(np.argmax(s))
+    return winner, float(s[winner]), int(np.argmax(net.Q @ s))
+
+
+def decisions(net: Network, observations) -> Decisions:
+    """:func:`decide` for each of ``observations`` (a sequence or an array with one
+    observation per leading index)."""
+    rows = [decide(net, obs) for obs in observations]
+    winners, activations, actions = zip(*rows, strict=True) if rows else ((), (), ())
+    return Decisions(
+        np.array(winners, dtype=np.int64),
+        np.array(activations, dtype=np.float64),
+        np.array(actions, dtype=np.int64),
+    )
+
+
+# ------------------------------------------------------------------------------------------
+# Views.
+# ------------------------------------------------------------------------------------------
+
+
+class ExampleViews(NamedTuple):
+    """Camera frames and network inputs at named poses."""
+
+    names: tuple[str, ...]
+    poses: np.ndarray  # (n, 3): [x, y, yaw]
+    frames: np.ndarray  # (n, height, width, 3) uint8 RGB
+    inputs: np.ndarray  # (n, rows, cols) float32 in [0, 1]
+
+
+def _check_views(poses) -> dict:
+    poses = dict(VIEW_POSES if poses is None else poses)
+    if len(poses) != 3:
+        raise ValueError(f"poses must name three views, got {list(poses)}")
+    return {name: np.asarray(p, dtype=np.float64) for name, p in poses.items()}
+
+
+def example_views(env: DockingEnv, poses=None) -> ExampleViews:
+    """The robot's camera frame and the network input at each of three named poses
+    ``{name: [x, y, yaw]}`` (default :data:`VIEW_POSES`: left, front, right).
+
+    The environment is moved to each pose in turn (``reset_to``), so a running trial is
+    abandoned; it is left at the last pose."""
+    poses = _check_views(poses)
+    frames, inputs = [], []
+    for pose in poses.values():
+        timestep = env.reset_to(pose)
+        frames.append(env.frame.copy())
+        inputs.append(np.array(timestep.observation))
+    return ExampleViews(
+        tuple(poses), np.array(list(poses.values())), np.array(frames), np.array(inputs)
+    )
+
+
+def overview(env: DockingEnv, pose, size=(800, 600)) -> np.ndarray:
+    """An RGB render ``(height, width, 3)`` of the room from the ``overview`` camera with the
+    robot at ``pose`` and the virtual docking region drawn; ``size = (width, height)``."""
+    env.reset_to(np.asarray(pose, dtype=np.float64))
+    return env.render_view("overview", *size)
+
+
+class MeanInputs(NamedTuple):
+    """Mean network inputs per greedy action and per winning feature unit (zeros where an
+    action is never chosen or a unit never wins), with the numbers of views behind them."""
+
+    action_mean: np.ndarray  # (n_actions, rows, cols)
+    unit_mean: np.ndarray  # (n_features, rows, cols)
+    action_counts: np.ndarray  # (n_actions,) int64
+    unit_counts: np.ndarray  # (n_features,) int64
+
+
+def mean_winning_inputs(
+    net: Network, world: WorldConfig, n: int = 1500, seed: int = 0
+) -> MeanInputs:
+    """What the units respond to: mean network inputs over ``n`` start views.
+
+    Samples ``n`` start poses of ``world``'s start region (``DockingEnv(world, seed).reset()``,
+    one rendered frame each) and averages the observations (the 10x32 input before Eq. 1)
+    separately for every feature unit that wins (``argmax_j s_j``, Eq. 2) and for every greedy
+    action (``argmax_i h_i``, Eq. 3).
+    """
+    if n < 1:
+        raise ValueError(f"n must be >= 1, got {n}")
+    env = DockingEnv(world, seed=seed)
+    shape = world.camera.input_shape
+    n_act, n_feat = net.config.n_actions, net.config.n_features
+    action_sum, unit_sum = np.zeros((n_act,) + shape), np.zeros((n_feat,) + shape)
+    action_counts = np.zeros(n_act, dtype=np.int64)
+    unit_counts = np.zeros(n_feat, dtype=np.int64)
+    for _ in range(n):
+        obs = env.reset().observation
+        s = net.features(net.prepare(obs))
+        j, i = int(np.argmax(s)), int(np.argmax(net.Q @ s))
+        unit_sum[j] += obs
+        unit_counts[j] += 1
+        action_sum[i] += obs
+        action_counts[i] += 1
+    env.close()
+    with np.errstate(invalid="ignore", divide="ignore"):
+        action_mean = np.nan_to_num(action_sum / action_counts[:, None, None])
+        unit_mean = np.nan_to_num(unit_sum / unit_counts[:, None, None])
+    return MeanInputs(action_mean, unit_mean, action_counts, unit_counts)
+
+
+# ------------------------------------------------------------------------------------------
+# Trials.
+# ------------------------------------------------------------------------------------------
+
+
+def sample_trials(success: np.ndarray, n: int, seed: int = 0, min_failures: int = 3) -> np.ndarray:
+    """A seeded random sample of ``n`` trial indices that represents the success rate but
+    shows failures when there are any: failures get ``round(n * failure rate)`` places, at
+    least ``min(min_failures, failures)``. Sorted indices; fewer if there are fewer trials."""
+    success = np.asarray(success, dtype=bool)
+    rng = np.random.default_rng(seed)
+    fails, oks = np.flatnonzero(~success), np.flatnonzero(success)
+    n = min(n, len(success))
+    n_fail = int(round(n * len(fails) / max(len(success), 1)))
+    n_fail = min(len(fails), max(n_fail, min(min_failures, len(fails), n)))
+    n_ok = min(n - n_fail, len(oks))
+    n_fail = min(len(fails), n - n_ok)
+    chosen = np.concatenate(
+        [rng.choice(fails, n_fail, replace=False), rng.choice(oks, n_ok, replace=False)]
+    ).astype(np.int64)
+    return np.sort(chosen)
+
+
+class TrajectorySample(NamedTuple):
+    """Some trials of a log: their indices, their poses and whether each docked, plus the
+    totals of the whole log."""
+
+    indices: np.ndarray  # (k,) int64, sorted
+    paths: list[np.ndarray]  # k arrays (steps + 1, 3)
+    success: np.ndarray  # (k,) bool
+    n_trials: int  # trials in the log
+    n_docked: int  # docked trials in the log
+
+
+def trajectory_sample(log: TrialLog, n: int = 30, seed: int = 0) -> TrajectorySample:
+    """``n`` trials of ``log`` chosen by :func:`sample_trials` (seeded; failures shown if there
+    are any), with their paths."""
+    chosen = sample_trials(log.success, n, seed)
+    return TrajectorySample(
+        chosen,
+        [log.trial_poses(k) for k in chosen],
+        np.asarray(log.success)[chosen].astype(bool),
+        len(log),
+        int(np.sum(log.success)),
+    )
+
+
+#: The failure classes of :func:`failure_taxonomy`, with the definition of each (the numbers
+#: are the function's defaults).
+FAILURE_CLASSES = {
+    "heading_drift": "the heading drifted beyond heading_deg (10 deg) from facing the landmark "
+    "at some pose of the trial",
+    "landmark_lost": "at some pose after the start the landmark left the crop rectangle "
+    "(DockingEnv.landmark_in_crop(pose, margin=0), a projection, no rendering)",
+    "ended_farther": "the trial ended farther from the docking region's centre than it started",
+    "oscillating": "at least min_reversals (2) immediate reversals of a sidestep (L then R, or "
+    "R then L, as consecutive actions)",
+    "timed_out_near": "the step limit ended the trial within near_m (10 cm) of the docking "
+    "region (distance of the reference point to the region's rectangle)",
+    "pressed_beside_dock": "the trial ended against the sideboard's front (the floor scene: the "
+    "landmark's front) (within contact_tol, "
+    "2 cm, of where the robot's body meets it) beside the docking region (|y| > half its width)",
+}
+
+
+def floor_plan(config: WorldConfig) -> dict[str, tuple[float, float, float, float]]:
+    """Floor-plan rectangles ``(x0, y0, x1, y1)`` (m) of ``sideboard`` (if the scene has one),
+    ``landmark_slab``,
+    ``landmark_post`` and ``dock``, from :func:`docking.world.footprints`. The only place the
+    analysis and the figures read the world's footprint keys."""
+    fp = footprints(config)
+    names = ("sideboard",) if config.scene == "sideboard" else ()
+    return {name: fp[name] for name in names + ("landmark_slab", "landmark_post", "dock")}
+
+
+def _distance_to_rectangle(x, y, rect) -> np.ndarray:
+    x0, y0, x1, y1 = rect
+    dx = np.maximum(np.maximum(x0 - x, 0.0), x - x1)
+    dy = np.maximum(np.maximum(y0 - y, 0.0), y - y1)
+    return np.hypot(dx, dy)
+
+
+def failure_taxonomy(
+    log: TrialLog,
+    env: DockingEnv,
+    heading_deg: float = 10.0,
+    near_m: float = 0.10,
+    min_reversals: int = 2,
+    contact_tol: float = 0.02,
+) -> dict[str, np.ndarray]:
+    """Classify the trials of ``log`` from their logged poses and actions.
+
+    Returns ``{class: bool array over all trials}`` for the classes of
+    :data:`FAILURE_CLASSES` (a trial may be in several; the flags are computed for every trial,
+    docked or not: select failures with ``~log.success``). ``env`` supplies the world's
+    geometry and the landmark's projection (its pose is restored).
+    """
+    if not heading_deg > 0 or not near_m >= 0 or min_reversals < 1 or not contact_tol >= 0:
+        raise ValueError(
+            f"failure_taxonomy needs heading_deg > 0, near_m >= 0, min_reversals >= 1, "
+            f"contact_tol >= 0; got {heading_deg}, {near_m}, {min_reversals}, {contact_tol}"
+        )
+    config = env.config
+    plan = floor_plan(config)
+    dock = plan["dock"]
+    dock_centre = np.array([-config.dock_center, 0.0])
+    # The robot's reference point where its body meets what stops it in front of the landmark:
+    # the sideboard's front, or in the floor scene the landmark's own front face.
+    stop = plan["sideboard"] if "sideboard" in plan else plan["landmark_slab"]
+    contact_x = stop[0] - ROBOT_RADIUS
+    left, right = ACTION_LETTERS.index("L"), ACTION_LETTERS.index("R")
+    limit = np.radians(heading_deg)
+    flags = {name: np.zeros(len(log), dtype=bool) for name in FAILURE_CLASSES}
+    for k in range(len(log)):
+        poses, actions = log.trial_poses(k), log.trial_actions(k)
+        start, end = poses[0], poses[-1]
+        flags["heading_drift"][k] = bool(np.any(np.abs(poses[:, 2]) > limit))
+        flags["landmark_lost"][k] = any(
+            not env.landmark_in_crop(pose, margin=0) for pose in poses[1:]
+        )
+        flags["ended_farther"][k] = bool(
+            np.linalg.norm(end[:2] - dock_centre) > np.linalg.norm(start[:2] - dock_centre)
+        )
+        a, b = actions[:-1], actions[1:]
+        reversals = np.sum(((a == left) & (b == right)) | ((a == right) & (b == left)))
+        flags["oscillating"][k] = bool(reversals >= min_reversals)
+        timed_out = not log.success[k] and log.steps[k] >= config.max_steps
+        flags["timed_out_near"][k] = bool(
+            timed_out and _distance_to_rectangle(end[0], end[1], dock) <= near_m
+        )
+        flags["pressed_beside_dock"][k] = bool(
+            end[0] >= contact_x - contact_tol and abs(end[1]) > config.dock_width / 2
+        )
+    return flags
+
+
+# ------------------------------------------------------------------------------------------
+# Learning curves.
+# ------------------------------------------------------------------------------------------
+
+
+def mean_curve(xs: list[np.ndarray], ys: list[np.ndarray]) -> tuple[np.ndarray, np.ndarray]:
+    """Mean over runs at the learning-curve points all runs share (NaNs ignored; a point with
+    no value in any run stays NaN). Returns ``(points, mean)``."""
+    common = xs[0]
+    for x in xs[1:]:
+        common = np.intersect1d(common, x)
+    stack = np.array(
+        [[y[np.flatnonzero(x == c)[0]] for c in common] for x, y in zip(xs, ys, strict=True)],
+        dtype=np.float64,
+    )
+    with warnings.catch_warnings():  # an all-NaN column (no success anywhere) stays NaN
+        warnings.simplefilter("ignore", RuntimeWarning)
+        mean = np.nanmean(stack, axis=0)
+    return common, mean
+
+
+@dataclasses.dataclass(frozen=True)
+class LearningCurves:
+    """The learning curves of several seeds of one configuration, and their means.
+
+    Per seed (lists, one entry per run): ``trials`` (training trials done at each point),
+    ``success`` (greedy test success there), ``steps`` (mean actions of the successful test
+    trials there), ``start_far`` (the start region's far edge in each training trial);
+    ``final_trials`` and ``final_success`` (the final test). Means over the seeds at their
+    shared points: ``mean_trials``, ``mean_success``, ``mean_steps``.
+    """
+
+    config: ExperimentConfig
+    seeds: tuple[int, ...]
+    trials: list[np.ndarray]
+    success: list[np.ndarray]
+    steps: list[np.ndarray]
+    start_far: list[np.ndarray]
+    final_trials: np.ndarray
+    final_success: np.ndarray
+    mean_trials: np.ndarray
+    mean_success: np.ndarray
+    mean_steps: np.ndarray
+
+
+def learning_curves(results: list[ExperimentResult]) -> LearningCurves:
+    """:class:`LearningCurves` of the runs of one configuration (all of ``results`` must have
+    been made with the same configuration)."""
+    results = list(results)
+    if not results:
+        raise ValueError("learning_curves needs at least one result")
+    if any(r.config != results[0].config for r in results):
+        raise ValueError("learning_curves needs results of one configuration")
+    xs = [r.curve_trials for r in results]
+    mean_trials, mean_success = mean_curve(xs, [r.curve_success for r in results])
+    _, mean_steps = mean_curve(xs, [r.curve_steps for r in results])
+    return LearningCurves(
+        config=results[0].config,
+        seeds=tuple(r.seed for r in results),
+        trials=xs,
+        success=[r.curve_success for r in results],
+        steps=[r.curve_steps for r in results],
+        start_far=[np.asarray(r.train.start_far) for r in results],
+        final_trials=np.array([r.config.train_trials for r in results], dtype=np.int64),
+        final_success=np.array([r.test.success_rate for r in results], dtype=np.float64),
+        mean_trials=mean_trials,
+        mean_success=mean_success,
+        mean_steps=mean_steps,
+    )

@@ -1,0 +1,95 @@
+"""The package's one atomic file writer.
+
+Every file the package writes (results, networks, figures) goes through :func:`atomic_write`:
+a temporary file in the target's folder, written, flushed and fsynced, given one file mode,
+renamed over the target, and the folder fsynced. A reader sees the old file or the new one,
+never half of one; a crash (even ``kill -9``) leaves at most a temporary file named
+``.<target>.<pid>.<random>.tmp``, which :func:`remove_stale_temporaries` cleans up once its
+writer is gone.
+"""
+
+from __future__ import annotations
+
+import os
+import re
+import tempfile
+from collections.abc import Callable
+from pathlib import Path
+from typing import BinaryIO
+
+__all__ = ["atomic_write", "default_mode", "remove_stale_temporaries"]
+
+
+def default_mode() -> int:
+    """The mode of an ordinary new file: ``0o666`` less the process's umask."""
+    mask = os.umask(0)
+    os.umask(mask)
+    return 0o666 & ~mask
+
+
+def atomic_write(path, write: Callable[[BinaryIO], None], mode: int | None = None) -> Path:
+    """Write ``path`` atomically: ``write(f)`` fills a temporary file in the same folder,
+    which is flushed, fsynced, given ``mode`` (default :func:`default_mode`) and renamed over
+    ``path``. The folder is created if missing. Returns ``path``."""
+    path = Path(path)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    fd, tmp = tempfile.mkstemp(
+        prefix=f".{path.name}.{os.getpid()}.", suffix=".tmp", dir=path.parent
+    )
+    try:
+        with os.fdopen(fd, "wb") as f:
+            write(f)
+            f.flush()
+            os.fsync(f.fileno())
+        os.chmod(tmp, default_mode() if mode is None else mode)
+        os.replace(tmp, path)
+    except BaseException:
+        if os.path.exists(tmp):
+            os.unlink(tmp)
+        raise
+    _fsync_folder(path.parent)
+    return path
+
+
+def _fsync_folder(folder: Path) -> None:
+    try:
+        fd = os.open(folder, os.O_RDONLY)
+    except OSError:  # some platforms cannot open folders
+        return
+    try:
+        os.fsync(fd)
+    except OSError:
+        pass
+    finally:
+        os.close(fd)
+
+
+def _alive(pid: int) -> bool:
+    if pid == os.getpid():
+        return True
+    try:
+        os.kill(pid, 0)
+    except ProcessLookupError:
+        return False
+    except PermissionError:  # exists, owned by someone else
+        return True
+    return True
+
+
+def remove_stale_temporaries(path) -> list[Path]:
+    """Delete the temporary files that earlier writers of ``path`` left behind (their process
+    is gone, e.g. killed during a save). Returns the deleted files."""
+    path = Path(path)
+    pattern = re.compile(re.escape(f".{path.name}.") + r"(\d+)\..*\.tmp")
+    removed = []
+    if not path.parent.is_dir():
+        return removed
+    for candidate in path.parent.iterdir():
+        match = pattern.fullmatch(candidate.name)
+        if match and not _alive(int(match.group(1))):
+            try:
+                candidate.unlink()
+                removed.append(candidate)
+            except FileNotFoundError:
+                pass
+    return removed

@@ -1,0 +1,43 @@
+"""Bootstrap intervals over seeds."""
+
+import numpy as np
+import pytest
+
+from docking.stats import difference_ci, mean_ci
+
+
+def test_mean_ci_brackets_the_mean_and_is_seeded():
+    x = [0.95, 0.93, 0.97, 0.96, 0.91, 0.94, 0.98, 0.92, 0.95, 0.96]
+    ci = mean_ci(x)
+    assert ci.low < np.mean(x) < ci.high and ci.estimate == pytest.approx(np.mean(x))
+    assert ci.high - ci.low < 0.04
+    assert mean_ci(x) == ci  # same numbers, same interval
+    assert ci.values == tuple(x)
+    assert ci.format() == f"{100 * np.mean(x):.1f} [{100 * ci.low:.1f}, {100 * ci.high:.1f}]"
+
+
+def test_a_constant_sample_has_a_point_interval():
+    ci = mean_ci([1.0] * 10)
+    assert ci.low == ci.high == ci.estimate == 1.0
+
+
+def test_difference_ci_separates_clearly_different_groups_and_not_equal_ones():
+    rng = np.random.default_rng(1)
+    a = 0.95 + 0.01 * rng.standard_normal(10)
+    b = 0.90 + 0.01 * rng.standard_normal(10)
+    d = difference_ci(a, b)
+    assert d.excludes_zero() and d.low > 0.03
+    same = difference_ci(a, a[::-1])
+    assert same.estimate == pytest.approx(0.0, abs=1e-15) and not same.excludes_zero()
+
+
+def test_coverage_of_the_mean_is_near_95_percent():
+    rng = np.random.default_rng(2)
+    hits = sum(mean_ci(rng.normal(0.5, 0.1, 30), seed=k).contains(0.5) for k in range(200))
+    assert 0.88 <= hits / 200 <= 0.99
+
+
+@pytest.mark.parametrize("bad", [[0.5], [], [0.5, np.nan], [[0.1, np.inf]]])
+def test_bad_samples_raise(bad):
+    with pytest.raises(ValueError):
+        mean_ci(bad)

@@ -1,0 +1,286 @@
+"""The results store (issue #7): keys, validation, fault injection, atomic writes."""
+
+import dataclasses
+import json
+import os
+import shutil
+import signal
+import subprocess
+import sys
+import textwrap
+import time
+import zipfile
+
+import numpy as np
+import pytest
+
+from docking import store
+from docking.experiments import EXPERIMENT_1, ExperimentConfig, run_experiment
+from docking.fileio import atomic_write, remove_stale_temporaries
+from docking.network import NetworkConfig
+from docking.store import (
+    CorruptResult,
+    check_writable,
+    load_result,
+    result_path,
+    run_or_load,
+    save_result,
+    source_fingerprint,
+)
+
+TINY = dataclasses.replace(EXPERIMENT_1, train_trials=3, test_trials=2, eval_every=3, eval_trials=1)
+SEED = 7
+
+
+@pytest.fixture(scope="module")
+def reference():
+    """The run every recovered file must reproduce, bit for bit."""
+    return run_experiment(TINY, SEED, progress=False)
+
+
+@pytest.fixture
+def stored(tmp_path, reference):
+    path = save_result(reference, result_path(TINY, SEED, tmp_path))
+    return tmp_path, path
+
+
+def _assert_same_run(a, b):
+    np.testing.assert_array_equal(a.network.W, b.network.W)
+    np.testing.assert_array_equal(a.network.Q, b.network.Q)
+    np.testing.assert_array_equal(a.train.poses, b.train.poses)
+    np.testing.assert_array_equal(a.test.actions, b.test.actions)
+
+
+def _rewrite(path, change):
+    """Rewrite the .npz at ``path`` as a valid zip whose contents ``change(dict)`` altered."""
+    with np.load(path) as data:
+        arrays = {k: data[k] for k in data.files}
+    change(arrays)
+    atomic_write(path, lambda f: np.savez_compressed(f, **arrays))
+
+
+def _edit_meta(edit):
+    def change(arrays):
+        meta = json.loads(str(arrays["meta"]))
+        edit(meta)
+        arrays["meta"] = np.array(json.dumps(meta))
+
+    return change
+
+
+def _flip_byte(path):
+    raw = bytearray(path.read_bytes())
+    raw[len(raw) // 3] ^= 0xFF
+    path.write_bytes(bytes(raw))
+
+
+CORRUPTIONS = {
+    "zero bytes": lambda p: p.write_bytes(b""),
+    "half a file": lambda p: p.write_bytes(p.read_bytes()[: p.stat().st_size // 2]),
+    "a flipped byte": _flip_byte,
+    "bad meta JSON": lambda p: _rewrite(p, lambda a: a.update(meta=np.array("{not json"))),
+    "a missing key": lambda p: _rewrite(p, lambda a: a.pop("test.deltas")),
+    "an unknown config field": lambda p: _rewrite(
+        p, _edit_meta(lambda m: m["config"]["network"].update(colour="red"))
+    ),
+    "a truncated array": lambda p: _rewrite(
+        p, lambda a: a.update({"train.actions": a["train.actions"][:-1]})
+    ),
+}
+
+
+@pytest.mark.parametrize("kind", list(CORRUPTIONS))
+def test_a_corrupt_file_is_a_warning_and_a_recomputed_run(stored, reference, kind):
+    results_dir, path = stored
+    CORRUPTIONS[kind](path)
+    with pytest.raises(CorruptResult):
+        load_result(path)
+    with pytest.warns(RuntimeWarning, match=rf"{path.name}.*recomputing"):
+        recovered = run_or_load(TINY, SEED, results_dir=results_dir, progress=False)
+    _assert_same_run(recovered, reference)
+    _assert_same_run(load_result(path), reference)  # the bad file was replaced
+
+
+def test_a_file_of_another_configuration_or_code_is_refused(stored):
+    _, path = stored
+    _rewrite(path, _edit_meta(lambda m: m.update(key="0" * 64 + ":seed7")))
+    with pytest.raises(CorruptResult, match="key"):
+        load_result(path)
+
+
+def test_variants_of_one_name_live_side_by_side(tmp_path):
+    variant = dataclasses.replace(TINY, world=dataclasses.replace(TINY.world, step_forward=0.08))
+    assert variant.name == TINY.name
+    a = result_path(TINY, SEED, tmp_path)
+    b = result_path(variant, SEED, tmp_path)
+    assert a != b and a.parent.parent == b.parent.parent
+    run_or_load(TINY, SEED, results_dir=tmp_path, progress=False)
+    run_or_load(variant, SEED, results_dir=tmp_path, progress=False)
+    assert load_result(a).config == TINY and load_result(b).config == variant
+    assert json.loads((a.parent / "config.json").read_text()) == TINY.to_dict()
+
+
+def _copy_package(tmp_path):
+    src = os.path.dirname(store.__file__)
+    dst = tmp_path / "docking"
+    shutil.copytree(src, dst, ignore=shutil.ignore_patterns("__pycache__"))
+    return dst
+
+
+def test_a_code_change_in_trial_py_changes_the_fingerprint(tmp_path):
+    package = _copy_package(tmp_path)
+    before = source_fingerprint(package)
+    assert before == source_fingerprint()  # the copy is the same code
+    trial = package / "trial.py"
+    source = trial.read_text()
+    # Prose (docstrings, comments, layout) does not change what a run computes ...
+    trial.write_text(source.replace('"""SARSA trials', '"""Trials of SARSA', 1) + "\n# note\n")
+    assert source_fingerprint(package) == before
+    # ... code does.
+    trial.write_text(source.replace("gamma = cfg.gamma", "gamma = 0.5 * cfg.gamma", 1))
+    assert source_fingerprint(package) != before
+    # So do the modules trial.py imports (network.py), and the scene's assets.
+    trial.write_text(source)
+    network = package / "network.py"
+    network.write_text(network.read_text() + "\n_UNUSED = 1\n")
+    assert source_fingerprint(package) != before
+
+
+def test_a_code_change_invalidates_the_cache(stored, reference, monkeypatch):
+    results_dir, path = stored
+    assert run_or_load(TINY, SEED, results_dir=results_dir, progress=False)  # loads
+    monkeypatch.setattr(store, "source_fingerprint", lambda package_dir=None: "other code")
+    new_path = result_path(TINY, SEED, results_dir)
+    assert new_path != path  # another key: the old file is never returned for the new code
+    calls = []
+    real = store.run_experiment
+    monkeypatch.setattr(store, "run_experiment", lambda *a, **k: calls.append(1) or real(*a, **k))
+    _assert_same_run(run_or_load(TINY, SEED, results_dir=results_dir, progress=False), reference)
+    assert calls == [1] and new_path.exists()
+
+
+def test_an_unwritable_results_folder_fails_before_the_run(tmp_path, monkeypatch):
+    blocker = tmp_path / "a-file"
+    blocker.write_text("not a folder")
+    calls = []
+    monkeypatch.setattr(store, "run_experiment", lambda *a, **k: calls.append(1))
+    with pytest.raises(PermissionError, match="a-file"):
+        run_or_load(TINY, SEED, results_dir=blocker / "results", progress=False)
+    with pytest.raises(PermissionError, match="a-file"):
+        store.run_seeds(TINY, [0, 1], results_dir=blocker / "results", progress=False)
+    assert calls == []
+
+
+@pytest.mark.skipif(os.geteuid() == 0, reason="root may write into a read-only folder")
+def test_a_read_only_results_folder_fails_before_the_run(tmp_path):
+    folder = tmp_path / "results"
+    folder.mkdir()
+    folder.chmod(0o555)
+    try:
+        with pytest.raises(PermissionError, match="not writable"):
+            check_writable(folder)
+    finally:
+        folder.chmod(0o755)
+
+
+_KILLED_WRITER = textwrap.dedent(
+    """
+    import sys, time
+    from docking.fileio import atomic_write
+    data = open(sys.argv[2], "rb").read()
+    def write(f):
+        f.write(data[: len(data) // 2])
+        f.flush()
+        print("half written", flush=True)
+        time.sleep(60)
+        f.write(data[len(data) // 2 :])
+    atomic_write(sys.argv[1], write)
+    """
+)
+
+
+def test_kill_9_during_a_save_leaves_a_loadable_target_and_no_stray_temp(stored, reference):
+    results_dir, path = stored
+    good = path.read_bytes()
+    source = path.parent / "source.bin"
+    source.write_bytes(good)
+    writer = subprocess.Popen(
+        [sys.executable, "-c", _KILLED_WRITER, str(path), str(source)],
+        stdout=subprocess.PIPE,
+        text=True,
+    )
+    try:
+        assert writer.stdout.readline().strip() == "half written"
+        os.kill(writer.pid, signal.SIGKILL)
+    finally:
+        writer.wait(timeout=30)
+    source.unlink()
+    strays = [p for p in path.parent.iterdir() if p.name.endswith(".tmp")]
+    assert len(strays) == 1 and strays[0].name.startswith(f".{path.name}.{writer.pid}.")
+    assert path.read_bytes() == good  # the target was never touched
+    _assert_same_run(run_or_load(TINY, SEED, results_dir=results_dir, progress=False), reference)
+    assert not [p for p in path.parent.iterdir() if p.name.endswith(".tmp")]
+
+
+def test_stale_temporaries_of_live_writers_are_kept(tmp_path):
+    target = tmp_path / "x.npz"
+    mine = tmp_path / f".x.npz.{os.getpid()}.abc.tmp"
+    mine.write_bytes(b"")
+    dead = subprocess.Popen([sys.executable, "-c", "pass"])
+    dead.wait()
+    theirs = tmp_path / f".x.npz.{dead.pid}.abc.tmp"
+    theirs.write_bytes(b"")
+    other_target = tmp_path / f".y.npz.{dead.pid}.abc.tmp"
+    other_target.write_bytes(b"")
+    assert remove_stale_temporaries(target) == [theirs]
+    assert mine.exists() and other_target.exists()
+
+
+def test_numpy_integers_in_a_config_are_saved_as_plain_ints(tmp_path):
+    config = dataclasses.replace(
+        TINY, network=dataclasses.replace(TINY.network, n_features=np.int64(3))
+    )
+    assert type(config.network.n_features) is int
+    result = run_or_load(config, np.int64(2), results_dir=tmp_path, progress=False)
+    assert result.config.network.n_features == 3 and result.seed == 2
+
+
+def test_no_learning_curve_with_eval_trials_0(tmp_path):
+    config = dataclasses.replace(TINY, eval_trials=0)
+    result = run_or_load(config, 1, results_dir=tmp_path, progress=False)
+    assert len(result.curve_trials) == 0 and len(result.test) == config.test_trials
+    assert load_result(result_path(config, 1, tmp_path)).curve_success.shape == (0,)
+
+
+@pytest.mark.parametrize("name", ["../x", "/tmp/x", "a/b", "..", ".hidden", "", "x" * 101, "a b"])
+def test_a_name_cannot_leave_the_results_folder(name):
+    with pytest.raises(ValueError, match="ExperimentConfig.name"):
+        dataclasses.replace(TINY, name=name)
+
+
+def test_a_result_file_is_a_zip_with_the_documented_arrays(stored):
+    _, path = stored
+    with zipfile.ZipFile(path) as z:
+        names = {n.removesuffix(".npy") for n in z.namelist()}
+    assert {"meta", "W", "Q", "train.poses", "test.success", "curve_success"} <= names
+
+
+def test_config_round_trips_through_json():
+    for config in (TINY, dataclasses.replace(TINY, network=NetworkConfig(n_features=5))):
+        assert ExperimentConfig.from_dict(json.loads(json.dumps(config.to_dict()))) == config
+
+
+def test_run_or_load_is_quick_to_load(stored):
+    results_dir, _ = stored
+    t0 = time.perf_counter()
+    run_or_load(TINY, SEED, results_dir=results_dir, progress=False)
+    assert time.perf_counter() - t0 < 5
+
+
+def test_a_run_without_a_final_test_saves_and_loads(tmp_path):
+    config = dataclasses.replace(TINY, test_trials=0, heldout_trials=2)
+    result = run_or_load(config, 1, results_dir=tmp_path, progress=False)
+    assert len(result.test) == 0 and result.test.poses.shape == (0, 3)
+    assert len(result.heldout) == 2
+    loaded = load_result(result_path(config, 1, tmp_path))
+    assert len(loaded.test) == 0 and np.isnan(loaded.test.success_rate)
