@@ -5,9 +5,10 @@ a robot learns to dock from 32x10 camera pixels with a two-layer network (softma
 layer -> Q-value action layer) trained by SARSA, where the same TD error delta also trains
 the visual features (Eq. 8).
 
-Modules: ``world`` (the dm-control scene and the ``dm_env`` task), ``camera`` (the
-observation pipeline of Fig. 2), ``oracle`` (a pose-reading reference policy), ``network``
-(Eq. 1-16), ``trial`` (SARSA trials), ``experiments`` (Experiments 1 and 2), ``figures``.
+Modules: ``world`` (the dm-control scene, from ``assets/docking.xml``, and the ``dm_env``
+task), ``render`` (offscreen rendering), ``camera`` (the observation pipeline of Fig. 2),
+``oracle`` (a pose-reading reference policy), ``network`` (Eq. 1-16), ``trial`` (SARSA
+trials), ``experiments`` (Experiments 1 and 2), ``figures``, ``benchmark``.
 The world is imported lazily, so ``docking.network`` works without OpenGL.
 """
 

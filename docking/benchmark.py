@@ -1,68 +1,255 @@
-"""Benchmark: environment steps per second (render + physics + preprocessing).
+"""Benchmark of the docking world against its floor, and of a full Experiment 2 seed.
 
-Runs random actions in `DockingEnv` with the default world and prints steps/s overall and the
-time spent in each part of a step. Target (issue #2): at least 1000 steps/s on a 2-core
-CPU-only machine with MUJOCO_GL=egl (Mesa llvmpipe).
+One run reports:
 
-    python -m docking benchmark [--steps N]
+* env steps/s: ``DockingEnv.step`` with random actions (resets included);
+* the floor, measured in the same process: one bare ``mujoco.Renderer`` frame of the same
+  scene with the same geom selection and the same size as the robot's camera renders (the
+  crop band, group 2, headlight only) + the bare ``mj_step`` calls of one action +
+  ``preprocess`` of the band; and the ratio env step / floor;
+* the CPU time (``time.process_time``) of a full Experiment 2 seed and its env steps;
+* the speedup of two processes over one on two seeds (wall time; one seed per process).
+
+The machine may be shared: every measurement is repeated, the minimum and the median are
+reported, and CPU time is preferred over wall time wherever one process is measured.
+
+    python -m docking.benchmark [--repeats 5] [--steps 2000] [--seeds 0 1] [--quick]
 """
 
 from __future__ import annotations
 
 import argparse
+import contextlib
+import dataclasses
+import multiprocessing
 import time
 
+import numpy as np
 
-def main(argv=None) -> int:
-    """Run the benchmark with command-line arguments ``argv`` (default ``sys.argv[1:]``)."""
-    parser = argparse.ArgumentParser(
-        prog="python -m docking benchmark", description=__doc__.splitlines()[0]
-    )
-    parser.add_argument("--steps", type=int, default=5000, help="timed steps (default 5000)")
-    args = parser.parse_args(argv)
-    if args.steps < 1:
-        parser.error(f"--steps must be >= 1, got {args.steps}")
+# Imported first: it sets MUJOCO_GL before MuJoCo is imported.
+from docking.world import DockingEnv, make_model  # isort: skip
+import mujoco  # noqa: E402
 
-    import numpy as np
+from docking.camera import preprocess_band  # noqa: E402
+from docking.experiments import EXPERIMENT_2, ExperimentConfig, run_experiment  # noqa: E402
+from docking.world import _EYE_GROUP  # noqa: E402
 
-    from docking.camera import preprocess
-    from docking.world import DockingEnv
 
-    env = DockingEnv(seed=0)
-    rng = np.random.default_rng(1)
+def _stats(values) -> dict:
+    values = np.asarray(values, dtype=np.float64)
+    return {"min": float(values.min()), "median": float(np.median(values)), "n": len(values)}
+
+
+def env_step_time(config, steps: int, repeats: int, seed: int = 0) -> dict:
+    """CPU seconds per ``DockingEnv.step`` with uniformly random actions (with resets)."""
+    env = DockingEnv(config, seed=seed)
+    rng = np.random.default_rng(seed)
     env.reset()
-    for _ in range(200):  # warm up the GL context and caches
+    for _ in range(200):  # warm up
         env.step(int(rng.integers(4)))
-    start = time.perf_counter()
-    for _ in range(args.steps):
-        env.step(int(rng.integers(4)))
-    total = time.perf_counter() - start
+    times = []
+    for _ in range(repeats):
+        actions = rng.integers(4, size=steps)
+        t0 = time.process_time()
+        for a in actions:
+            env.step(int(a))
+        times.append((time.process_time() - t0) / steps)
+    return _stats(times)
 
-    n = 1000
-    t0 = time.perf_counter()
-    for _ in range(n):
-        frame = env.render_camera()
-    t_render = (time.perf_counter() - t0) / n
-    t0 = time.perf_counter()
-    for _ in range(n):
-        preprocess(frame, env.config.camera)
-    t_pre = (time.perf_counter() - t0) / n
-    target = env.physics.data.ctrl[:3].copy()
-    t0 = time.perf_counter()
-    for _ in range(n):
-        env.physics.walk_to(target)
-    t_phys = (time.perf_counter() - t0) / n
 
+def floor_time(config, frames: int, repeats: int) -> dict:
+    """CPU seconds of the floor of one env step: a bare ``mujoco.Renderer`` frame of the
+    crop band's size with the camera's geom group and no lights but the headlight, the bare
+    ``mj_step`` calls of one action, and ``preprocess_band``."""
+    env = DockingEnv(config, seed=0)
+    model = make_model(config)
+    model.light_active[:] = 0
+    data = mujoco.MjData(model)
+    env.reset()
+    data.qpos[:] = env.physics.data.qpos
+    data.ctrl[:] = env.physics.data.ctrl
+    mujoco.mj_forward(model, data)
+    x0, y0, x1, y1 = config.camera.crop
+    renderer = mujoco.Renderer(model, height=y1 - y0, width=x1 - x0)
+    option = mujoco.MjvOption()
+    option.geomgroup[:] = 0
+    option.geomgroup[_EYE_GROUP] = 1
+    n_physics = env.physics._n_move + env.physics._n_settle
+    cam = config.camera
+
+    def one():
+        for _ in range(n_physics):
+            mujoco.mj_step(model, data)
+        renderer.update_scene(data, camera="eye", scene_option=option)
+        preprocess_band(renderer.render(), cam)
+
+    for _ in range(100):
+        one()
+    times = {"floor": [], "render": [], "physics": [], "preprocess": []}
+    band = renderer.render()
+    for _ in range(repeats):
+        t0 = time.process_time()
+        for _ in range(frames):
+            one()
+        times["floor"].append((time.process_time() - t0) / frames)
+        t0 = time.process_time()
+        for _ in range(frames):
+            renderer.update_scene(data, camera="eye", scene_option=option)
+            renderer.render()
+        times["render"].append((time.process_time() - t0) / frames)
+        t0 = time.process_time()
+        for _ in range(frames):
+            for _ in range(n_physics):
+                mujoco.mj_step(model, data)
+        times["physics"].append((time.process_time() - t0) / frames)
+        t0 = time.process_time()
+        for _ in range(frames):
+            preprocess_band(band, cam)
+        times["preprocess"].append((time.process_time() - t0) / frames)
+    renderer.close()
+    return {k: _stats(v) for k, v in times.items()}
+
+
+@contextlib.contextmanager
+def _counting_steps():
+    """Count ``DockingEnv.step`` and ``reset_to`` calls in this process."""
+    counts = {"steps": 0, "resets": 0}
+    step, reset_to = DockingEnv.step, DockingEnv.reset_to
+
+    def counted_step(self, action):
+        counts["steps"] += not self._needs_reset
+        return step(self, action)
+
+    def counted_reset_to(self, pose):
+        counts["resets"] += 1
+        return reset_to(self, pose)
+
+    DockingEnv.step, DockingEnv.reset_to = counted_step, counted_reset_to
+    try:
+        yield counts
+    finally:
+        DockingEnv.step, DockingEnv.reset_to = step, reset_to
+
+
+def _run_seeds(args) -> dict:
+    """Worker: run ``config`` for each seed in turn; CPU and wall time of each."""
+    config, seeds = args
+    out = []
+    for seed in seeds:
+        with _counting_steps() as counts:
+            c0, w0 = time.process_time(), time.perf_counter()
+            result = run_experiment(config, seed, progress=False)
+            cpu, wall = time.process_time() - c0, time.perf_counter() - w0
+        out.append(
+            {
+                "seed": seed,
+                "cpu": cpu,
+                "wall": wall,
+                "steps": counts["steps"],
+                "resets": counts["resets"],
+                "test_success": result.test.success_rate,
+            }
+        )
+    return out
+
+
+def experiment_times(config: ExperimentConfig, seeds) -> dict:
+    """Run the seeds one after the other in one worker process, then each in its own worker
+    process at the same time: per-seed CPU times and the speedup of the parallel run."""
+    ctx = multiprocessing.get_context("spawn")
+    with ctx.Pool(1) as pool:
+        pool.apply(_noop)  # start-up (imports, GL context) is not part of the run
+        w0 = time.perf_counter()
+        serial = pool.apply(_run_seeds, ((config, list(seeds)),))
+        serial_wall = time.perf_counter() - w0
+        pool.close()
+        pool.join()
+    with ctx.Pool(len(seeds)) as pool:
+        pool.map(_noop, range(len(seeds)))
+        w0 = time.perf_counter()
+        parallel = [r for rs in pool.map(_run_seeds, [(config, [s]) for s in seeds]) for r in rs]
+        parallel_wall = time.perf_counter() - w0
+        pool.close()
+        pool.join()
+    return {
+        "serial": serial,
+        "serial_wall": serial_wall,
+        "parallel": parallel,
+        "parallel_wall": parallel_wall,
+        "speedup": serial_wall / parallel_wall,
+    }
+
+
+def _noop(*_):
+    import docking.world  # noqa: F401
+
+    return None
+
+
+def main(argv=None) -> dict:
+    """Run the benchmark and print its report; returns the figures as a dict."""
+    parser = argparse.ArgumentParser(
+        prog="python -m docking.benchmark", description=__doc__.splitlines()[0]
+    )
+    parser.add_argument("--repeats", type=int, default=5, help="repetitions of each timing")
+    parser.add_argument("--steps", type=int, default=2000, help="env steps per repetition")
+    parser.add_argument("--seeds", type=int, nargs="+", default=[0, 1], help="Experiment 2")
+    parser.add_argument(
+        "--quick", action="store_true", help="a shortened Experiment 2 (a smoke test)"
+    )
+    args = parser.parse_args(argv)
+    config = EXPERIMENT_2
+    if args.quick:
+        config = dataclasses.replace(config, train_trials=20, test_trials=10, eval_every=10)
+    world = config.world
+
+    step = env_step_time(world, args.steps, args.repeats)
+    floor = floor_time(world, args.steps, args.repeats)
+    ratio = step["median"] / floor["floor"]["median"]
+    ms = 1e3
+    print(f"CPU time per step, {args.repeats} repetitions of {args.steps} (min / median):")
     print(
-        f"environment steps/s (render + physics + preprocessing, incl. resets): "
-        f"{args.steps / total:.0f}"
+        f"  env step  {ms * step['min']:.3f} / {ms * step['median']:.3f} ms "
+        f"({1 / step['median']:.0f} steps/s)"
     )
     print(
-        f"  per step: {1e3 * total / args.steps:.3f} ms; render {1e3 * t_render:.3f} ms, "
-        f"physics {1e3 * t_phys:.3f} ms, preprocessing {1e3 * t_pre:.3f} ms"
+        f"  floor     {ms * floor['floor']['min']:.3f} / {ms * floor['floor']['median']:.3f} ms"
+        f"  = render {ms * floor['render']['median']:.3f} + physics "
+        f"{ms * floor['physics']['median']:.3f} + preprocess "
+        f"{ms * floor['preprocess']['median']:.3f} (medians)"
     )
-    return 0
+    print(f"  env step / floor (medians): {ratio:.2f}")
+
+    runs = experiment_times(config, args.seeds)
+    cpus = [r["cpu"] for r in runs["serial"]]
+    cpu = _stats(cpus)
+    r0 = runs["serial"][0]
+    print(
+        f"{config.name} ({config.train_trials} training + learning curve + "
+        f"{config.test_trials} test trials), one process, seeds {list(args.seeds)} in turn:"
+    )
+    for r in runs["serial"]:
+        print(
+            f"  seed {r['seed']}: {r['cpu']:.1f} s CPU ({r['wall']:.1f} s wall), "
+            f"{r['steps']} env steps + {r['resets']} resets, test {r['test_success']:.1%}"
+        )
+    print(f"  CPU time per seed (min / median): {cpu['min']:.1f} / {cpu['median']:.1f} s")
+    print(
+        f"two processes over one on {len(args.seeds)} seeds (wall): "
+        f"{runs['serial_wall']:.1f} s / {runs['parallel_wall']:.1f} s = "
+        f"{runs['speedup']:.2f}x (CPU per seed in parallel: "
+        + ", ".join(f"{r['cpu']:.1f} s" for r in runs["parallel"])
+        + ")"
+    )
+    return {
+        "env_step": step,
+        "floor": floor,
+        "ratio": ratio,
+        "experiment": runs,
+        "seed_cpu": cpu,
+        "seed_steps": r0["steps"],
+    }
 
 
 if __name__ == "__main__":
-    raise SystemExit(main())
+    main()

@@ -124,7 +124,16 @@ def preprocess(frame: np.ndarray, config: CameraConfig) -> np.ndarray:
             f"frame must have shape {(config.height, config.width, 3)}, got {frame.shape}"
         )
     x0, y0, x1, y1 = config.crop
-    mask = red_mask(frame[y0:y1, x0:x1], config)
+    return preprocess_band(frame[y0:y1, x0:x1], config)
+
+
+def preprocess_band(band: np.ndarray, config: CameraConfig) -> np.ndarray:
+    """:func:`preprocess` of the crop rectangle alone (``band`` is the frame's crop, as the
+    robot's camera renders it): threshold the landmark's red, resize to 32x10."""
+    x0, y0, x1, y1 = config.crop
+    if band.shape != (y1 - y0, x1 - x0, 3):
+        raise ValueError(f"band must have shape {(y1 - y0, x1 - x0, 3)}, got {band.shape}")
+    mask = red_mask(band, config)
     rows, cols = config.input_shape
     small = cv2.resize(mask, (cols, rows), interpolation=cv2.INTER_AREA)
     return small.astype(np.float32) * np.float32(1.0 / 255.0)

@@ -25,6 +25,13 @@ four actions is one walking step whose target is displaced by noise in position 
 and the servos walk the body there through MuJoCo physics, so collisions with the landmark's
 sideboard, the walls and the furniture are real. The humanoid itself (torso, head, arms, legs)
 is visual only.
+
+Rendering (:mod:`docking.render`): the robot's camera renders, for each observation, only the
+crop rectangle of its frame (the projection narrowed to it) and only geom group 2 of the
+asset, the geoms that can change the input (what can appear red, and what can stand between
+the camera and the landmark); ``tests/test_world.py`` shows that this gives the pixels of the
+whole frame with the whole room. Figures get the whole frame (``DockingEnv.frame``) and the
+overview cameras (``DockingEnv.render_view``).
 """
 
 from __future__ import annotations
@@ -83,11 +90,11 @@ import mujoco  # noqa: E402
 import numpy as np  # noqa: E402
 from dm_control import mjcf  # noqa: E402
 from dm_control import mujoco as dm_mujoco  # noqa: E402
-from dm_control.mujoco import engine, wrapper  # noqa: E402
 from dm_env import specs  # noqa: E402
 
-from docking.camera import CameraConfig, preprocess  # noqa: E402
+from docking.camera import CameraConfig, preprocess_band  # noqa: E402
 from docking.region import StartRegion  # noqa: E402
+from docking.render import SceneRenderer  # noqa: E402
 from docking.validate import (  # noqa: E402
     FieldTypeError,
     check_choice,
@@ -104,9 +111,10 @@ ACTION_NAMES = ("forward", "backward", "left", "right")
 ACTION_LETTERS = ("F", "B", "L", "R")
 N_ACTIONS = 4
 
-# Geom groups: 0 the room (seen by everyone), 1 the robot's visual body (hidden from its own
-# camera), 3 the virtual docking region (only in overview renders).
-_ROBOT_GROUP, _DOCK_GROUP = 1, 3
+# Geom groups of the asset: 0 the room, 1 the robot's visual body (hidden from its own
+# camera), 2 what the robot's camera draws (everything that can appear red), 3 the virtual
+# docking region (only in overview renders).
+_ROOM_GROUP, _ROBOT_GROUP, _EYE_GROUP, _DOCK_GROUP = 0, 1, 2, 3
 
 
 #: The scenes a world can be built as (:attr:`WorldConfig.scene`).
@@ -326,12 +334,72 @@ def make_mjcf(config: WorldConfig) -> mjcf.RootElement:
             material=landmark.material,
             group=landmark.group,
         )
+    _mark_occluders(root)
     return root
 
 
+def _mark_occluders(root: mjcf.RootElement) -> None:
+    """Put into the robot camera's geom group every geom that could stand between the camera
+    and a red geom (those of the group already: the landmark, the distractors), so that the
+    camera can draw that group alone.
+
+    A line of sight from the camera to a point of a red geom never runs below the lower of
+    the two, so a geom whose top lies below ``min(camera height, lowest red bottom)`` cannot
+    cut it (the sideboard's top, 1 mm below the landmark); nor can the room's walls and floor
+    (the room is a box and the camera and the red geoms are inside it), nor the robot's own
+    body (hidden from its camera). Every other geom is drawn. ``tests/test_world.py`` checks
+    the result by casting rays over the whole floor."""
+    red = [g for g in root.find_all("geom") if g.group == _EYE_GROUP]
+    eye = root.find("camera", "eye")
+    lowest = min(_geom_extent_z(g)[0] for g in red)
+    level = min(lowest, _z_in_world(eye.parent) + eye.pos[2])
+    robot = root.find("body", "robot")
+    for geom in root.find_all("geom"):
+        if geom.group == _EYE_GROUP or geom.group == _DOCK_GROUP:
+            continue
+        if geom.name == "floor" or (geom.name or "").startswith("wall_"):
+            continue
+        if _inside(geom, robot):
+            continue
+        if _geom_extent_z(geom)[1] >= level:
+            geom.group = _EYE_GROUP
+
+
+def _z_in_world(body) -> float:
+    """Height of a body's frame (the scene's bodies are not rotated)."""
+    z = 0.0
+    while body is not None and getattr(body, "tag", None) == "body":
+        z += float(body.pos[2]) if body.pos is not None else 0.0
+        body = body.parent
+    return z
+
+
+def _inside(element, body) -> bool:
+    while element is not None:
+        if element is body:
+            return True
+        element = element.parent
+    return False
+
+
+def _geom_extent_z(geom) -> tuple[float, float]:
+    """``(bottom, top)`` of an upright geom of a non-rotated body (boxes, cylinders,
+    spheres, ellipsoids and planes, as the room's furniture and the distractors are)."""
+    if geom.quat is not None or geom.euler is not None or geom.fromto is not None:
+        raise ValueError(f"{ASSET_PATH}: geom {geom.name!r} must be upright for _mark_occluders")
+    size = list(geom.size) if geom.size is not None else [0.0]
+    half = {"box": size[-1], "ellipsoid": size[-1], "cylinder": size[1] if len(size) > 1 else 0}
+    kind = geom.type or "sphere"
+    h = half.get(kind, size[0] if kind == "sphere" else 0.0)
+    z = _z_in_world(geom.parent) + (float(geom.pos[2]) if geom.pos is not None else 0.0)
+    return z - h, z + h
+
+
+@functools.lru_cache(maxsize=16)
 def make_model_xml(config: WorldConfig) -> str:
     """The MJCF of ``config``'s scene as one string (every number at full precision); the
-    model of :func:`make_model` and of :class:`DockingEnv` is compiled from it."""
+    model of :func:`make_model` and of :class:`DockingEnv` is compiled from it (cached per
+    config: a run builds three environments of one world)."""
     return make_mjcf(config).to_xml_string()
 
 
@@ -424,6 +492,9 @@ class Physics(dm_mujoco.Physics):
         self._ctrl = _consecutive([model.actuator(n).id for n in POSE_JOINTS], "ctrl")
         steps = [_STEP_MOVE_TIME / model.opt.timestep, _STEP_SETTLE_TIME / model.opt.timestep]
         self._n_move, self._n_settle = (int(round(n)) for n in steps)
+        # Smoothstep u^2 (3 - 2u) of the gliding phase, u = k / n_move for k = 1..n_move.
+        u = [k / self._n_move for k in range(1, self._n_move + 1)]
+        self._smoothstep = np.array([[v * v * (3.0 - 2.0 * v)] for v in u])
 
     def pose(self) -> np.ndarray:
         """The robot's ground-truth pose ``[x, y, yaw]`` (m, m, rad)."""
@@ -434,12 +505,15 @@ class Physics(dm_mujoco.Physics):
         return self.data.ctrl[self._ctrl]
 
     def set_pose(self, pose) -> None:
-        """Place the robot at ``pose`` at rest, with its servos holding it there."""
+        """Place the robot at ``pose`` at rest, with its servos holding it there: the
+        simulation state is reset (time, velocities, warm starts), then the kinematics are
+        brought up to date for rendering (the next ``mj_step`` computes everything else)."""
         pose = np.asarray(pose, dtype=np.float64)
-        with self.reset_context():
-            self.data.qpos[self._qpos] = pose
-            self.data.qvel[self._qvel] = 0.0
-            self.data.ctrl[self._ctrl] = pose
+        mujoco.mj_resetData(self.model.ptr, self.data.ptr)
+        self.data.qpos[self._qpos] = pose
+        self.data.qvel[self._qvel] = 0.0
+        self.data.ctrl[self._ctrl] = pose
+        self.update_kinematics()
 
     def walk_to(self, target, stop=None) -> bool:
         """One walking step: the servo targets glide from the current pose to ``target``
@@ -447,18 +521,19 @@ class Physics(dm_mujoco.Physics):
         stop the body where it meets an obstacle.
 
         ``stop(pose)`` (optional) is checked after every physics step; once it holds, the
-        robot halts on the spot and ``walk_to`` returns True (the dock's detector)."""
+        robot halts on the spot and ``walk_to`` returns True (the dock's detector). On
+        return the kinematics are up to date for rendering."""
+        model, data = self.model.ptr, self.data.ptr
         qpos = self.data.qpos[self._qpos]  # views of the robot's pose and servo targets
         ctrl = self.data.ctrl[self._ctrl]
         start = np.array(ctrl)
-        target = np.asarray(target, dtype=np.float64)
-        n_move, n_settle = self._n_move, self._n_settle
+        # The servo targets of the gliding phase, one row per physics step.
+        targets = start + (np.asarray(target, dtype=np.float64) - start) * self._smoothstep
         stopped = False
-        for k in range(1, n_move + n_settle + 1):
-            if k <= n_move:
-                u = k / n_move
-                ctrl[:] = start + (target - start) * (u * u * (3.0 - 2.0 * u))
-            mujoco.mj_step(self.model.ptr, self.data.ptr)
+        for k in range(self._n_move + self._n_settle):
+            if k < self._n_move:
+                ctrl[:] = targets[k]
+            mujoco.mj_step(model, data)
             if stop is not None and stop(qpos):
                 stopped = True
                 break
@@ -466,7 +541,7 @@ class Physics(dm_mujoco.Physics):
         # keep pushing into the obstacle during the next one.
         ctrl[:] = qpos
         self.data.qvel[self._qvel] = 0.0
-        self.forward()
+        self.update_kinematics()
         return stopped
 
     def place(self, pose) -> None:
@@ -517,13 +592,6 @@ def _consecutive(addresses, what: str) -> slice:
     return slice(first, first + len(addresses))
 
 
-def _scene_option(show_robot: bool, show_dock: bool) -> wrapper.MjvOption:
-    option = wrapper.MjvOption()
-    option.geomgroup[_ROBOT_GROUP] = int(show_robot)
-    option.geomgroup[_DOCK_GROUP] = int(show_dock)
-    return option
-
-
 def _as_generator(seed) -> np.random.Generator:
     if isinstance(seed, np.random.Generator):
         return seed
@@ -555,10 +623,29 @@ class DockingEnv(dm_env.Environment):
         self._rng = _as_generator(seed)
         self._physics = Physics.from_xml_string(make_model_xml(self._config))
         cam = self._config.camera
-        self._camera = _make_camera(self._physics, cam.height, cam.width, "eye")
-        self._camera_option = _scene_option(show_robot=False, show_dock=False)
+        self._renderer = _make_camera(self._physics, cam.height, cam.width)
+        # The robot's camera, lit by its headlight alone (the room's ceiling light, which
+        # overview renders use, would make each software-rendered frame ~50% slower, and the
+        # red threshold does not need it). Its observations render only the crop band (the
+        # frame's projection narrowed to it) and only the geoms that can change the input
+        # (group 2); `frame` renders the whole frame with the room, for figures.
+        self._eye_band = self._renderer.view(
+            "eye", cam.width, cam.height, groups=(_EYE_GROUP,), lights=False, window=cam.crop
+        )
+        self._eye_view = self._renderer.view(
+            "eye", cam.width, cam.height, groups=(_ROOM_GROUP, _EYE_GROUP), lights=False
+        )
+        dc, half_depth, half_width = (
+            self._config.dock_center,
+            self._config.dock_depth / 2,
+            self._config.dock_width / 2,
+        )
+        self._noise_yaw_rad = np.radians(self._config.step_noise_yaw_deg)
+        # The dock's detector, checked at every physics step (in_dock's test, inlined).
+        self._in_dock = lambda p: abs(p[0] + dc) <= half_depth and abs(p[1]) <= half_width
         self._start_region = StartRegion.of(self._config)
         self._frame = None
+        self._observed = False
         self._steps = 0
         self._needs_reset = True
 
@@ -607,7 +694,11 @@ class DockingEnv(dm_env.Environment):
 
     @property
     def frame(self) -> np.ndarray | None:
-        """The raw RGB camera frame behind the latest observation."""
+        """The robot's whole RGB camera frame (with the room) at the latest observation, for
+        figures; rendered on first access. The observation came from its crop band with the
+        landmark alone drawn, which has the same red pixels (``tests/test_world.py``)."""
+        if self._frame is None and self._observed:
+            self._frame = self.render_camera()
         return self._frame
 
     @property
@@ -649,9 +740,6 @@ class DockingEnv(dm_env.Environment):
         return dm_env.transition(reward=0.0, observation=observation)
 
     # -- internals ------------------------------------------------------------------------
-    def _in_dock(self, pose) -> bool:
-        return in_dock(pose, self._config)
-
     def _step_target(self, action: int) -> np.ndarray:
         cfg = self._config
         forward = (cfg.step_forward, -cfg.step_forward, 0.0, 0.0)[action]
@@ -665,27 +753,18 @@ class DockingEnv(dm_env.Environment):
             [
                 x + cos * forward - sin * side,
                 y + sin * forward + cos * side,
-                yaw + np.radians(cfg.step_noise_yaw_deg) * noise[2],
+                yaw + self._noise_yaw_rad * noise[2],
             ]
         )
 
     def _observe(self) -> np.ndarray:
-        frame = self.render_camera()
-        self._frame = frame
-        return preprocess(frame, self._config.camera)
+        self._frame, self._observed = None, True
+        return preprocess_band(self._eye_band.render(self._physics.data.ptr), self._config.camera)
 
     def render_camera(self) -> np.ndarray:
-        """The robot's RGB camera frame (the robot's body and the dock are not drawn).
-
-        Lit by the camera's headlight alone: the room's ceiling light, which overview renders
-        use, would make each software-rendered frame ~50% slower, and the red threshold
-        does not need it."""
-        lights = self._physics.model.light_active
-        lights[:] = 0
-        try:
-            return self._camera.render(scene_option=self._camera_option)
-        finally:
-            lights[:] = 1
+        """The robot's RGB camera frame of the current pose, as a new array (the robot's body
+        and the dock are not drawn; lit by the camera's headlight alone)."""
+        return self._eye_view.render(self._physics.data.ptr).copy()
 
     def render_view(
         self,
@@ -698,9 +777,10 @@ class DockingEnv(dm_env.Environment):
         """An RGB render from one of the scene's fixed cameras (``overview``, ``top``), with
         the robot and the virtual docking region drawn, for figures."""
         _check_frame_size(self._physics, width, height, "render_view width x height")
-        return self._physics.render(
-            height, width, camera_id=camera, scene_option=_scene_option(show_robot, show_dock)
-        )
+        groups = [_ROOM_GROUP, _EYE_GROUP] + [_ROBOT_GROUP] * show_robot
+        groups += [_DOCK_GROUP] * show_dock
+        view = self._renderer.view(camera, width, height, groups=groups, lights=True)
+        return view.render(self._physics.data.ptr).copy()
 
     def landmark_in_crop(self, pose=None, margin: float | None = None) -> bool:
         """Whether the whole landmark projects inside the crop rectangle from ``pose``
@@ -792,11 +872,12 @@ def _check_frame_size(physics: Physics, width: int, height: int, what: str) -> N
         )
 
 
-def _make_camera(physics: Physics, height: int, width: int, camera: str) -> engine.Camera:
-    """A reusable offscreen camera; one clear error if no OpenGL backend can start."""
+def _make_camera(physics: Physics, height: int, width: int) -> SceneRenderer:
+    """The renderer of ``physics``' scene, checked for a ``width x height`` camera frame;
+    one clear error if no OpenGL backend can start."""
     _check_frame_size(physics, width, height, "CameraConfig.width x height")
     try:
-        return engine.Camera(physics, height=height, width=width, camera_id=camera)
+        return SceneRenderer(physics.model.ptr)
     except Exception as exc:  # the backends raise many different types
         backend = os.environ.get("MUJOCO_GL", "")
         raise RuntimeError(
