@@ -189,7 +189,7 @@ def _noop(*_):
 def main(argv=None) -> dict:
     """Run the benchmark and print its report; returns the figures as a dict."""
     parser = argparse.ArgumentParser(
-        prog="python -m docking.benchmark", description=__doc__.splitlines()[0]
+        prog="python -m docking benchmark", description=__doc__.splitlines()[0]
     )
     parser.add_argument("--repeats", type=int, default=5, help="repetitions of each timing")
     parser.add_argument("--steps", type=int, default=2000, help="env steps per repetition")

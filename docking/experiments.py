@@ -399,6 +399,22 @@ def pretrain_competitive(
             timestep = env.step(int(rng.integers(net.config.n_actions)))
 
 
+def heldout_trials(
+    config: ExperimentConfig, seed: int, net: Network, world: WorldConfig
+) -> TrialLog:
+    """``config.heldout_trials`` greedy trials of ``net`` in ``world`` from the held-out
+    streams of ``seed``: start poses, step noise and action draws that training, the learning
+    curve and the main test never use. The same (``config``, ``seed``) gives the same draws
+    in any world, so two worlds are compared on paired trials (e.g. with and without a
+    distractor, or without heading noise: the same normal draws, scaled by 0)."""
+    rngs = _streams(check_int("heldout_trials", "seed", seed, lo=0))
+    env = DockingEnv(
+        check_instance("heldout_trials", "world", world, WorldConfig), rngs["heldout_world"]
+    )
+    found = evaluate(env, net, rngs["heldout_actions"], config.heldout_trials, config)
+    return TrialLog.from_records(found, [world.start_far] * len(found))
+
+
 def run_experiment(config: ExperimentConfig, seed: int, progress: bool = True) -> ExperimentResult:
     """Train and test one network; every random draw comes from ``seed`` (an int >= 0)."""
     check_instance("run_experiment", "config", config, ExperimentConfig)
@@ -478,10 +494,7 @@ def run_experiment(config: ExperimentConfig, seed: int, progress: bool = True) -
     ]
     heldout = None
     if config.heldout_trials:
-        world = config.heldout_world or config.world
-        heldout_env = DockingEnv(world, seed=rngs["heldout_world"])
-        found = evaluate(heldout_env, net, rngs["heldout_actions"], config.heldout_trials, config)
-        heldout = TrialLog.from_records(found, [world.start_far] * len(found))
+        heldout = heldout_trials(config, seed, net, config.heldout_world or config.world)
     wall_test = time.perf_counter() - t0
     return ExperimentResult(
         config=config,

@@ -4,22 +4,29 @@ Every *cell* of the study is an :class:`~docking.experiments.ExperimentConfig` (
 Experiment 1 or 2, in the sideboard world or the floor world) run for :data:`STUDY_SEEDS`,
 each network judged on :data:`HELDOUT_TRIALS` held-out trials: start poses, step noise and
 action draws from random streams that training, the learning curve and the main test never
-use (``ExperimentConfig.heldout_trials``). The cells are data; running them is
-:func:`docking.store.run_seeds` / :mod:`docking.sweep`; the statistics are
-:mod:`docking.stats`; the verdicts are asserted in the notebook.
+use (:func:`docking.experiments.heldout_trials`). A *test-only* cell trains nothing: it
+judges the networks of another cell in another world (with a distractor, or without heading
+noise) on the same held-out draws, so the comparison is paired. The cells are data; running
+them is :func:`run_study` (one sweep, :mod:`docking.sweep`); the statistics are
+:mod:`docking.stats`; the verdicts are computed and asserted in the notebook.
 
 Choices named here:
 
-* Exp. 2 variants keep the paper's 2000 training trials; they skip the final 725-trial test
-  (``test_trials = 0``: the held-out trials are the measure) and the learning curve, except
-  the three curriculum cells, whose curves are part of the claim.
+* Experiment 2 variants keep the paper's 2000 training trials; they skip the final 725-trial
+  test (``test_trials = 0``: the held-out trials are the measure) and the learning curve,
+  except the curriculum cells, whose curves are part of the claim.
+* The *core* cells back every verdict of notebook 05 and run in ``make reproduce`` and CI
+  (about 130 runs of Experiment 2's size); :func:`cells` with ``full=True`` adds the
+  sensitivity cells (eps_W x10, beta_s 10 and 30, the local rule and the distractor
+  variants in the floor world, the distractor with W frozen), ``python -m docking study
+  --full``.
 * ``beta_s`` 10 and 30: the rule absorbs the exact gradient's factor ``beta_s`` into
   ``eps_w`` (notebook 01), so the gradient step is ``eps_w / beta_s``; these cells keep it at
   the paper configuration's ``0.05 / 100`` (``eps_w = 0.005`` and ``0.015``).
 * The unmodulated control replaces delta in Eq. (8) by a constant equal to the mean
-  ``|delta|`` of the paper configuration's training steps (measured, passed in).
-* The two-stage learner pre-trains W on the frames of 200 random-walk trials (about 3000
-  frames) by winner-take-all competitive learning (rate 0.05), then runs SARSA with W frozen.
+  ``|delta|`` of the paper configuration's training steps (measured, then run).
+* The two-stage learner pre-trains W on the frames of 200 random-walk trials by
+  winner-take-all competitive learning (rate 0.05), then runs SARSA with W frozen.
 """
 
 from __future__ import annotations
@@ -35,18 +42,22 @@ from docking.experiments import (
     Curriculum,
     ExperimentConfig,
     ExperimentResult,
+    TrialLog,
+    heldout_trials,
 )
 from docking.network import NetworkConfig
 from docking.world import Distractor, WorldConfig
 
 __all__ = [
     "Cell",
+    "FLOOR_EXPERIMENT_2",
     "HELDOUT_TRIALS",
     "STUDY_SEEDS",
     "cells",
     "control_cell",
     "heldout_success",
     "mean_abs_delta",
+    "run_study",
 ]
 
 #: Seeds of every cell (verdicts rest on them: at least ten).
@@ -60,6 +71,15 @@ HELDOUT_TRIALS = 500
 _CUP = Distractor.cup(y=0.30)
 _FLOOR_CUP = Distractor("cylinder", _CUP.size, (_CUP.position[0], 0.30, _CUP.size[1]))
 
+#: Experiment 2 in the floor world: the paper's configuration, its curriculum starting 0.12 m
+#: beyond the start region's near edge as in the sideboard world.
+FLOOR_EXPERIMENT_2 = dataclasses.replace(
+    EXPERIMENT_2,
+    name="experiment2-floor",
+    world=FLOOR_WORLD,
+    curriculum=Curriculum(far_initial=FLOOR_WORLD.start_near + 0.12, grow_trials=1400),
+)
+
 
 @dataclasses.dataclass(frozen=True)
 class Cell:
@@ -69,9 +89,12 @@ class Cell:
       key: Short identifier (``"frozen"``, ``"floor/local"``, ...).
       claim: Which claim of the paper it tests (a key of the notebook's claim table).
       label: What it is, for tables and figures.
-      config: The run; ``config.heldout_world`` is where its networks are judged.
+      config: The run that trains its networks.
       baseline: The key of the cell it is compared with (the paper's configuration in the same
         world and experiment), or None for that cell itself.
+      test_world: For a test-only cell: the world its (the baseline's) networks are judged in;
+        None: judged in ``config.heldout_world`` (or ``config.world``) by the run itself.
+      core: Part of the study that backs the notebook's verdicts (else a sensitivity cell).
     """
 
     key: str
@@ -79,6 +102,8 @@ class Cell:
     label: str
     config: ExperimentConfig
     baseline: str | None
+    test_world: WorldConfig | None = None
+    core: bool = True
 
 
 def _variant(base: ExperimentConfig, name: str, curve: bool = False, **changes):
@@ -96,180 +121,141 @@ def _with_cup(world: WorldConfig) -> WorldConfig:
     return dataclasses.replace(world, distractors=(cup,))
 
 
-def _experiment2_cells(world_key: str, base: ExperimentConfig, full: bool) -> list[Cell]:
-    """The Experiment 2 variants in one world (``full``: all of them; else the key ones)."""
-    p = f"{world_key}/" if world_key != "sideboard" else ""
+def _experiment2_cells(world_key: str, base: ExperimentConfig) -> list[Cell]:
+    """The Experiment 2 variants in one world."""
+    floor = world_key != "sideboard"
+    p = f"{world_key}/" if floor else ""
     name = f"study-{world_key}"
     paper = f"{p}paper"
     near = base.curriculum.far_initial
+    eps_w, beta_s = base.network.eps_w, base.network.beta_s
+    paper_config = _variant(base, name, True)
     cup_world = _with_cup(base.world)
-    out = [
-        Cell(
-            paper,
-            "features",
-            "the paper's rule (Eq. 8, non-local)",
-            _variant(base, name, True),
-            None,
-        ),
-        Cell(
-            f"{p}frozen",
-            "features",
-            "W frozen (eps_W = 0)",
-            _variant(base, name, network=_net(base, eps_w=0.0)),
-            paper,
-        ),
-        Cell(
-            f"{p}local",
+
+    def cell(key, claim, label, config, core=True, test_world=None):
+        return Cell(f"{p}{key}", claim, label, config, paper, test_world, core)
+
+    def trained(**changes):
+        return _variant(base, name, **changes)
+
+    return [
+        Cell(paper, "features", "the paper's rule (Eq. 8, non-local)", paper_config, None),
+        cell("frozen", "features", "W frozen (eps_W = 0)", trained(network=_net(base, eps_w=0))),
+        cell(
+            "local",
             "features",
             "local rule (Eq. 8 without the bracket)",
-            _variant(base, name, network=_net(base, rule="local")),
-            paper,
+            trained(network=_net(base, rule="local")),
+            core=not floor,
         ),
-        Cell(
-            f"{p}none",
+        cell(
+            "none",
             "curriculum",
             "no curriculum (full region from trial 0)",
             _variant(base, name, True, curriculum=Curriculum(near, grow_trials=0)),
-            paper,
         ),
-        Cell(
-            f"{p}near-only",
+        cell(
+            "near-only",
             "curriculum",
             f"trained only near ({base.world.start_near:.2f}-{near:.2f} m)",
-            _variant(base, name, True, curriculum=Curriculum(near, grow_trials=0, far_final=near)),
-            paper,
+            _variant(base, name, True, curriculum=Curriculum(near, far_final=near)),
         ),
-        Cell(
-            f"{p}no-yaw-noise",
+        cell(
+            "no-yaw-noise",
             "rotation",
-            "tested without heading noise (0 deg per step)",
-            _variant(
-                base, name, heldout_world=dataclasses.replace(base.world, step_noise_yaw_deg=0.0)
-            ),
-            paper,
+            "the paper's networks tested without heading noise",
+            paper_config,
+            test_world=dataclasses.replace(base.world, step_noise_yaw_deg=0.0),
         ),
-        Cell(
-            f"{p}cup-test",
+        cell(
+            "cup-test",
             "distractor",
-            "red cup at test only",
-            _variant(base, name, heldout_world=cup_world),
-            paper,
+            "the paper's networks tested with a red cup",
+            paper_config,
+            test_world=cup_world,
         ),
-        Cell(
-            f"{p}cup",
-            "distractor",
-            "red cup in training and test",
-            _variant(base, name, world=cup_world),
-            paper,
+        cell(
+            "cup", "distractor", "red cup in training and test", trained(world=cup_world), not floor
         ),
-        Cell(
-            f"{p}cup-frozen",
+        cell(
+            "cup-frozen",
             "distractor",
             "red cup in training and test, W frozen",
-            _variant(base, name, world=cup_world, network=_net(base, eps_w=0.0)),
-            paper,
+            trained(world=cup_world, network=_net(base, eps_w=0)),
+            core=False,
+        ),
+        cell(
+            "epsW-x10",
+            "features",
+            f"eps_W x10 ({10 * eps_w:g})",
+            trained(network=_net(base, eps_w=10 * eps_w)),
+            core=False,
+        ),
+        cell(
+            "beta-10",
+            "features",
+            "beta_s = 10 (eps_W / beta_s kept)",
+            trained(network=_net(base, beta_s=10.0, eps_w=eps_w * 10 / beta_s)),
+            core=False,
+        ),
+        cell(
+            "beta-30",
+            "features",
+            "beta_s = 30 (eps_W / beta_s kept)",
+            trained(network=_net(base, beta_s=30.0, eps_w=eps_w * 30 / beta_s)),
+            core=False,
+        ),
+        cell(
+            "two-stage",
+            "alternative",
+            "two-stage: competitive features first, then SARSA",
+            trained(network=_net(base, eps_w=0), pretrain_trials=200),
+            core=not floor,
+        ),
+        cell(
+            "linear",
+            "alternative",
+            "linear SARSA on the 320 pixels",
+            trained(network=_net(base, n_features=base.network.n_inputs, feature_layer="none")),
+            core=not floor,
         ),
     ]
-    if full:
-        eps_w = base.network.eps_w
-        out += [
-            Cell(
-                f"{p}epsW-x10",
-                "features",
-                f"eps_W x10 ({10 * eps_w:g})",
-                _variant(base, name, network=_net(base, eps_w=10 * eps_w)),
-                paper,
-            ),
-            Cell(
-                f"{p}beta-10",
-                "features",
-                "beta_s = 10 (eps_W = 0.005)",
-                _variant(
-                    base,
-                    name,
-                    network=_net(base, beta_s=10.0, eps_w=eps_w * 10 / base.network.beta_s),
-                ),
-                paper,
-            ),
-            Cell(
-                f"{p}beta-30",
-                "features",
-                "beta_s = 30 (eps_W = 0.015)",
-                _variant(
-                    base,
-                    name,
-                    network=_net(base, beta_s=30.0, eps_w=eps_w * 30 / base.network.beta_s),
-                ),
-                paper,
-            ),
-            Cell(
-                f"{p}two-stage",
-                "alternative",
-                "two-stage: competitive features first, then SARSA",
-                _variant(base, name, network=_net(base, eps_w=0.0), pretrain_trials=200),
-                paper,
-            ),
-            Cell(
-                f"{p}linear",
-                "alternative",
-                "linear SARSA on the 320 pixels",
-                _variant(
-                    base,
-                    name,
-                    network=_net(base, n_features=base.network.n_inputs, feature_layer="none"),
-                ),
-                paper,
-            ),
-        ]
-    return out
 
 
 def _experiment1_cells() -> list[Cell]:
     base, name = EXPERIMENT_1, "study-experiment1"
+    paper = "exp1/local"
     return [
         Cell(
-            "exp1/local",
-            "features",
-            "Exp. 1, local rule (the paper's)",
-            _variant(base, name, True),
-            None,
+            paper, "features", "Exp. 1, local rule (the paper's)", _variant(base, name, True), None
         ),
         Cell(
             "exp1/frozen",
             "features",
             "Exp. 1, W frozen",
-            _variant(base, name, True, network=_net(base, eps_w=0.0)),
-            "exp1/local",
+            _variant(base, name, True, network=_net(base, eps_w=0)),
+            paper,
         ),
         Cell(
             "exp1/nonlocal",
             "features",
             "Exp. 1, non-local rule",
             _variant(base, name, True, network=_net(base, rule="nonlocal")),
-            "exp1/local",
+            paper,
         ),
     ]
 
 
-#: Experiment 2 in the floor world: the paper's configuration, its curriculum starting 0.12 m
-#: beyond the start region's near edge as in the sideboard world.
-FLOOR_EXPERIMENT_2 = dataclasses.replace(
-    EXPERIMENT_2,
-    name="experiment2-floor",
-    world=FLOOR_WORLD,
-    curriculum=Curriculum(far_initial=FLOOR_WORLD.start_near + 0.12, grow_trials=1400),
-)
-
-
-def cells() -> list[Cell]:
-    """Every cell but the unmodulated control (:func:`control_cell`, which needs a measured
-    constant): Experiment 2 in the sideboard world (all variants), Experiment 1, Experiment 2
-    in the floor world (the key variants)."""
-    return (
-        _experiment2_cells("sideboard", EXPERIMENT_2, full=True)
+def cells(full: bool = False) -> list[Cell]:
+    """The study's cells but the unmodulated control (:func:`control_cell`, which needs a
+    measured constant): Experiment 2 in the sideboard world, Experiment 1, Experiment 2 in the
+    floor world; the core cells only unless ``full``."""
+    found = (
+        _experiment2_cells("sideboard", EXPERIMENT_2)
         + _experiment1_cells()
-        + _experiment2_cells("floor", FLOOR_EXPERIMENT_2, full=False)
+        + _experiment2_cells("floor", FLOOR_EXPERIMENT_2)
     )
+    return [c for c in found if full or c.core]
 
 
 def control_cell(constant: float) -> Cell:
@@ -289,6 +275,67 @@ def mean_abs_delta(results: list[ExperimentResult]) -> float:
     return float(np.mean(np.abs(np.concatenate([r.train.deltas for r in results]))))
 
 
-def heldout_success(results: list[ExperimentResult]) -> np.ndarray:
+def heldout_success(logs: list[TrialLog]) -> np.ndarray:
     """Per seed, the held-out success rate."""
-    return np.array([r.heldout.success_rate for r in results])
+    return np.array([log.success_rate for log in logs])
+
+
+@dataclasses.dataclass
+class StudyResults:
+    """What :func:`run_study` returns.
+
+    Attributes:
+      cells: Every cell run, the control with its measured constant last.
+      runs: ``{cell key: runs in seed order}`` (a test-only cell: its baseline's runs).
+      heldout: ``{cell key: held-out trial logs in seed order}``.
+    """
+
+    cells: list[Cell]
+    runs: dict[str, list[ExperimentResult]]
+    heldout: dict[str, list[TrialLog]]
+
+    def cell(self, key: str) -> Cell:
+        return next(c for c in self.cells if c.key == key)
+
+    def success(self, key: str) -> np.ndarray:
+        """Per seed, the held-out success rate of cell ``key``."""
+        return heldout_success(self.heldout[key])
+
+
+def run_study(
+    full: bool = False,
+    results_dir=None,
+    scheduler: str | None = None,
+    workers: int | None = None,
+    progress: bool = True,
+) -> StudyResults:
+    """Run (or load) every cell for :data:`STUDY_SEEDS` in one sweep (:mod:`docking.sweep`),
+    then the unmodulated control, whose constant is the mean |delta| of the paper
+    configuration's runs; then judge the test-only cells' networks in their worlds."""
+    from docking.store import load_result
+    from docking.sweep import jobs_for, run_jobs
+
+    def sweep(batch: list[Cell], desc: str) -> dict[str, list[ExperimentResult]]:
+        trained = {c.key: c.config for c in batch if c.test_world is None}
+        jobs = jobs_for(trained.values(), STUDY_SEEDS)
+        paths = run_jobs(
+            jobs, results_dir, scheduler=scheduler, workers=workers, progress=progress, desc=desc
+        )
+        loaded = iter(load_result(p) for p in paths)
+        return {key: [next(loaded) for _ in STUDY_SEEDS] for key in trained}
+
+    batch = cells(full)
+    runs = sweep(batch, "study")
+    control = control_cell(mean_abs_delta(runs["paper"]))
+    runs.update(sweep([control], "study (control)"))
+    batch.append(control)
+    heldout = {}
+    for c in batch:
+        if c.test_world is None:
+            heldout[c.key] = [r.heldout for r in runs[c.key]]
+        else:
+            runs[c.key] = runs[c.baseline]
+            heldout[c.key] = [
+                heldout_trials(r.config, r.seed, r.network, c.test_world) for r in runs[c.key]
+            ]
+    return StudyResults(batch, runs, heldout)

@@ -2,26 +2,32 @@
 
 import dataclasses
 
+import numpy as np
 import pytest
 
-from docking.experiments import EXPERIMENT_2
+from docking.experiments import EXPERIMENT_1, EXPERIMENT_2, heldout_trials, run_experiment
 from docking.store import config_key
 from docking.study import HELDOUT_TRIALS, STUDY_SEEDS, cells, control_cell
 
 
 def test_cells_are_distinct_runs_judged_on_held_out_trials():
-    all_cells = cells() + [control_cell(0.05)]
+    all_cells = cells(full=True) + [control_cell(0.05)]
     keys = [c.key for c in all_cells]
     assert len(set(keys)) == len(keys)
-    assert len({config_key(c.config) for c in all_cells}) == len(all_cells)
+    trained = [c for c in all_cells if c.test_world is None]
+    assert len({config_key(c.config) for c in trained}) == len(trained)
     by_key = {c.key: c for c in all_cells}
     for c in all_cells:
         assert c.config.heldout_trials == HELDOUT_TRIALS >= 500
         assert c.baseline is None or c.baseline in by_key
         if c.baseline:
-            base = by_key[c.baseline].config
-            assert c.config.world.scene == base.world.scene
+            assert c.config.world.scene == by_key[c.baseline].config.world.scene
+        if c.test_world is not None:  # a test-only cell judges its baseline's networks
+            assert c.config == by_key[c.baseline].config
     assert len(STUDY_SEEDS) >= 10
+    core = {c.key for c in cells()}
+    assert {"paper", "frozen", "none", "near-only", "no-yaw-noise", "cup-test"} <= core
+    assert {"floor/paper", "floor/frozen", "floor/none", "exp1/frozen"} <= core
 
 
 def test_the_paper_cell_trains_exactly_as_experiment_2():
@@ -32,19 +38,34 @@ def test_the_paper_cell_trains_exactly_as_experiment_2():
 
 
 def test_variants_change_only_what_they_name():
-    by_key = {c.key: c.config for c in cells()}
-    paper = by_key["paper"]
-    frozen = dataclasses.replace(by_key["frozen"], network=paper.network, eval_trials=50)
+    by_key = {c.key: c for c in cells(full=True)}
+    paper = by_key["paper"].config
+    frozen = dataclasses.replace(by_key["frozen"].config, network=paper.network, eval_trials=50)
     assert frozen == paper  # only the network (and the skipped learning curve) differ
-    assert by_key["frozen"].network.eps_w == 0
-    assert by_key["local"].network.rule == "local"
-    assert by_key["none"].curriculum.grow_trials == 0
-    assert by_key["near-only"].curriculum.far_final == paper.curriculum.far_initial
-    assert by_key["cup-test"].world == paper.world and by_key["cup-test"].heldout_world.distractors
-    assert by_key["cup"].world.distractors and by_key["cup"].heldout_world is None
-    # The effective gradient step eps_W / beta_s is kept.
+    assert by_key["frozen"].config.network.eps_w == 0
+    assert by_key["local"].config.network.rule == "local"
+    assert by_key["none"].config.curriculum.grow_trials == 0
+    assert by_key["near-only"].config.curriculum.far_final == paper.curriculum.far_initial
+    assert by_key["cup-test"].test_world.distractors and not paper.world.distractors
+    assert by_key["no-yaw-noise"].test_world.step_noise_yaw_deg == 0
+    assert by_key["cup"].config.world.distractors
     for k in ("beta-10", "beta-30"):
-        n = by_key[k].network
+        n = by_key[k].config.network
         assert n.eps_w / n.beta_s == pytest.approx(paper.network.eps_w / paper.network.beta_s)
-    assert by_key["floor/paper"].world.scene == "floor"
+    assert by_key["floor/paper"].config.world.scene == "floor"
     assert control_cell(0.07).config.network.feature_delta == 0.07
+
+
+def test_held_out_trials_are_paired_across_worlds():
+    config = dataclasses.replace(
+        EXPERIMENT_1, train_trials=2, test_trials=1, eval_trials=0, heldout_trials=4
+    )
+    result = run_experiment(config, 5, progress=False)
+    again = heldout_trials(config, 5, result.network, config.world)
+    np.testing.assert_array_equal(again.poses, result.heldout.poses)
+    quiet = dataclasses.replace(config.world, step_noise_yaw_deg=0.0)
+    paired = heldout_trials(config, 5, result.network, quiet)
+    np.testing.assert_array_equal(paired.starts, result.heldout.starts)  # the same starts
+    assert np.all(
+        paired.poses[:, 2][paired.steps[0] + 1 :] == paired.poses[:, 2][paired.steps[0] + 1 :]
+    )
