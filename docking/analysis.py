@@ -161,6 +161,31 @@ def decisions(net: Network, observations) -> Decisions:
     )
 
 
+def start_views(world: WorldConfig, n: int, seed: int) -> np.ndarray:
+    """``(n, rows, cols)`` network inputs at ``n`` start poses of ``world``'s start region
+    (``DockingEnv(world, seed).reset()``, one rendered frame each)."""
+    if n < 1:
+        raise ValueError(f"n must be >= 1, got {n}")
+    env = DockingEnv(world, seed=seed)
+    views = np.array([env.reset().observation for _ in range(n)])
+    env.close()
+    return views
+
+
+def winner_change(start: Network, end: Network, views) -> tuple[float, float]:
+    """What learning W changed: over ``views``, the fraction whose winning feature unit
+    (argmax of Eq. 2) differs between the network ``start`` (W before training) and ``end``
+    (after), and the fraction whose greedy action differs when ``end``'s Q reads the
+    features of either W. A measure of the partition of image space the units draw, where a
+    cosine between the weights says little: at beta_s = 100 a tiny change of W moves the
+    boundaries between units."""
+    before = decisions(Network.from_weights(end.config, start.W, end.Q), views)
+    after = decisions(end, views)
+    return float(np.mean(before.winners != after.winners)), float(
+        np.mean(before.actions != after.actions)
+    )
+
+
 # ------------------------------------------------------------------------------------------
 # Views.
 # ------------------------------------------------------------------------------------------

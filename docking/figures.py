@@ -803,3 +803,169 @@ def fig_rewards(curves: LearningCurves, headline_seed: int, paper_rewards: float
     ax.set_ylim(0, 102)
     ax.legend(fontsize=7, ncol=3)
     return fig
+
+
+# ------------------------------------------------------------------------------------------
+# The study (notebook 05).
+# ------------------------------------------------------------------------------------------
+
+
+def fig_forest(
+    labels: list[str],
+    groups: list[str],
+    seeds: list[np.ndarray],
+    success: np.ndarray,
+    difference: np.ndarray,
+    margin: float | None = None,
+) -> Figure:
+    """Every cell of the study as intervals (a forest plot).
+
+    Args:
+      labels: One label per cell (top to bottom).
+      groups: One group name per cell (e.g. the world and experiment); a new group starts a
+        new block with its name.
+      seeds: Per cell, the held-out success of each seed (drawn as dots).
+      success: ``(cells, 3)``: mean, low, high of the held-out success (left panel).
+      difference: ``(cells, 3)``: the cell minus its baseline (the paper's configuration),
+        mean, low, high; NaN rows for the baselines themselves (right panel).
+      margin: If given, the +-margin band of "no effect" shaded in the right panel.
+    """
+    n = len(labels)
+    if not (len(groups) == len(seeds) == len(success) == len(difference) == n):
+        raise ValueError("fig_forest: labels, groups, seeds and intervals differ in length")
+    fig = _new_figure(11.0, 0.32 * n + 1.6)
+    left, right = fig.subplots(1, 2, sharey=True, width_ratios=(1.15, 1))
+    y = np.arange(n)[::-1].astype(float)
+    for k in range(n):
+        color = "0.15" if np.isnan(difference[k, 0]) else "C0"
+        left.plot(success[k, 1:] * 100, [y[k]] * 2, color=color, lw=2.2, solid_capstyle="butt")
+        left.plot(success[k, 0] * 100, y[k], "o", color=color, markersize=5, zorder=3)
+        jitter = np.linspace(-0.18, 0.18, len(seeds[k]))
+        left.plot(100 * np.asarray(seeds[k]), y[k] + jitter, ".", color="C1", ms=3, alpha=0.7)
+        if not np.isnan(difference[k, 0]):
+            d = 100 * difference[k]
+            decided = d[1] > 0 or d[2] < 0
+            c = "C3" if decided else "0.45"
+            right.plot(d[1:], [y[k]] * 2, color=c, lw=2.2, solid_capstyle="butt")
+            right.plot(d[0], y[k], "o", color=c, markersize=5, zorder=3)
+    if margin is not None:
+        right.axvspan(-100 * margin, 100 * margin, color="0.9", zorder=0)
+    right.axvline(0, color="0.2", lw=0.8)
+    starts = [k for k in range(n) if k == 0 or groups[k] != groups[k - 1]]
+    for k in starts:
+        if k:
+            for ax in (left, right):
+                ax.axhline(y[k] + 0.5, color="0.6", lw=0.6)
+        left.text(
+            0.0,
+            y[k] + 0.42,
+            groups[k],
+            transform=left.get_yaxis_transform(),
+            fontsize=8,
+            fontweight="bold",
+            va="bottom",
+            ha="left",
+            color="0.25",
+        )
+    left.set_yticks(y, labels, fontsize=8)
+    left.set_ylim(-0.7, n - 0.1)
+    left.set_xlabel("held-out success (%): mean, 95% bootstrap interval (line), seeds (dots)")
+    right.set_xlabel("cell minus the paper's configuration (percentage points), 95% interval")
+    left.set_title("A", loc="left", fontweight="bold")
+    right.set_title("B", loc="left", fontweight="bold")
+    for ax in (left, right):
+        ax.grid(axis="x", alpha=0.3, lw=0.5)
+    return fig
+
+
+def fig_weight_change(
+    start: np.ndarray, end: np.ndarray, shape, title: str, columns: int = 9
+) -> Figure:
+    """Where each feature unit's weights changed: ``W_end - W_start`` per unit as an image,
+    red where the weight grew, blue where it shrank, one symmetric scale for all units
+    (written in the caption), so units that hardly moved look white."""
+    start, end = np.asarray(start), np.asarray(end)
+    if start.shape != end.shape or start.shape[1] != int(np.prod(shape)):
+        raise ValueError(f"fig_weight_change: W shapes {start.shape}, {end.shape}, input {shape}")
+    change = (end - start).reshape(-1, *shape)
+    scale = float(np.max(np.abs(change))) or 1.0
+    rows = int(np.ceil(len(change) / columns))
+    fig = _new_figure(1.25 * columns + 0.8, 0.62 * rows + 1.1)
+    axes = np.atleast_1d(fig.subplots(rows, columns)).reshape(-1)
+    for j, ax in enumerate(axes):
+        ax.set_xticks([])
+        ax.set_yticks([])
+        if j >= len(change):
+            ax.set_visible(False)
+            continue
+        image = ax.imshow(
+            change[j], cmap="RdBu_r", vmin=-scale, vmax=scale, interpolation="nearest"
+        )
+        ax.set_title(f"unit {j}", fontsize=7, pad=2)
+    fig.colorbar(image, ax=axes.tolist(), shrink=0.6, label="W_end - W_start")
+    fig.suptitle(title, fontsize=10)
+    return fig
+
+
+def fig_failures(
+    cell_labels: list[str], classes: list[str], shares: np.ndarray, failures: list[int]
+) -> Figure:
+    """The failure taxonomy: for each cell (a row of ``shares``), the share of its failed
+    held-out trials in each class (classes overlap, so a row need not sum to 1)."""
+    shares = np.asarray(shares, dtype=float)
+    if shares.shape != (len(cell_labels), len(classes)):
+        raise ValueError(f"fig_failures: shares {shares.shape} for {len(cell_labels)} cells")
+    fig = _new_figure(9.5, 3.6)
+    ax = fig.subplots()
+    width = 0.8 / len(cell_labels)
+    x = np.arange(len(classes))
+    for k, label in enumerate(cell_labels):
+        ax.bar(
+            x + (k - (len(cell_labels) - 1) / 2) * width,
+            100 * shares[k],
+            width,
+            label=f"{label} ({failures[k]} failures)",
+        )
+    ax.set_xticks(x, [c.replace("_", " ") for c in classes], fontsize=8)
+    ax.set_ylabel("share of failed trials (%)")
+    ax.set_ylim(0, 100)
+    ax.legend(fontsize=7, loc="upper right")
+    ax.grid(axis="y", alpha=0.3, lw=0.5)
+    return fig
+
+
+def fig_study_curves(panels: dict[str, dict[str, LearningCurves]]) -> Figure:
+    """Learning curves of the curriculum cells: one panel per world (``panels``: world name
+    -> {cell label: curves}), the mean greedy success against training trials, a band from
+    the lowest to the highest seed."""
+    fig = _new_figure(5.2 * len(panels), 3.6)
+    axes = np.atleast_1d(fig.subplots(1, len(panels), sharey=True))
+    for ax, (letter, (world, curves)) in zip(
+        axes, zip("ABCD", panels.items(), strict=False), strict=False
+    ):
+        for k, (label, c) in enumerate(curves.items()):
+            stack = np.array(
+                [np.interp(c.mean_trials, t, s) for t, s in zip(c.trials, c.success, strict=True)]
+            )
+            ax.fill_between(
+                c.mean_trials,
+                100 * stack.min(0),
+                100 * stack.max(0),
+                color=f"C{k}",
+                alpha=0.15,
+                lw=0,
+            )
+            ax.plot(
+                c.mean_trials,
+                100 * c.mean_success,
+                color=f"C{k}",
+                lw=2,
+                label=f"{label} ({len(c.seeds)} seeds)",
+            )
+        ax.set_title(f"{letter}   {world}", loc="left", fontweight="bold", fontsize=10)
+        ax.set_xlabel("training trials")
+        ax.grid(alpha=0.3, lw=0.5)
+        ax.legend(fontsize=7, loc="lower right")
+    axes[0].set_ylabel("greedy success, full region (%)")
+    axes[0].set_ylim(-3, 103)
+    return fig

@@ -274,6 +274,13 @@ def save_figures(
     ]
 
 
+def save_named(fig: Figure, name: str, folder: Path | str | None = None) -> str:
+    """Save ``fig`` as ``name`` (``.png`` and ``.pdf``) in ``folder`` (default
+    :data:`docking.figures.FIGURES_DIR`); the PNG's path, for display."""
+    png, _ = figures.save_figure(fig, _folder(folder) / name)
+    return str(png)
+
+
 def _folder(folder: Path | str | None) -> Path:
     return figures.FIGURES_DIR if folder is None else Path(folder)
 

@@ -32,6 +32,10 @@ class Interval:
     values: tuple[float, ...]
     confidence: float = 0.95
 
+    def negated(self) -> Interval:
+        """The interval of ``-x`` (e.g. "cell minus baseline" from "baseline minus cell")."""
+        return Interval(-self.estimate, -self.high, -self.low, self.values, self.confidence)
+
     def contains(self, x: float) -> bool:
         return self.low <= x <= self.high
 

@@ -339,3 +339,164 @@ def run_study(
                 heldout_trials(r.config, r.seed, r.network, c.test_world) for r in runs[c.key]
             ]
     return StudyResults(batch, runs, heldout)
+
+
+# ------------------------------------------------------------------------------------------
+# Claims and verdicts.
+# ------------------------------------------------------------------------------------------
+
+#: Half-width of the equivalence margin for "does not affect performance" (percentage points
+#: of held-out success, as a fraction): a distractor's effect counts as none if the whole 95%
+#: interval of the difference lies within +-2 pp. Our choice, fixed before the runs.
+EQUIVALENCE_MARGIN = 0.02
+
+#: The share of failures that must go when heading noise is removed at test, for "most
+#: failures come from uncorrected rotation": more than half ("most").
+ROTATION_SHARE = 0.5
+
+
+@dataclasses.dataclass(frozen=True)
+class Claim:
+    """A claim of the paper, in its words, and how a cell tests it.
+
+    Attributes:
+      key: Identifier (the cells' ``claim``).
+      words: The paper's words.
+      source: Where the paper says it.
+      test: How the study tests it (the variant and the rule of the verdict).
+    """
+
+    key: str
+    words: str
+    source: str
+    test: str
+
+
+CLAIMS = (
+    Claim(
+        "features",
+        "the delta signal modulates not only the action but at the same time the feature "
+        "weights ... the network learns interpretable visual features",
+        "Abstract; Sec. II-A, III",
+        "held-out success of the paper's rule minus W frozen (eps_W = 0): supported if the 95% "
+        "interval lies above 0",
+    ),
+    Claim(
+        "delta",
+        "the feature layer learns only when there is learning progress ... unimportant "
+        "components of the data are not correlated with the learning progress",
+        "Sec. II-A",
+        "the paper's rule minus Eq. 8 with delta replaced by a constant of the same mean "
+        "magnitude: supported if the interval lies above 0",
+    ),
+    Claim(
+        "curriculum",
+        "the region is incrementally enlarged during learning ... Learning from Easy Missions",
+        "Sec. II-C",
+        "the paper's curriculum minus no curriculum (the full region from trial 0): supported "
+        "if the interval lies above 0",
+    ),
+    Claim(
+        "rotation",
+        "this noise can lead to a rotation of the robot, which currently is not compensated "
+        "... This is actually the reason for most of the unsuccessful trials",
+        "Sec. III, Fig. 5",
+        f"the share of the paper's networks' held-out failures that go when the same trials "
+        f"run without heading noise: supported if its interval lies above {ROTATION_SHARE:.0%}",
+    ),
+    Claim(
+        "distractor",
+        "noise (e.g. other red objects within the visual field) should not affect performance. "
+        "This criterion is also fulfilled by our model",
+        "Sec. IV",
+        f"the paper's networks tested with a red cup beside the landmark minus without: "
+        f"supported if the interval lies within +-{100 * EQUIVALENCE_MARGIN:.0f} pp",
+    ),
+    Claim(
+        "alternative",
+        "a self-organizing map could be used to first learn the visual features ... they would "
+        "be separate parts that would need to be linked ad hoc",
+        "Sec. IV",
+        "the paper's rule minus a two-stage learner (competitive features first, then SARSA): "
+        "supported (the united architecture does better) if the interval lies above 0",
+    ),
+)
+
+#: The cell each claim's verdict rests on, per world (the paper cell is its baseline).
+VERDICT_CELLS = {
+    "features": ("frozen", "floor/frozen"),
+    "delta": ("constant-delta",),
+    "curriculum": ("none", "floor/none"),
+    "rotation": ("no-yaw-noise", "floor/no-yaw-noise"),
+    "distractor": ("cup-test", "floor/cup-test"),
+    "alternative": ("two-stage",),
+}
+
+
+def difference(study: StudyResults, key: str, seed: int = 0):
+    """``(paper - cell)`` held-out success with its bootstrap interval (seeds resampled per
+    group), for the cell ``key`` and its baseline."""
+    from docking.stats import difference_ci
+
+    cell = study.cell(key)
+    return difference_ci(study.success(cell.baseline), study.success(key), seed=seed)
+
+
+def rotation_share(study: StudyResults, key: str, seed: int = 0):
+    """The share of the baseline's held-out failures that are gone when the same trials run
+    without heading noise (cell ``key``), with a bootstrap interval over seeds (the seeds
+    resampled jointly: the trials are paired)."""
+    from scipy import stats as scipy_stats
+
+    from docking.stats import Interval
+
+    base = 1 - study.success(study.cell(key).baseline)
+    quiet = 1 - study.success(key)
+
+    def share(b, q, axis=-1):
+        return 1 - q.mean(axis=axis) / b.mean(axis=axis)
+
+    estimate = float(share(base, quiet))
+    result = scipy_stats.bootstrap(
+        (base, quiet),
+        share,
+        paired=True,
+        vectorized=True,
+        n_resamples=10_000,
+        method="percentile",
+        random_state=np.random.default_rng(seed),
+    )
+    low, high = result.confidence_interval
+    return Interval(estimate, float(low), float(high), tuple(quiet.tolist()))
+
+
+def verdict(claim: str, study: StudyResults, key: str) -> str:
+    """The verdict of ``claim`` from cell ``key``: ``"supported"``, ``"not supported"`` (the
+    interval does not decide it either way) or ``"contradicted"`` (the interval lies on the
+    other side of the claim's bound), by the rule in :data:`CLAIMS`."""
+    if claim == "rotation":
+        ci = rotation_share(study, key)
+        if ci.low > ROTATION_SHARE:
+            return "supported"
+        return "contradicted" if ci.high < ROTATION_SHARE else "not supported"
+    ci = difference(study, key)
+    if claim == "distractor":
+        m = EQUIVALENCE_MARGIN
+        if -m <= ci.low and ci.high <= m:
+            return "supported"
+        return "contradicted" if ci.low > 0 or ci.high < 0 else "not supported"
+    if ci.low > 0:
+        return "supported"
+    return "contradicted" if ci.high < 0 else "not supported"
+
+
+def overall(verdicts: dict[str, str]) -> str:
+    """One verdict from the per-world verdicts ``{world: verdict}``: the common one, or
+    "supported only in the ... world" when they differ."""
+    values = set(verdicts.values())
+    if len(values) == 1:
+        return values.pop()
+    where = [w for w, v in verdicts.items() if v == "supported"]
+    if where:
+        return f"supported only in the {' and '.join(where)} world"
+    return "; ".join(f"{v} ({w} world)" for w, v in verdicts.items())

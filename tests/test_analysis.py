@@ -325,3 +325,18 @@ def test_floor_plan_and_taxonomy_of_the_floor_scene():
     )
     flags = failure_taxonomy(log, DockingEnv(FLOOR_WORLD, seed=0))
     assert flags["pressed_beside_dock"][0] and not flags["heading_drift"][0]
+
+
+def test_winner_change_counts_views_whose_winner_or_action_moved():
+    from docking.analysis import winner_change
+    from docking.network import Network, NetworkConfig
+
+    config = NetworkConfig(n_inputs=4, n_features=2, n_actions=2)
+    W0 = np.array([[1.0, 0, 0, 0], [0, 1.0, 0, 0]])
+    W1 = np.array([[0, 0, 1.0, 0], [0, 1.0, 0, 0]])  # unit 0 now reads input 2
+    Q = np.array([[1.0, 0.0], [0.0, 1.0]])  # unit 0 -> action 0, unit 1 -> action 1
+    start, end = Network.from_weights(config, W0, Q), Network.from_weights(config, W1, Q)
+    views = np.array([[1.0, 0.1, 0, 0], [0, 1.0, 0, 0], [0, 0.2, 1.0, 0], [0, 1.0, 0.1, 0]])
+    # view 0: unit 0 -> unit 1; view 2: unit 1 -> unit 0; views 1, 3 unchanged.
+    assert winner_change(start, end, views) == (0.5, 0.5)
+    assert winner_change(end, end, views) == (0.0, 0.0)
