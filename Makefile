@@ -34,6 +34,7 @@ reproduce: setup notebooks experiments
 experiments: setup
 	$(PY) -m docking run experiment1
 	$(PY) -m docking run experiment2
+	$(PY) -m docking study
 
 test: setup notebooks
 	$(VENV)/bin/ruff format --check .

@@ -6,6 +6,7 @@ Built by tyro from the configuration dataclasses and their docstrings, so every 
     python -m docking run experiment2 --seeds 0-19 --network.eps-w 0
     python -m docking sweep experiment2 --seeds 0-9 --grid network.eps_w=0,0.05 \\
         --scheduler tcp://127.0.0.1:8786
+    python -m docking study [--full]
     python -m docking report --readme README.md
     python -m docking benchmark --steps 2000
 
@@ -162,6 +163,34 @@ def _value(config, entry: str):
 
 
 @dataclasses.dataclass
+class Study:
+    """Run (or load) the study of notebook 05: every cell of docking.study for its ten seeds,
+    one sweep on a Dask cluster (embedded by default), then the unmodulated control."""
+
+    full: bool = False
+    """Also the sensitivity cells (eps_W x10, beta_s 10 and 30, more distractor and floor
+    variants): about twice the runs."""
+    scheduler: str | None = None
+    """Address of an existing Dask scheduler (tcp://HOST:PORT). Default: an embedded cluster."""
+    processes: int | None = None
+    """Worker processes of the embedded cluster (default: one per core)."""
+    results_dir: Path | None = None
+    """The results store (default: DOCKING_RESULTS, the checkout's results/ or ./results)."""
+
+    def execute(self) -> int:
+        from docking.stats import mean_ci
+        from docking.study import run_study
+
+        results = run_study(
+            self.full, self.results_dir, scheduler=self.scheduler, workers=self.processes
+        )
+        for cell in results.cells:
+            ci = mean_ci(results.success(cell.key))
+            print(f"{cell.key:22s} held-out success {ci.format(unit='%')}  {cell.label}")
+        return 0
+
+
+@dataclasses.dataclass
 class Report:
     """Print the results table (the paper's numbers beside ours) from the stored runs of
     both experiments and their seeds, running any that are missing."""
@@ -206,6 +235,7 @@ class Benchmark:
 Command = Union[  # noqa: UP007
     Annotated[Run, tyro.conf.subcommand("run")],
     Annotated[Sweep, tyro.conf.subcommand("sweep")],
+    Annotated[Study, tyro.conf.subcommand("study")],
     Annotated[Report, tyro.conf.subcommand("report")],
     Annotated[Benchmark, tyro.conf.subcommand("benchmark")],
 ]
