@@ -222,8 +222,8 @@ class Report:
 
 @dataclasses.dataclass
 class Benchmark:
-    """Environment steps per second (render + physics + preprocessing); its options:
-    python -m docking benchmark --help."""
+    """The benchmark of docking.benchmark: environment steps per second against their floor
+    and a full Experiment 2 seed; its own options: python -m docking benchmark --help."""
 
     def execute(self) -> int:  # pragma: no cover - main() dispatches before tyro
         from docking.benchmark import main
