@@ -202,10 +202,13 @@ class Report:
     """Worker processes for missing runs (default: one per core)."""
     results_dir: Path | None = None
     """The results store (default: DOCKING_RESULTS, the checkout's results/ or ./results)."""
+    study: bool = True
+    """Also the table of the study's verdicts (notebook 05; runs the study if it is not
+    stored), into the README between <!-- study:start --> and <!-- study:end -->."""
 
     def execute(self) -> int:
         from docking.experiments import EXPERIMENT_1, EXPERIMENT_2
-        from docking.report import results_table, update_readme
+        from docking.report import STUDY_END, STUDY_START, results_table, update_readme
         from docking.store import run_seeds
 
         results = [
@@ -214,8 +217,17 @@ class Report:
         ]
         table = results_table(*results)
         print(table)
+        changed = self.readme is not None and update_readme(self.readme, table)
+        if self.study:
+            from docking.study import run_study, verdict_table
+
+            verdicts = verdict_table(
+                run_study(results_dir=self.results_dir, workers=self.processes)
+            )
+            print(verdicts)
+            if self.readme is not None:
+                changed |= update_readme(self.readme, verdicts, STUDY_START, STUDY_END)
         if self.readme is not None:
-            changed = update_readme(self.readme, table)
             print(f"{self.readme}: {'updated' if changed else 'already up to date'}")
         return 0
 

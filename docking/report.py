@@ -301,21 +301,26 @@ def results_table(results1: list[ExperimentResult], results2: list[ExperimentRes
     return markdown_table(experiment1_rows(results1) + experiment2_rows(results2))
 
 
-def replace_block(text: str, block: str) -> str:
-    """``text`` with the lines between :data:`README_START` and :data:`README_END` replaced
-    by ``block``; ``ValueError`` unless each marker occurs once, in that order."""
-    starts, ends = text.count(README_START), text.count(README_END)
-    if starts != 1 or ends != 1 or text.index(README_START) > text.index(README_END):
+#: The markers of the README's table of verdicts (notebook 05).
+STUDY_START = "<!-- study:start -->"
+STUDY_END = "<!-- study:end -->"
+
+
+def replace_block(text: str, block: str, start: str = README_START, end: str = README_END) -> str:
+    """``text`` with the lines between the markers ``start`` and ``end`` replaced by
+    ``block``; ``ValueError`` unless each marker occurs once, in that order."""
+    starts, ends = text.count(start), text.count(end)
+    if starts != 1 or ends != 1 or text.index(start) > text.index(end):
         raise ValueError(
-            f"the README must hold one {README_START!r} line followed by one {README_END!r} "
+            f"the README must hold one {start!r} line followed by one {end!r} "
             f"line (found {starts} and {ends})"
         )
-    head, rest = text.split(README_START, 1)
-    _, tail = rest.split(README_END, 1)
-    return f"{head}{README_START}\n{block.strip()}\n{README_END}{tail}"
+    head, rest = text.split(start, 1)
+    _, tail = rest.split(end, 1)
+    return f"{head}{start}\n{block.strip()}\n{end}{tail}"
 
 
-def update_readme(path, table: str) -> bool:
+def update_readme(path, table: str, start: str = README_START, end: str = README_END) -> bool:
     """Write ``table`` into the README at ``path`` between the markers (atomically); whether
     the file changed."""
     from pathlib import Path
@@ -324,7 +329,7 @@ def update_readme(path, table: str) -> bool:
 
     path = Path(path)
     text = path.read_text(encoding="utf-8")
-    new = replace_block(text, table)
+    new = replace_block(text, table, start, end)
     if new == text:
         return False
     atomic_write(path, lambda f: f.write(new.encode("utf-8")))

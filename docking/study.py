@@ -500,3 +500,32 @@ def overall(verdicts: dict[str, str]) -> str:
     if where:
         return f"supported only in the {' and '.join(where)} world"
     return "; ".join(f"{v} ({w} world)" for w, v in verdicts.items())
+
+
+def verdicts(study: StudyResults) -> dict[str, tuple[str, dict[str, str], list[str]]]:
+    """Per claim: the overall verdict, the verdict per world, and the evidence per world
+    (the number with its 95% interval, as text)."""
+    out = {}
+    for claim in CLAIMS:
+        per_world, evidence = {}, []
+        for key in VERDICT_CELLS[claim.key]:
+            world = "floor" if key.startswith("floor/") else "sideboard"
+            per_world[world] = verdict(claim.key, study, key)
+            if claim.key == "rotation":
+                number = f"{rotation_share(study, key).format(unit='%')} of the failures go"
+            else:
+                number = difference(study, key).format(unit=" pp")
+            evidence.append(f"{world}: {number}")
+        out[claim.key] = (overall(per_world), per_world, evidence)
+    return out
+
+
+def verdict_table(study: StudyResults) -> str:
+    """The Markdown table of the claims, their verdicts and the numbers behind them."""
+    found = verdicts(study)
+    rows = [
+        f"| {c.words} ({c.source}) | {found[c.key][0]} | {'; '.join(found[c.key][2])} |"
+        for c in CLAIMS
+    ]
+    header = "| claim, in the paper's words | verdict | the number (95% interval) |\n|---|---|---|"
+    return header + "\n" + "\n".join(rows)
