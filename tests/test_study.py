@@ -67,3 +67,79 @@ def test_held_out_trials_are_paired_across_worlds():
     paired = heldout_trials(config, 5, result.network, quiet)
     np.testing.assert_array_equal(paired.starts, result.heldout.starts)  # the same starts
     assert not np.array_equal(paired.poses, result.heldout.poses)  # but other headings
+
+
+def _log(rate: float, n: int = 200, seed: int = 0):
+    from docking.experiments import TrialLog
+
+    success = np.random.default_rng(seed).random(n) < rate
+    return TrialLog(
+        success=success,
+        steps=np.ones(n, dtype=np.int64),
+        start_far=np.full(n, 1.5),
+        poses=np.zeros((2 * n, 3)),
+        actions=np.zeros(n, dtype=np.int64),
+        winners=np.zeros(n, dtype=np.int64),
+        deltas=np.zeros(n),
+    )
+
+
+def _study(rates: dict[str, float]):
+    from docking.study import StudyResults
+
+    by_key = {c.key: c for c in cells(full=True)}
+    chosen = [by_key[k] for k in rates]
+    heldout = {k: [_log(r, seed=s) for s in STUDY_SEEDS] for k, r in rates.items()}
+    return StudyResults(chosen, {}, heldout)
+
+
+def test_verdict_rules_on_synthetic_results():
+    from docking.study import difference, overall, rotation_share, verdict
+
+    s = _study(
+        {
+            "paper": 0.95,
+            "frozen": 0.80,
+            "local": 0.95,
+            "cup-test": 0.949,
+            "cup": 0.70,
+            "no-yaw-noise": 0.99,
+            "none": 0.99,
+        }
+    )
+    assert verdict("features", s, "frozen") == "supported"
+    assert difference(s, "frozen").low > 0.1
+    assert verdict("features", s, "local") == "not supported"
+    assert verdict("curriculum", s, "none") == "contradicted"  # no curriculum does better
+    assert verdict("distractor", s, "cup-test") == "supported"  # within the +-2 pp margin
+    assert verdict("distractor", s, "cup") == "contradicted"
+    share = rotation_share(s, "no-yaw-noise")
+    assert 0.6 < share.estimate < 0.95 and verdict("rotation", s, "no-yaw-noise") == "supported"
+    assert overall({"sideboard": "supported", "floor": "supported"}) == "supported"
+    assert overall({"sideboard": "supported", "floor": "not supported"}) == (
+        "supported only in the sideboard world"
+    )
+
+
+def test_study_figures_draw_from_arrays():
+    from matplotlib.figure import Figure
+
+    from docking import figures
+
+    seeds = [np.linspace(0.9, 1.0, 10), np.linspace(0.8, 0.9, 10)]
+    fig = figures.fig_forest(
+        ["paper", "frozen"],
+        ["world"] * 2,
+        seeds,
+        np.array([[0.95, 0.93, 0.97], [0.85, 0.83, 0.87]]),
+        np.array([[np.nan] * 3, [-0.1, -0.12, -0.08]]),
+        margin=0.02,
+    )
+    assert isinstance(fig, Figure)
+    with pytest.raises(ValueError, match="length"):
+        figures.fig_forest(["a"], ["g", "h"], seeds, np.zeros((1, 3)), np.zeros((1, 3)))
+    W0 = np.random.default_rng(0).random((4, 320))
+    assert isinstance(figures.fig_weight_change(W0, W0 + 0.01, (10, 32), "t"), Figure)
+    with pytest.raises(ValueError, match="shapes"):
+        figures.fig_weight_change(W0, W0[:2], (10, 32), "t")
+    assert isinstance(figures.fig_failures(["a"], ["x", "y"], np.array([[0.5, 0.2]]), [3]), Figure)
