@@ -146,7 +146,6 @@ def _experiment2_cells(world_key: str, base: ExperimentConfig) -> list[Cell]:
             "features",
             "local rule (Eq. 8 without the bracket)",
             trained(network=_net(base, rule="local")),
-            core=not floor,
         ),
         cell(
             "none",
@@ -176,6 +175,15 @@ def _experiment2_cells(world_key: str, base: ExperimentConfig) -> list[Cell]:
         ),
         cell(
             "cup", "distractor", "red cup in training and test", trained(world=cup_world), not floor
+        ),
+        Cell(
+            f"{p}cup-test-frozen",
+            "distractor",
+            "W frozen, tested with a red cup",
+            trained(network=_net(base, eps_w=0)),
+            f"{p}frozen",
+            cup_world,
+            core=not floor,
         ),
         cell(
             "cup-frozen",

@@ -32,8 +32,14 @@
 import numpy as np
 from IPython.display import Image, Markdown, display
 
-from docking.analysis import FAILURE_CLASSES, failure_taxonomy, feature_change
-from docking.experiments import EXPERIMENT_1, EXPERIMENT_2, SEEDS
+from docking.analysis import (
+    FAILURE_CLASSES,
+    failure_taxonomy,
+    feature_change,
+    start_views,
+    winner_change,
+)
+from docking.experiments import EXPERIMENT_1, EXPERIMENT_2, SEEDS, initial_network
 from docking.figures import FIGURES_DIR
 from docking.report import (
     configuration_table,
@@ -116,19 +122,37 @@ print(
 )
 
 # %% [markdown]
-# The 36 units therefore act as a fixed random partition of the image space: each image goes
-# to the unit whose random weight vector it matches best (neighbouring images, which share
-# most pixels, mostly go to the same unit), and the task is learned in the action weights
-# $Q$ on top of it. The weights themselves (left half of Fig. 4) therefore show no structure,
-# where the paper's Fig. 4 shows faint landmark shapes. What the units respond to is shown in
-# the right half: the mean input over 1500 start views for which each action is chosen and
-# each unit wins. There the sensorimotor law is plain: the landmark left in the image means
-# step left, centred means forward, right means step right, and the units framed in red (the
-# strongest for L, R and F) each cover one such part of the image; several units feed each
-# action, the "population coding" of the paper. Calibration runs with $\epsilon_W$ = 1 (the
-# exact gradient carries a factor $\beta^s = 100$ that the rule absorbs into $\epsilon_W$) moved
-# the weights a little (cosines down to 0.93) at 96 % success; $\epsilon_W$ = 5 and 20 lost the
-# task (75 % and 23 %).
+# A cosine this close to 1 does **not** make the units a fixed random partition of image
+# space, as an earlier version of this notebook said. At $\beta^s = 100$ the winner of Eq. 2
+# is decided by small differences of $h_j$, so a tiny move of $W$ shifts the boundaries
+# between the units' territories. The measure that matters is how many inputs change their
+# winning unit: over 500 start views, the share whose winner differs between $W$ at the start
+# and at the end of training, and the share whose greedy action differs (the final $Q$
+# reading the features of either $W$):
+
+# %%
+views = start_views(config.world, 500, seed=2024)
+moved = np.array(
+    [winner_change(initial_network(r.config, r.seed), r.network, views) for r in results]
+)
+for r, (winners, actions) in zip(results, moved, strict=True):
+    print(
+        f"seed {r.seed}: winner differs for {100 * winners:.1f}% of start views, "
+        f"greedy action for {100 * actions:.1f}%"
+    )
+assert moved[:, 0].min() > 0.05  # the partition moved, in every seed
+
+# %% [markdown]
+# So learning $W$ redraws the partition for a sizeable share of views, and changes some
+# decisions. Whether that matters for success is a question for an ablation, not for a
+# cosine: notebook 05 runs the same configuration with $W$ frozen at its random start
+# ($\epsilon_W = 0$), ten seeds each, and gives the verdict with its confidence interval.
+# The weights themselves (left half of Fig. 4) show no landmark structure, where the paper's
+# Fig. 4 shows faint landmark shapes. What the units respond to is shown in the right half:
+# the mean input over 1500 start views for which each action is chosen and each unit wins.
+# There the sensorimotor law is plain: the landmark left in the image means step left,
+# centred means forward, right means step right; several units feed each action, the
+# "population coding" of the paper.
 #
 # ## Fig. 5: sample test trajectories
 
