@@ -826,8 +826,9 @@ def fig_forest(
         new block with its name.
       seeds: Per cell, the held-out success of each seed (drawn as dots).
       success: ``(cells, 3)``: mean, low, high of the held-out success (left panel).
-      difference: ``(cells, 3)``: the cell minus its baseline (the paper's configuration),
-        mean, low, high; NaN rows for the baselines themselves (right panel).
+      difference: ``(cells, 3)``: the cell minus its baseline (the paper's configuration in
+        the same world, or the cell it is a test-only variant of), mean, low, high; NaN rows
+        for the paper's configurations themselves (right panel).
       margin: If given, the +-margin band of "no effect" shaded in the right panel.
     """
     n = len(labels)
@@ -869,8 +870,8 @@ def fig_forest(
         )
     left.set_yticks(y, labels, fontsize=8)
     left.set_ylim(-0.7, n - 0.1)
-    left.set_xlabel("held-out success (%): mean, 95% bootstrap interval (line), seeds (dots)")
-    right.set_xlabel("cell minus the paper's configuration (percentage points), 95% interval")
+    left.set_xlabel("held-out success (%): mean, 95% interval, seeds (dots)")
+    right.set_xlabel("minus its baseline (percentage points), 95% interval")
     left.set_title("A", loc="left", fontweight="bold")
     right.set_title("B", loc="left", fontweight="bold")
     for ax in (left, right):
