@@ -266,7 +266,10 @@ for key in taxonomy_cells:
         ]
     )
 fig = figures.fig_failures(
-    [cells[k].label for k in taxonomy_cells],
+    [
+        ("floor world: " if k.startswith("floor/") else "sideboard world: ") + cells[k].label
+        for k in taxonomy_cells
+    ],
     list(analysis.FAILURE_CLASSES),
     np.array(shares),
     counts,
