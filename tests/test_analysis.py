@@ -340,3 +340,15 @@ def test_winner_change_counts_views_whose_winner_or_action_moved():
     # view 0: unit 0 -> unit 1; view 2: unit 1 -> unit 0; views 1, 3 unchanged.
     assert winner_change(start, end, views) == (0.5, 0.5)
     assert winner_change(end, end, views) == (0.0, 0.0)
+
+
+def test_start_views_are_seeded_start_observations():
+    from docking.analysis import start_views
+    from docking.world import WorldConfig
+
+    views = start_views(WorldConfig(), 4, seed=3)
+    assert views.shape == (4, 10, 32) and views.dtype == np.float32
+    assert np.all(views.sum(axis=(1, 2)) > 0)  # the landmark is in every start view
+    np.testing.assert_array_equal(views, start_views(WorldConfig(), 4, seed=3))
+    with pytest.raises(ValueError, match="n must be"):
+        start_views(WorldConfig(), 0, seed=3)
