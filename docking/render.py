@@ -24,6 +24,7 @@ import numpy as np
 
 _CONTEXT = None  # the process's OpenGL context (created on first use)
 _BOUND = None  # the SceneRenderer whose offscreen framebuffer is bound
+_ADDRESSES = {}  # id(context) -> its EGL handle as an int (looked up once)
 
 
 def _gl_context():
@@ -47,6 +48,7 @@ def _free_context() -> None:
     global _CONTEXT, _BOUND
     _BOUND = None
     if _CONTEXT is not None:
+        _ADDRESSES.pop(id(_CONTEXT), None)
         _CONTEXT.free()
         _CONTEXT = None
 
@@ -54,7 +56,10 @@ def _free_context() -> None:
 def _make_current(context) -> None:
     """Make ``context`` current unless it already is (one cheap query per frame with EGL)."""
     if _current_context is not None:
-        if _current_context() == _address(context):
+        address = _ADDRESSES.get(id(context))
+        if address is None:
+            address = _ADDRESSES[id(context)] = _address(context)
+        if address is not None and _current_context() == address:
             return
     context.make_current()
 
