@@ -27,7 +27,19 @@ import numpy as np
 from docking.camera import CameraConfig
 from docking.experiments import ExperimentConfig, ExperimentResult, TrialLog, initial_network
 from docking.network import Network
-from docking.world import ACTION_LETTERS, ROBOT_RADIUS, DockingEnv, WorldConfig, footprints
+from docking.world import (
+    ACTION_LETTERS,
+    LEFT,
+    RIGHT,
+    ROBOT_RADIUS,
+    TURN_LEFT,
+    TURN_RIGHT,
+    DockingEnv,
+    WorldConfig,
+    footprints,
+    in_dock,
+    in_region,
+)
 
 __all__ = [
     "VIEW_POSES",
@@ -324,18 +336,21 @@ def trajectory_sample(log: TrialLog, n: int = 30, seed: int = 0) -> TrajectorySa
 #: The failure classes of :func:`failure_taxonomy`, with the definition of each (the numbers
 #: are the function's defaults).
 FAILURE_CLASSES = {
-    "heading_drift": "the heading drifted beyond heading_deg (10 deg) from facing the landmark "
-    "at some pose of the trial",
+    "heading_drift": "the heading drifted beyond heading_deg (10 deg) from facing the landmark's "
+    "wall (yaw 0) at some pose of the trial",
     "landmark_lost": "at some pose after the start the landmark left the crop rectangle "
     "(DockingEnv.landmark_in_crop(pose, margin=0), a projection, no rendering)",
     "ended_farther": "the trial ended farther from the docking region's centre than it started",
     "oscillating": "at least min_reversals (2) immediate reversals of a sidestep (L then R, or "
-    "R then L, as consecutive actions)",
+    "R then L, as consecutive actions) or of a turn (TL then TR, or TR then TL)",
     "timed_out_near": "the step limit ended the trial within near_m (10 cm) of the docking "
     "region (distance of the reference point to the region's rectangle)",
     "pressed_beside_dock": "the trial ended against the sideboard's front (the floor scene: the "
     "landmark's front) (within contact_tol, "
     "2 cm, of where the robot's body meets it) beside the docking region (|y| > half its width)",
+    "heading_off_in_region": "(precision docking only) at some pose of the trial the reference "
+    "point was in the docking region but the heading outside the tolerance, and the trial did "
+    "not dock",
 }
 
 
@@ -384,7 +399,9 @@ def failure_taxonomy(
     # the sideboard's front, or in the floor scene the landmark's own front face.
     stop = plan["sideboard"] if "sideboard" in plan else plan["landmark_slab"]
     contact_x = stop[0] - ROBOT_RADIUS
-    left, right = ACTION_LETTERS.index("L"), ACTION_LETTERS.index("R")
+    # Reversal pairs: sidesteps, and turns in a world that has them.
+    pairs = [(LEFT, RIGHT), (RIGHT, LEFT), (TURN_LEFT, TURN_RIGHT), (TURN_RIGHT, TURN_LEFT)]
+    precise = config.dock_heading_deg is not None
     limit = np.radians(heading_deg)
     flags = {name: np.zeros(len(log), dtype=bool) for name in FAILURE_CLASSES}
     for k in range(len(log)):
@@ -398,7 +415,7 @@ def failure_taxonomy(
             np.linalg.norm(end[:2] - dock_centre) > np.linalg.norm(start[:2] - dock_centre)
         )
         a, b = actions[:-1], actions[1:]
-        reversals = np.sum(((a == left) & (b == right)) | ((a == right) & (b == left)))
+        reversals = sum(int(np.sum((a == p) & (b == q))) for p, q in pairs)
         flags["oscillating"][k] = bool(reversals >= min_reversals)
         timed_out = not log.success[k] and log.steps[k] >= config.max_steps
         flags["timed_out_near"][k] = bool(
@@ -406,6 +423,11 @@ def failure_taxonomy(
         )
         flags["pressed_beside_dock"][k] = bool(
             end[0] >= contact_x - contact_tol and abs(end[1]) > config.dock_width / 2
+        )
+        flags["heading_off_in_region"][k] = bool(
+            precise
+            and not log.success[k]
+            and any(in_region(pose, config) and not in_dock(pose, config) for pose in poses)
         )
     return flags
 

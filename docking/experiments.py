@@ -157,6 +157,13 @@ class ExperimentConfig:
                 f"({world.start_near:g}, {final:g}] m (world.start_near, the curriculum's "
                 f"final far edge), got {curriculum.far_initial:g}"
             )
+        for what, w in (("world", world), ("heldout_world", self.heldout_world)):
+            if w is not None and w.n_actions != self.network.n_actions:
+                raise ValueError(
+                    f"ExperimentConfig.network.n_actions must equal the {w.n_actions} actions of "
+                    f"{what}.actions={w.actions!r} ({', '.join(w.action_names)}), got "
+                    f"{self.network.n_actions}"
+                )
         rows, cols = world.camera.input_shape
         if rows * cols != self.network.n_inputs:
             raise ValueError(

@@ -38,7 +38,7 @@ from gymnasium import spaces
 from gymnasium.utils import seeding
 
 from docking.camera import CameraConfig
-from docking.world import N_ACTIONS, DockingEnv, WorldConfig
+from docking.world import DockingEnv, WorldConfig
 
 #: The registered id.
 ENV_ID = "docking/Docking-v0"
@@ -91,7 +91,7 @@ class DockingGymEnv(gymnasium.Env):
         self.observation_space = spaces.Box(
             low=float(spec.minimum), high=float(spec.maximum), shape=spec.shape, dtype=spec.dtype
         )
-        self.action_space = spaces.Discrete(N_ACTIONS)
+        self.action_space = spaces.Discrete(self.config.n_actions)
         self._needs_reset = True
 
     def _info(self) -> dict[str, Any]:

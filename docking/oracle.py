@@ -10,7 +10,19 @@ from __future__ import annotations
 import numpy as np
 from tqdm.auto import tqdm
 
-from docking.world import BACKWARD, FORWARD, LEFT, RIGHT, DockingEnv, WorldConfig
+from docking.world import (
+    BACKWARD,
+    FORWARD,
+    LEFT,
+    RIGHT,
+    TURN_LEFT,
+    TURN_RIGHT,
+    DockingEnv,
+    WorldConfig,
+    heading_error,
+    in_dock,
+    in_region,
+)
 
 
 def oracle_action(pose, config: WorldConfig) -> int:
@@ -19,8 +31,22 @@ def oracle_action(pose, config: WorldConfig) -> int:
     step forward (or back, after
     an overshoot) towards the region's centre. Errors are taken in the robot's body frame,
     so heading drift is accounted for. Aiming at the region's inner half, rather than its
-    centre line, leaves room for the drift of the forward steps without wasting sidesteps."""
+    centre line, leaves room for the drift of the forward steps without wasting sidesteps.
+
+    With the turning action set it first turns towards facing the landmark whenever the
+    heading is farther from it than one turn (:func:`~docking.world.heading_error` beyond
+    ``turn_deg``: a turn then cannot overshoot to the other side), and, with precision
+    docking, whenever its reference point is in the region but its heading outside the
+    tolerance. (Turning at half a turn, whenever a turn brings the heading closer, spends so
+    many of the 25 actions on turns at 8 deg heading noise that it docks less often.)"""
     x, y, yaw = pose
+    if config.actions == "turning":
+        error = heading_error(pose)
+        must_turn = abs(error) > np.radians(config.turn_deg)
+        if config.dock_heading_deg is not None and not must_turn:
+            must_turn = in_region(pose, config) and not in_dock(pose, config)
+        if must_turn:
+            return TURN_RIGHT if error > 0 else TURN_LEFT
     dx, dy = -config.dock_center - x, -y
     ahead = np.cos(yaw) * dx + np.sin(yaw) * dy
     left = -np.sin(yaw) * dx + np.cos(yaw) * dy

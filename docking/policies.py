@@ -80,7 +80,8 @@ def always_forward(observation, env=None) -> int:
 
 
 class RandomPolicy:
-    """Uniformly random actions from its own seeded generator."""
+    """Uniformly random actions of ``env``'s action set (the paper's four without an ``env``)
+    from its own seeded generator."""
 
     def __init__(self, rng: np.random.Generator):
         if not isinstance(rng, np.random.Generator):
@@ -88,7 +89,8 @@ class RandomPolicy:
         self._rng = rng
 
     def __call__(self, observation, env=None) -> int:
-        return int(self._rng.integers(N_ACTIONS))
+        n = N_ACTIONS if env is None else env.config.n_actions
+        return int(self._rng.integers(n))
 
 
 def centroid_rule(observation, env=None, dead_band: float = CENTROID_DEAD_BAND) -> int:

@@ -15,7 +15,7 @@ import dataclasses
 import numpy as np
 from scipy import stats
 
-__all__ = ["Interval", "mean_ci", "difference_ci"]
+__all__ = ["Interval", "mean_ci", "difference_ci", "removed_share_ci"]
 
 #: Bootstrap resamples; at 10^4 the interval's ends are stable to about 0.1 percentage points
 #: for success rates over ten seeds.
@@ -61,7 +61,7 @@ def _values(values, name: str) -> np.ndarray:
     return array
 
 
-def _interval(estimate, samples, statistic, confidence, seed, values) -> Interval:
+def _interval(estimate, samples, statistic, confidence, seed, values, paired=False) -> Interval:
     if np.ptp(np.concatenate(samples)) == 0:  # all equal: the bootstrap has no spread
         return Interval(estimate, estimate, estimate, values, confidence)
     result = stats.bootstrap(
@@ -70,7 +70,7 @@ def _interval(estimate, samples, statistic, confidence, seed, values) -> Interva
         confidence_level=confidence,
         n_resamples=N_RESAMPLES,
         method="percentile",
-        paired=False,
+        paired=paired,
         vectorized=True,
         random_state=np.random.default_rng(seed),
     )
@@ -102,4 +102,27 @@ def difference_ci(values, baseline, confidence: float = 0.95, seed: int = 0) -> 
         confidence,
         seed,
         tuple(a.tolist()),
+    )
+
+
+def removed_share_ci(
+    failures, baseline_failures, paired: bool, confidence: float = 0.95, seed: int = 0
+) -> Interval:
+    """The share of the baseline's failures that are gone in a variant,
+    ``1 - mean(failures) / mean(baseline_failures)`` (failure rates, one per seed), with a
+    bootstrap interval. ``paired``: the seeds are resampled jointly (the same trials run
+    twice, e.g. with and without heading noise); otherwise each group's seeds independently.
+    ``values`` of the result are the variant's failure rates."""
+    a = _values(failures, "removed_share_ci")
+    b = _values(baseline_failures, "removed_share_ci baseline")
+    if paired and len(a) != len(b):
+        raise ValueError(f"paired groups need as many values, got {len(a)} and {len(b)}")
+    if not b.mean() > 0:
+        raise ValueError("removed_share_ci: the baseline has no failures to remove")
+
+    def share(base, x, axis=-1):
+        return 1 - x.mean(axis=axis) / base.mean(axis=axis)
+
+    return _interval(
+        float(share(b, a)), (b, a), share, confidence, seed, tuple(a.tolist()), paired=paired
     )

@@ -57,6 +57,7 @@ __all__ = [
     "control_cell",
     "heldout_success",
     "mean_abs_delta",
+    "run_cells",
     "run_study",
 ]
 
@@ -310,34 +311,35 @@ class StudyResults:
         return heldout_success(self.heldout[key])
 
 
-def run_study(
-    full: bool = False,
+def run_cells(
+    batch: list[Cell],
+    seeds=STUDY_SEEDS,
     results_dir=None,
     scheduler: str | None = None,
     workers: int | None = None,
     progress: bool = True,
+    desc: str = "study",
 ) -> StudyResults:
-    """Run (or load) every cell for :data:`STUDY_SEEDS` in one sweep (:mod:`docking.sweep`),
-    then the unmodulated control, whose constant is the mean |delta| of the paper
-    configuration's runs; then judge the test-only cells' networks in their worlds."""
+    """Run (or load) the cells of ``batch`` for ``seeds`` in one sweep (:mod:`docking.sweep`;
+    stored runs are loaded, not rerun), then judge the test-only cells' networks (their
+    baselines', which must be in ``batch``) in their worlds."""
     from docking.store import load_result
     from docking.sweep import jobs_for, run_jobs
 
-    def sweep(batch: list[Cell], desc: str) -> dict[str, list[ExperimentResult]]:
-        trained = {c.key: c.config for c in batch if c.test_world is None}
-        jobs = jobs_for(trained.values(), STUDY_SEEDS)
-        paths = run_jobs(
-            jobs, results_dir, scheduler=scheduler, workers=workers, progress=progress, desc=desc
-        )
-        loaded = iter(load_result(p) for p in paths)
-        return {key: [next(loaded) for _ in STUDY_SEEDS] for key in trained}
+    seeds = tuple(seeds)
+    trained = {c.key: c.config for c in batch if c.test_world is None}
+    jobs = jobs_for(trained.values(), seeds)
+    paths = run_jobs(
+        jobs, results_dir, scheduler=scheduler, workers=workers, progress=progress, desc=desc
+    )
+    loaded = iter(load_result(p) for p in paths)
+    return _judged(batch, {key: [next(loaded) for _ in seeds] for key in trained})
 
-    batch = cells(full)
-    runs = sweep(batch, "study")
-    control = control_cell(mean_abs_delta(runs["paper"]))
-    runs.update(sweep([control], "study (control)"))
-    batch.append(control)
-    heldout = {}
+
+def _judged(batch: list[Cell], runs: dict[str, list[ExperimentResult]]) -> StudyResults:
+    """The results of ``batch`` from the runs of its trained cells: their held-out trials,
+    and the test-only cells' held-out trials of their baselines' networks in their worlds."""
+    runs, heldout = dict(runs), {}
     for c in batch:
         if c.test_world is None:
             heldout[c.key] = [r.heldout for r in runs[c.key]]
@@ -346,7 +348,25 @@ def run_study(
             heldout[c.key] = [
                 heldout_trials(r.config, r.seed, r.network, c.test_world) for r in runs[c.key]
             ]
-    return StudyResults(batch, runs, heldout)
+    return StudyResults(list(batch), runs, heldout)
+
+
+def run_study(
+    full: bool = False,
+    results_dir=None,
+    scheduler: str | None = None,
+    workers: int | None = None,
+    progress: bool = True,
+) -> StudyResults:
+    """Run (or load) every cell for :data:`STUDY_SEEDS` in one sweep (:func:`run_cells`),
+    then the unmodulated control, whose constant is the mean |delta| of the paper
+    configuration's runs; then judge the test-only cells' networks in their worlds."""
+    options = dict(results_dir=results_dir, scheduler=scheduler, workers=workers)
+    trained = [c for c in cells(full) if c.test_world is None]
+    first = run_cells(trained, progress=progress, **options)
+    control = control_cell(mean_abs_delta(first.runs["paper"]))
+    second = run_cells([control], progress=progress, desc="study (control)", **options)
+    return _judged(cells(full) + [control], {**first.runs, **second.runs})
 
 
 # ------------------------------------------------------------------------------------------
@@ -458,28 +478,11 @@ def rotation_share(study: StudyResults, key: str, seed: int = 0):
     """The share of the baseline's held-out failures that are gone when the same trials run
     without heading noise (cell ``key``), with a bootstrap interval over seeds (the seeds
     resampled jointly: the trials are paired)."""
-    from scipy import stats as scipy_stats
-
-    from docking.stats import Interval
+    from docking.stats import removed_share_ci
 
     base = 1 - study.success(study.cell(key).baseline)
     quiet = 1 - study.success(key)
-
-    def share(b, q, axis=-1):
-        return 1 - q.mean(axis=axis) / b.mean(axis=axis)
-
-    estimate = float(share(base, quiet))
-    result = scipy_stats.bootstrap(
-        (base, quiet),
-        share,
-        paired=True,
-        vectorized=True,
-        n_resamples=10_000,
-        method="percentile",
-        random_state=np.random.default_rng(seed),
-    )
-    low, high = result.confidence_interval
-    return Interval(estimate, float(low), float(high), tuple(quiet.tolist()))
+    return removed_share_ci(quiet, base, paired=True, seed=seed)
 
 
 def verdict(claim: str, study: StudyResults, key: str) -> str:

@@ -21,7 +21,8 @@ step, and the robot halts once its reference point is inside: a step cannot jump
 virtual: the robot's camera never sees it; overview renders draw it in yellow.
 
 The robot is a planar base (slide x, slide y, hinge yaw) driven by position servos; each of the
-four actions is one walking step whose target is displaced by noise in position and heading,
+paper's four actions (or six with the turning set of Experiment 3) is one walking step whose
+target is displaced by noise in position and heading,
 and the servos walk the body there through MuJoCo physics, so collisions with the landmark's
 sideboard, the walls and the furniture are real. The humanoid itself (torso, head, arms, legs)
 is visual only.
@@ -38,6 +39,7 @@ from __future__ import annotations
 
 import dataclasses
 import functools
+import math
 import os
 from pathlib import Path
 
@@ -105,11 +107,33 @@ from docking.validate import (  # noqa: E402
 )
 
 # Action indices. The paper (Sec. II-C): "four actions - moving forward, backward, right and
-# left"; left and right are sidesteps (Nao walks sideways), not turns.
-FORWARD, BACKWARD, LEFT, RIGHT = 0, 1, 2, 3
-ACTION_NAMES = ("forward", "backward", "left", "right")
-ACTION_LETTERS = ("F", "B", "L", "R")
-N_ACTIONS = 4
+# left"; left and right are sidesteps (Nao walks sideways), not turns. The turning set (the
+# paper's future work, Experiment 3) adds two rotations in place after them, so the paper's
+# four keep their indices in either set.
+FORWARD, BACKWARD, LEFT, RIGHT, TURN_LEFT, TURN_RIGHT = 0, 1, 2, 3, 4, 5
+
+#: The action sets a world can have (:attr:`WorldConfig.actions`): action names in index
+#: order.
+ACTION_SETS = {
+    "paper": ("forward", "backward", "left", "right"),
+    "turning": ("forward", "backward", "left", "right", "turn-left", "turn-right"),
+}
+
+#: Short labels of the actions, for figures and tables.
+_LETTERS = {
+    "forward": "F",
+    "backward": "B",
+    "left": "L",
+    "right": "R",
+    "turn-left": "TL",
+    "turn-right": "TR",
+}
+
+#: The paper's action set (the default world's); a world's own set is
+#: :attr:`WorldConfig.action_names` / :attr:`WorldConfig.action_letters`.
+ACTION_NAMES = ACTION_SETS["paper"]
+ACTION_LETTERS = tuple(_LETTERS[name] for name in ACTION_NAMES)
+N_ACTIONS = len(ACTION_NAMES)
 
 # Geom groups of the asset: 0 the room, 1 the robot's visual body (hidden from its own
 # camera), 2 what the robot's camera draws (everything that can appear red), 3 the virtual
@@ -209,6 +233,18 @@ class WorldConfig:
         away and the landmark stands on the floor at the same place; nothing stops the robot
         at the dock (it can overshoot or walk past the landmark's side), and with the camera
         tilted down the landmark's image moves vertically with distance. See :data:`SCENES`.
+      actions: The action set (:data:`ACTION_SETS`): ``"paper"`` (default), the paper's four
+        steps; ``"turning"`` adds turn-left and turn-right (indices 4 and 5), a rotation in
+        place by ``turn_deg`` with the same noise as every step (position noise on both body
+        axes, heading noise).
+      turn_deg: The rotation of one turn (deg; used by the turning set only). Our choice:
+        10 deg, the precision tolerance below, so one turn from just outside the tolerance
+        ends inside it; the landmark moves about 5 of the 32 input columns.
+      dock_heading_deg: Precision docking (the paper's future work): if set, the robot is
+        docked only when, besides its reference point being in the region, its heading is
+        within +-this many degrees of facing the landmark (of the bearing from its reference
+        point to the centre of the landmark's front face). None (default): the paper's task,
+        the reference point alone.
     """
 
     step_forward: float = 0.15
@@ -227,10 +263,21 @@ class WorldConfig:
     camera: CameraConfig = dataclasses.field(default_factory=CameraConfig)
     distractors: tuple[Distractor, ...] = ()
     scene: str = "sideboard"
+    actions: str = "paper"
+    turn_deg: float = 10.0
+    dock_heading_deg: float | None = None
 
     def __post_init__(self):
         owner = "WorldConfig"
         check_choice(owner, "scene", self.scene, SCENES)
+        check_choice(owner, "actions", self.actions, tuple(ACTION_SETS))
+        if self.dock_heading_deg is not None:
+            normalise(
+                self,
+                dock_heading_deg=check_real(
+                    owner, "dock_heading_deg", self.dock_heading_deg, lo=0, hi=180, lo_open=True
+                ),
+            )
         if not isinstance(self.distractors, (tuple, list)):
             raise FieldTypeError(
                 f"WorldConfig.distractors must be a tuple of Distractor, got {self.distractors!r}"
@@ -257,6 +304,7 @@ class WorldConfig:
             dock_width=real("dock_width", self.dock_width, lo=0, hi=2, lo_open=True),
             view_margin_px=real("view_margin_px", self.view_margin_px, lo=0, hi=100),
             camera=check_instance(owner, "camera", self.camera, CameraConfig),
+            turn_deg=real("turn_deg", self.turn_deg, lo=0, hi=90, lo_open=True),
         )
         if self.start_far < self.start_near:
             raise ValueError(
@@ -286,6 +334,21 @@ class WorldConfig:
                 f"meets the {what} at {closest:.2f} m), got "
                 f"dock_center={self.dock_center}"
             )
+
+    @property
+    def action_names(self) -> tuple[str, ...]:
+        """The names of this world's actions, in index order."""
+        return ACTION_SETS[self.actions]
+
+    @property
+    def action_letters(self) -> tuple[str, ...]:
+        """Short labels of this world's actions (``F B L R``, then ``TL TR``), in index order."""
+        return tuple(_LETTERS[name] for name in self.action_names)
+
+    @property
+    def n_actions(self) -> int:
+        """How many actions this world has (the network needs as many action units)."""
+        return len(self.action_names)
 
 
 # ----------------------------------------------------------------------------------------
@@ -641,8 +704,17 @@ class DockingEnv(dm_env.Environment):
             self._config.dock_width / 2,
         )
         self._noise_yaw_rad = np.radians(self._config.step_noise_yaw_deg)
+        self._turn_rad = np.radians(self._config.turn_deg)
         # The dock's detector, checked at every physics step (in_dock's test, inlined).
-        self._in_dock = lambda p: abs(p[0] + dc) <= half_depth and abs(p[1]) <= half_width
+        if self._config.dock_heading_deg is None:
+            self._in_dock = lambda p: abs(p[0] + dc) <= half_depth and abs(p[1]) <= half_width
+        else:
+            limit = np.radians(self._config.dock_heading_deg)
+            self._in_dock = lambda p: (
+                abs(p[0] + dc) <= half_depth
+                and abs(p[1]) <= half_width
+                and abs(heading_error(p)) <= limit
+            )
         self._start_region = StartRegion.of(self._config)
         self._frame = None
         self._observed = False
@@ -689,7 +761,8 @@ class DockingEnv(dm_env.Environment):
 
     @property
     def docked(self) -> bool:
-        """Whether the robot's reference point is inside the docking region."""
+        """Whether the robot is docked: its reference point inside the docking region (and,
+        with precision docking, its heading within the tolerance; :func:`in_dock`)."""
         return in_dock(self._physics.pose(), self._config)
 
     @property
@@ -712,7 +785,7 @@ class DockingEnv(dm_env.Environment):
         return specs.BoundedArray((rows, cols), np.float32, 0.0, 1.0, name="pixels")
 
     def action_spec(self):
-        return specs.DiscreteArray(N_ACTIONS, dtype=np.int64, name="action")
+        return specs.DiscreteArray(self._config.n_actions, dtype=np.int64, name="action")
 
     def reset(self) -> dm_env.TimeStep:
         return self.reset_to(self.sample_start_pose())
@@ -727,7 +800,7 @@ class DockingEnv(dm_env.Environment):
     def step(self, action) -> dm_env.TimeStep:
         if self._needs_reset:
             return self.reset()
-        action = _check_action(action)
+        action = _check_action(action, self._config.action_names)
         docked = self._physics.walk_to(self._step_target(action), stop=self._in_dock)
         self._steps += 1
         observation = self._observe()
@@ -742,13 +815,19 @@ class DockingEnv(dm_env.Environment):
     # -- internals ------------------------------------------------------------------------
     def _step_target(self, action: int) -> np.ndarray:
         cfg = self._config
-        forward = (cfg.step_forward, -cfg.step_forward, 0.0, 0.0)[action]
-        side = (0.0, 0.0, cfg.step_side, -cfg.step_side)[action]
+        # A turn (turning set only) is a step of length 0 that also rotates by turn_deg; the
+        # noise is every step's: three standard normals, scaled per body axis and heading.
+        forward = (cfg.step_forward, -cfg.step_forward, 0.0, 0.0, 0.0, 0.0)[action]
+        side = (0.0, 0.0, cfg.step_side, -cfg.step_side, 0.0, 0.0)[action]
         noise = self._rng.normal(0.0, 1.0, size=3)
         forward += cfg.step_noise_xy * noise[0]
         side += cfg.step_noise_xy * noise[1]
         x, y, yaw = self._physics.servo_targets()
         cos, sin = np.cos(yaw), np.sin(yaw)
+        if action == TURN_LEFT:
+            yaw = yaw + self._turn_rad
+        elif action == TURN_RIGHT:
+            yaw = yaw - self._turn_rad
         return np.array(
             [
                 x + cos * forward - sin * side,
@@ -835,27 +914,44 @@ _ROOM_BACK = _FACTS.room_back
 ROBOT_RADIUS = _FACTS.robot_radius
 
 
-def in_dock(pose, config: WorldConfig) -> bool:
-    """Whether ``pose``'s reference point lies in the docking region of ``config``."""
+def heading_error(pose) -> float:
+    """How far ``pose``'s heading is turned from facing the landmark (rad, in ``[-pi, pi)``,
+    positive: turned to the left): the heading minus the bearing from the reference point to
+    the centre of the landmark's front face (the world's origin)."""
+    error = float(pose[2]) - math.atan2(-float(pose[1]), -float(pose[0]))
+    return (error + math.pi) % (2 * math.pi) - math.pi
+
+
+def in_region(pose, config: WorldConfig) -> bool:
+    """Whether ``pose``'s reference point lies in the docking region of ``config`` (whatever
+    the heading)."""
     x, y = pose[0], pose[1]
     return bool(
         abs(x + config.dock_center) <= config.dock_depth / 2 and abs(y) <= config.dock_width / 2
     )
 
 
-def _check_action(action) -> int:
-    """The action as an ``int``: exactly the integers ``0..N_ACTIONS-1``, as Python or numpy
+def in_dock(pose, config: WorldConfig) -> bool:
+    """Whether ``pose`` is docked in ``config``'s world: :func:`in_region` and, with precision
+    docking (``config.dock_heading_deg``), its :func:`heading_error` within the tolerance."""
+    if config.dock_heading_deg is None:
+        return in_region(pose, config)
+    limit = np.radians(config.dock_heading_deg)
+    return in_region(pose, config) and abs(heading_error(pose)) <= limit
+
+
+def _check_action(action, names: tuple[str, ...] = ACTION_NAMES) -> int:
+    """The action as an ``int``: exactly the integers ``0..len(names)-1``, as Python or numpy
     integers or a 0-d integer array; bools, floats (also integral ones), strings, other
     shapes and out-of-range values raise ``ValueError``."""
     value = action[()] if isinstance(action, np.ndarray) and action.ndim == 0 else action
     if (
         isinstance(value, (bool, np.bool_))
         or not isinstance(value, (int, np.integer))
-        or not 0 <= value < N_ACTIONS
+        or not 0 <= value < len(names)
     ):
         raise ValueError(
-            f"action must be an integer in 0..{N_ACTIONS - 1} "
-            f"({', '.join(ACTION_NAMES)}), got {action!r}"
+            f"action must be an integer in 0..{len(names) - 1} ({', '.join(names)}), got {action!r}"
         )
     return int(value)
 

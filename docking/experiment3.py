@@ -1,0 +1,144 @@
+"""Experiment 3, beyond the paper: turning actions and precision docking (notebook 06).
+
+The paper blames its failures on rotation that "currently is not compensated" (Sec. III) and
+names its next step: "a real-world precision approach including turning of Nao" (Sec. IV).
+Experiment 3 is Experiment 2 (same world, network, curriculum and trial counts) in a grid of
+*cells*:
+
+* the action set: the paper's four steps, or six with turn-left and turn-right
+  (:attr:`docking.world.WorldConfig.actions`; the network gets one action unit per action);
+* the task: the paper's (the reference point in the docking region) or precision docking
+  (besides, the heading within :data:`PRECISION_DEG` of facing the landmark,
+  :attr:`~docking.world.WorldConfig.dock_heading_deg`);
+* the heading noise of every step: :data:`NOISE_DEG`.
+
+Each cell trains networks for :data:`~docking.study.STUDY_SEEDS` and judges each on
+:data:`~docking.study.HELDOUT_TRIALS` held-out trials (the study's machinery:
+:func:`docking.study.run_cells`). The cell with four actions, the paper's task and 2 deg
+noise *is* the study's paper configuration (the same runs).
+
+Choices named here:
+
+* :data:`NOISE_DEG`: 2 deg (the world's default) and two larger values, 4 and 6 deg. The
+  issue that asked for this experiment suggested 5 and 8 deg; at 8 deg the six-action oracle
+  (:func:`docking.oracle.oracle_action`) docks in only about 98% of trials, below the 99% that
+  must prove a configuration solvable before a learner is judged in it, and 6 deg is the
+  largest whole value at which it keeps that bound with a margin. The noise values were
+  fixed from the oracle alone, before any learner ran.
+* :data:`PRECISION_DEG`: +-10 deg, the example of the issue; one turn (``turn_deg``, 10 deg)
+  spans it.
+* Runs skip the learning curve and the final test (the held-out trials are the measure),
+  as the study's cells do.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import itertools
+
+import numpy as np
+
+from docking.experiments import EXPERIMENT_2, ExperimentConfig
+from docking.study import STUDY_SEEDS, Cell, StudyResults, cells, run_cells
+from docking.world import ACTION_SETS, DockingEnv, WorldConfig
+
+__all__ = [
+    "COMPARED",
+    "NOISE_DEG",
+    "ORACLE_TRIALS",
+    "PRECISION_DEG",
+    "TASKS",
+    "cell_key",
+    "experiment3_cells",
+    "oracle_success",
+    "run",
+]
+
+#: Heading noise per step (deg), the world's default first.
+NOISE_DEG = (2.0, 4.0, 6.0)
+
+#: The precision task's heading tolerance (deg).
+PRECISION_DEG = 10.0
+
+#: The tasks: the paper's (None: the reference point alone) and precision docking.
+TASKS = {"paper task": None, "precision": PRECISION_DEG}
+
+#: The action sets compared (keys of :data:`docking.world.ACTION_SETS`).
+COMPARED = ("paper", "turning")
+
+#: Oracle trials per configuration (its bound is judged on these; seeded, so repeatable).
+ORACLE_TRIALS = 1000
+
+#: The seed of the oracle's trials (a stream no learner's run uses).
+ORACLE_SEED = 2011
+
+
+def cell_key(actions: str, task: str, noise: float) -> str:
+    """The key of a cell, e.g. ``"6 actions, precision, 4 deg"``."""
+    return f"{len(ACTION_SETS[actions])} actions, {task}, {noise:g} deg"
+
+
+def world(actions: str, task: str, noise: float, base: WorldConfig | None = None) -> WorldConfig:
+    """Experiment 2's world (or ``base``) with the action set, task and heading noise of a
+    cell."""
+    base = EXPERIMENT_2.world if base is None else base
+    return dataclasses.replace(
+        base, actions=actions, dock_heading_deg=TASKS[task], step_noise_yaw_deg=float(noise)
+    )
+
+
+def _paper_config() -> ExperimentConfig:
+    """The study's paper configuration (Experiment 2 as a study run)."""
+    return next(c.config for c in cells() if c.key == "paper")
+
+
+def experiment3_cells() -> list[Cell]:
+    """Every cell of Experiment 3. A six-action cell's baseline is the four-action cell of the
+    same task and noise; four-action cells have none."""
+    paper = _paper_config()
+    found = []
+    for task, noise, actions in itertools.product(TASKS, NOISE_DEG, COMPARED):
+        key = cell_key(actions, task, noise)
+        w = world(actions, task, noise, paper.world)
+        if w == paper.world:
+            config = paper  # the study's runs
+        else:
+            config = dataclasses.replace(
+                paper,
+                name="experiment3",
+                world=w,
+                network=dataclasses.replace(paper.network, n_actions=w.n_actions),
+                eval_trials=0,
+            )
+        baseline = None if actions == "paper" else cell_key("paper", task, noise)
+        label = f"{w.n_actions} actions ({', '.join(w.action_letters)}), {task}, {noise:g} deg"
+        found.append(Cell(key, "turning", label, config, baseline))
+    return found
+
+
+def run(
+    results_dir=None,
+    scheduler: str | None = None,
+    workers: int | None = None,
+    progress: bool = True,
+) -> StudyResults:
+    """Run (or load) every cell of Experiment 3 for :data:`STUDY_SEEDS` (one sweep; stored
+    runs, e.g. the study's paper configuration, are loaded)."""
+    return run_cells(
+        experiment3_cells(),
+        STUDY_SEEDS,
+        results_dir=results_dir,
+        scheduler=scheduler,
+        workers=workers,
+        progress=progress,
+        desc="experiment 3",
+    )
+
+
+def oracle_success(config: WorldConfig, n: int = ORACLE_TRIALS, seed: int = ORACLE_SEED) -> float:
+    """The pose-reading oracle's success rate over ``n`` trials from the whole start region
+    of ``config`` (:func:`docking.policies.oracle`; it turns only if ``config`` has turns)."""
+    from docking.policies import evaluate_policy, oracle
+
+    episodes = evaluate_policy(DockingEnv(config, seed=seed), oracle, n)
+    return float(np.mean([e.success for e in episodes]))

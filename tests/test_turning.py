@@ -1,0 +1,202 @@
+"""Tests of the turning action set and precision docking (Experiment 3, issue 11)."""
+
+import dataclasses
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from docking import analysis, experiment3
+from docking.experiments import EXPERIMENT_2, ExperimentConfig, TrialLog, run_experiment
+from docking.gym import DockingGymEnv
+from docking.oracle import oracle_action
+from docking.study import cells as study_cells
+from docking.world import (
+    ACTION_LETTERS,
+    FORWARD,
+    LEFT,
+    RIGHT,
+    TURN_LEFT,
+    TURN_RIGHT,
+    DockingEnv,
+    WorldConfig,
+    heading_error,
+    in_dock,
+    in_region,
+)
+
+GOLDEN = Path(__file__).parent / "data" / "four_actions_golden.npz"
+
+#: How far a noise-free turn may move the reference point (m): the servos rotate the body
+#: about it, contacts aside.
+TURN_POSITION_TOL = 0.002
+
+TURNING = WorldConfig(actions="turning")
+QUIET_TURNING = WorldConfig(actions="turning", step_noise_xy=0.0, step_noise_yaw_deg=0.0)
+
+
+def test_four_actions_are_bit_identical_to_before_the_action_set():
+    """A short Experiment 2 run of the default (paper) action set equals, array for array,
+    the run that tests/data/four_actions_golden.npz recorded with the code before the action
+    set became configurable (commit b51b74b; the script is in the file's docstring below)."""
+    # Recorded by: EXPERIMENT_2 with train_trials=40, test_trials=20, eval_trials=0,
+    # heldout_trials=10, name="golden"; run_experiment(config, 3); every TrialLog array of
+    # train/test/heldout, then W and Q.
+    config = dataclasses.replace(
+        EXPERIMENT_2,
+        name="golden",
+        train_trials=40,
+        test_trials=20,
+        eval_trials=0,
+        heldout_trials=10,
+    )
+    result = run_experiment(config, 3, progress=False)
+    golden = np.load(GOLDEN)
+    for part in ("train", "test", "heldout"):
+        log = getattr(result, part)
+        for field in ("success", "steps", "poses", "actions", "winners", "deltas"):
+            np.testing.assert_array_equal(getattr(log, field), golden[f"{part}_{field}"])
+    np.testing.assert_array_equal(result.network.W, golden["W"])
+    np.testing.assert_array_equal(result.network.Q, golden["Q"])
+
+
+def test_action_sets_name_their_actions():
+    paper, turning = WorldConfig(), TURNING
+    assert paper.action_names == ("forward", "backward", "left", "right")
+    assert paper.action_letters == ACTION_LETTERS == ("F", "B", "L", "R")
+    assert turning.action_letters == ("F", "B", "L", "R", "TL", "TR")
+    assert (paper.n_actions, turning.n_actions) == (4, 6)
+    assert DockingEnv(paper, seed=0).action_spec().num_values == 4
+    assert DockingEnv(turning, seed=0).action_spec().num_values == 6
+    assert DockingGymEnv(actions="turning").action_space.n == 6
+    with pytest.raises(ValueError, match="actions"):
+        WorldConfig(actions="spin")
+    with pytest.raises(ValueError, match="turn_deg"):
+        WorldConfig(turn_deg=0.0)
+    with pytest.raises(ValueError, match="dock_heading_deg"):
+        WorldConfig(dock_heading_deg=-5.0)
+
+
+def test_a_turn_is_refused_by_the_paper_world_and_taken_by_the_turning_world():
+    env = DockingEnv(seed=0)
+    env.reset()
+    with pytest.raises(ValueError, match=r"0\.\.3 \(forward, backward, left, right\)"):
+        env.step(TURN_LEFT)
+    env = DockingEnv(TURNING, seed=0)
+    env.reset()
+    env.step(TURN_RIGHT)
+    with pytest.raises(ValueError, match=r"0\.\.5"):
+        env.step(6)
+
+
+def test_network_must_have_an_action_unit_per_action():
+    with pytest.raises(ValueError, match="n_actions must equal the 6 actions"):
+        dataclasses.replace(EXPERIMENT_2, world=TURNING)
+    config = dataclasses.replace(
+        EXPERIMENT_2,
+        world=TURNING,
+        network=dataclasses.replace(EXPERIMENT_2.network, n_actions=6),
+    )
+    assert isinstance(config, ExperimentConfig)
+    assert ExperimentConfig.from_dict(config.to_dict()) == config
+
+
+@pytest.mark.parametrize("turn_deg", [10.0, 25.0])
+@pytest.mark.parametrize("action,sign", [(TURN_LEFT, 1), (TURN_RIGHT, -1)])
+def test_a_noise_free_turn_rotates_by_the_angle_in_place(turn_deg, action, sign):
+    env = DockingEnv(dataclasses.replace(QUIET_TURNING, turn_deg=turn_deg), seed=0)
+    start = np.array([-1.0, 0.1, 0.05])
+    env.reset_to(start)
+    env.step(action)
+    end = env.pose
+    assert end[2] - start[2] == pytest.approx(sign * np.radians(turn_deg), abs=1e-3)
+    assert np.linalg.norm(end[:2] - start[:2]) <= TURN_POSITION_TOL
+
+
+def test_heading_error_is_zero_facing_the_landmark():
+    assert heading_error([-0.5, 0.0, 0.0]) == pytest.approx(0.0)
+    # 10 cm to the left of the axis, the landmark lies to the robot's right
+    bearing = np.arctan2(-0.1, 0.5)
+    assert heading_error([-0.5, 0.1, bearing]) == pytest.approx(0.0, abs=1e-12)
+    assert heading_error([-0.5, 0.1, 0.0]) == pytest.approx(-bearing)
+    assert heading_error([-0.5, 0.0, np.radians(350)]) == pytest.approx(np.radians(-10))
+
+
+def test_precision_docking_refuses_the_wrong_heading_and_accepts_the_right_one():
+    precise = WorldConfig(dock_heading_deg=10.0)
+    facing = [-0.48, 0.05, np.arctan2(-0.05, 0.48)]
+    turned = [-0.48, 0.05, np.arctan2(-0.05, 0.48) + np.radians(15)]
+    assert in_region(turned, precise) and not in_dock(turned, precise)
+    assert in_dock(facing, precise)
+    assert in_dock(turned, WorldConfig())  # the paper's task: the reference point alone
+    # Through the environment: a forward step into the region turned 15 deg away does not
+    # dock; turning back towards the landmark docks (mid-turn, once within the tolerance).
+    env = DockingEnv(dataclasses.replace(QUIET_TURNING, dock_heading_deg=10.0), seed=0)
+    env.reset_to([-0.62, 0.0, np.radians(15)])
+    timestep = env.step(FORWARD)
+    assert in_region(env.pose, env.config) and not env.docked
+    assert timestep.mid() and timestep.reward == 0
+    timestep = env.step(TURN_RIGHT)
+    assert timestep.last() and timestep.reward == 1.0 and timestep.discount == 0.0
+    assert abs(heading_error(env.pose)) <= np.radians(10.0) + 1e-9
+
+
+def test_the_oracle_turns_only_with_turns():
+    off = [-1.0, 0.0, np.radians(25)]
+    assert oracle_action(off, WorldConfig()) in (FORWARD, LEFT, RIGHT)
+    assert oracle_action(off, TURNING) == TURN_RIGHT
+    assert oracle_action([-1.0, 0.0, np.radians(-25)], TURNING) == TURN_LEFT
+    # within one turn of facing the landmark it walks
+    assert oracle_action([-1.0, 0.0, np.radians(5)], TURNING) == FORWARD
+    # precision: in the region with the heading outside the tolerance (but within one
+    # turn... of 30 deg here) it turns
+    wide = dataclasses.replace(TURNING, turn_deg=30.0, dock_heading_deg=10.0)
+    assert oracle_action([-0.48, 0.0, np.radians(15)], wide) == TURN_RIGHT
+
+
+@pytest.mark.parametrize(
+    "key", [c.key for c in experiment3.experiment3_cells() if c.key.startswith("6")]
+)
+def test_the_six_action_oracle_solves_every_turning_configuration(key):
+    cell = next(c for c in experiment3.experiment3_cells() if c.key == key)
+    assert experiment3.oracle_success(cell.config.world) >= 0.99
+
+
+def test_experiment3_cells():
+    found = experiment3.experiment3_cells()
+    assert len(found) == 2 * len(experiment3.TASKS) * len(experiment3.NOISE_DEG)
+    assert len({repr(c.config.to_dict()) for c in found}) == len(found)
+    paper = next(c for c in study_cells() if c.key == "paper").config
+    first = found[0]
+    assert first.key == "4 actions, paper task, 2 deg" and first.config == paper
+    for c in found:
+        w = c.config.world
+        assert c.config.network.n_actions == w.n_actions
+        assert (w.actions == "turning") == (c.baseline is not None)
+        if c.baseline:
+            base = next(b for b in found if b.key == c.baseline).config
+            assert dataclasses.replace(base.world, actions="turning") == w
+        assert c.config.heldout_trials == 500 and c.config.test_trials == 0
+
+
+def test_failure_taxonomy_flags_a_wrong_heading_in_the_region():
+    env = DockingEnv(dataclasses.replace(TURNING, dock_heading_deg=10.0), seed=0)
+    yaw = np.radians(20)
+    log = TrialLog(
+        success=np.array([False, True]),
+        steps=np.array([2, 2]),
+        start_far=np.full(2, 1.5),
+        poses=np.array(
+            [(-0.62, 0, 0), (-0.48, 0, yaw), (-0.48, 0, yaw)]
+            + [(-0.62, 0, 0), (-0.48, 0, yaw), (-0.48, 0, 0.0)]
+        ),
+        actions=np.array([FORWARD, TURN_LEFT, FORWARD, TURN_RIGHT]),
+        winners=np.zeros(4, dtype=np.int64),
+        deltas=np.zeros(4),
+    )
+    flags = analysis.failure_taxonomy(log, env)
+    assert flags["heading_off_in_region"].tolist() == [True, False]
+    # TL then TR counts as a reversal like L then R
+    log.actions = np.array([FORWARD, TURN_LEFT, TURN_LEFT, TURN_RIGHT])
+    flags = analysis.failure_taxonomy(log, env, min_reversals=1)
+    assert flags["oscillating"].tolist() == [False, True]
