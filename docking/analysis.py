@@ -254,16 +254,21 @@ class MeanInputs(NamedTuple):
 
 
 def mean_winning_inputs(
-    net: Network, world: WorldConfig, n: int = 1500, seed: int = 0
+    net: Network, world: WorldConfig, n: int = 1500, seed: int = 0, poses=None
 ) -> MeanInputs:
     """What the units respond to: mean network inputs over ``n`` start views.
 
     Samples ``n`` start poses of ``world``'s start region (``DockingEnv(world, seed).reset()``,
     one rendered frame each) and averages the observations (the 10x32 input before Eq. 1)
     separately for every feature unit that wins (``argmax_j s_j``, Eq. 2) and for every greedy
-    action (``argmax_i h_i``, Eq. 3).
+    action (``argmax_i h_i``, Eq. 3). With ``poses`` (``(m, 3)``, e.g. every pose of logged
+    trials) the views are those at ``poses`` instead, and ``n`` and ``seed`` are not used.
     """
-    if n < 1:
+    if poses is not None:
+        poses = np.asarray(poses, dtype=np.float64)
+        if poses.ndim != 2 or poses.shape[1] != 3 or len(poses) == 0:
+            raise ValueError(f"poses must be a non-empty (m, 3) array, got shape {poses.shape}")
+    elif n < 1:
         raise ValueError(f"n must be >= 1, got {n}")
     env = DockingEnv(world, seed=seed)
     shape = world.camera.input_shape
@@ -271,8 +276,8 @@ def mean_winning_inputs(
     action_sum, unit_sum = np.zeros((n_act,) + shape), np.zeros((n_feat,) + shape)
     action_counts = np.zeros(n_act, dtype=np.int64)
     unit_counts = np.zeros(n_feat, dtype=np.int64)
-    for _ in range(n):
-        obs = env.reset().observation
+    for k in range(n if poses is None else len(poses)):
+        obs = (env.reset() if poses is None else env.reset_to(poses[k])).observation
         s = net.features(net.prepare(obs))
         j, i = int(np.argmax(s)), int(np.argmax(net.Q @ s))
         unit_sum[j] += obs

@@ -7,6 +7,7 @@ Built by tyro from the configuration dataclasses and their docstrings, so every 
     python -m docking sweep experiment2 --seeds 0-9 --grid network.eps_w=0,0.05 \\
         --scheduler tcp://127.0.0.1:8786
     python -m docking study [--full]
+    python -m docking experiment3
     python -m docking report --readme README.md
     python -m docking benchmark --steps 2000
 
@@ -191,6 +192,30 @@ class Study:
 
 
 @dataclasses.dataclass
+class Experiment3:
+    """Run (or load) Experiment 3 of notebook 06: the paper's four actions against six (with
+    turns), the paper's task and precision docking, three heading noises; every cell for the
+    study's ten seeds, one sweep on a Dask cluster (embedded by default)."""
+
+    scheduler: str | None = None
+    """Address of an existing Dask scheduler (tcp://HOST:PORT). Default: an embedded cluster."""
+    processes: int | None = None
+    """Worker processes of the embedded cluster (default: one per core)."""
+    results_dir: Path | None = None
+    """The results store (default: DOCKING_RESULTS, the checkout's results/ or ./results)."""
+
+    def execute(self) -> int:
+        from docking.experiment3 import run
+        from docking.stats import mean_ci
+
+        results = run(self.results_dir, scheduler=self.scheduler, workers=self.processes)
+        for cell in results.cells:
+            ci = mean_ci(results.success(cell.key))
+            print(f"{cell.key:28s} held-out success {ci.format(unit='%')}")
+        return 0
+
+
+@dataclasses.dataclass
 class Report:
     """Print the results table (the paper's numbers beside ours) from the stored runs of
     both experiments and their seeds, running any that are missing."""
@@ -205,6 +230,10 @@ class Report:
     study: bool = True
     """Also the table of the study's verdicts (notebook 05; runs the study if it is not
     stored), into the README between <!-- study:start --> and <!-- study:end -->."""
+    experiment3: bool = True
+    """Also the table of Experiment 3 (notebook 06; runs it if it is not stored, and the
+    oracle in every cell), into the README between <!-- experiment3:start --> and
+    <!-- experiment3:end -->."""
 
     def execute(self) -> int:
         from docking.experiments import EXPERIMENT_1, EXPERIMENT_2
@@ -227,6 +256,15 @@ class Report:
             print(verdicts)
             if self.readme is not None:
                 changed |= update_readme(self.readme, verdicts, STUDY_START, STUDY_END)
+        if self.experiment3:
+            from docking import experiment3
+            from docking.report import EXPERIMENT3_END, EXPERIMENT3_START
+
+            found = experiment3.run(self.results_dir, workers=self.processes)
+            text = experiment3.table(found, experiment3.oracle_table())
+            print(text)
+            if self.readme is not None:
+                changed |= update_readme(self.readme, text, EXPERIMENT3_START, EXPERIMENT3_END)
         if self.readme is not None:
             print(f"{self.readme}: {'updated' if changed else 'already up to date'}")
         return 0
@@ -248,6 +286,7 @@ Command = Union[  # noqa: UP007
     Annotated[Run, tyro.conf.subcommand("run")],
     Annotated[Sweep, tyro.conf.subcommand("sweep")],
     Annotated[Study, tyro.conf.subcommand("study")],
+    Annotated[Experiment3, tyro.conf.subcommand("experiment3")],
     Annotated[Report, tyro.conf.subcommand("report")],
     Annotated[Benchmark, tyro.conf.subcommand("benchmark")],
 ]

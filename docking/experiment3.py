@@ -39,11 +39,18 @@ import itertools
 import numpy as np
 
 from docking.experiments import EXPERIMENT_2, ExperimentConfig
-from docking.study import STUDY_SEEDS, Cell, StudyResults, cells, run_cells
+from docking.stats import Interval, difference_ci, mean_ci, removed_share_ci
+from docking.study import ROTATION_SHARE, STUDY_SEEDS, Cell, StudyResults, cells, run_cells
 from docking.world import ACTION_SETS, DockingEnv, WorldConfig
 
 __all__ = [
     "COMPARED",
+    "Comparison",
+    "comparisons",
+    "failure_shares",
+    "oracle_table",
+    "rotation_verdict",
+    "table",
     "NOISE_DEG",
     "ORACLE_TRIALS",
     "PRECISION_DEG",
@@ -142,3 +149,112 @@ def oracle_success(config: WorldConfig, n: int = ORACLE_TRIALS, seed: int = ORAC
 
     episodes = evaluate_policy(DockingEnv(config, seed=seed), oracle, n)
     return float(np.mean([e.success for e in episodes]))
+
+
+# ------------------------------------------------------------------------------------------
+# What the runs show.
+# ------------------------------------------------------------------------------------------
+
+
+@dataclasses.dataclass(frozen=True)
+class Comparison:
+    """Four against six actions in one task at one heading noise.
+
+    Attributes:
+      task, noise: The cell pair's task and heading noise (deg).
+      four, six: Held-out success with four and with six actions (95% intervals over seeds).
+      gain: Six minus four actions (percentage points as fractions, 95% interval).
+      removed: The share of the four-action learner's failures that are gone with six
+        actions, ``1 - failures6 / failures4`` (95% interval, seeds of each resampled
+        independently); None if the four-action learner never failed.
+    """
+
+    task: str
+    noise: float
+    four: Interval
+    six: Interval
+    gain: Interval
+    removed: Interval | None
+
+
+def comparisons(results: StudyResults) -> list[Comparison]:
+    """One :class:`Comparison` per task and heading noise, in the order of :data:`TASKS` and
+    :data:`NOISE_DEG`."""
+    found = []
+    for task, noise in itertools.product(TASKS, NOISE_DEG):
+        four = results.success(cell_key("paper", task, noise))
+        six = results.success(cell_key("turning", task, noise))
+        removed = None
+        if np.mean(1 - four) > 0:
+            removed = removed_share_ci(1 - six, 1 - four, paired=False)
+        found.append(
+            Comparison(task, noise, mean_ci(four), mean_ci(six), difference_ci(six, four), removed)
+        )
+    return found
+
+
+def oracle_table(n: int = ORACLE_TRIALS) -> dict[str, float]:
+    """The oracle's success in the world of every cell (``{cell key: rate}``): it turns in
+    the six-action worlds and cannot in the four-action ones."""
+    return {c.key: oracle_success(c.config.world, n) for c in experiment3_cells()}
+
+
+def table(results: StudyResults, oracle: dict[str, float]) -> str:
+    """The Markdown table of Experiment 3: per task and noise, the oracle and the learner
+    with four and six actions, six minus four, and the share of failures turning removes."""
+    rows = []
+    for c in comparisons(results):
+        o4 = oracle[cell_key("paper", c.task, c.noise)]
+        o6 = oracle[cell_key("turning", c.task, c.noise)]
+        removed = "no failures" if c.removed is None else c.removed.format(unit="%")
+        rows.append(
+            f"| {c.task} | {c.noise:g} | {100 * o4:.1f}% / {100 * o6:.1f}% | "
+            f"{c.four.format(unit='%')} | {c.six.format(unit='%')} | "
+            f"{c.gain.format(unit=' pp')} | {removed} |"
+        )
+    header = (
+        "| task | heading noise (deg) | oracle, 4 / 6 actions | learner, 4 actions | "
+        "learner, 6 actions | 6 minus 4 | share of the 4-action failures gone |\n"
+        "|---|---|---|---|---|---|---|"
+    )
+    return header + "\n" + "\n".join(rows)
+
+
+def rotation_verdict(results: StudyResults) -> tuple[str, Interval]:
+    """The paper's rotation claim ("the reason for most of the unsuccessful trials") judged
+    by the remedy it names: in the paper's task at the paper world's 2 deg heading noise, the
+    share of the four-action learner's held-out failures that are gone when the learner can
+    turn. Supported if the interval lies above :data:`~docking.study.ROTATION_SHARE`,
+    contradicted if below it; the verdict and the interval."""
+    found = next(
+        c for c in comparisons(results) if c.task == "paper task" and c.noise == NOISE_DEG[0]
+    )
+    ci = found.removed
+    if ci is None:
+        raise ValueError("the four-action learner never failed: nothing to remove")
+    if ci.low > ROTATION_SHARE:
+        return "supported", ci
+    return ("contradicted" if ci.high < ROTATION_SHARE else "not supported"), ci
+
+
+def failure_shares(results: StudyResults, keys: list[str]) -> tuple[np.ndarray, list[int]]:
+    """The failure taxonomy (:func:`docking.analysis.failure_taxonomy`) of the held-out
+    failures of each cell in ``keys``, all seeds pooled: ``(shares, failures)`` with
+    ``shares[k, c]`` the share of cell ``k``'s failed trials in class ``c`` (classes in the
+    order of :data:`docking.analysis.FAILURE_CLASSES`; NaN for a cell without failures)."""
+    from docking.analysis import FAILURE_CLASSES, failure_taxonomy
+
+    shares, failures = np.full((len(keys), len(FAILURE_CLASSES)), np.nan), []
+    for k, key in enumerate(keys):
+        env = DockingEnv(results.cell(key).config.world, seed=0)
+        counts, n = np.zeros(len(FAILURE_CLASSES)), 0
+        for log in results.heldout[key]:
+            flags = failure_taxonomy(log, env)
+            failed = ~log.success
+            n += int(failed.sum())
+            counts += [int(flags[c][failed].sum()) for c in FAILURE_CLASSES]
+        env.close()
+        failures.append(n)
+        if n:
+            shares[k] = counts / n
+    return shares, failures

@@ -59,6 +59,9 @@ __all__ = [
     "fig3",
     "fig4",
     "fig5",
+    "fig_action_fields",
+    "fig_experiment3",
+    "fig_failure_matrix",
     "fig_learning_curves",
     "fig_rewards",
     "fig_trial",
@@ -969,4 +972,136 @@ def fig_study_curves(panels: dict[str, dict[str, LearningCurves]]) -> Figure:
         ax.legend(fontsize=7, loc="lower right")
     axes[0].set_ylabel("greedy success, full region (%)")
     axes[0].set_ylim(-3, 103)
+    return fig
+
+
+def fig_experiment3(
+    noise: np.ndarray,
+    tasks: list[str],
+    series: dict[str, np.ndarray],
+    seeds: dict[str, np.ndarray],
+    oracle: dict[str, np.ndarray],
+) -> Figure:
+    """Experiment 3: held-out success against heading noise, one panel per task.
+
+    Args:
+      noise: The heading noises (deg), the x axis.
+      tasks: Panel titles, one per task.
+      series: ``{action set label: (tasks, noises, 3)}`` mean, low, high of the held-out
+        success (fractions), drawn as points with 95% interval bars.
+      seeds: ``{action set label: (tasks, noises, seeds)}`` per-seed success (dots).
+      oracle: ``{action set label: (tasks, noises)}`` the pose-reading oracle's success with
+        that action set (open markers joined by a dashed line: the bound).
+    """
+    noise = np.asarray(noise, dtype=float)
+    for label, values in series.items():
+        if np.shape(values) != (len(tasks), len(noise), 3):
+            raise ValueError(f"fig_experiment3: series {label!r} has shape {np.shape(values)}")
+    fig = _new_figure(5.0 * len(tasks), 3.8)
+    axes = np.atleast_1d(fig.subplots(1, len(tasks), sharey=True))
+    offsets = np.linspace(-0.18, 0.18, len(series))
+    for t, (ax, task) in enumerate(zip(axes, tasks, strict=True)):
+        for k, (label, values) in enumerate(series.items()):
+            color = f"C{k}"
+            x = noise + offsets[k]
+            mean, low, high = (100 * np.asarray(values)[t, :, i] for i in range(3))
+            ax.errorbar(
+                x,
+                mean,
+                yerr=(mean - low, high - mean),
+                fmt="o",
+                color=color,
+                ms=5,
+                capsize=3,
+                label=f"{label}: learner",
+                zorder=3,
+            )
+            points = 100 * np.asarray(seeds[label])[t]
+            for n in range(len(noise)):
+                jitter = np.linspace(-0.06, 0.06, points.shape[1])
+                ax.plot(x[n] + jitter, points[n], ".", color=color, ms=3, alpha=0.5)
+            ax.plot(
+                noise,
+                100 * np.asarray(oracle[label])[t],
+                "--",
+                marker="D",
+                mfc="none",
+                color=color,
+                lw=0.9,
+                ms=5,
+                label=f"{label}: oracle",
+            )
+        ax.set_title(task, fontsize=10)
+        ax.set_xticks(noise, [f"{v:g}" for v in noise])
+        ax.set_xlabel("heading noise per step (deg)")
+        ax.grid(alpha=0.3, lw=0.5)
+    axes[0].set_ylabel("held-out success (%)")
+    axes[0].set_ylim(0, 101)
+    axes[-1].legend(fontsize=7, loc="lower left")
+    return fig
+
+
+def fig_failure_matrix(
+    cell_labels: list[str], classes: list[str], shares: np.ndarray, failures: list[int]
+) -> Figure:
+    """The failure taxonomy of many cells as a table of shades: row = cell, column = class,
+    the share of the cell's failed trials in the class written in each square (classes
+    overlap, so a row need not sum to 100%)."""
+    shares = np.asarray(shares, dtype=float)
+    if shares.shape != (len(cell_labels), len(classes)) or len(failures) != len(cell_labels):
+        raise ValueError(f"fig_failure_matrix: shares {shares.shape} for {len(cell_labels)} cells")
+    fig = _new_figure(1.15 * len(classes) + 3.6, 0.34 * len(cell_labels) + 1.6)
+    ax = fig.subplots()
+    ax.imshow(100 * shares, cmap="Reds", vmin=0, vmax=100, aspect="auto")
+    for i in range(shares.shape[0]):
+        for j in range(shares.shape[1]):
+            value = 100 * shares[i, j]
+            text = "-" if np.isnan(value) else f"{value:.0f}"
+            ax.text(
+                j,
+                i,
+                text,
+                ha="center",
+                va="center",
+                fontsize=7,
+                color="white" if value > 60 else "black",
+            )
+    ax.set_xticks(
+        range(len(classes)),
+        [c.replace("_", " ") for c in classes],
+        fontsize=8,
+        rotation=20,
+        ha="right",
+    )
+    ax.set_yticks(
+        range(len(cell_labels)),
+        [f"{label} ({n} failures)" for label, n in zip(cell_labels, failures, strict=True)],
+        fontsize=8,
+    )
+    ax.set_title("share of failed held-out trials in each class (%)", fontsize=9)
+    return fig
+
+
+def fig_action_fields(
+    letters: list[str],
+    action_rf: np.ndarray,
+    action_mean: np.ndarray,
+    counts: np.ndarray,
+    title: str,
+) -> Figure:
+    """What each action unit reads (Fig. 3/4 style), one column per action: above, its
+    receptive field ``sum_j Q_ij W_j``; below, the mean network input of the views on which
+    it is the greedy action (with how many views)."""
+    n = len(letters)
+    if action_rf.shape[0] != n or action_mean.shape[0] != n or len(counts) != n:
+        raise ValueError("fig_action_fields: one field, mean input and count per action")
+    fig = _new_figure(1.9 * n + 0.6, 2.6)
+    fig.suptitle(title, fontsize=10)
+    axes = fig.subplots(2, n)
+    for i, letter in enumerate(letters):
+        _weight_map(axes[0, i], action_rf[i], letter, title_size=11)
+        _image(axes[1, i], action_mean[i], vmax=1.0)
+        axes[1, i].set_xlabel(f"greedy on {int(counts[i])} views", fontsize=7, color="0.3")
+    axes[0, 0].set_ylabel("field", fontsize=8)
+    axes[1, 0].set_ylabel("mean input", fontsize=8)
     return fig

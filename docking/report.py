@@ -305,6 +305,10 @@ def results_table(results1: list[ExperimentResult], results2: list[ExperimentRes
 STUDY_START = "<!-- study:start -->"
 STUDY_END = "<!-- study:end -->"
 
+#: The markers of the README's table of Experiment 3 (notebook 06).
+EXPERIMENT3_START = "<!-- experiment3:start -->"
+EXPERIMENT3_END = "<!-- experiment3:end -->"
+
 
 def replace_block(text: str, block: str, start: str = README_START, end: str = README_END) -> str:
     """``text`` with the lines between the markers ``start`` and ``end`` replaced by

@@ -44,6 +44,7 @@ def _cli(args, tmp_path, module="docking", timeout=300):
         ["sweep", "experiment1"],
         ["report"],
         ["study"],
+        ["experiment3"],
         ["benchmark"],
     ],
     ids=lambda a: " ".join(a) or "top",
@@ -67,7 +68,7 @@ def test_report_module_help_does_not_train(tmp_path):
 
 def test_help_lists_subcommands_and_overrides(tmp_path):
     top = _cli(["--help"], tmp_path).stdout
-    for name in ("run", "sweep", "study", "report", "benchmark"):
+    for name in ("run", "sweep", "study", "experiment3", "report", "benchmark"):
         assert name in top
     run = _cli(["run", "experiment2", "--help"], tmp_path).stdout
     assert "--network.eps-w" in run and "--seeds" in run and "(default: 2000)" in run

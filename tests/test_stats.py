@@ -41,3 +41,19 @@ def test_coverage_of_the_mean_is_near_95_percent():
 def test_bad_samples_raise(bad):
     with pytest.raises(ValueError):
         mean_ci(bad)
+
+
+def test_removed_share_ci_paired_and_unpaired():
+    from docking.stats import removed_share_ci
+
+    base = np.full(10, 0.10) + np.linspace(-0.01, 0.01, 10)
+    half = base / 2
+    paired = removed_share_ci(half, base, paired=True)
+    assert paired.estimate == pytest.approx(0.5) and paired.low == pytest.approx(0.5)
+    unpaired = removed_share_ci(half, base, paired=False)
+    assert unpaired.low < 0.5 < unpaired.high
+    assert removed_share_ci(base, base, paired=False).contains(0.0)
+    with pytest.raises(ValueError, match="no failures"):
+        removed_share_ci(half, np.zeros(10), paired=False)
+    with pytest.raises(ValueError, match="paired"):
+        removed_share_ci(half[:5], base, paired=True)

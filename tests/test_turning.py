@@ -200,3 +200,99 @@ def test_failure_taxonomy_flags_a_wrong_heading_in_the_region():
     log.actions = np.array([FORWARD, TURN_LEFT, TURN_LEFT, TURN_RIGHT])
     flags = analysis.failure_taxonomy(log, env, min_reversals=1)
     assert flags["oscillating"].tolist() == [False, True]
+
+
+def _synthetic(rates: dict[str, float], n: int = 200):
+    """Experiment 3 results with held-out logs of the given success rates per cell key."""
+    from docking.study import STUDY_SEEDS, StudyResults
+
+    def log(rate, seed):
+        success = np.random.default_rng(seed).random(n) < rate
+        return TrialLog(
+            success=success,
+            steps=np.ones(n, dtype=np.int64),
+            start_far=np.full(n, 1.5),
+            poses=np.tile([[-1.0, 0.0, 0.0], [-0.9, 0.0, 0.0]], (n, 1)),
+            actions=np.zeros(n, dtype=np.int64),
+            winners=np.zeros(n, dtype=np.int64),
+            deltas=np.zeros(n),
+        )
+
+    found = experiment3.experiment3_cells()
+    heldout = {c.key: [log(rates[c.key], s) for s in STUDY_SEEDS] for c in found}
+    return StudyResults(found, {}, heldout)
+
+
+def test_experiment3_comparisons_table_and_verdict_on_synthetic_results():
+    rates = {}
+    for c in experiment3.experiment3_cells():
+        four = c.key.startswith("4")
+        rates[c.key] = 0.90 if four else (0.97 if "paper task" in c.key else 0.91)
+    results = _synthetic(rates)
+    found = experiment3.comparisons(results)
+    assert len(found) == len(experiment3.TASKS) * len(experiment3.NOISE_DEG)
+    first = found[0]
+    assert (first.task, first.noise) == ("paper task", 2.0)
+    assert first.gain.estimate == pytest.approx(first.six.estimate - first.four.estimate)
+    assert 0.5 < first.removed.estimate < 0.9 and first.removed.low > 0.5
+    verdict, ci = experiment3.rotation_verdict(results)
+    assert verdict == "supported" and ci == first.removed
+    # the precision rows remove few failures: their interval straddles 0 or lies low
+    assert all(c.removed.estimate < 0.3 for c in found if c.task == "precision")
+    oracle = {c.key: 1.0 for c in experiment3.experiment3_cells()}
+    text = experiment3.table(results, oracle)
+    assert text.count("\n") == 1 + len(found) and "| paper task | 2 |" in text
+    rates = {k: (0.9 if k.startswith("4") else 0.899) for k in rates}
+    assert experiment3.rotation_verdict(_synthetic(rates))[0] == "contradicted"
+
+
+def test_failure_shares_pool_the_seeds_of_a_cell():
+    rates = {c.key: 0.8 for c in experiment3.experiment3_cells()}
+    results = _synthetic(rates, n=20)
+    keys = ["4 actions, paper task, 2 deg"]
+    shares, failures = experiment3.failure_shares(results, keys)
+    assert failures[0] == sum(int((~log.success).sum()) for log in results.heldout[keys[0]])
+    assert shares.shape == (1, len(analysis.FAILURE_CLASSES))
+    assert np.all((shares >= 0) & (shares <= 1))
+
+
+def test_experiment3_figures_draw_from_arrays():
+    from matplotlib.figure import Figure
+
+    from docking import figures
+
+    noise = np.array([2.0, 4.0, 6.0])
+    ci = np.tile([0.9, 0.85, 0.95], (2, 3, 1))
+    series = {"4 actions": ci, "6 actions": ci - 0.1}
+    seeds = {k: np.full((2, 3, 10), 0.9) for k in series}
+    oracle = {k: np.ones((2, 3)) for k in series}
+    fig = figures.fig_experiment3(noise, ["paper task", "precision"], series, seeds, oracle)
+    assert isinstance(fig, Figure)
+    with pytest.raises(ValueError, match="shape"):
+        figures.fig_experiment3(noise, ["one"], series, seeds, oracle)
+    shares = np.array([[0.5, np.nan], [0.2, 1.0]])
+    assert isinstance(figures.fig_failure_matrix(["a", "b"], ["x", "y"], shares, [4, 0]), Figure)
+    with pytest.raises(ValueError):
+        figures.fig_failure_matrix(["a"], ["x", "y"], shares, [4])
+    fields = np.random.default_rng(0).random((6, 10, 32))
+    fig = figures.fig_action_fields(list("FBLRXY"), fields, fields, np.arange(6), "t")
+    assert isinstance(fig, Figure)
+    with pytest.raises(ValueError):
+        figures.fig_action_fields(list("FBLR"), fields, fields, np.arange(6), "t")
+
+
+def test_mean_inputs_at_given_poses():
+    from docking.network import Network, NetworkConfig
+
+    world = TURNING
+    net = Network(NetworkConfig(n_actions=6), np.random.default_rng(0))
+    poses = np.array([[-1.0, 0.0, 0.0], [-0.8, 0.1, 0.1], [-1.0, 0.0, 0.0]])
+    found = analysis.mean_winning_inputs(net, world, poses=poses)
+    assert found.action_counts.sum() == 3 and found.action_mean.shape[0] == 6
+    env = DockingEnv(world, seed=0)
+    views = [env.reset_to(p).observation for p in poses]
+    i = [int(np.argmax(net.Q @ net.features(net.prepare(v)))) for v in views]
+    chosen = [v for v, a in zip(views, i, strict=True) if a == i[0]]
+    np.testing.assert_allclose(found.action_mean[i[0]], np.mean(chosen, axis=0))
+    with pytest.raises(ValueError, match="poses"):
+        analysis.mean_winning_inputs(net, world, poses=np.zeros((0, 3)))
