@@ -35,6 +35,7 @@ experiments: setup
 	$(PY) -m docking run experiment1
 	$(PY) -m docking run experiment2
 	$(PY) -m docking study
+	$(PY) -m docking experiment3
 
 test: setup notebooks
 	$(VENV)/bin/ruff format --check .
