@@ -307,6 +307,8 @@ class Row:
         resampled per row); None for the baseline itself.
       at_100: Seeds whose test success is 100%.
       rewarded: Mean share of training trials rewarded, with its interval; None if not given.
+      rewarded_difference: That share minus :data:`BASELINE`'s, with its interval (seeds
+        resampled per row); None for the baseline or if not given.
     """
 
     key: str
@@ -315,6 +317,7 @@ class Row:
     difference: Interval | None
     at_100: int
     rewarded: Interval | None = None
+    rewarded_difference: Interval | None = None
 
     @property
     def n_seeds(self) -> int:
@@ -335,14 +338,18 @@ def analyse(
     out = []
     for v in rows:
         x = np.asarray(success[v.key], dtype=float)
+        baseline = v.key == BASELINE
         out.append(
             Row(
                 v.key,
                 v.label,
                 mean_ci(x, seed=seed),
-                None if v.key == BASELINE else difference_ci(x, base, seed=seed),
+                None if baseline else difference_ci(x, base, seed=seed),
                 int(np.sum(x == 1.0)),
                 None if rewarded is None else mean_ci(rewarded[v.key], seed=seed),
+                None
+                if rewarded is None or baseline
+                else difference_ci(rewarded[v.key], rewarded[BASELINE], seed=seed),
             )
         )
     return out

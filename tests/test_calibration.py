@@ -101,6 +101,8 @@ def test_markdown_table_from_synthetic_results():
     assert this.difference is None
     assert (worse.at_100, this.at_100) == (1, 2)
     assert worse.rewarded == mean_ci(rewarded["worse"])
+    assert worse.rewarded_difference == difference_ci(rewarded["worse"], rewarded[BASELINE])
+    assert this.rewarded_difference is None
     lines = markdown_table(rows, seeds_at_100=True).splitlines()
     assert len(lines) == 4
     header = [c.strip() for c in lines[0].strip("|").split("|")]
