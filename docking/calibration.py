@@ -1,0 +1,429 @@
+"""What the choices do: the calibration variants of Experiments 1 and 2 (notebooks 03, 04).
+
+The paper leaves the step lengths, the start region of Experiment 1, the docking region's
+orientation and the learning rates open; :mod:`docking.experiments` names our choices. The
+variants here are those choices changed one or two at a time, as data (each a
+:class:`Variant`: a named :class:`~docking.experiments.ExperimentConfig` built from
+:data:`~docking.experiments.EXPERIMENT_1` or :data:`~docking.experiments.EXPERIMENT_2` with
+``dataclasses.replace``); running them is :func:`run` (one sweep, :mod:`docking.sweep`, which
+resumes and skips stored runs); the statistics are :mod:`docking.stats`; the notebooks show
+:func:`markdown_table` and assert their claims on the returned runs.
+
+Choices named here:
+
+* Seeds: the main experiments' :data:`~docking.experiments.SEEDS` (five each). A variant's
+  run of seed ``k`` is paired with the main run of seed ``k``: the same initial weights and
+  the same random streams for start poses, step noise and action draws (they differ in what
+  the changed fields make of them). The row "this configuration" *is* the main experiment's
+  runs, loaded from the store (the notebooks compute them anyway), not a rerun.
+* Each variant keeps its experiment's test (Experiment 1: 200 greedy trials from its own
+  start region; Experiment 2: 725 from the full region), so its numbers compare with the
+  main experiment's; it skips the learning curve (``eval_trials = 0``), which does not change
+  training or the test (they draw from other streams).
+* The difference to this configuration is :func:`docking.stats.difference_ci`, which
+  resamples each row's seeds independently: it ignores the pairing, so its interval is, if
+  anything, wider than a paired one.
+* Experiment 1's rows (100 training trials, a few seconds each): the first row is where the
+  calibration started (8 cm forward / 6 cm side steps, starts 0.65-0.85 m, the docking
+  region read as 20 cm deep and 8 cm wide, ``eps_Q = 0.5``); then the short steps with this
+  configuration's start region and ``eps_Q``; ``eps_Q`` halved and doubled; a start region
+  further out (0.60-0.80 m).
+* Experiment 2's rows (2000 training trials each): 8 cm forward steps (the side step is
+  this configuration's 10 cm); ``eps_Q`` 0.03 and 0.2; ``eps_W`` 20 times this
+  configuration's (1.0). Not repeated here: ``eps_W = 0`` (W frozen) at 15 cm steps, which
+  notebook 05's study measures with ten seeds and held-out trials.
+* Besides test success, each row reports the share of training trials that ended in the
+  dock (``result.train.success``): how often the near-random walk of training is rewarded,
+  the quantity the notebooks' explanations turn on.
+
+``python -m docking.calibration [--workers N] [--results-dir DIR]`` runs (or loads) both
+experiments' variants and prints the tables.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+from collections.abc import Mapping, Sequence
+from pathlib import Path
+
+import numpy as np
+
+from docking.experiments import (
+    EXPERIMENT_1,
+    EXPERIMENT_2,
+    SEEDS,
+    ExperimentConfig,
+    ExperimentResult,
+)
+from docking.stats import Interval, difference_ci, mean_ci
+
+__all__ = [
+    "BASELINE",
+    "CalibrationResults",
+    "Row",
+    "Variant",
+    "analyse",
+    "main",
+    "markdown_table",
+    "rewarded_share",
+    "run",
+    "run_all",
+    "variants",
+]
+
+#: The key of the row "this configuration" (the main experiment itself) in every list.
+BASELINE = "this"
+
+#: The results folder name of each experiment's variants (``results/<name>/...``).
+_NAMES = {"experiment1": "calibration-experiment1", "experiment2": "calibration-experiment2"}
+
+
+@dataclasses.dataclass(frozen=True)
+class Variant:
+    """One row of a calibration table.
+
+    Attributes:
+      key: Short identifier (``"this"`` for the main experiment's own configuration).
+      label: The setting, for the table (Markdown; steps as forward / side).
+      config: The run. For :data:`BASELINE`: the main experiment's configuration itself.
+      changes: The fields that differ from the main experiment's configuration, as dotted
+        paths of :meth:`ExperimentConfig.to_dict` (besides ``name`` and ``eval_trials``).
+    """
+
+    key: str
+    label: str
+    config: ExperimentConfig
+    changes: tuple[str, ...] = ()
+
+
+def _variant(base: ExperimentConfig, key: str, label: str, world=None, network=None) -> Variant:
+    world, network = dict(world or {}), dict(network or {})
+    config = dataclasses.replace(
+        base,
+        name=_NAMES[base.name],
+        eval_trials=0,
+        world=dataclasses.replace(base.world, **world),
+        network=dataclasses.replace(base.network, **network),
+    )
+    changes = tuple(f"world.{k}" for k in world) + tuple(f"network.{k}" for k in network)
+    return Variant(key, label, config, changes)
+
+
+def _baseline(base: ExperimentConfig, label: str) -> Variant:
+    return Variant(BASELINE, label, base)
+
+
+def _experiment1() -> list[Variant]:
+    base = EXPERIMENT_1
+    short = dict(step_forward=0.08, step_side=0.06)
+    return [
+        # Where the calibration started. WorldConfig accepts it: the start region's near
+        # edge (0.65 m) lies beyond the 20 cm deep docking region (0.38-0.58 m).
+        _variant(
+            base,
+            "start",
+            "8 / 6 cm steps, start 0.65-0.85 m, 20 cm deep x 8 cm wide region, $\\epsilon_Q = 0.5$",
+            world=dict(short, start_near=0.65, start_far=0.85, dock_depth=0.20, dock_width=0.08),
+            network=dict(eps_q=0.5),
+        ),
+        _variant(
+            base,
+            "short-steps",
+            "8 / 6 cm steps, start 0.58-0.70 m, $\\epsilon_Q = 0.1$",
+            world=short,
+        ),
+        _variant(
+            base,
+            "epsQ-0.05",
+            "15 / 10 cm steps, start 0.58-0.70 m, $\\epsilon_Q = 0.05$",
+            network=dict(eps_q=0.05),
+        ),
+        _baseline(base, "15 / 10 cm steps, start 0.58-0.70 m, $\\epsilon_Q = 0.1$"),
+        _variant(
+            base,
+            "epsQ-0.2",
+            "15 / 10 cm steps, start 0.58-0.70 m, $\\epsilon_Q = 0.2$",
+            network=dict(eps_q=0.2),
+        ),
+        _variant(
+            base,
+            "start-0.60-0.80",
+            "15 / 10 cm steps, start 0.60-0.80 m, $\\epsilon_Q = 0.1$",
+            world=dict(start_near=0.60, start_far=0.80),
+        ),
+    ]
+
+
+def _experiment2() -> list[Variant]:
+    base = EXPERIMENT_2
+    return [
+        _variant(
+            base,
+            "8cm-steps",
+            "8 cm forward / 10 cm side steps, $\\epsilon_Q = 0.1$",
+            world=dict(step_forward=0.08),
+        ),
+        _baseline(base, "15 / 10 cm steps, $\\epsilon_Q = 0.1$"),
+        _variant(
+            base, "epsQ-0.03", "15 / 10 cm steps, $\\epsilon_Q = 0.03$", network=dict(eps_q=0.03)
+        ),
+        _variant(
+            base, "epsQ-0.2", "15 / 10 cm steps, $\\epsilon_Q = 0.2$", network=dict(eps_q=0.2)
+        ),
+        _variant(
+            base,
+            "epsW-1",
+            "15 / 10 cm steps, $\\epsilon_Q = 0.1$, $\\epsilon_W = 1$",
+            network=dict(eps_w=1.0),
+        ),
+    ]
+
+
+_VARIANTS = {"experiment1": _experiment1, "experiment2": _experiment2}
+
+
+def variants(experiment: str) -> list[Variant]:
+    """The rows of ``experiment``'s (``"experiment1"`` or ``"experiment2"``) calibration table,
+    in table order, :data:`BASELINE` among them."""
+    return _rows_of(experiment)
+
+
+def _rows_of(experiment: str) -> list[Variant]:
+    if experiment not in _VARIANTS:
+        raise ValueError(f"experiment must be one of {', '.join(_VARIANTS)}, got {experiment!r}")
+    return _VARIANTS[experiment]()
+
+
+# ------------------------------------------------------------------------------------------
+# Running.
+# ------------------------------------------------------------------------------------------
+
+
+@dataclasses.dataclass
+class CalibrationResults:
+    """What :func:`run` returns for one experiment.
+
+    Attributes:
+      variants: The rows, in table order.
+      seeds: The seeds every row ran for.
+      runs: ``{variant key: runs in seed order}``.
+    """
+
+    variants: list[Variant]
+    seeds: tuple[int, ...]
+    runs: dict[str, list[ExperimentResult]]
+
+    def variant(self, key: str) -> Variant:
+        return next(v for v in self.variants if v.key == key)
+
+    def success(self, key: str) -> np.ndarray:
+        """Per seed, the test success rate of row ``key``."""
+        return np.array([r.test.success_rate for r in self.runs[key]])
+
+    def rewarded(self, key: str) -> np.ndarray:
+        """Per seed, the share of row ``key``'s training trials that ended in the dock."""
+        return np.array([r.train.success_rate for r in self.runs[key]])
+
+    def rows(self, seed: int = 0) -> list[Row]:
+        """The table's rows (:func:`analyse`)."""
+        return analyse(
+            self.variants,
+            {v.key: self.success(v.key) for v in self.variants},
+            {v.key: self.rewarded(v.key) for v in self.variants},
+            seed=seed,
+        )
+
+    def wall_time(self, key: str | None = None) -> float:
+        """Seconds of computing (training and test) of row ``key``'s runs, or of every row's
+        but :data:`BASELINE` (the calibration's own cost) if ``key`` is None."""
+        keys = [key] if key is not None else [v.key for v in self.variants if v.key != BASELINE]
+        return float(sum(r.wall_time_train + r.wall_time_test for k in keys for r in self.runs[k]))
+
+
+def run(
+    experiment: str,
+    *,
+    variants: Sequence[Variant] | None = None,
+    seeds: Sequence[int] | None = None,
+    results_dir: Path | str | None = None,
+    workers: int | None = None,
+    scheduler: str | None = None,
+    progress: bool = True,
+) -> CalibrationResults:
+    """Run (or load) every row of ``experiment``'s calibration for its seeds in one sweep
+    (:func:`docking.sweep.run_jobs`: stored runs are loaded, not recomputed; the row
+    :data:`BASELINE` is the main experiment's own runs, shared with its notebook).
+
+    Args:
+      experiment: ``"experiment1"`` or ``"experiment2"``.
+      variants: The rows (default: the module's :func:`variants` of ``experiment``; tests
+        pass small ones).
+      seeds: Default: the main experiment's :data:`~docking.experiments.SEEDS`.
+      results_dir: The results store (default :func:`docking.paths.results_dir`).
+      workers: Worker processes (default one per core; 1: one run after another here).
+      scheduler: Address of an existing Dask scheduler, as for :func:`docking.sweep.run_jobs`.
+      progress: Show a bar of finished runs.
+    """
+    from docking.store import load_result
+    from docking.sweep import jobs_for, run_jobs
+
+    rows = list(variants) if variants is not None else _rows_of(experiment)
+    seeds = tuple(SEEDS[experiment] if seeds is None else seeds)
+    keys = [v.key for v in rows]
+    if len(set(keys)) != len(keys):
+        raise ValueError(f"variant keys must be distinct, got {keys}")
+    paths = run_jobs(
+        jobs_for([v.config for v in rows], seeds),
+        results_dir,
+        scheduler=scheduler,
+        workers=workers,
+        progress=progress,
+        desc=f"calibration of {experiment}",
+    )
+    loaded = iter(load_result(p) for p in paths)
+    runs = {v.key: [next(loaded) for _ in seeds] for v in rows}
+    return CalibrationResults(rows, seeds, runs)
+
+
+def run_all(**kwargs) -> dict[str, CalibrationResults]:
+    """:func:`run` for both experiments (keyword arguments as there)."""
+    return {experiment: run(experiment, **kwargs) for experiment in _VARIANTS}
+
+
+# ------------------------------------------------------------------------------------------
+# Analysis and the table.
+# ------------------------------------------------------------------------------------------
+
+
+@dataclasses.dataclass(frozen=True)
+class Row:
+    """One row of a calibration table, computed from per-seed numbers.
+
+    Attributes:
+      key, label: As the variant's.
+      success: Mean test success over seeds with its 95% bootstrap interval (the per-seed
+        values in ``success.values``).
+      difference: Mean success minus :data:`BASELINE`'s, with its 95% interval (seeds
+        resampled per row); None for the baseline itself.
+      at_100: Seeds whose test success is 100%.
+      rewarded: Mean share of training trials rewarded, with its interval; None if not given.
+      rewarded_difference: That share minus :data:`BASELINE`'s, with its interval (seeds
+        resampled per row); None for the baseline or if not given.
+    """
+
+    key: str
+    label: str
+    success: Interval
+    difference: Interval | None
+    at_100: int
+    rewarded: Interval | None = None
+    rewarded_difference: Interval | None = None
+
+    @property
+    def n_seeds(self) -> int:
+        return len(self.success.values)
+
+
+def analyse(
+    rows: Sequence[Variant],
+    success: Mapping[str, Sequence[float]],
+    rewarded: Mapping[str, Sequence[float]] | None = None,
+    seed: int = 0,
+) -> list[Row]:
+    """The table's rows from per-seed test success (and training trials rewarded) per
+    variant key; differences against the row :data:`BASELINE`, which ``rows`` must hold."""
+    if BASELINE not in {v.key for v in rows}:
+        raise ValueError(f"the rows must include the baseline {BASELINE!r}")
+    base = np.asarray(success[BASELINE], dtype=float)
+    out = []
+    for v in rows:
+        x = np.asarray(success[v.key], dtype=float)
+        baseline = v.key == BASELINE
+        out.append(
+            Row(
+                v.key,
+                v.label,
+                mean_ci(x, seed=seed),
+                None if baseline else difference_ci(x, base, seed=seed),
+                int(np.sum(x == 1.0)),
+                None if rewarded is None else mean_ci(rewarded[v.key], seed=seed),
+                None
+                if rewarded is None or baseline
+                else difference_ci(rewarded[v.key], rewarded[BASELINE], seed=seed),
+            )
+        )
+    return out
+
+
+def _pct(x: float) -> str:
+    return f"{100 * x:.1f}"
+
+
+def markdown_table(rows: Sequence[Row], seeds_at_100: bool = False) -> str:
+    """The calibration table in Markdown: the setting; mean test success with its 95%
+    interval; the per-seed values; the difference to this configuration with its interval
+    (pp); the share of training trials rewarded (if the rows carry it); the seeds at 100%
+    (if ``seeds_at_100``). The baseline row is in bold."""
+    with_rewarded = all(r.rewarded is not None for r in rows)
+    header = ["setting", "test success, % [95% CI]", "per seed, %", "minus this config., pp"]
+    if with_rewarded:
+        header.append("training trials rewarded, %")
+    if seeds_at_100:
+        header.append("seeds at 100 %")
+    lines = ["| " + " | ".join(header) + " |", "|" + "---|" * len(header)]
+    for r in rows:
+        cells = [
+            r.label + (" (this configuration)" if r.key == BASELINE else ""),
+            r.success.format(),
+            ", ".join(_pct(v) for v in r.success.values),
+            "—" if r.difference is None else r.difference.format(),
+        ]
+        if with_rewarded:
+            cells.append(r.rewarded.format())
+        if seeds_at_100:
+            cells.append(f"{r.at_100} of {r.n_seeds}")
+        if r.key == BASELINE:
+            cells = [f"**{c}**" for c in cells]
+        lines.append("| " + " | ".join(cells) + " |")
+    return "\n".join(lines)
+
+
+def rewarded_share(runs: Sequence[ExperimentResult], beyond: float = 0.0) -> np.ndarray:
+    """Per run, the share of its training trials that started more than ``beyond`` m from
+    the landmark's front plane and ended in the dock (NaN if none started there)."""
+    out = []
+    for r in runs:
+        far = -r.train.starts[:, 0] > beyond
+        out.append(float(np.mean(r.train.success[far])) if far.any() else float("nan"))
+    return np.array(out)
+
+
+# ------------------------------------------------------------------------------------------
+# Command line.
+# ------------------------------------------------------------------------------------------
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    """``python -m docking.calibration``: run (or load) both calibrations, print the tables
+    and the computing time of the variants."""
+    import argparse
+
+    parser = argparse.ArgumentParser(
+        prog="python -m docking.calibration",
+        description="Run (or load) the calibration variants of Experiments 1 and 2 "
+        "(notebooks 03 and 04) and print their tables.",
+    )
+    parser.add_argument("--experiment", choices=sorted(_VARIANTS), action="append")
+    parser.add_argument("--workers", type=int, default=None, help="default: one per core")
+    parser.add_argument("--results-dir", type=Path, default=None)
+    args = parser.parse_args(argv)
+    for experiment in args.experiment or list(_VARIANTS):
+        found = run(experiment, results_dir=args.results_dir, workers=args.workers)
+        print(f"\n{experiment}\n")
+        print(markdown_table(found.rows(), seeds_at_100=experiment == "experiment1"))
+        print(f"\ncomputing time of the variants: {found.wall_time():.0f} s")
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())
