@@ -34,6 +34,7 @@ reproduce: setup notebooks experiments
 experiments: setup
 	$(PY) -m docking run experiment1
 	$(PY) -m docking run experiment2
+	$(PY) -m docking calibration
 	$(PY) -m docking study
 	$(PY) -m docking experiment3
 

@@ -36,7 +36,7 @@ Choices named here:
   dock (``result.train.success``): how often the near-random walk of training is rewarded,
   the quantity the notebooks' explanations turn on.
 
-``python -m docking.calibration [--workers N] [--results-dir DIR]`` runs (or loads) both
+``python -m docking calibration [--processes N] [--results-dir DIR]`` runs (or loads) both
 experiments' variants and prints the tables.
 """
 
@@ -63,7 +63,6 @@ __all__ = [
     "Row",
     "Variant",
     "analyse",
-    "main",
     "markdown_table",
     "rewarded_share",
     "run",
@@ -401,29 +400,3 @@ def rewarded_share(runs: Sequence[ExperimentResult], beyond: float = 0.0) -> np.
 # ------------------------------------------------------------------------------------------
 # Command line.
 # ------------------------------------------------------------------------------------------
-
-
-def main(argv: Sequence[str] | None = None) -> int:
-    """``python -m docking.calibration``: run (or load) both calibrations, print the tables
-    and the computing time of the variants."""
-    import argparse
-
-    parser = argparse.ArgumentParser(
-        prog="python -m docking.calibration",
-        description="Run (or load) the calibration variants of Experiments 1 and 2 "
-        "(notebooks 03 and 04) and print their tables.",
-    )
-    parser.add_argument("--experiment", choices=sorted(_VARIANTS), action="append")
-    parser.add_argument("--workers", type=int, default=None, help="default: one per core")
-    parser.add_argument("--results-dir", type=Path, default=None)
-    args = parser.parse_args(argv)
-    for experiment in args.experiment or list(_VARIANTS):
-        found = run(experiment, results_dir=args.results_dir, workers=args.workers)
-        print(f"\n{experiment}\n")
-        print(markdown_table(found.rows(), seeds_at_100=experiment == "experiment1"))
-        print(f"\ncomputing time of the variants: {found.wall_time():.0f} s")
-    return 0
-
-
-if __name__ == "__main__":
-    raise SystemExit(main())

@@ -7,6 +7,7 @@ Built by tyro from the configuration dataclasses and their docstrings, so every 
     python -m docking sweep experiment2 --seeds 0-9 --grid network.eps_w=0,0.05 \\
         --scheduler tcp://127.0.0.1:8786
     python -m docking study [--full]
+    python -m docking calibration
     python -m docking experiment3
     python -m docking report --readme README.md
     python -m docking benchmark --steps 2000
@@ -192,6 +193,31 @@ class Study:
 
 
 @dataclasses.dataclass
+class Calibration:
+    """Run (or load) the calibration variants of Experiments 1 and 2 (notebooks 03 and 04,
+    "What the choices do": step lengths, start regions and learning rates changed one or two
+    at a time, the main experiments' seeds) and print their tables."""
+
+    processes: int | None = None
+    """Worker processes of the embedded Dask cluster (default: one per core)."""
+    scheduler: str | None = None
+    """Address of an existing Dask scheduler (tcp://HOST:PORT). Default: an embedded cluster."""
+    results_dir: Path | None = None
+    """The results store (default: DOCKING_RESULTS, the checkout's results/ or ./results)."""
+
+    def execute(self) -> int:
+        from docking import calibration
+
+        for name, found in calibration.run_all(
+            results_dir=self.results_dir, workers=self.processes, scheduler=self.scheduler
+        ).items():
+            print(f"\n{name}\n")
+            print(calibration.markdown_table(found.rows(), seeds_at_100=name == "experiment1"))
+            print(f"\ncomputing time of the variants: {found.wall_time():.0f} s")
+        return 0
+
+
+@dataclasses.dataclass
 class Experiment3:
     """Run (or load) Experiment 3 of notebook 06: the paper's four actions against six (with
     turns), the paper's task and precision docking, three heading noises; every cell for the
@@ -286,6 +312,7 @@ Command = Union[  # noqa: UP007
     Annotated[Run, tyro.conf.subcommand("run")],
     Annotated[Sweep, tyro.conf.subcommand("sweep")],
     Annotated[Study, tyro.conf.subcommand("study")],
+    Annotated[Calibration, tyro.conf.subcommand("calibration")],
     Annotated[Experiment3, tyro.conf.subcommand("experiment3")],
     Annotated[Report, tyro.conf.subcommand("report")],
     Annotated[Benchmark, tyro.conf.subcommand("benchmark")],

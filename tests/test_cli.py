@@ -45,6 +45,7 @@ def _cli(args, tmp_path, module="docking", timeout=300):
         ["report"],
         ["study"],
         ["experiment3"],
+        ["calibration"],
         ["benchmark"],
     ],
     ids=lambda a: " ".join(a) or "top",
