@@ -92,11 +92,25 @@ display(Image(filename=str(FIGURES_DIR / "learning_curves.png")))
 
 # %% [markdown]
 # Measured against the paper's story, one thing stands out: greedy success on the *full*
-# 1.5 m region is already about 95 % after the first 100 training trials, when the robot has
-# only started within 0.76 m. The law it learns close by (centre the landmark in the image,
-# then walk forward) carries to far starts, where the landmark is smaller but in the same
-# place; the curriculum's later stages mostly keep it from degrading rather than teach it.
-#
+# 1.5 m region is already high after the first 100 training trials, when the robot has only
+# started close to the dock (the numbers below, asserted: at least 90% on average, from a far
+# edge within 0.8 m). The law it learns close by (centre the landmark in the image, then walk
+# forward) carries to far starts, where the landmark is smaller but in the same place; the
+# curriculum's later stages mostly keep it from degrading rather than teach it (notebook 05
+# tests the curriculum claim with ten seeds).
+
+# %%
+early = np.array([r.curve_success[list(r.curve_trials).index(100)] for r in results])
+early_far = config.curriculum.far_at(100, config.world.start_far)
+print(
+    f"after 100 training trials (far edge {early_far:.2f} m): greedy success on the full "
+    f"region {100 * early.mean():.1f}% on average (seeds: "
+    + ", ".join(f"{100 * x:.0f}%" for x in early)
+    + ")"
+)
+assert early.mean() >= 0.9 and early_far < 0.8
+
+# %% [markdown]
 # ## Fig. 4: receptive fields of the action and feature units
 
 # %%
