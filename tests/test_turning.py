@@ -155,7 +155,12 @@ def test_the_oracle_turns_only_with_turns():
 
 
 @pytest.mark.parametrize(
-    "key", [c.key for c in experiment3.experiment3_cells() if c.key.startswith("6")]
+    "key",
+    [
+        c.key
+        for c in experiment3.experiment3_cells()
+        if c.key.startswith("6") and c.key != experiment3.LONGER_KEY
+    ],
 )
 def test_the_six_action_oracle_solves_every_turning_configuration(key):
     cell = next(c for c in experiment3.experiment3_cells() if c.key == key)
@@ -164,7 +169,12 @@ def test_the_six_action_oracle_solves_every_turning_configuration(key):
 
 def test_experiment3_cells():
     found = experiment3.experiment3_cells()
-    assert len(found) == 2 * len(experiment3.TASKS) * len(experiment3.NOISE_DEG)
+    assert len(found) == 2 * len(experiment3.TASKS) * len(experiment3.NOISE_DEG) + 1
+    longer = found[-1]
+    assert longer.key == experiment3.LONGER_KEY
+    six = next(c for c in found if c.key == "6 actions, paper task, 2 deg")
+    assert longer.config.train_trials == 2 * six.config.train_trials
+    assert longer.config.world == six.config.world and longer.baseline == six.baseline
     assert len({repr(c.config.to_dict()) for c in found}) == len(found)
     paper = next(c for c in study_cells() if c.key == "paper").config
     first = found[0]
@@ -242,6 +252,9 @@ def test_experiment3_comparisons_table_and_verdict_on_synthetic_results():
     oracle = {c.key: 1.0 for c in experiment3.experiment3_cells()}
     text = experiment3.table(results, oracle)
     assert text.count("\n") == 1 + len(found) and "| paper task | 2 |" in text
+    ratio = first.failure_ratio
+    assert ratio.estimate == pytest.approx(1 - first.removed.estimate)
+    assert ratio.low == pytest.approx(1 - first.removed.high)
     rates = {k: (0.9 if k.startswith("4") else 0.899) for k in rates}
     assert experiment3.rotation_verdict(_synthetic(rates))[0] == "contradicted"
 
@@ -296,3 +309,18 @@ def test_mean_inputs_at_given_poses():
     np.testing.assert_allclose(found.action_mean[i[0]], np.mean(chosen, axis=0))
     with pytest.raises(ValueError, match="poses"):
         analysis.mean_winning_inputs(net, world, poses=np.zeros((0, 3)))
+
+
+def test_input_centroids_and_final_headings():
+    images = np.zeros((3, 10, 32))
+    images[0, :, 4] = 1  # red on the left
+    images[1, :, 27] = 1  # on the right
+    found = experiment3.input_centroids(images)
+    assert found[0] == pytest.approx(4 - 15.5) and found[1] == pytest.approx(27 - 15.5)
+    assert np.isnan(found[2])
+    rates = {c.key: 0.5 for c in experiment3.experiment3_cells()}
+    results = _synthetic(rates, n=10)
+    key = "4 actions, paper task, 2 deg"
+    headings = experiment3.final_headings(results, key)
+    assert len(headings) == sum(int((~log.success).sum()) for log in results.heldout[key])
+    assert np.all(headings == 0)  # the synthetic trials end facing the wall
