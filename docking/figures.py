@@ -27,6 +27,7 @@ order L, R, F, B.
 from __future__ import annotations
 
 import io
+import textwrap
 from pathlib import Path
 
 import numpy as np
@@ -930,7 +931,8 @@ def fig_failures(
             width,
             label=f"{label} ({failures[k]} failures)",
         )
-    ax.set_xticks(x, [c.replace("_", " ") for c in classes], fontsize=8)
+    labels = ["\n".join(textwrap.wrap(c.replace("_", " "), 14)) for c in classes]
+    ax.set_xticks(x, labels, fontsize=8)
     ax.set_ylabel("share of failed trials (%)")
     ax.set_ylim(0, 100)
     ax.legend(fontsize=7, loc="upper right")
