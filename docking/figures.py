@@ -56,6 +56,7 @@ from docking.world import ACTION_LETTERS, ROBOT_RADIUS, WorldConfig
 __all__ = [
     "FIGURES_DIR",
     "PAPER_ACTION_ORDER",
+    "action_order",
     "fig2_scene",
     "fig3",
     "fig4",
@@ -77,6 +78,13 @@ FIGURES_DIR = figures_dir()
 
 #: The order in which the paper shows the action units (Figs. 3 and 4): L, R, F, B.
 PAPER_ACTION_ORDER = tuple(ACTION_LETTERS.index(letter) for letter in "LRFB")
+
+
+def action_order(world: WorldConfig) -> tuple[int, ...]:
+    """The order in which the figures show ``world``'s action units: the paper's L, R, F, B,
+    then any further actions (the turns) in index order."""
+    return PAPER_ACTION_ORDER + tuple(range(len(PAPER_ACTION_ORDER), world.n_actions))
+
 
 _DPI = 150
 _WEIGHT_CMAP = "gray_r"  # strong = dark
@@ -294,7 +302,8 @@ def fig3(
     camera = config.world.camera
     best = best_actions(Q)
     n_feat = feature_rf.shape[0]
-    per_row = max(len(PAPER_ACTION_ORDER), min(n_feat, 6))
+    order, letters = action_order(config.world), config.world.action_letters
+    per_row = max(len(order), min(n_feat, 6))
     feat_rows = int(np.ceil(n_feat / per_row))
     frame_aspect = camera.height / camera.width
     rf_aspect = shape[0] / shape[1]
@@ -323,16 +332,14 @@ def fig3(
         _crop_rectangle(ax, camera)
         ax.set_title(_view_title(views.names[k], views.poses[k]).split("\n")[0], fontsize=9)
         ax.set_xlabel(
-            f"unit {winner} wins (s = {activation:.2f}); greedy action {ACTION_LETTERS[action]}",
+            f"unit {winner} wins (s = {activation:.2f}); greedy action {letters[action]}",
             fontsize=8,
         )
 
     _panel(sf_b, "B", "action units: receptive fields $\\Sigma_j\\,Q_{ij} W_j$")
-    for ax, i in zip(
-        sf_b.subplots(1, per_row)[: len(PAPER_ACTION_ORDER)], PAPER_ACTION_ORDER, strict=True
-    ):
-        _weight_map(ax, action_rf[i], f"{ACTION_LETTERS[i]}", title_size=12)
-    for ax in sf_b.axes[len(PAPER_ACTION_ORDER) :]:
+    for ax, i in zip(sf_b.subplots(1, per_row)[: len(order)], order, strict=True):
+        _weight_map(ax, action_rf[i], f"{letters[i]}", title_size=12)
+    for ax in sf_b.axes[len(order) :]:
         ax.set_visible(False)
 
     _panel(sf_c, "C", "feature units: receptive fields $W_j$, each with the action it drives most")
@@ -342,7 +349,7 @@ def fig3(
             ax.set_visible(False)
             continue
         label = (
-            f"unit {j} \u2192 {ACTION_LETTERS[best[j]]} (Q = {Q[best[j], j]:.2f})"
+            f"unit {j} \u2192 {letters[best[j]]} (Q = {Q[best[j], j]:.2f})"
             if best[j] >= 0
             else f"unit {j}: no action"
         )
@@ -360,15 +367,17 @@ def _field_block(
     columns: int,
     action_notes,
     unit_notes,
+    world: WorldConfig,
 ) -> None:
-    """One half of Fig. 4 in the subfigure ``sub``: 4 action panels (L, R, F, B) above a grid of
-    unit panels, the units in ``framed`` framed red."""
+    """One half of Fig. 4 in the subfigure ``sub``: the action panels (L, R, F, B, then any
+    turns) above a grid of unit panels, the units in ``framed`` framed red."""
     _panel(sub, letter, heading)
     rows = int(np.ceil(units.shape[0] / columns))
     sf_actions, sf_units = sub.subfigures(2, 1, height_ratios=(1.25, rows * 0.62))
-    for ax, i in zip(sf_actions.subplots(1, 4), PAPER_ACTION_ORDER, strict=True):
+    order = action_order(world)
+    for ax, i in zip(sf_actions.subplots(1, len(order)), order, strict=True):
         _image(ax, actions[i])
-        ax.set_title(ACTION_LETTERS[i], fontsize=11, pad=2)
+        ax.set_title(world.action_letters[i], fontsize=11, pad=2)
         ax.set_xlabel(action_notes[i], fontsize=7, color="0.3", labelpad=2)
     for j, ax in enumerate(sf_units.subplots(rows, columns).flat):
         if j >= units.shape[0]:
@@ -441,6 +450,7 @@ def fig4(
         columns,
         action_notes=[f"max {np.max(f):.3g}" for f in action_rf],
         unit_notes=[f"unit {j}" for j in range(n_feat)],
+        world=config.world,
     )
     _field_block(
         right,
@@ -455,6 +465,7 @@ def fig4(
             f"unit {j}: {c} views" if c else f"unit {j}: never wins"
             for j, c in enumerate(unit_counts)
         ],
+        world=config.world,
     )
     return fig
 

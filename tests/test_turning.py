@@ -324,3 +324,23 @@ def test_input_centroids_and_final_headings():
     headings = experiment3.final_headings(results, key)
     assert len(headings) == sum(int((~log.success).sum()) for log in results.heldout[key])
     assert np.all(headings == 0)  # the synthetic trials end facing the wall
+
+
+def test_fig4_follows_the_configured_action_set():
+    from docking import figures
+    from docking.analysis import MeanInputs, receptive_fields, strongest_units
+    from docking.network import Network
+
+    cell = next(c for c in experiment3.experiment3_cells() if c.key.startswith("6"))
+    config = cell.config
+    net = Network(config.network, np.random.default_rng(0))
+    action_rf, feature_rf = receptive_fields(net, config.world.camera.input_shape)
+    n_feat = config.network.n_features
+    inputs = MeanInputs(
+        action_rf, feature_rf, np.ones(6, dtype=np.int64), np.ones(n_feat, dtype=np.int64)
+    )
+    fig = figures.fig4(config, 0, action_rf, feature_rf, inputs, strongest_units(net.Q))
+    titles = {ax.get_title() for ax in fig.axes}
+    assert {"TL", "TR", "L", "R", "F", "B"} <= titles
+    assert figures.action_order(config.world) == (2, 3, 0, 1, 4, 5)
+    assert figures.action_order(WorldConfig()) == figures.PAPER_ACTION_ORDER
