@@ -42,6 +42,7 @@ from docking.world import (
 )
 
 __all__ = [
+    "rewarded_share",
     "VIEW_POSES",
     "FAILURE_CLASSES",
     "ExampleViews",
@@ -435,6 +436,16 @@ def failure_taxonomy(
             and any(in_region(pose, config) and not in_dock(pose, config) for pose in poses)
         )
     return flags
+
+
+def rewarded_share(runs: list[ExperimentResult], beyond: float = 0.0) -> np.ndarray:
+    """Per run, the share of its training trials that started more than ``beyond`` m from
+    the landmark's front plane and ended in the dock (NaN if none started there)."""
+    out = []
+    for r in runs:
+        far = -r.train.starts[:, 0] > beyond
+        out.append(float(np.mean(r.train.success[far])) if far.any() else float("nan"))
+    return np.array(out)
 
 
 # ------------------------------------------------------------------------------------------

@@ -48,6 +48,7 @@ from pathlib import Path
 
 import numpy as np
 
+from docking.analysis import rewarded_share
 from docking.experiments import (
     EXPERIMENT_1,
     EXPERIMENT_2,
@@ -64,7 +65,6 @@ __all__ = [
     "Variant",
     "analyse",
     "markdown_table",
-    "rewarded_share",
     "run",
     "run_all",
     "variants",
@@ -221,7 +221,7 @@ class CalibrationResults:
 
     def rewarded(self, key: str) -> np.ndarray:
         """Per seed, the share of row ``key``'s training trials that ended in the dock."""
-        return np.array([r.train.success_rate for r in self.runs[key]])
+        return rewarded_share(self.runs[key])
 
     def rows(self, seed: int = 0) -> list[Row]:
         """The table's rows (:func:`analyse`)."""
@@ -263,24 +263,22 @@ def run(
       scheduler: Address of an existing Dask scheduler, as for :func:`docking.sweep.run_jobs`.
       progress: Show a bar of finished runs.
     """
-    from docking.store import load_result
-    from docking.sweep import jobs_for, run_jobs
+    from docking.sweep import run_configs
 
     rows = list(variants) if variants is not None else _rows_of(experiment)
     seeds = tuple(SEEDS[experiment] if seeds is None else seeds)
     keys = [v.key for v in rows]
     if len(set(keys)) != len(keys):
         raise ValueError(f"variant keys must be distinct, got {keys}")
-    paths = run_jobs(
-        jobs_for([v.config for v in rows], seeds),
+    runs = run_configs(
+        {v.key: v.config for v in rows},
+        seeds,
         results_dir,
         scheduler=scheduler,
         workers=workers,
         progress=progress,
         desc=f"calibration of {experiment}",
     )
-    loaded = iter(load_result(p) for p in paths)
-    runs = {v.key: [next(loaded) for _ in seeds] for v in rows}
     return CalibrationResults(rows, seeds, runs)
 
 
@@ -385,16 +383,6 @@ def markdown_table(rows: Sequence[Row], seeds_at_100: bool = False) -> str:
             cells = [f"**{c}**" for c in cells]
         lines.append("| " + " | ".join(cells) + " |")
     return "\n".join(lines)
-
-
-def rewarded_share(runs: Sequence[ExperimentResult], beyond: float = 0.0) -> np.ndarray:
-    """Per run, the share of its training trials that started more than ``beyond`` m from
-    the landmark's front plane and ended in the dock (NaN if none started there)."""
-    out = []
-    for r in runs:
-        far = -r.train.starts[:, 0] > beyond
-        out.append(float(np.mean(r.train.success[far])) if far.any() else float("nan"))
-    return np.array(out)
 
 
 # ------------------------------------------------------------------------------------------

@@ -45,7 +45,7 @@ import numpy as np
 
 from docking.experiments import EXPERIMENT_2, ExperimentConfig
 from docking.stats import Interval, difference_ci, mean_ci, removed_share_ci
-from docking.study import ROTATION_SHARE, STUDY_SEEDS, Cell, StudyResults, cells, run_cells
+from docking.study import STUDY_SEEDS, Cell, StudyResults, cells, run_cells, share_verdict
 from docking.world import ACTION_SETS, DockingEnv, WorldConfig
 
 __all__ = [
@@ -56,8 +56,6 @@ __all__ = [
     "comparisons",
     "failure_shares",
     "final_headings",
-    "input_centroids",
-    "rewarded_training",
     "oracle_table",
     "rotation_verdict",
     "table",
@@ -267,17 +265,15 @@ def rotation_verdict(results: StudyResults) -> tuple[str, Interval]:
     """The paper's rotation claim ("the reason for most of the unsuccessful trials") judged
     by the remedy it names: in the paper's task at the paper world's 2 deg heading noise, the
     share of the four-action learner's held-out failures that are gone when the learner can
-    turn. Supported if the interval lies above :data:`~docking.study.ROTATION_SHARE`,
-    contradicted if below it; the verdict and the interval."""
+    turn, judged by :func:`~docking.study.share_verdict` (the study's rule for the same
+    claim); the verdict and the interval."""
     found = next(
         c for c in comparisons(results) if c.task == "paper task" and c.noise == NOISE_DEG[0]
     )
     ci = found.removed
     if ci is None:
         raise ValueError("the four-action learner never failed: nothing to remove")
-    if ci.low > ROTATION_SHARE:
-        return "supported", ci
-    return ("contradicted" if ci.high < ROTATION_SHARE else "not supported"), ci
+    return share_verdict(ci), ci
 
 
 def failure_shares(results: StudyResults, keys: list[str]) -> tuple[np.ndarray, list[int]]:
@@ -303,11 +299,6 @@ def failure_shares(results: StudyResults, keys: list[str]) -> tuple[np.ndarray, 
     return shares, failures
 
 
-def rewarded_training(results: StudyResults, key: str) -> np.ndarray:
-    """Per seed, the share of cell ``key``'s training trials that ended docked (rewarded)."""
-    return np.array([r.train.success.mean() for r in results.runs[key]])
-
-
 def final_headings(results: StudyResults, key: str) -> np.ndarray:
     """``|yaw|`` (deg; 0 = facing the landmark's wall) at the end of every failed held-out
     trial of cell ``key``, all seeds pooled."""
@@ -317,15 +308,3 @@ def final_headings(results: StudyResults, key: str) -> np.ndarray:
         for k in np.flatnonzero(~log.success)
     ]
     return np.array(out, dtype=np.float64)
-
-
-def input_centroids(mean_inputs: np.ndarray) -> np.ndarray:
-    """Per image of ``mean_inputs`` (``(n, rows, cols)``), the column of its red mass's
-    centroid minus the image's central column (negative: left of centre; NaN for an empty
-    image)."""
-    images = np.asarray(mean_inputs, dtype=np.float64)
-    columns = images.sum(axis=1)
-    total = columns.sum(axis=1)
-    with np.errstate(invalid="ignore", divide="ignore"):
-        centre = columns @ np.arange(images.shape[2]) / total
-    return centre - (images.shape[2] - 1) / 2

@@ -24,6 +24,7 @@ __all__ = [
     "Episode",
     "RandomPolicy",
     "always_forward",
+    "centroid_offset",
     "centroid_rule",
     "evaluate_policy",
     "oracle",
@@ -93,6 +94,18 @@ class RandomPolicy:
         return int(self._rng.integers(n))
 
 
+def centroid_offset(images) -> np.ndarray:
+    """Where the red lies across the image: the column of the red mass's centroid minus the
+    image's central column (negative: left of centre), for one ``(rows, cols)`` image or a
+    stack ``(..., rows, cols)``; NaN for an image with no red."""
+    images = np.asarray(images, dtype=np.float64)
+    cols = images.shape[-1]
+    total = images.reshape(*images.shape[:-2], -1).sum(axis=-1)
+    with np.errstate(invalid="ignore", divide="ignore"):
+        centroid = images.sum(axis=-2) @ np.arange(cols) / total
+    return centroid - (cols - 1) / 2
+
+
 def centroid_rule(observation, env=None, dead_band: float = CENTROID_DEAD_BAND) -> int:
     """Step towards the red: LEFT if the red pixels' centroid lies left of the image's centre
     by more than ``dead_band`` columns, RIGHT if right, FORWARD if centred; BACKWARD if
@@ -100,11 +113,9 @@ def centroid_rule(observation, env=None, dead_band: float = CENTROID_DEAD_BAND) 
     image = np.asarray(observation, dtype=np.float64)
     if image.ndim != 2:
         raise ValueError(f"observation must be a 2-D image, got shape {image.shape}")
-    total = image.sum()
-    if total <= 0:
+    if image.sum() <= 0:
         return BACKWARD
-    centroid = float(image.sum(axis=0) @ np.arange(image.shape[1])) / total
-    offset = centroid - (image.shape[1] - 1) / 2
+    offset = float(centroid_offset(image))
     if offset < -dead_band:
         return LEFT
     if offset > dead_band:

@@ -59,6 +59,7 @@ __all__ = [
     "mean_abs_delta",
     "run_cells",
     "run_study",
+    "share_verdict",
 ]
 
 #: Seeds of every cell (verdicts rest on them: at least ten).
@@ -323,17 +324,19 @@ def run_cells(
     """Run (or load) the cells of ``batch`` for ``seeds`` in one sweep (:mod:`docking.sweep`;
     stored runs are loaded, not rerun), then judge the test-only cells' networks (their
     baselines', which must be in ``batch``) in their worlds."""
-    from docking.store import load_result
-    from docking.sweep import jobs_for, run_jobs
+    from docking.sweep import run_configs
 
-    seeds = tuple(seeds)
     trained = {c.key: c.config for c in batch if c.test_world is None}
-    jobs = jobs_for(trained.values(), seeds)
-    paths = run_jobs(
-        jobs, results_dir, scheduler=scheduler, workers=workers, progress=progress, desc=desc
+    runs = run_configs(
+        trained,
+        seeds,
+        results_dir,
+        scheduler=scheduler,
+        workers=workers,
+        progress=progress,
+        desc=desc,
     )
-    loaded = iter(load_result(p) for p in paths)
-    return _judged(batch, {key: [next(loaded) for _ in seeds] for key in trained})
+    return _judged(batch, runs)
 
 
 def _judged(batch: list[Cell], runs: dict[str, list[ExperimentResult]]) -> StudyResults:
@@ -485,15 +488,21 @@ def rotation_share(study: StudyResults, key: str, seed: int = 0):
     return removed_share_ci(quiet, base, paired=True, seed=seed)
 
 
+def share_verdict(ci) -> str:
+    """The rotation claim's rule on a share of failures removed (an interval): "supported" if
+    it lies above :data:`ROTATION_SHARE` ("most"), "contradicted" if below, else "not
+    supported"."""
+    if ci.low > ROTATION_SHARE:
+        return "supported"
+    return "contradicted" if ci.high < ROTATION_SHARE else "not supported"
+
+
 def verdict(claim: str, study: StudyResults, key: str) -> str:
     """The verdict of ``claim`` from cell ``key``: ``"supported"``, ``"not supported"`` (the
     interval does not decide it either way) or ``"contradicted"`` (the interval lies on the
     other side of the claim's bound), by the rule in :data:`CLAIMS`."""
     if claim == "rotation":
-        ci = rotation_share(study, key)
-        if ci.low > ROTATION_SHARE:
-            return "supported"
-        return "contradicted" if ci.high < ROTATION_SHARE else "not supported"
+        return share_verdict(rotation_share(study, key))
     ci = difference(study, key)
     if claim == "distractor":
         m = EQUIVALENCE_MARGIN

@@ -36,7 +36,7 @@ import sys
 import threading
 import time
 import uuid
-from collections.abc import Iterable, Sequence
+from collections.abc import Iterable, Mapping, Sequence
 from pathlib import Path
 
 from docking import paths
@@ -50,6 +50,7 @@ __all__ = [
     "grid_configs",
     "jobs_for",
     "parse_seeds",
+    "run_configs",
     "run_jobs",
 ]
 
@@ -368,6 +369,30 @@ def run_jobs(
         return paths_
     finally:
         bar.close()
+
+
+def run_configs(
+    configs: Mapping[str, ExperimentConfig],
+    seeds: Iterable[int],
+    results_dir: Path | str | None = None,
+    scheduler: str | None = None,
+    workers: int | None = None,
+    progress: bool = True,
+    desc: str = "runs",
+) -> dict:
+    """Run (or load) every configuration of ``configs`` for every seed in one sweep
+    (:func:`run_jobs`); ``{key: its runs in seed order}`` (``ExperimentResult``s)."""
+    seeds = tuple(seeds)
+    found = run_jobs(
+        jobs_for(configs.values(), seeds),
+        results_dir,
+        scheduler=scheduler,
+        workers=workers,
+        progress=progress,
+        desc=desc,
+    )
+    loaded = iter(load_result(path) for path in found)
+    return {key: [next(loaded) for _ in seeds] for key in configs}
 
 
 def _run_on_dask(jobs, todo, root: Path, scheduler, n_workers: int, force: bool, bar) -> None:

@@ -37,6 +37,7 @@ from docking.analysis import (
     FAILURE_CLASSES,
     failure_taxonomy,
     feature_change,
+    rewarded_share,
     start_views,
     winner_change,
 )
@@ -261,9 +262,7 @@ for key in ("epsQ-0.03", "epsQ-0.2", "epsW-1"):
 far_loss = difference_ci(by_start(short, True), by_start(paper, True))
 near_loss = difference_ci(by_start(short, False), by_start(paper, False))
 assert far_loss.high < near_loss.low, (far_loss, near_loss)
-rewarded_far = difference_ci(
-    calibration.rewarded_share(short, 1.0), calibration.rewarded_share(paper, 1.0)
-)
+rewarded_far = difference_ci(rewarded_share(short, 1.0), rewarded_share(paper, 1.0))
 assert rows["8cm-steps"].rewarded_difference.high < 0 and rewarded_far.high < 0
 lines = [f"* test success, 15 cm minus 8 cm forward steps: {step_gain.format(unit=' pp')}"]
 lines += [
@@ -276,8 +275,8 @@ lines += [
     "* training trials rewarded, 8 cm steps: "
     f"{rows['8cm-steps'].rewarded.format(unit='%')} of all (15 cm: "
     f"{rows[calibration.BASELINE].rewarded.format(unit='%')}); of those starting beyond 1 m "
-    f"{calibration.rewarded_share(short, 1.0).mean():.1%} (15 cm: "
-    f"{calibration.rewarded_share(paper, 1.0).mean():.1%}), difference "
+    f"{rewarded_share(short, 1.0).mean():.1%} (15 cm: "
+    f"{rewarded_share(paper, 1.0).mean():.1%}), difference "
     f"{rewarded_far.format(unit=' pp')}",
 ]
 display(Markdown("\n".join(lines)))

@@ -43,7 +43,7 @@ from IPython.display import Image, Markdown, display
 
 from docking import analysis, experiment3, figures
 from docking.analysis import FAILURE_CLASSES
-from docking.policies import oracle, run_episode
+from docking.policies import centroid_offset, oracle, run_episode
 from docking.report import save_named
 from docking.stats import difference_ci
 from docking.world import DockingEnv
@@ -232,13 +232,13 @@ for c in found.values():
     yaw4 = np.median(experiment3.final_headings(results, k4))
     yaw6 = np.median(experiment3.final_headings(results, k6))
     rewarded = difference_ci(
-        experiment3.rewarded_training(results, k6), experiment3.rewarded_training(results, k4)
+        analysis.rewarded_share(results.runs[k6]), analysis.rewarded_share(results.runs[k4])
     )
     lines.append(
         f"| {c.task} | {c.noise:g} | {100 * share[k4, 'heading_drift']:.0f}% / "
         f"{100 * share[k6, 'heading_drift']:.0f}% | {yaw4:.1f} / {yaw6:.1f} | "
-        f"{100 * experiment3.rewarded_training(results, k4).mean():.1f}% / "
-        f"{100 * experiment3.rewarded_training(results, k6).mean():.1f}% | {pp(rewarded)} |"
+        f"{100 * analysis.rewarded_share(results.runs[k4]).mean():.1f}% / "
+        f"{100 * analysis.rewarded_share(results.runs[k6]).mean():.1f}% | {pp(rewarded)} |"
     )
     assert share[k6, "heading_drift"] >= 0.95 and yaw6 > yaw4 and rewarded.high < 0
 display(
@@ -292,9 +292,7 @@ print(
 # landmark structure, as in Experiment 2 (notebook 04): W stays close to its random start.
 
 # %%
-centroid = dict(
-    zip(world.action_letters, experiment3.input_centroids(inputs.action_mean), strict=True)
-)
+centroid = dict(zip(world.action_letters, centroid_offset(inputs.action_mean), strict=True))
 print({k: round(float(v), 1) for k, v in centroid.items()})
 assert centroid["TL"] < 0 < centroid["TR"] and turn_share > 0.1
 

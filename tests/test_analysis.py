@@ -352,3 +352,17 @@ def test_start_views_are_seeded_start_observations():
     np.testing.assert_array_equal(views, start_views(WorldConfig(), 4, seed=3))
     with pytest.raises(ValueError, match="n must be"):
         start_views(WorldConfig(), 0, seed=3)
+
+
+def test_rewarded_share_counts_the_far_training_trials():
+    from types import SimpleNamespace
+
+    trials = [
+        ([(-1.2, 0, 0), (-1.0, 0, 0)], [F], True),
+        ([(-0.8, 0, 0), (-0.6, 0, 0)], [F], False),
+        ([(-0.7, 0, 0), (-0.5, 0, 0)], [F], True),
+    ]
+    run = SimpleNamespace(train=_log(trials))
+    np.testing.assert_allclose(analysis.rewarded_share([run]), [2 / 3])
+    np.testing.assert_allclose(analysis.rewarded_share([run], beyond=0.75), [0.5])
+    assert np.isnan(analysis.rewarded_share([run], beyond=2.0)[0])

@@ -309,11 +309,13 @@ def test_mean_inputs_at_given_poses():
         analysis.mean_winning_inputs(net, world, poses=np.zeros((0, 3)))
 
 
-def test_input_centroids_and_final_headings():
+def test_centroid_offset_of_stacks_and_final_headings():
+    from docking.policies import centroid_offset
+
     images = np.zeros((3, 10, 32))
     images[0, :, 4] = 1  # red on the left
     images[1, :, 27] = 1  # on the right
-    found = experiment3.input_centroids(images)
+    found = centroid_offset(images)
     assert found[0] == pytest.approx(4 - 15.5) and found[1] == pytest.approx(27 - 15.5)
     assert np.isnan(found[2])
     rates = {c.key: 0.5 for c in experiment3.experiment3_cells()}
