@@ -14,6 +14,24 @@ The world is imported lazily, so ``docking.network`` works without OpenGL.
 
 __version__ = "0.1.0"
 
+
+def _snapshot_sources() -> dict:
+    """SHA-256 of every ``.py`` file of the package as it is when ``docking`` is imported:
+    :mod:`docking.store` fingerprints this code, and refuses to key runs if a file has changed
+    on disk since (the process would compute with the code it loaded, not the edited one)."""
+    import hashlib
+    from pathlib import Path
+
+    here = Path(__file__).resolve().parent
+    return {
+        p.relative_to(here).as_posix(): hashlib.sha256(p.read_bytes()).hexdigest()
+        for p in sorted(here.rglob("*.py"))
+        if "__pycache__" not in p.parts
+    }
+
+
+_SOURCES_AT_IMPORT = _snapshot_sources()
+
 _LAZY = {
     "DockingEnv": "docking.world",
     "WorldConfig": "docking.world",

@@ -90,7 +90,7 @@ class Run:
     """Recompute and replace stored runs."""
 
     def execute(self) -> int:
-        from docking.store import load_result
+        from docking.store import load_result, run_key
         from docking.sweep import jobs_for, run_jobs
 
         config = self.experiment
@@ -103,7 +103,7 @@ class Run:
             force=self.force,
             desc=f"{config.name}, {len(seeds)} seeds",
         )
-        results = [load_result(p) for p in paths]
+        results = [load_result(p, run_key(config, s)) for p, s in zip(paths, seeds, strict=True)]
         print(f"{config.name}: {_summary(results)}")
         print(f"stored in {paths[0].parent}")
         return 0
@@ -135,7 +135,7 @@ class Sweep:
     """Recompute and replace stored runs."""
 
     def execute(self) -> int:
-        from docking.store import load_result
+        from docking.store import load_result, run_key
         from docking.sweep import grid_configs, jobs_for, run_jobs
 
         configs = grid_configs(self.experiment, self.grid)
@@ -152,7 +152,9 @@ class Sweep:
         for k, config in enumerate(configs):
             chunk = paths[k * len(seeds) : (k + 1) * len(seeds)]
             label = " ".join(f"{e.partition('=')[0]}={_value(config, e)}" for e in self.grid)
-            results = [load_result(p) for p in chunk]
+            results = [
+                load_result(p, run_key(config, s)) for p, s in zip(chunk, seeds, strict=True)
+            ]
             print(f"{label or config.name}: {_summary(results)} [{chunk[0].parent}]")
         return 0
 

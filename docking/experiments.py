@@ -27,6 +27,8 @@ from docking.camera import CameraConfig
 from docking.network import Network, NetworkConfig
 from docking.trial import TrialRecord, run_trial
 from docking.validate import (
+    MAX_COUNT,
+    MAX_SEED,
     check_bool,
     check_instance,
     check_int,
@@ -61,7 +63,7 @@ class Curriculum:
         normalise(
             self,
             far_initial=check_real(owner, "far_initial", self.far_initial, lo=0, lo_open=True),
-            grow_trials=check_int(owner, "grow_trials", self.grow_trials, lo=0),
+            grow_trials=check_int(owner, "grow_trials", self.grow_trials, lo=0, hi=MAX_COUNT),
         )
         if self.far_final is not None:
             normalise(
@@ -125,15 +127,19 @@ class ExperimentConfig:
             world=check_instance(owner, "world", self.world, WorldConfig),
             network=check_instance(owner, "network", self.network, NetworkConfig),
             curriculum=check_instance(owner, "curriculum", self.curriculum, Curriculum),
-            train_trials=check_int(owner, "train_trials", self.train_trials, lo=1),
-            test_trials=check_int(owner, "test_trials", self.test_trials, lo=0),
-            eval_every=check_int(owner, "eval_every", self.eval_every, lo=1),
-            eval_trials=check_int(owner, "eval_trials", self.eval_trials, lo=0),
+            train_trials=check_int(owner, "train_trials", self.train_trials, lo=1, hi=MAX_COUNT),
+            test_trials=check_int(owner, "test_trials", self.test_trials, lo=0, hi=MAX_COUNT),
+            eval_every=check_int(owner, "eval_every", self.eval_every, lo=1, hi=MAX_COUNT),
+            eval_trials=check_int(owner, "eval_trials", self.eval_trials, lo=0, hi=MAX_COUNT),
             bootstrap_on_truncation=check_bool(
                 owner, "bootstrap_on_truncation", self.bootstrap_on_truncation
             ),
-            heldout_trials=check_int(owner, "heldout_trials", self.heldout_trials, lo=0),
-            pretrain_trials=check_int(owner, "pretrain_trials", self.pretrain_trials, lo=0),
+            heldout_trials=check_int(
+                owner, "heldout_trials", self.heldout_trials, lo=0, hi=MAX_COUNT
+            ),
+            pretrain_trials=check_int(
+                owner, "pretrain_trials", self.pretrain_trials, lo=0, hi=MAX_COUNT
+            ),
             pretrain_rate=check_real(owner, "pretrain_rate", self.pretrain_rate, lo=0, hi=1),
         )
         if self.heldout_world is not None:
@@ -414,7 +420,7 @@ def heldout_trials(
     curve and the main test never use. The same (``config``, ``seed``) gives the same draws
     in any world, so two worlds are compared on paired trials (e.g. with and without a
     distractor, or without heading noise: the same normal draws, scaled by 0)."""
-    rngs = _streams(check_int("heldout_trials", "seed", seed, lo=0))
+    rngs = _streams(check_int("heldout_trials", "seed", seed, lo=0, hi=MAX_SEED))
     env = DockingEnv(
         check_instance("heldout_trials", "world", world, WorldConfig), rngs["heldout_world"]
     )
@@ -425,7 +431,7 @@ def heldout_trials(
 def run_experiment(config: ExperimentConfig, seed: int, progress: bool = True) -> ExperimentResult:
     """Train and test one network; every random draw comes from ``seed`` (an int >= 0)."""
     check_instance("run_experiment", "config", config, ExperimentConfig)
-    seed = check_int("run_experiment", "seed", seed, lo=0)
+    seed = check_int("run_experiment", "seed", seed, lo=0, hi=MAX_SEED)
     rngs = _streams(seed)
     train_env = DockingEnv(config.world, seed=rngs["train_world"])
     test_env = DockingEnv(config.world, seed=rngs["test_world"])

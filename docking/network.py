@@ -63,6 +63,14 @@ _FORMAT_VERSION = 2
 #: update) is treated as all-zero: its direction would be rounding noise.
 _DEAD_NORM = 1e-12
 
+#: Upper bound of the learning rates (eps_q, eps_w), q_init and |feature_delta|: far above
+#: any rate that learns (the paper's are below 1), low enough that no update overflows.
+MAX_RATE = 100.0
+
+#: Upper bound of the softmax gains beta_s, beta_a (the paper: 100); beyond it Eq. (2) and
+#: (4) are a hard max to float precision anyway.
+MAX_BETA = 1e6
+
 
 @dataclass(frozen=True)
 class NetworkConfig:
@@ -125,12 +133,12 @@ class NetworkConfig:
             for name in ("n_inputs", "n_features", "n_actions")
         }
         reals = {
-            name: check_real(owner, name, getattr(self, name), lo=0, lo_open=True)
+            name: check_real(owner, name, getattr(self, name), lo=0, hi=MAX_BETA, lo_open=True)
             for name in ("beta_s", "beta_a_train", "beta_a_test")
         }
         reals["gamma"] = check_real(owner, "gamma", self.gamma, lo=0, hi=1)
         for name in ("eps_q", "eps_w", "q_init"):
-            reals[name] = check_real(owner, name, getattr(self, name), lo=0)
+            reals[name] = check_real(owner, name, getattr(self, name), lo=0, hi=MAX_RATE)
         normalise(
             self,
             **counts,
@@ -140,7 +148,12 @@ class NetworkConfig:
             feature_layer=check_choice(owner, "feature_layer", self.feature_layer, FEATURE_LAYERS),
         )
         if self.feature_delta is not None:
-            normalise(self, feature_delta=check_real(owner, "feature_delta", self.feature_delta))
+            normalise(
+                self,
+                feature_delta=check_real(
+                    owner, "feature_delta", self.feature_delta, lo=-MAX_RATE, hi=MAX_RATE
+                ),
+            )
         if self.feature_layer == "none" and self.n_features != self.n_inputs:
             raise ValueError(
                 f"NetworkConfig.n_features must equal n_inputs ({self.n_inputs}) without a "
@@ -159,7 +172,9 @@ def _softmax(z: np.ndarray) -> np.ndarray:
     zmax = max(z.tolist())
     if math.isfinite(zmax):
         e = np.exp(z - zmax)
-        total = sum(e.tolist())  # >= 1: the max entry contributes exp(0)
+        # math.fsum: exactly rounded, so the same on every Python (the builtin sum() of
+        # floats is compensated from 3.12 on and naive before).
+        total = math.fsum(e.tolist())  # >= 1: the max entry contributes exp(0)
         if total >= 1.0:  # False only if z holds NaN (which max() may skip)
             e *= 1.0 / total
             return e
@@ -282,7 +297,7 @@ class Network:
         if not isinstance(rng, np.random.Generator):
             raise FieldTypeError(f"rng must be a numpy.random.Generator, got {type(rng).__name__}")
         p = self.action_probabilities(s, beta_a).tolist()
-        u = rng.random() * sum(p)
+        u = rng.random() * math.fsum(p)
         last = len(p) - 1
         acc = 0.0
         for a in range(last):
@@ -364,7 +379,7 @@ class Network:
         feature_delta = delta if cfg.feature_delta is None else cfg.feature_delta
         coef = self._feature_factor(s, a) * (cfg.eps_w * feature_delta)
         q_row = self.Q[a] + (cfg.eps_q * delta) * s  # Eq. (7): Delta Q_ij = eps_q delta a_i s_j
-        if not math.isfinite(sum(q_row.tolist())):
+        if not np.isfinite(q_row).all():
             raise ValueError(
                 f"the update would make Q non-finite (delta={delta!r}); nothing changed"
             )
@@ -377,7 +392,7 @@ class Network:
         np.maximum(Wn, 0.0, out=Wn)
         norms = np.sqrt(np.einsum("ij,ij->i", Wn, Wn))
         nl = norms.tolist()
-        if not (math.isfinite(sum(nl)) and min(nl) > _DEAD_NORM):  # rare: fix rows one by one
+        if not (np.isfinite(norms).all() and min(nl) > _DEAD_NORM):  # rare: fix rows one by one
             for j, norm in enumerate(nl):
                 if not _DEAD_NORM < norm < math.inf:  # False also for NaN
                     norms[j] = self._fix_row(Wn, j)
@@ -465,18 +480,27 @@ class Network:
     def load(cls, path) -> Network:
         """Read a network written by :meth:`save` (format 2; format 1 stored one array per
         config field)."""
-        with np.load(Path(path), allow_pickle=False) as data:
-            version = int(data["format_version"])
-            if version == 2:
-                config = NetworkConfig(**json.loads(str(data["config"])))
-            elif version == 1:
-                fields = [f.name for f in dataclasses.fields(NetworkConfig)]
-                config = NetworkConfig(
-                    **{f: data[f"config.{f}"].item() for f in fields if f"config.{f}" in data}
-                )
-            else:
-                raise ValueError(f"unsupported network file format_version {version}")
-            return cls.from_weights(config, data["W"], data["Q"])
+        path = Path(path)
+        try:
+            with np.load(path, allow_pickle=False) as data:
+                version = int(data["format_version"])
+                if version == 2:
+                    config = NetworkConfig(**json.loads(str(data["config"])))
+                elif version == 1:
+                    fields = [f.name for f in dataclasses.fields(NetworkConfig)]
+                    config = NetworkConfig(
+                        **{f: data[f"config.{f}"].item() for f in fields if f"config.{f}" in data}
+                    )
+                else:
+                    raise ValueError(f"unsupported network file format_version {version}")
+                return cls.from_weights(config, data["W"], data["Q"])
+        except OSError:  # missing or unreadable: the exception names the path already
+            raise
+        except Exception as exc:  # empty, truncated, not a zip, a field missing, ...
+            raise ValueError(
+                f"{str(path)!r} is not a network file written by Network.save "
+                f"({type(exc).__name__}: {exc})"
+            ) from exc
 
     def __repr__(self) -> str:
         c = self.config

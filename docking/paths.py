@@ -25,7 +25,9 @@ def checkout_root() -> Path | None:
 
 def _folder(variable: str, name: str) -> Path:
     value = os.environ.get(variable)
-    if value:
+    if value is not None:
+        if not value.strip():
+            raise ValueError(f"{variable} is set but empty; unset it or name a folder")
         return Path(value).expanduser()
     root = checkout_root()
     return (root if root is not None else Path.cwd()) / name

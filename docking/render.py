@@ -44,6 +44,25 @@ def _gl_context():
     return _CONTEXT
 
 
+def gl_stack() -> str:
+    """The OpenGL stack that renders the frames: ``MUJOCO_GL``, then the driver's
+    ``GL_VERSION``, ``GL_RENDERER`` and ``GL_VENDOR`` strings (e.g. Mesa's version and llvmpipe
+    with its LLVM version), read from the process's context. Frames, and so runs, depend on
+    it; the results store puts it in every run's key."""
+    global _STACK
+    if _STACK is None:
+        _gl_context()
+        from OpenGL import GL
+
+        names = (GL.GL_VERSION, GL.GL_RENDERER, GL.GL_VENDOR)
+        strings = [(GL.glGetString(n) or b"?").decode("utf-8", "replace") for n in names]
+        _STACK = " | ".join([f"MUJOCO_GL={os.environ.get('MUJOCO_GL', '')}", *strings])
+    return _STACK
+
+
+_STACK = None
+
+
 def _free_context() -> None:
     global _CONTEXT, _BOUND
     _BOUND = None

@@ -9,19 +9,28 @@ its seed and the code that computes it. Its key is the SHA-256 of
   Python syntax trees without docstrings and comments (so prose edits do not invalidate
   results, any code change does), plus every file under ``docking/assets/``, plus the
   versions of the libraries whose arithmetic the runs depend on (MuJoCo, dm-control, NumPy,
-  OpenCV);
+  OpenCV). It is taken of the code this process *loaded*: if a fingerprinted file has changed
+  on disk since ``docking`` was imported, keying a run raises :class:`StaleCode` (the run
+  would be computed by the old code and stored under the new code's key);
+* the *rendering stack* (:func:`docking.render.gl_stack`: the OpenGL version, renderer and
+  vendor strings, e.g. Mesa's version and llvmpipe's), which draws every observation;
 
 and the seed names the file: ``<results>/<config.name>/<key[:16]>/seed<k>.npz`` (the folder
 also holds ``config.json``, the configuration in readable form). Variants of one experiment
 therefore live side by side, and a code change makes every run be recomputed without anyone
 deleting ``results/``.
 
-Loading validates a file (every array present with the right shape and dtype, consistent
-lengths, the configuration round-trips, the key matches). :func:`run_or_load` treats any
-failure as a warning that names the file and the reason, recomputes the run and replaces the
-file. Files are written by :func:`docking.fileio.atomic_write`; temporary files of killed
-writers are cleaned up before the next write. The results folder is checked for writability
-before a run starts.
+Every file carries a SHA-256 *content digest* of its arrays (:func:`content_digest`; the
+wall times in its meta record are not part of it). Loading validates a file: every member's
+size is checked against the configuration before it is decompressed, every array present with
+the right shape and dtype, consistent lengths, poses, TD errors and weights finite, the
+configuration round-trips, the key stored in the file equals the key of its configuration
+under this code *and* the key asked for, and the digest matches the arrays.
+:func:`run_or_load` treats any failure as a warning that names the file and the reason,
+recomputes the run and replaces the file. Files are written by
+:func:`docking.fileio.atomic_write`; temporary files of killed writers are cleaned up
+before the next write. The results folder is checked for writability and free space before a
+run starts.
 """
 
 from __future__ import annotations
@@ -34,6 +43,7 @@ import importlib.metadata
 import io
 import json
 import os
+import shutil
 import tempfile
 import warnings
 from pathlib import Path
@@ -44,11 +54,15 @@ from docking import paths
 from docking.experiments import ExperimentConfig, ExperimentResult, TrialLog, run_experiment
 from docking.fileio import atomic_write, remove_stale_temporaries
 from docking.network import Network
-from docking.validate import check_instance, check_int
+from docking.validate import MAX_SEED, check_instance, check_int
 
 __all__ = [
     "CorruptResult",
     "FORMAT_VERSION",
+    "StaleCode",
+    "content_digest",
+    "module_digests",
+    "rendering_stack",
     "check_writable",
     "load_result",
     "result_path",
@@ -59,8 +73,8 @@ __all__ = [
     "source_fingerprint",
 ]
 
-#: Version of the file layout written by :func:`save_result`.
-FORMAT_VERSION = 2
+#: Version of the file layout written by :func:`save_result` (3: the content digest).
+FORMAT_VERSION = 3
 
 #: The module whose code, with everything it imports from the package, computes results.
 _ROOT_MODULE = "docking.experiments"
@@ -71,6 +85,11 @@ _LIBRARIES = ("mujoco", "dm-control", "numpy", "opencv-python-headless")
 
 class CorruptResult(ValueError):
     """A saved result that cannot be used: unreadable, incomplete or inconsistent."""
+
+
+class StaleCode(RuntimeError):
+    """The package's code on disk is not the code this process loaded: a run computed now
+    would be stored under a key that does not describe it."""
 
 
 # ------------------------------------------------------------------------------------------
@@ -124,20 +143,48 @@ def _module_file(name: str, package_dir: Path) -> Path | None:
 def source_fingerprint(package_dir: Path | str | None = None) -> str:
     """SHA-256 of the code that computes results (see the module docstring).
 
-    ``package_dir`` is the ``docking`` package folder to read (default: this package's)."""
+    ``package_dir`` is the ``docking`` package folder to read (default: this package's, whose
+    files must still be those this process imported, or :class:`StaleCode` is raised)."""
+    own = Path(__file__).resolve().parent
+    package_dir = (Path(package_dir) if package_dir else own).resolve()
+    fingerprint, _, files = _fingerprint_parts(package_dir, _stamp(package_dir))
+    if package_dir == own:
+        import docking
+
+        loaded = docking._SOURCES_AT_IMPORT
+        changed = sorted(f for f, digest in files.items() if loaded.get(f) != digest)
+        if changed:
+            raise StaleCode(
+                f"docking's code changed on disk after this process imported it "
+                f"({', '.join('docking/' + f for f in changed)}): a run computed now would use "
+                "the code in memory but be keyed by the code on disk. Restart the interpreter "
+                "(in Jupyter: restart the kernel)."
+            )
+    return fingerprint
+
+
+def module_digests(package_dir: Path | str | None = None) -> dict[str, str]:
+    """``{module: SHA-256 of its code}`` for every fingerprinted module (the code as the
+    fingerprint reads it), plus ``assets/...`` and ``library ...`` entries: what a ledger
+    records, so that a mismatch can name what changed."""
     package_dir = (Path(package_dir) if package_dir else Path(__file__).parent).resolve()
+    return dict(_fingerprint_parts(package_dir, _stamp(package_dir))[1])
+
+
+def _stamp(package_dir: Path) -> tuple:
     # Cached by the files' sizes and modification times, so an edit is always seen.
-    stamp = tuple(
+    return tuple(
         (str(p), st.st_mtime_ns, st.st_size)
         for p in sorted(package_dir.rglob("*"))
         if "__pycache__" not in p.parts and p.is_file() and (st := p.stat())
     )
-    return _source_fingerprint(package_dir, stamp)
 
 
 @functools.lru_cache(maxsize=8)
-def _source_fingerprint(package_dir: Path, stamp: tuple) -> str:
+def _fingerprint_parts(package_dir: Path, stamp: tuple) -> tuple[str, tuple, dict]:
+    """(fingerprint, ((part, digest), ...), {file: SHA-256 of its bytes})."""
     digest = hashlib.sha256()
+    parts, files = [], {}
     seen, queue = set(), [_ROOT_MODULE]
     while queue:
         name = queue.pop()
@@ -147,22 +194,37 @@ def _source_fingerprint(package_dir: Path, stamp: tuple) -> str:
         path = _module_file(name, package_dir)
         if path is None:
             continue
-        source = path.read_text(encoding="utf-8")
+        raw = path.read_bytes()
+        files[path.relative_to(package_dir).as_posix()] = hashlib.sha256(raw).hexdigest()
+        source = raw.decode("utf-8")
         # Sorted: a set's order changes with PYTHONHASHSEED, i.e. from process to process.
         queue.extend(sorted(_imported_package_modules(ast.parse(source), name)))
-        digest.update(f"module {name}\n{_code_of(source)}\n".encode())
+        code = f"module {name}\n{_code_of(source)}\n".encode()
+        digest.update(code)
+        parts.append((name, hashlib.sha256(code).hexdigest()))
     assets = package_dir / "assets"
     if assets.is_dir():
         for path in sorted(p for p in assets.rglob("*") if p.is_file()):
-            digest.update(f"asset {path.relative_to(assets).as_posix()}\n".encode())
-            digest.update(path.read_bytes())
+            relative = path.relative_to(assets).as_posix()
+            data = path.read_bytes()
+            digest.update(f"asset {relative}\n".encode())
+            digest.update(data)
+            parts.append((f"assets/{relative}", hashlib.sha256(data).hexdigest()))
     for library in _LIBRARIES:
         try:
             version = importlib.metadata.version(library)
         except importlib.metadata.PackageNotFoundError:
             version = "absent"
         digest.update(f"library {library} {version}\n".encode())
-    return digest.hexdigest()
+        parts.append((f"library {library}", version))
+    return digest.hexdigest(), tuple(sorted(parts)), files
+
+
+def rendering_stack() -> str:
+    """The OpenGL stack that renders observations (:func:`docking.render.gl_stack`)."""
+    from docking.render import gl_stack
+
+    return gl_stack()
 
 
 def _canonical(config: ExperimentConfig) -> str:
@@ -172,19 +234,22 @@ def _canonical(config: ExperimentConfig) -> str:
 def config_key(config: ExperimentConfig) -> str:
     """SHA-256 of the canonical configuration and the source fingerprint (the folder key)."""
     check_instance("config_key", "config", config, ExperimentConfig)
-    text = f"format {FORMAT_VERSION}\nconfig {_canonical(config)}\nsource {source_fingerprint()}"
+    text = (
+        f"format {FORMAT_VERSION}\nconfig {_canonical(config)}\nsource {source_fingerprint()}"
+        f"\nrender {rendering_stack()}"
+    )
     return hashlib.sha256(text.encode()).hexdigest()
 
 
 def run_key(config: ExperimentConfig, seed: int) -> str:
     """The key of the run of (``config``, ``seed``): the configuration key and the seed."""
-    seed = check_int("run_key", "seed", seed, lo=0)
+    seed = check_int("run_key", "seed", seed, lo=0, hi=MAX_SEED)
     return f"{config_key(config)}:seed{seed}"
 
 
 def result_path(config: ExperimentConfig, seed: int, results_dir: Path | str | None = None) -> Path:
     """Where the run of (``config``, ``seed``) is stored (see the module docstring)."""
-    seed = check_int("result_path", "seed", seed, lo=0)
+    seed = check_int("result_path", "seed", seed, lo=0, hi=MAX_SEED)
     root = Path(results_dir) if results_dir is not None else paths.results_dir()
     return root / config.name / config_key(config)[:16] / f"seed{seed}.npz"
 
@@ -194,20 +259,25 @@ def result_path(config: ExperimentConfig, seed: int, results_dir: Path | str | N
 # ------------------------------------------------------------------------------------------
 
 
+def content_digest(arrays) -> str:
+    """SHA-256 of a run's arrays: every array but ``meta``, by name, dtype, shape and bytes.
+
+    ``arrays`` maps names to arrays (a dict, or an open ``.npz``). Two runs with equal digests
+    are equal bit for bit in every array; the wall times (in ``meta``) are not covered."""
+    digest = hashlib.sha256()
+    names = arrays.files if hasattr(arrays, "files") else list(arrays)
+    for name in sorted(n for n in names if n != "meta"):
+        array = np.ascontiguousarray(arrays[name])
+        digest.update(f"{name}\0{array.dtype.str}\0{array.shape}\0".encode())
+        digest.update(array.tobytes())
+    return digest.hexdigest()
+
+
 def save_result(result: ExperimentResult, path: Path | str) -> Path:
     """Write ``result`` to ``path`` (compressed .npz) atomically; also ``config.json`` beside
     it (the configuration, readable). Returns ``path``."""
     path = Path(path)
-    meta = {
-        "format": FORMAT_VERSION,
-        "key": run_key(result.config, result.seed),
-        "config": result.config.to_dict(),
-        "seed": result.seed,
-        "wall_time_train": float(result.wall_time_train),
-        "wall_time_test": float(result.wall_time_test),
-    }
     arrays = {
-        "meta": np.array(json.dumps(meta)),
         "W": result.network.W,
         "Q": result.network.Q,
         "curve_trials": result.curve_trials,
@@ -219,15 +289,30 @@ def save_result(result: ExperimentResult, path: Path | str) -> Path:
         log = getattr(result, part)
         for field in dataclasses.fields(TrialLog) if log is not None else ():
             arrays[f"{part}.{field.name}"] = getattr(log, field.name)
+    meta = {
+        "format": FORMAT_VERSION,
+        "key": run_key(result.config, result.seed),
+        "digest": content_digest(arrays),
+        "config": result.config.to_dict(),
+        "seed": result.seed,
+        "wall_time_train": float(result.wall_time_train),
+        "wall_time_test": float(result.wall_time_test),
+    }
+    arrays["meta"] = np.array(json.dumps(meta))
     buffer = io.BytesIO()
     np.savez_compressed(buffer, **arrays)
-    remove_stale_temporaries(path)
-    atomic_write(path, lambda f: f.write(buffer.getvalue()))
-    config_json = path.parent / "config.json"
-    if not config_json.exists():
-        text = json.dumps(meta["config"], indent=2, sort_keys=True) + "\n"
-        remove_stale_temporaries(config_json)
-        atomic_write(config_json, lambda f: f.write(text.encode()))
+    try:
+        remove_stale_temporaries(path)
+        atomic_write(path, lambda f: f.write(buffer.getvalue()))
+        config_json = path.parent / "config.json"
+        if not config_json.exists():
+            text = json.dumps(meta["config"], indent=2, sort_keys=True) + "\n"
+            remove_stale_temporaries(config_json)
+            atomic_write(config_json, lambda f: f.write(text.encode()))
+    except OSError as exc:
+        raise OSError(
+            exc.errno, f"cannot save the run in {str(path)!r}: {exc.strerror or exc}"
+        ) from exc
     return path
 
 
@@ -249,21 +334,41 @@ _CURVE_LAYOUT = {
 }
 
 
-def _array(data, name: str, kind: str, ndim: int) -> np.ndarray:
-    if name not in data.files:
-        raise CorruptResult(f"array {name!r} is missing")
+#: The largest meta record a result file may hold (bytes, uncompressed).
+_META_LIMIT = 1 << 20
+
+
+def _member_size(data, name: str) -> int:
+    try:
+        return data.zip.getinfo(f"{name}.npy").file_size
+    except KeyError:
+        raise CorruptResult(f"array {name!r} is missing") from None
+
+
+def _array(data, name: str, kind: str, ndim: int, limit: int) -> np.ndarray:
+    """The array ``name``, checked to hold at most ``limit`` bytes of data *before* it is
+    decompressed, then for its dtype kind and dimensions."""
+    size = _member_size(data, name)
+    if size > limit + 4096:  # the .npy header is at most a few hundred bytes
+        raise CorruptResult(f"array {name!r} would decompress to {size} bytes, at most {limit}")
     array = data[name]
     if array.dtype.kind != kind or array.ndim != ndim:
         raise CorruptResult(
             f"array {name!r} has dtype {array.dtype} and {array.ndim} dimensions, expected "
             f"kind {kind!r} and {ndim}"
         )
+    if kind == "f" and name != "curve_steps" and not np.isfinite(array).all():
+        raise CorruptResult(f"array {name!r} holds non-finite values")
     return array
 
 
-def _trial_log(data, part: str, expected_trials: int) -> TrialLog:
+def _trial_log(data, part: str, expected_trials: int, max_steps: int) -> TrialLog:
+    # Bytes an array of this part can hold at most: 8 per entry, 3 entries per pose, one pose
+    # per action plus the start, at most max_steps actions per trial.
+    per = {"poses": 24 * (max_steps + 1), "actions": 8 * max_steps, "winners": 8 * max_steps}
+    per["deltas"] = 8 * max_steps
     fields = {
-        name: _array(data, f"{part}.{name}", kind, ndim)
+        name: _array(data, f"{part}.{name}", kind, ndim, expected_trials * per.get(name, 8))
         for name, (kind, ndim) in _TRIAL_LOG_LAYOUT.items()
     }
     log = TrialLog(**fields)
@@ -287,27 +392,30 @@ def _trial_log(data, part: str, expected_trials: int) -> TrialLog:
     return log
 
 
-def load_result(path: Path | str) -> ExperimentResult:
-    """Read and validate a result written by :func:`save_result`; ``CorruptResult`` (naming
-    the reason) if the file cannot be used."""
+def load_result(path: Path | str, key: str | None = None) -> ExperimentResult:
+    """Read and validate a result written by :func:`save_result` (see the module docstring);
+    ``key``, if given, is the run key asked for (:func:`run_key`): a file holding another run
+    is refused. ``CorruptResult`` (naming the reason) if the file cannot be used."""
     path = Path(path)
     try:
         with np.load(path, allow_pickle=False) as data:
-            return _parse(data)
+            return _parse(data, key)
     except CorruptResult:
         raise
     except Exception as exc:  # unreadable: truncated, bit flips, not a zip, ...
         raise CorruptResult(f"{type(exc).__name__}: {exc}") from exc
 
 
-def _parse(data) -> ExperimentResult:
+def _parse(data, asked: str | None) -> ExperimentResult:
     if "meta" not in data.files:
         raise CorruptResult("no 'meta' record")
+    if _member_size(data, "meta") > _META_LIMIT:
+        raise CorruptResult(f"the meta record is larger than {_META_LIMIT} bytes")
     try:
         meta = json.loads(str(data["meta"]))
         config = ExperimentConfig.from_dict(meta["config"])
-        seed = check_int("meta", "seed", meta["seed"], lo=0)
-        fmt, key = meta["format"], meta["key"]
+        seed = check_int("meta", "seed", meta["seed"], lo=0, hi=MAX_SEED)
+        fmt, key, digest = meta["format"], meta["key"], meta["digest"]
         walls = float(meta["wall_time_train"]), float(meta["wall_time_test"])
     except (ValueError, TypeError, KeyError, AttributeError) as exc:
         raise CorruptResult(f"bad meta record: {type(exc).__name__}: {exc}") from exc
@@ -317,32 +425,60 @@ def _parse(data) -> ExperimentResult:
         raise CorruptResult("the configuration does not round-trip")
     if key != run_key(config, seed):
         raise CorruptResult("made by other code or another configuration (key mismatch)")
+    if asked is not None and key != asked:
+        raise CorruptResult(
+            f"holds the run {key[:16]}...:seed{seed} of {config.name!r}, not the run asked for "
+            f"({asked[:16]}...:{asked.rpartition(':')[2]})"
+        )
+    parts = ("train", "test") + (("heldout",) if config.heldout_trials else ())
+    expected = {"meta", "W", "Q", *_CURVE_LAYOUT}
+    expected |= {f"{part}.{name}" for part in parts for name in _TRIAL_LOG_LAYOUT}
+    if set(data.files) != expected:
+        odd = sorted(set(data.files) ^ expected)
+        raise CorruptResult(f"unexpected or missing arrays: {', '.join(odd)}")
     net = config.network
-    W = _array(data, "W", "f", 2)
-    Q = _array(data, "Q", "f", 2)
+    W = _array(data, "W", "f", 2, 8 * net.n_features * net.n_inputs)
+    Q = _array(data, "Q", "f", 2, 8 * net.n_actions * net.n_features)
     if W.shape != (net.n_features, net.n_inputs) or Q.shape != (net.n_actions, net.n_features):
         raise CorruptResult(f"W {W.shape} or Q {Q.shape} do not fit the network")
-    curve = {name: _array(data, name, kind, ndim) for name, (kind, ndim) in _CURVE_LAYOUT.items()}
     points = 1 + config.train_trials // config.eval_every if config.eval_trials else 0
+    curve = {
+        name: _array(data, name, kind, ndim, 8 * points)
+        for name, (kind, ndim) in _CURVE_LAYOUT.items()
+    }
     if any(len(v) != points for v in curve.values()):
         raise CorruptResult(f"learning-curve arrays must hold {points} points")
     try:
         network = Network.from_weights(config.network, W, Q)
     except ValueError as exc:
         raise CorruptResult(str(exc)) from exc
+    steps = config.world.max_steps
+    logs = {
+        "train": _trial_log(data, "train", config.train_trials, steps),
+        "test": _trial_log(data, "test", config.test_trials, steps),
+        "heldout": (
+            _trial_log(data, "heldout", config.heldout_trials, steps)
+            if config.heldout_trials
+            else None
+        ),
+    }
+    # Every member has been size-checked and read: the digest covers them all (an extra
+    # member changes it too).
+    if content_digest(data) != digest:
+        raise CorruptResult("the arrays do not match the file's content digest")
     return ExperimentResult(
         config=config,
         seed=seed,
         network=network,
-        train=_trial_log(data, "train", config.train_trials),
-        test=_trial_log(data, "test", config.test_trials),
-        heldout=(
-            _trial_log(data, "heldout", config.heldout_trials) if config.heldout_trials else None
-        ),
+        **logs,
         **curve,
         wall_time_train=walls[0],
         wall_time_test=walls[1],
     )
+
+
+#: Free space the results folder must have before a run starts (a stored run is < 2 MiB).
+_MIN_FREE = 16 << 20
 
 
 def check_writable(results_dir: Path | str | None = None) -> Path:
@@ -354,6 +490,9 @@ def check_writable(results_dir: Path | str | None = None) -> Path:
         fd, probe = tempfile.mkstemp(prefix=".write-test.", suffix=".tmp", dir=root)
         os.close(fd)
         os.unlink(probe)
+        free = shutil.disk_usage(root).free
+        if free < _MIN_FREE:
+            raise OSError(f"only {free // 2**20} MiB free, a run needs up to {_MIN_FREE >> 20}")
     except OSError as exc:
         raise PermissionError(
             f"the results folder {str(root)!r} is not writable ({type(exc).__name__}: {exc}); "
@@ -376,7 +515,7 @@ def run_or_load(
     remove_stale_temporaries(path)  # of writers killed during an earlier save
     if path.exists() and not force:
         try:
-            return load_result(path)
+            return load_result(path, run_key(config, seed))
         except CorruptResult as exc:
             warnings.warn(
                 f"ignoring the stored result {path}: {exc}; recomputing it",
@@ -413,4 +552,4 @@ def run_seeds(
         progress=progress,
         desc=f"{config.name}, {len(seeds)} seeds",
     )
-    return [load_result(p) for p in paths_]
+    return [load_result(p, run_key(config, s)) for p, s in zip(paths_, seeds, strict=True)]

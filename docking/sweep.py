@@ -41,7 +41,14 @@ from pathlib import Path
 
 from docking import paths
 from docking.experiments import ExperimentConfig
-from docking.store import CorruptResult, check_writable, load_result, result_path, run_or_load
+from docking.store import (
+    CorruptResult,
+    check_writable,
+    load_result,
+    result_path,
+    run_key,
+    run_or_load,
+)
 from docking.validate import check_instance, check_int
 
 __all__ = [
@@ -216,7 +223,7 @@ def _stored(job: Job, results_dir: Path) -> bool:
     if not path.exists():
         return False
     try:
-        load_result(path)
+        load_result(path, run_key(job.config, job.seed))
     except CorruptResult:
         return False  # the worker warns and recomputes it
     return True
@@ -340,10 +347,11 @@ def run_jobs(
     jobs = [check_instance("run_jobs", "jobs[]", j, Job) for j in jobs]
     if workers is not None:
         workers = check_int("run_jobs", "workers", workers, lo=1)
-    root = check_writable(results_dir if results_dir is not None else paths.results_dir())
-    root = root.resolve()
+    root = Path(results_dir if results_dir is not None else paths.results_dir()).resolve()
     paths_ = [result_path(j.config, j.seed, root) for j in jobs]
     todo = [k for k, j in enumerate(jobs) if force or not _stored(j, root)]
+    if todo:  # a read-only store that holds every run can still be read
+        check_writable(root)
 
     from tqdm.auto import tqdm
 
@@ -391,7 +399,10 @@ def run_configs(
         progress=progress,
         desc=desc,
     )
-    loaded = iter(load_result(path) for path in found)
+    jobs = jobs_for(configs.values(), seeds)
+    loaded = iter(
+        load_result(path, run_key(j.config, j.seed)) for path, j in zip(found, jobs, strict=True)
+    )
     return {key: [next(loaded) for _ in seeds] for key in configs}
 
 

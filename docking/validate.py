@@ -20,12 +20,15 @@ import re
 import numpy as np
 
 __all__ = [
+    "MAX_COUNT",
+    "MAX_SEED",
     "FieldTypeError",
     "check_bool",
     "check_choice",
     "check_instance",
     "check_int",
     "check_name",
+    "check_pose",
     "check_real",
     "check_int_tuple",
     "normalise",
@@ -34,6 +37,13 @@ __all__ = [
 #: A safe file-name component: letters, digits, ``.``, ``_`` and ``-``, starting with a letter
 #: or digit, at most 100 characters (so ``..``, ``/`` and absolute paths are impossible).
 NAME_PATTERN = re.compile(r"[A-Za-z0-9][A-Za-z0-9._-]{0,99}")
+
+
+#: The largest seed the package accepts (seeds name files and numpy ``SeedSequence`` entropy).
+MAX_SEED = 2**32 - 1
+
+#: The largest trial count a configuration accepts (a run of 10**6 trials takes days).
+MAX_COUNT = 1_000_000
 
 
 class FieldTypeError(TypeError, ValueError):
@@ -77,7 +87,13 @@ def check_real(
         raise FieldTypeError(
             f"{_where(owner, field)} must be a real number, got {value!r} ({type(value).__name__})"
         )
-    value = float(value)
+    try:
+        value = float(value)
+    except OverflowError:  # an int beyond float's range, e.g. 10**400
+        raise ValueError(
+            f"{_where(owner, field)} must be finite, got an integer of "
+            f"{len(str(abs(int(value))))} digits"
+        ) from None
     if not math.isfinite(value):
         raise ValueError(f"{_where(owner, field)} must be finite, got {value}")
     below = lo is not None and (value <= lo if lo_open else value < lo)
@@ -148,6 +164,19 @@ def check_int_tuple(
             f"{_where(owner, field)} must be a tuple of {length} integers, got {value!r}"
         )
     return tuple(check_int(owner, f"{field}[{k}]", v, lo=lo, hi=hi) for k, v in enumerate(value))
+
+
+def check_pose(owner: str, pose) -> np.ndarray:
+    """A robot pose ``[x, y, yaw]``: three finite reals; returned as a float64 array."""
+    try:
+        array = np.asarray(pose, dtype=np.float64)
+    except (TypeError, ValueError, OverflowError):
+        array = None
+    if array is None or array.shape != (3,):
+        raise FieldTypeError(f"{owner}: pose must be [x, y, yaw] (3 reals), got {pose!r}")
+    if not np.isfinite(array).all():
+        raise ValueError(f"{owner}: pose must be finite, got {array.tolist()}")
+    return array
 
 
 def normalise(instance, **values) -> None:

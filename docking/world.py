@@ -98,10 +98,12 @@ from docking.camera import CameraConfig, preprocess_band  # noqa: E402
 from docking.region import StartRegion  # noqa: E402
 from docking.render import SceneRenderer  # noqa: E402
 from docking.validate import (  # noqa: E402
+    MAX_SEED,
     FieldTypeError,
     check_choice,
     check_instance,
     check_int,
+    check_pose,
     check_real,
     normalise,
 )
@@ -306,6 +308,13 @@ class WorldConfig:
             camera=check_instance(owner, "camera", self.camera, CameraConfig),
             turn_deg=real("turn_deg", self.turn_deg, lo=0, hi=90, lo_open=True),
         )
+        x0, y0, x1, y1 = self.camera.crop
+        if 2 * self.view_margin_px >= min(x1 - x0, y1 - y0):
+            raise ValueError(
+                f"WorldConfig.view_margin_px must leave room inside the camera's crop "
+                f"({x1 - x0}x{y1 - y0} px): below {min(x1 - x0, y1 - y0) / 2:g}, got "
+                f"{self.view_margin_px:g}"
+            )
         if self.start_far < self.start_near:
             raise ValueError(
                 f"WorldConfig.start_far must be >= start_near "
@@ -657,10 +666,17 @@ def _consecutive(addresses, what: str) -> slice:
 
 def _as_generator(seed) -> np.random.Generator:
     if isinstance(seed, np.random.Generator):
-        return seed
-    if seed is None or isinstance(seed, (int, np.integer)):
-        return np.random.default_rng(seed)
-    raise ValueError(f"seed must be None, an int or a numpy.random.Generator, got {seed!r}")
+        return seed  # used as is, not copied
+    if seed is None:
+        return np.random.default_rng()
+    try:
+        seed = check_int("DockingEnv", "seed", seed, lo=0, hi=MAX_SEED)
+    except FieldTypeError:
+        raise FieldTypeError(
+            f"DockingEnv.seed must be None, an int in [0, {MAX_SEED}] or a "
+            f"numpy.random.Generator, got {seed!r} ({type(seed).__name__})"
+        ) from None
+    return np.random.default_rng(seed)
 
 
 class DockingEnv(dm_env.Environment):
@@ -791,8 +807,8 @@ class DockingEnv(dm_env.Environment):
         return self.reset_to(self.sample_start_pose())
 
     def reset_to(self, pose) -> dm_env.TimeStep:
-        """Start a trial at a given pose (for figures and tests)."""
-        self._physics.set_pose(pose)
+        """Start a trial at a given pose ``[x, y, yaw]`` (m, m, rad; for figures and tests)."""
+        self._physics.set_pose(check_pose("DockingEnv.reset_to", pose))
         self._steps = 0
         self._needs_reset = False
         return dm_env.restart(self._observe())
@@ -855,6 +871,8 @@ class DockingEnv(dm_env.Environment):
     ) -> np.ndarray:
         """An RGB render from one of the scene's fixed cameras (``overview``, ``top``), with
         the robot and the virtual docking region drawn, for figures."""
+        width = check_int("DockingEnv.render_view", "width", width, lo=1)
+        height = check_int("DockingEnv.render_view", "height", height, lo=1)
         _check_frame_size(self._physics, width, height, "render_view width x height")
         groups = [_ROOM_GROUP, _EYE_GROUP] + [_ROBOT_GROUP] * show_robot
         groups += [_DOCK_GROUP] * show_dock
@@ -884,13 +902,15 @@ class DockingEnv(dm_env.Environment):
     def sample_start_pose(self, max_tries: int = 10000) -> np.ndarray:
         """A uniform random pose in the start trapezoid (:meth:`StartRegion.sample`) from which
         the landmark is inside the crop rectangle (rejection sampling)."""
+        max_tries = check_int("DockingEnv.sample_start_pose", "max_tries", max_tries, lo=1)
         for _ in range(max_tries):
             pose = self._start_region.sample(self._rng)
             if self.landmark_in_crop(pose):
                 return pose
         raise RuntimeError(
             f"no start pose with the landmark in view after {max_tries} tries; "
-            "narrow start_half_angle_deg or start_yaw_deg"
+            f"narrow start_half_angle_deg or start_yaw_deg, or lower view_margin_px "
+            f"(now {self._config.view_margin_px:g})"
         )
 
 

@@ -345,12 +345,12 @@ def test_a_rejected_update_changes_nothing(seed, bad):
 
 def test_an_update_that_would_overflow_q_changes_nothing():
     net = Network.from_weights(
-        dataclasses.replace(_SMALL, eps_q=1e300), _network(0).W, _network(0).Q
+        dataclasses.replace(_SMALL, eps_q=100.0), _network(0).W, _network(0).Q
     )
     I = net.prepare(np.ones(12))
     W, Q = net.W.copy(), net.Q.copy()
     with pytest.raises(ValueError, match="non-finite"):
-        net.update(I, net.features(I), 2, 1e300)
+        net.update(I, net.features(I), 2, 1e308)
     np.testing.assert_array_equal(net.W, W)
     np.testing.assert_array_equal(net.Q, Q)
 
