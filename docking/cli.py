@@ -24,7 +24,7 @@ import dataclasses
 import signal
 import sys
 from pathlib import Path
-from typing import Annotated, Union
+from typing import Annotated, Literal, Union
 
 import numpy as np
 import tyro
@@ -90,7 +90,7 @@ class Run:
     """Recompute and replace stored runs."""
 
     def execute(self) -> int:
-        from docking.store import load_result, run_key
+        from docking.store import load_run
         from docking.sweep import jobs_for, run_jobs
 
         config = self.experiment
@@ -103,7 +103,7 @@ class Run:
             force=self.force,
             desc=f"{config.name}, {len(seeds)} seeds",
         )
-        results = [load_result(p, run_key(config, s)) for p, s in zip(paths, seeds, strict=True)]
+        results = [load_run(config, s, self.results_dir) for s in seeds]
         print(f"{config.name}: {_summary(results)}")
         print(f"stored in {paths[0].parent}")
         return 0
@@ -135,7 +135,7 @@ class Sweep:
     """Recompute and replace stored runs."""
 
     def execute(self) -> int:
-        from docking.store import load_result, run_key
+        from docking.store import load_run
         from docking.sweep import grid_configs, jobs_for, run_jobs
 
         configs = grid_configs(self.experiment, self.grid)
@@ -152,9 +152,7 @@ class Sweep:
         for k, config in enumerate(configs):
             chunk = paths[k * len(seeds) : (k + 1) * len(seeds)]
             label = " ".join(f"{e.partition('=')[0]}={_value(config, e)}" for e in self.grid)
-            results = [
-                load_result(p, run_key(config, s)) for p, s in zip(chunk, seeds, strict=True)
-            ]
+            results = [load_run(config, s, self.results_dir) for s in seeds]
             print(f"{label or config.name}: {_summary(results)} [{chunk[0].parent}]")
         return 0
 
@@ -303,6 +301,73 @@ class Report:
 
 
 @dataclasses.dataclass
+class Ledger:
+    """Write the results ledger (ledger/, committed) from the stored runs that the notebooks
+    and the README report read, as recorded in the trace file that `make reproduce` writes
+    while it executes them (DOCKING_TRACE); or show what the ledger holds."""
+
+    action: tyro.conf.Positional[Literal["update", "show"]]
+    """update: write the ledger from the trace; show: its runs, size and fingerprint."""
+    trace: Path = Path("results/trace.jsonl")
+    """The trace file (update only)."""
+
+    def execute(self) -> int:
+        from docking import ledger
+
+        if self.action == "update":
+            if not self.trace.is_file():
+                raise ValueError(
+                    f"no trace file {self.trace}: make reproduce writes it while it executes "
+                    "the notebooks with DOCKING_TRACE set"
+                )
+            keep = ledger.read_trace(self.trace.read_text().splitlines())
+            data = ledger.update(keep)
+        else:
+            data = ledger.manifest()
+            if data is None:
+                raise ValueError(f"no ledger in {ledger.ledger_dir()}")
+        folder = ledger.ledger_dir()
+        size = sum(p.stat().st_size for p in folder.rglob("*") if p.is_file())
+        names = sorted({r["name"] for r in data["runs"].values()})
+        print(
+            f"{folder}: {len(data['runs'])} runs of {len(names)} configurations, "
+            f"{size / 2**20:.1f} MiB; source {data['source_fingerprint'][:16]}; rendered by "
+            f"{data['rendering_stack']}"
+        )
+        return 0
+
+
+@dataclasses.dataclass
+class Verify:
+    """Recompute runs of the ledger and check that each one's content digest equals the
+    ledger's: every run of Experiments 1 and 2, plus SAMPLE others chosen from the current
+    commit (successive commits check different runs); --all: every run."""
+
+    sample: int = 3
+    """How many runs besides Experiments 1 and 2 (0 or more)."""
+    all: bool = False
+    """Recompute every run of the ledger (hours on 2 cores; use --scheduler for a cluster)."""
+    scheduler: str | None = None
+    """Address of an existing Dask scheduler (tcp://HOST:PORT). Default: an embedded cluster."""
+    processes: int | None = None
+    """Worker processes of the embedded cluster (default: one per core)."""
+
+    def execute(self) -> int:
+        from docking import ledger
+
+        if self.sample < 0:
+            raise ValueError(f"--sample must be 0 or more, got {self.sample}")
+        checks = ledger.verify(
+            None if self.all else self.sample, self.scheduler, workers=self.processes
+        )
+        bad = [c for c in checks if not c.ok]
+        for c in checks:
+            print(f"{'ok' if c.ok else 'MISMATCH':8s} {c.name} seed {c.seed} ({c.key[:16]})")
+        print(f"{len(checks) - len(bad)} of {len(checks)} recomputed runs equal the ledger")
+        return 1 if bad else 0
+
+
+@dataclasses.dataclass
 class Benchmark:
     """The benchmark of docking.benchmark: environment steps per second against their floor
     and a full Experiment 2 seed; its own options: python -m docking benchmark --help."""
@@ -321,6 +386,8 @@ Command = Union[  # noqa: UP007
     Annotated[Calibration, tyro.conf.subcommand("calibration")],
     Annotated[Experiment3, tyro.conf.subcommand("experiment3")],
     Annotated[Report, tyro.conf.subcommand("report")],
+    Annotated[Ledger, tyro.conf.subcommand("ledger")],
+    Annotated[Verify, tyro.conf.subcommand("verify")],
     Annotated[Benchmark, tyro.conf.subcommand("benchmark")],
 ]
 

@@ -65,6 +65,7 @@ __all__ = [
     "rendering_stack",
     "check_writable",
     "load_result",
+    "load_run",
     "result_path",
     "run_key",
     "run_or_load",
@@ -231,20 +232,21 @@ def _canonical(config: ExperimentConfig) -> str:
     return json.dumps(config.to_dict(), sort_keys=True, separators=(",", ":"))
 
 
-def config_key(config: ExperimentConfig) -> str:
-    """SHA-256 of the canonical configuration and the source fingerprint (the folder key)."""
+def config_key(config: ExperimentConfig, render: str | None = None) -> str:
+    """SHA-256 of the canonical configuration, the source fingerprint and the rendering stack
+    (the folder key); ``render`` names another stack than this process's (for the ledger)."""
     check_instance("config_key", "config", config, ExperimentConfig)
     text = (
         f"format {FORMAT_VERSION}\nconfig {_canonical(config)}\nsource {source_fingerprint()}"
-        f"\nrender {rendering_stack()}"
+        f"\nrender {rendering_stack() if render is None else render}"
     )
     return hashlib.sha256(text.encode()).hexdigest()
 
 
-def run_key(config: ExperimentConfig, seed: int) -> str:
+def run_key(config: ExperimentConfig, seed: int, render: str | None = None) -> str:
     """The key of the run of (``config``, ``seed``): the configuration key and the seed."""
     seed = check_int("run_key", "seed", seed, lo=0, hi=MAX_SEED)
-    return f"{config_key(config)}:seed{seed}"
+    return f"{config_key(config, render)}:seed{seed}"
 
 
 def result_path(config: ExperimentConfig, seed: int, results_dir: Path | str | None = None) -> Path:
@@ -501,6 +503,23 @@ def check_writable(results_dir: Path | str | None = None) -> Path:
     return root
 
 
+def load_run(
+    config: ExperimentConfig, seed: int, results_dir: Path | str | None = None
+) -> ExperimentResult | None:
+    """The run of (``config``, ``seed``) if it is stored: from the results store (checked
+    against its key and digest; ``CorruptResult`` if the file there is bad), else from the
+    committed ledger (:func:`docking.ledger.lookup`; ``StaleLedger`` if the ledger holds the
+    run but was computed by other code); None if neither holds it. Runs from the store are
+    traced when ``DOCKING_TRACE`` is set (:func:`docking.ledger.trace`)."""
+    from docking import ledger
+
+    path = result_path(config, seed, results_dir)
+    if path.exists():
+        key = run_key(config, seed)
+        return ledger.trace(load_result(path, key), key, path)
+    return ledger.lookup(config, seed)
+
+
 def run_or_load(
     config: ExperimentConfig,
     seed: int,
@@ -513,15 +532,18 @@ def run_or_load(
     ``force`` recomputes and replaces whatever is stored."""
     path = result_path(config, seed, results_dir)
     remove_stale_temporaries(path)  # of writers killed during an earlier save
-    if path.exists() and not force:
+    if not force:
         try:
-            return load_result(path, run_key(config, seed))
+            found = load_run(config, seed, results_dir)
         except CorruptResult as exc:
             warnings.warn(
                 f"ignoring the stored result {path}: {exc}; recomputing it",
                 RuntimeWarning,
                 stacklevel=2,
             )
+        else:
+            if found is not None:
+                return found
     check_writable(path.parent)
     result = run_experiment(config, seed, progress=progress)
     save_result(result, path)
@@ -544,7 +566,7 @@ def run_seeds(
     from docking.sweep import jobs_for, run_jobs
 
     seeds = [check_int("run_seeds", "seeds[]", s, lo=0) for s in seeds]
-    paths_ = run_jobs(
+    run_jobs(
         jobs_for([config], seeds),
         results_dir,
         workers=processes or None,
@@ -552,4 +574,4 @@ def run_seeds(
         progress=progress,
         desc=f"{config.name}, {len(seeds)} seeds",
     )
-    return [load_result(p, run_key(config, s)) for p, s in zip(paths_, seeds, strict=True)]
+    return [load_run(config, s, results_dir) for s in seeds]

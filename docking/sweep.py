@@ -39,12 +39,13 @@ import uuid
 from collections.abc import Iterable, Mapping, Sequence
 from pathlib import Path
 
-from docking import paths
+from docking import ledger, paths
 from docking.experiments import ExperimentConfig
 from docking.store import (
     CorruptResult,
     check_writable,
     load_result,
+    load_run,
     result_path,
     run_key,
     run_or_load,
@@ -219,8 +220,13 @@ def _run_job(config: ExperimentConfig, seed: int, results_dir: str, force: bool)
 
 
 def _stored(job: Job, results_dir: Path) -> bool:
+    """Whether ``job``'s run can be loaded: a valid file in the store, or the ledger's
+    entry (``StaleLedger`` if the ledger holds it but was made by other code)."""
     path = result_path(job.config, job.seed, results_dir)
     if not path.exists():
+        if ledger.holds(job.config, job.seed):
+            ledger.manifest()  # raises StaleLedger: no recomputing behind a stale ledger
+            return True
         return False
     try:
         load_result(path, run_key(job.config, job.seed))
@@ -391,18 +397,16 @@ def run_configs(
     """Run (or load) every configuration of ``configs`` for every seed in one sweep
     (:func:`run_jobs`); ``{key: its runs in seed order}`` (``ExperimentResult``s)."""
     seeds = tuple(seeds)
-    found = run_jobs(
-        jobs_for(configs.values(), seeds),
+    jobs = jobs_for(configs.values(), seeds)
+    run_jobs(
+        jobs,
         results_dir,
         scheduler=scheduler,
         workers=workers,
         progress=progress,
         desc=desc,
     )
-    jobs = jobs_for(configs.values(), seeds)
-    loaded = iter(
-        load_result(path, run_key(j.config, j.seed)) for path, j in zip(found, jobs, strict=True)
-    )
+    loaded = iter(load_run(j.config, j.seed, results_dir) for j in jobs)
     return {key: [next(loaded) for _ in seeds] for key in configs}
 
 

@@ -113,6 +113,7 @@ def _stop(server: subprocess.Popen) -> None:
     assert not alive, f"processes left by JupyterLab: {alive}"
 
 
+@pytest.mark.slow
 def test_lab_opens_py_notebook_as_notebook(jupyterlab, tmp_path):
     playwright = pytest.importorskip("playwright.sync_api")
     assert Path(CHROMIUM).exists(), "Debian's chromium is missing: `make setup` installs it"

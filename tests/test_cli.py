@@ -61,12 +61,14 @@ def test_help_prints_usage_and_starts_nothing(args, tmp_path):
     assert elapsed < 20, f"--help took {elapsed:.1f} s"
 
 
+@pytest.mark.slow
 def test_report_module_help_does_not_train(tmp_path):
     out = _cli(["--help"], tmp_path, module="docking.report", timeout=60)
     assert out.returncode == 0 and "usage:" in out.stdout
     assert list(tmp_path.iterdir()) == []
 
 
+@pytest.mark.slow
 def test_help_lists_subcommands_and_overrides(tmp_path):
     top = _cli(["--help"], tmp_path).stdout
     for name in ("run", "sweep", "study", "experiment3", "report", "benchmark"):
@@ -75,6 +77,7 @@ def test_help_lists_subcommands_and_overrides(tmp_path):
     assert "--network.eps-w" in run and "--seeds" in run and "(default: 2000)" in run
 
 
+@pytest.mark.slow
 def test_bad_input_is_a_clear_error(tmp_path):
     out = _cli(["run", "experiment1", "--seeds", "5-2"], tmp_path)
     assert out.returncode == 2 and "seeds must be" in out.stderr
@@ -85,6 +88,7 @@ def test_bad_input_is_a_clear_error(tmp_path):
     assert not (tmp_path / "results").exists()
 
 
+@pytest.mark.slow
 def test_run_stores_runs_and_loads_them_again(tmp_path):
     args = ["run", "experiment1", "--seeds", "0-1", "--processes", "1", *TINY_ARGS]
     out = _cli([*args, "--network.eps-w", "0"], tmp_path)
@@ -99,6 +103,7 @@ def test_run_stores_runs_and_loads_them_again(tmp_path):
     assert [f.stat().st_mtime_ns for f in files] == mtimes  # loaded, not recomputed
 
 
+@pytest.mark.slow
 def test_sweep_runs_every_grid_point(tmp_path):
     grid = ["--grid", "network.eps_w=0,0.05", "world.step_noise_xy=0.0,0.01"]
     out = _cli(

@@ -88,6 +88,7 @@ def test_fig2_needs_three_views(env, views):
         figures.fig2_scene(env.config.camera, two, views.frames[0])
 
 
+@pytest.mark.slow
 def test_fig4_from_fresh_and_loaded_results(result2, loaded2):
     for result in (result2, loaded2):
         net = result.network
@@ -116,6 +117,7 @@ def test_fig5_and_floor_plan(result1, loaded2):
     np.testing.assert_allclose(polygon[0].get_xy()[:4], region.corners()[:, ::-1])
 
 
+@pytest.mark.slow
 def test_learning_curves_with_one_or_both_experiments(result1, result2, loaded2):
     c1 = analysis.learning_curves([result1])
     c2 = analysis.learning_curves([result2, loaded2])
@@ -157,6 +159,7 @@ def test_save_figure_writes_png_and_pdf(tmp_path):
     assert (tmp_path / "c.pdf").read_bytes() == first
 
 
+@pytest.mark.slow
 def test_report_saves_every_figure(result1, result2, tmp_path):
     report.save_fig2(DockingEnv(seed=0), tmp_path)
     report.save_fig3(result1, DockingEnv(result1.config.world, seed=0), tmp_path)

@@ -127,6 +127,7 @@ def _copy_package(tmp_path):
     return dst
 
 
+@pytest.mark.slow
 def test_the_fingerprint_is_the_same_in_every_process():
     """Worker processes (run_seeds) must compute the parent's key: the fingerprint may not
     depend on the per-process hash seed of str (set iteration order)."""

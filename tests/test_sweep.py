@@ -193,6 +193,7 @@ def test_grid_and_overrides():
         Job(TINY, -1)
 
 
+@pytest.mark.slow
 def test_source_fingerprint_is_the_same_in_every_process():
     code = "from docking.store import source_fingerprint; print(source_fingerprint())"
     prints = {
@@ -208,6 +209,7 @@ def test_source_fingerprint_is_the_same_in_every_process():
     assert len(prints) == 1
 
 
+@pytest.mark.slow
 def test_local_cluster_and_in_process_give_identical_files(tmp_path):
     jobs = jobs_for(grid_configs(TINY, ["network.eps_w=0,0.05"]), [0, 1])
     in_process = run_jobs(jobs, tmp_path / "a", workers=1, progress=False)
@@ -222,6 +224,7 @@ def test_local_cluster_and_in_process_give_identical_files(tmp_path):
     _same_files(tmp_path / "c", tmp_path / "a" / ".." / "c")
 
 
+@pytest.mark.slow
 def test_sweep_resumes_without_recomputing(tmp_path):
     first = run_jobs(jobs_for([TINY], [0, 1]), tmp_path, workers=1, progress=False)
     mtimes = [p.stat().st_mtime_ns for p in first]
@@ -233,6 +236,7 @@ def test_sweep_resumes_without_recomputing(tmp_path):
     assert forced[0].stat().st_mtime_ns != mtimes[0]
 
 
+@pytest.mark.slow
 def test_remote_cluster_gives_files_identical_to_a_local_sweep(dask_cluster, tmp_path):
     jobs = jobs_for(grid_configs(TINY, ["network.eps_w=0,0.05"]), [0, 1, 2])
     local = run_jobs(jobs, tmp_path / "local", workers=2, progress=False)
@@ -243,6 +247,7 @@ def test_remote_cluster_gives_files_identical_to_a_local_sweep(dask_cluster, tmp
         load_result(p)  # valid
 
 
+@pytest.mark.slow
 def test_killing_a_worker_mid_sweep_loses_no_finished_run(dask_cluster, tmp_path):
     jobs = jobs_for([SLOW], range(6))
     outcome: dict = {}
@@ -279,6 +284,7 @@ def test_killing_a_worker_mid_sweep_loses_no_finished_run(dask_cluster, tmp_path
         assert p.stat().st_mtime_ns == mtime
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("signum", [signal.SIGKILL, signal.SIGTERM], ids=["kill-9", "sigterm"])
 def test_workers_end_with_their_parent(signum, tmp_path):
     args = ["sweep", "experiment1", "--seeds", "0-5", "--processes", "2", *SLOW_ARGS]

@@ -162,6 +162,7 @@ def test_the_oracle_turns_only_with_turns():
     "key",
     [c.key for c in experiment3.experiment3_cells() if c.key.startswith("6")],
 )
+@pytest.mark.slow
 def test_the_six_action_oracle_solves_every_turning_configuration(key):
     cell = next(c for c in experiment3.experiment3_cells() if c.key == key)
     assert experiment3.oracle_success(cell.config.world) >= 0.99

@@ -461,6 +461,7 @@ def test_only_the_camera_group_can_appear_red():
     assert sorted(red) == ["landmark_post", "landmark_slab"]
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("world", ["sideboard", "floor", "cup"])
 def test_no_hidden_geom_can_occlude_the_landmark(world):
     # Rays from the robot's camera to points on the faces of the red geoms (the landmark, a

@@ -1,0 +1,619 @@
+"""The results ledger: the evidence of the notebooks, committed, verifiable, refused when stale.
+
+Every run that a notebook, figure or README table uses is computed once (``make reproduce``)
+and stored in the results store (:mod:`docking.store`, not committed). The ledger, in the
+checkout's ``ledger/`` folder, is what of those runs is committed:
+
+* ``ledger/manifest.json``: the source fingerprint of the code that computed the runs, the
+  digest of every fingerprinted module (so that a stale ledger can name what changed), the
+  rendering stack, and per run its key (:func:`docking.store.run_key`), its name and seed,
+  the SHA-256 *content digest* of the stored run's arrays (:func:`docking.store.content_digest`,
+  the value ``python -m docking verify`` recomputes and compares) and the digest of its entry
+  file.
+* ``ledger/runs/<name>/<config key[:16]>/seed<k>.npz``: one *entry* per run, the parts of the
+  run the analyses read and nothing else: every per-trial array (success, steps, the far edge
+  in force), the learning curve, the wall times; the weights ``W`` and ``Q`` only for the
+  runs whose network an analysis reads; per-step arrays (poses, actions, winning units, TD
+  errors) only for the trials an analysis reads (for instance the failed held-out trials that
+  the failure taxonomy classifies), or whole where an analysis reads them whole. Kept arrays
+  keep their dtype and every bit, so an analysis computes from an entry exactly what it
+  computes from the stored run.
+
+What the analyses read is not written down by hand: ``make reproduce`` executes the
+notebooks and the README report with ``DOCKING_TRACE`` naming a file, and every stored run
+they load records there what is read of it (:class:`TracedResult`);
+``python -m docking ledger update`` keeps exactly that. An entry that lacks something an
+analysis reads raises :class:`NotInLedger`, naming the run, the array and the command that
+recomputes; it never serves a substitute.
+
+Loading (:func:`lookup`, used by :func:`docking.store.load_run` when the store lacks a run)
+refuses a ledger made by other code: if its source fingerprint is not this code's, every
+access raises :class:`StaleLedger` naming the changed modules. A ledger rendered by another
+OpenGL stack is served with a warning naming both stacks (``verify`` then shows whether the
+runs still agree on this machine). ``DOCKING_LEDGER=off`` turns the ledger off (every run is
+computed); ``DOCKING_LEDGER=/path`` reads another one.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import functools
+import hashlib
+import io
+import json
+import os
+import warnings
+from collections.abc import Iterable
+from pathlib import Path
+
+import numpy as np
+
+from docking import paths
+from docking.experiments import ExperimentConfig, ExperimentResult, TrialLog
+from docking.fileio import atomic_write
+from docking.network import Network
+
+__all__ = [
+    "LEDGER_FORMAT",
+    "NotInLedger",
+    "StaleLedger",
+    "TracedResult",
+    "holds",
+    "ledger_dir",
+    "lookup",
+    "manifest",
+    "trace",
+    "update",
+]
+
+#: Version of the ledger's layout.
+LEDGER_FORMAT = 1
+
+#: Per-step arrays of a trial log (the others hold one entry per trial).
+STEP_FIELDS = ("poses", "actions", "winners", "deltas")
+TRIAL_FIELDS = ("success", "steps", "start_far")
+PARTS = ("train", "test", "heldout")
+
+_RECOMPUTE = "make reproduce (recomputes the runs, then python -m docking ledger update)"
+
+
+class StaleLedger(RuntimeError):
+    """The ledger was computed by other code than this process runs."""
+
+
+class NotInLedger(LookupError):
+    """An analysis read a part of a run that its ledger entry does not keep."""
+
+
+# ------------------------------------------------------------------------------------------
+# Where, and the manifest.
+# ------------------------------------------------------------------------------------------
+
+
+def ledger_dir() -> Path | None:
+    """The ledger's folder: ``DOCKING_LEDGER`` if set (``off``, ``0`` or ``none``: no ledger),
+    else the checkout's ``ledger/`` (None for an installed package without one)."""
+    value = os.environ.get("DOCKING_LEDGER")
+    if value is not None:
+        if value.strip().lower() in ("off", "0", "none", "false", ""):
+            return None
+        return Path(value).expanduser()
+    root = paths.checkout_root()
+    return root / "ledger" if root is not None else None
+
+
+def manifest(folder: Path | None = None) -> dict | None:
+    """The ledger's manifest (None if there is no ledger), checked against this code:
+    :class:`StaleLedger` if it was computed by other code."""
+    folder = ledger_dir() if folder is None else Path(folder)
+    data = _raw_manifest(folder)
+    if data is not None:
+        _check(folder, data)
+    return data
+
+
+def _raw_manifest(folder: Path | None) -> dict | None:
+    if folder is None or not (folder / "manifest.json").is_file():
+        return None
+    path = (folder / "manifest.json").resolve()
+    return _read_manifest(path, path.stat().st_mtime_ns)
+
+
+@functools.lru_cache(maxsize=4)
+def _read_manifest(path: Path, _mtime: int) -> dict:
+    data = json.loads(path.read_text())
+    data["index"] = {
+        _index_key(record["config"], record["seed"]): key for key, record in data["runs"].items()
+    }
+    return data
+
+
+def _index_key(config: dict, seed: int) -> str:
+    return f"{json.dumps(config, sort_keys=True, separators=(',', ':'))}:seed{seed}"
+
+
+def _check(folder: Path, data: dict) -> None:
+    """:class:`StaleLedger` unless ``data`` was computed by this code; a warning (once) if by
+    another rendering stack."""
+    from docking.store import FORMAT_VERSION, module_digests, rendering_stack, source_fingerprint
+
+    if data.get("format") != LEDGER_FORMAT or data.get("store_format") != FORMAT_VERSION:
+        raise StaleLedger(
+            f"the ledger in {folder} has format {data.get('format')}/{data.get('store_format')}"
+            f", this package reads {LEDGER_FORMAT}/{FORMAT_VERSION}; recompute it: {_RECOMPUTE}"
+        )
+    if data["source_fingerprint"] != source_fingerprint():
+        ours, theirs = module_digests(), data["modules"]
+        changed = sorted(k for k in set(ours) | set(theirs) if ours.get(k) != theirs.get(k))
+        raise StaleLedger(
+            f"the ledger in {folder} was computed by other code (changed: "
+            f"{', '.join(changed) or 'the fingerprint'}); it is not used. Recompute it: "
+            f"{_RECOMPUTE}"
+        )
+    stack = rendering_stack()
+    if data["rendering_stack"] != stack and not data.get("warned"):
+        data["warned"] = True
+        warnings.warn(
+            f"the ledger's runs were rendered by {data['rendering_stack']!r}, this machine "
+            f"renders with {stack!r}; they are served as they were computed. `python -m "
+            "docking verify --sample 3` shows whether runs still agree here.",
+            RuntimeWarning,
+            stacklevel=3,
+        )
+
+
+def holds(config: ExperimentConfig, seed: int) -> bool:
+    """Whether the ledger holds the run of (``config``, ``seed``) (computed by any code)."""
+    data = _raw_manifest(ledger_dir())
+    return data is not None and _index_key(config.to_dict(), seed) in data["index"]
+
+
+def lookup(config: ExperimentConfig, seed: int) -> ExperimentResult | None:
+    """The ledger's entry for (``config``, ``seed``) as a :class:`LedgerResult`, or None if
+    the ledger does not hold the run (or there is no ledger). :class:`StaleLedger` if it
+    holds the run but was computed by other code: its numbers are never served then."""
+    from docking.store import run_key
+
+    folder = ledger_dir()
+    data = _raw_manifest(folder)
+    if data is None:
+        return None
+    key = data["index"].get(_index_key(config.to_dict(), seed))
+    if key is None:
+        return None
+    _check(folder, data)
+    if key != run_key(config, seed, render=data["rendering_stack"]):
+        raise StaleLedger(f"the ledger's key of {config.name!r} seed {seed} is not this code's")
+    return _read_entry(folder / data["runs"][key]["file"], key, data["runs"][key])
+
+
+# ------------------------------------------------------------------------------------------
+# Entries: reduced runs.
+# ------------------------------------------------------------------------------------------
+
+
+class PartialTrialLog(TrialLog):
+    """A trial log of a ledger entry: every per-trial array, and the per-step arrays of the
+    trials in ``kept`` only (all of them, or none). Reading per-step data of a trial that is
+    not kept raises :class:`NotInLedger`."""
+
+    def __init__(self, where: str, per_trial: dict, kept: np.ndarray, steps: dict, starts):
+        self.__dict__.update(per_trial)
+        self._where, self._kept, self._steps, self._starts = where, kept, steps, starts
+        offsets = np.cumsum(np.where(kept, per_trial["steps"], 0))
+        self._offsets = np.concatenate([[0], offsets]).astype(np.int64)
+
+    def _missing(self, what: str) -> NotInLedger:
+        return NotInLedger(
+            f"{self._where}: {what} is not kept in the ledger (only what the notebooks read "
+            f"is); compute the run: {_RECOMPUTE}"
+        )
+
+    def _whole(self, name: str) -> np.ndarray:
+        if not self._kept.all():
+            raise self._missing(f"{name} of every trial")
+        return self._steps[name]
+
+    poses = property(lambda self: self._whole("poses"))
+    actions = property(lambda self: self._whole("actions"))
+    winners = property(lambda self: self._whole("winners"))
+    deltas = property(lambda self: self._whole("deltas"))
+
+    def _slice(self, name: str, k: int, extra: int) -> np.ndarray:
+        k = int(k)
+        if not self._kept[k]:
+            raise self._missing(f"{name} of trial {k}")
+        before = int(np.count_nonzero(self._kept[:k]))  # kept trials before k
+        start = int(self._offsets[k]) + extra * before
+        return self._steps[name][start : start + int(self.steps[k]) + extra]
+
+    def trial_poses(self, k: int) -> np.ndarray:
+        return self._slice("poses", k, 1)
+
+    def trial_actions(self, k: int) -> np.ndarray:
+        return self._slice("actions", k, 0)
+
+    @property
+    def starts(self) -> np.ndarray:
+        if self._starts is not None:
+            return self._starts
+        return TrialLog.starts.fget(self)
+
+
+class LedgerResult(ExperimentResult):
+    """A run read from its ledger entry: an ``ExperimentResult`` whose network, if the entry
+    does not keep it, raises :class:`NotInLedger`."""
+
+    def __init__(self, fields: dict, network: Network | None, where: str):
+        self.__dict__.update(fields)
+        self._network, self._where = network, where
+
+    @property
+    def network(self) -> Network:
+        if self._network is None:
+            raise NotInLedger(
+                f"{self._where}: the weights W and Q are not kept in the ledger (only what "
+                f"the notebooks read is); compute the run: {_RECOMPUTE}"
+            )
+        return self._network
+
+
+def _read_entry(path: Path, key: str, record: dict) -> LedgerResult:
+    raw = path.read_bytes()
+    if hashlib.sha256(raw).hexdigest() != record["entry_digest"]:
+        raise StaleLedger(f"the ledger entry {path} does not match its digest in the manifest")
+    with np.load(io.BytesIO(raw), allow_pickle=False) as data:
+        arrays = {name: data[name] for name in data.files}
+    meta = json.loads(str(arrays.pop("meta")))
+    config = ExperimentConfig.from_dict(meta["config"])
+    where = f"run {config.name!r} seed {meta['seed']} (key {key[:16]})"
+    logs = {}
+    for part in PARTS:
+        if f"{part}.success" not in arrays:
+            logs[part] = None
+            continue
+        per_trial = {name: arrays[f"{part}.{name}"] for name in TRIAL_FIELDS}
+        kept = arrays[f"{part}.kept"]
+        steps = {name: arrays[f"{part}.{name}"] for name in STEP_FIELDS}
+        starts = arrays.get(f"{part}.starts")
+        logs[part] = PartialTrialLog(f"{where}, {part}", per_trial, kept, steps, starts)
+    network = None
+    if "W" in arrays:
+        network = Network.from_weights(config.network, arrays["W"], arrays["Q"])
+    fields = {
+        "config": config,
+        "seed": int(meta["seed"]),
+        **logs,
+        **{name: arrays[name] for name in arrays if name.startswith("curve_")},
+        "wall_time_train": float(meta["wall_time_train"]),
+        "wall_time_test": float(meta["wall_time_test"]),
+    }
+    return LedgerResult(fields, network, where)
+
+
+def _entry_arrays(result: ExperimentResult, keep: dict) -> dict[str, np.ndarray]:
+    """The arrays of ``result``'s entry: what ``keep`` (a trace record) names."""
+    arrays = {
+        name: getattr(result, name)
+        for name in ("curve_trials", "curve_success", "curve_steps", "curve_rewarded")
+    }
+    if keep.get("network"):
+        arrays["W"], arrays["Q"] = result.network.W, result.network.Q
+    for part in PARTS:
+        log = getattr(result, part)
+        if log is None:
+            continue
+        for name in TRIAL_FIELDS:
+            arrays[f"{part}.{name}"] = getattr(log, name)
+        wanted = keep.get("parts", {}).get(part, {})
+        kept = np.zeros(len(log), dtype=bool)
+        if wanted.get("whole"):
+            kept[:] = True
+        else:
+            kept[np.asarray(wanted.get("trials", []), dtype=np.int64)] = True
+        n_steps = np.asarray(log.steps)
+        step_mask = np.repeat(kept, n_steps)
+        pose_mask = np.repeat(kept, n_steps + 1)
+        arrays[f"{part}.kept"] = kept
+        arrays[f"{part}.poses"] = log.poses[pose_mask]
+        for name in ("actions", "winners", "deltas"):
+            arrays[f"{part}.{name}"] = getattr(log, name)[step_mask]
+        if wanted.get("starts") and not kept.all():
+            arrays[f"{part}.starts"] = log.starts
+    return arrays
+
+
+# ------------------------------------------------------------------------------------------
+# Tracing what the analyses read.
+# ------------------------------------------------------------------------------------------
+
+
+def trace_file() -> Path | None:
+    """The file named by ``DOCKING_TRACE`` (None: no tracing)."""
+    value = os.environ.get("DOCKING_TRACE")
+    return Path(value) if value else None
+
+
+class _TracedLog(TrialLog):
+    """A full trial log that records which per-step data is read."""
+
+    def __init__(self, log: TrialLog, note):
+        self.__dict__.update({f.name: getattr(log, f.name) for f in dataclasses.fields(log)})
+        object.__setattr__(self, "_note", note)
+
+    def __getattribute__(self, name):
+        if name in STEP_FIELDS:
+            object.__getattribute__(self, "_note")("whole", name)
+        return object.__getattribute__(self, name)
+
+    def trial_poses(self, k: int) -> np.ndarray:
+        self._note("trial", int(k))
+        return TrialLog.trial_poses(self._raw(), k)
+
+    def trial_actions(self, k: int) -> np.ndarray:
+        self._note("trial", int(k))
+        return TrialLog.trial_actions(self._raw(), k)
+
+    @property
+    def starts(self) -> np.ndarray:
+        self._note("starts", None)
+        return self._raw().starts
+
+    def _raw(self) -> TrialLog:
+        d = object.__getattribute__(self, "__dict__")
+        return TrialLog(**{f.name: d[f.name] for f in dataclasses.fields(TrialLog)})
+
+
+class TracedResult(ExperimentResult):
+    """A stored run that appends to the trace file what the analyses read of it: that it was
+    loaded (and from where), its network, and per trial log the per-step data of which trials
+    (or all of them), or the start poses. Each fact is written once per process."""
+
+    def __init__(self, result: ExperimentResult, key: str, path: Path, source: Path):
+        self.__dict__.update({f.name: getattr(result, f.name) for f in dataclasses.fields(result)})
+        self._key, self._trace = key, path
+        for part in PARTS:
+            log = getattr(result, part)
+            if log is not None:
+                self.__dict__[part] = _TracedLog(log, functools.partial(self._note, part))
+        self._note(None, "load", str(Path(source).resolve()))
+
+    def __getattribute__(self, name):
+        if name == "network":
+            object.__getattribute__(self, "_note")(None, "network", None)
+        return object.__getattribute__(self, name)
+
+    def _note(self, part, kind, value) -> None:
+        fact = (self._key, part, kind, value)
+        if fact in _NOTED:
+            return
+        _NOTED.add(fact)
+        line = json.dumps({"key": self._key, "part": part, "kind": kind, "value": value})
+        with open(self._trace, "a") as f:
+            f.write(line + "\n")
+
+
+#: The facts this process has written to the trace already.
+_NOTED: set = set()
+
+
+def trace(result: ExperimentResult, key: str, source: Path) -> ExperimentResult:
+    """``result`` (loaded from the stored file ``source``) as a :class:`TracedResult` if
+    ``DOCKING_TRACE`` names a file, else itself."""
+    path = trace_file()
+    return result if path is None else TracedResult(result, key, path, source)
+
+
+def read_trace(lines: Iterable[str]) -> dict[str, dict]:
+    """``{run key: what to keep}`` from the lines of trace files."""
+    keep: dict[str, dict] = {}
+    for line in lines:
+        if not line.strip():
+            continue
+        record = json.loads(line)
+        entry = keep.setdefault(record["key"], {"network": False, "parts": {}})
+        if record["kind"] == "load":
+            entry["path"] = record["value"]
+            continue
+        if record["kind"] == "network":
+            entry["network"] = True
+            continue
+        part = entry["parts"].setdefault(record["part"], {"whole": False, "trials": set()})
+        if record["kind"] == "whole":
+            part["whole"] = True
+        elif record["kind"] == "starts":
+            part["starts"] = True
+        else:
+            part["trials"].add(int(record["value"]))
+    for entry in keep.values():
+        for part in entry["parts"].values():
+            part["trials"] = sorted(part["trials"])
+    return keep
+
+
+# ------------------------------------------------------------------------------------------
+# Writing the ledger.
+# ------------------------------------------------------------------------------------------
+
+
+def update(keep: dict[str, dict], folder: Path | str | None = None) -> dict:
+    """Write the ledger of the runs in ``keep`` (from :func:`read_trace`: run key -> where it
+    is stored and what the analyses read of it) from their stored files, keeping of each what
+    ``keep`` names; replaces the ledger's entries. Returns the manifest."""
+    from docking.store import (
+        FORMAT_VERSION,
+        content_digest,
+        load_result,
+        module_digests,
+        rendering_stack,
+        source_fingerprint,
+    )
+
+    folder = Path(folder) if folder is not None else ledger_dir()
+    if folder is None:
+        raise ValueError("no ledger folder: DOCKING_LEDGER is off and no folder was given")
+    runs, files = {}, {}
+    for key, wanted in sorted(keep.items()):
+        if "path" not in wanted:
+            raise ValueError(f"the trace names run {key[:16]} but not where it is stored")
+        path = Path(wanted["path"])
+        result = load_result(path, key)  # checks the file against the key and its digest
+        with np.load(path, allow_pickle=False) as data:
+            digest = content_digest(data)
+        config, seed = result.config, result.seed
+        arrays = _entry_arrays(result, wanted)
+        meta = {
+            "key": key,
+            "config": config.to_dict(),
+            "seed": seed,
+            "wall_time_train": result.wall_time_train,
+            "wall_time_test": result.wall_time_test,
+        }
+        arrays["meta"] = np.array(json.dumps(meta, sort_keys=True))
+        buffer = io.BytesIO()
+        _savez_deterministic(buffer, arrays)
+        relative = f"runs/{config.name}/{key[:16]}/seed{seed}.npz"
+        files[relative] = buffer.getvalue()
+        runs[key] = {
+            "name": config.name,
+            "seed": seed,
+            "digest": digest,
+            "file": relative,
+            "entry_digest": hashlib.sha256(files[relative]).hexdigest(),
+            "config": config.to_dict(),
+        }
+    data = {
+        "format": LEDGER_FORMAT,
+        "store_format": FORMAT_VERSION,
+        "source_fingerprint": source_fingerprint(),
+        "modules": module_digests(),
+        "rendering_stack": rendering_stack(),
+        "runs": runs,
+    }
+    folder.mkdir(parents=True, exist_ok=True)
+    old = set(folder.glob("runs/**/*.npz"))
+    for relative, raw in files.items():
+        target = folder / relative
+        old.discard(target)
+        if not target.exists() or target.read_bytes() != raw:
+            atomic_write(target, lambda f, raw=raw: f.write(raw))
+    for stale in old:
+        stale.unlink()
+    text = json.dumps(data, indent=1, sort_keys=True) + "\n"
+    atomic_write(folder / "manifest.json", lambda f: f.write(text.encode()))
+    _read_manifest.cache_clear()
+    return data
+
+
+def _savez_deterministic(buffer, arrays: dict) -> None:
+    """``np.savez_compressed`` with fixed zip timestamps, so that an entry's bytes (and its
+    digest) depend on its arrays alone."""
+    import zipfile
+
+    with zipfile.ZipFile(buffer, "w", compression=zipfile.ZIP_DEFLATED) as zf:
+        for name in sorted(arrays):
+            member = io.BytesIO()
+            np.lib.format.write_array(member, np.asanyarray(arrays[name]), allow_pickle=False)
+            info = zipfile.ZipInfo(f"{name}.npy", date_time=(1980, 1, 1, 0, 0, 0))
+            info.compress_type = zipfile.ZIP_DEFLATED
+            zf.writestr(info, member.getvalue())
+
+
+# ------------------------------------------------------------------------------------------
+# Verification by recomputation.
+# ------------------------------------------------------------------------------------------
+
+#: The paper's experiments: every run of theirs is recomputed by every ``verify``.
+PAPER_RUNS = ("experiment1", "experiment2")
+
+
+@dataclasses.dataclass(frozen=True)
+class Check:
+    """One recomputed run: its name, seed, key and whether its digest equals the ledger's."""
+
+    name: str
+    seed: int
+    key: str
+    ledger_digest: str
+    digest: str
+
+    @property
+    def ok(self) -> bool:
+        return self.digest == self.ledger_digest
+
+
+def _commit() -> str:
+    """The checkout's current commit (the source fingerprint outside a git checkout)."""
+    import subprocess
+
+    root = paths.checkout_root()
+    if root is not None:
+        try:
+            found = subprocess.run(
+                ["git", "rev-parse", "HEAD"], cwd=root, capture_output=True, text=True, timeout=10
+            )
+            if found.returncode == 0 and found.stdout.strip():
+                return found.stdout.strip()
+        except (OSError, subprocess.SubprocessError):
+            pass
+    from docking.store import source_fingerprint
+
+    return source_fingerprint()
+
+
+def chosen(data: dict, sample: int | None, commit: str) -> list[str]:
+    """The run keys ``verify`` recomputes: every run of :data:`PAPER_RUNS`, plus ``sample``
+    others ordered by SHA-256 of the commit and the key (so each commit draws other runs);
+    ``sample=None``: every run."""
+    keys = sorted(data["runs"])
+    if sample is None:
+        return keys
+    paper = [k for k in keys if data["runs"][k]["name"] in PAPER_RUNS]
+    others = sorted(
+        (k for k in keys if k not in paper),
+        key=lambda k: hashlib.sha256(f"{commit}:{k}".encode()).hexdigest(),
+    )
+    return paper + others[:sample]
+
+
+def verify(
+    sample: int | None = 3,
+    scheduler: str | None = None,
+    workers: int | None = None,
+    progress: bool = True,
+    folder: Path | str | None = None,
+) -> list[Check]:
+    """Recompute the runs :func:`chosen` picks (in a temporary store; the results store is
+    not touched) and compare each one's content digest with the ledger's. Returns the checks;
+    the caller decides what a mismatch means (the CLI fails)."""
+    import tempfile
+
+    from docking.store import content_digest, result_path
+    from docking.sweep import Job, run_jobs
+
+    folder = Path(folder) if folder is not None else ledger_dir()
+    data = manifest(folder)
+    if data is None:
+        raise FileNotFoundError(f"no ledger to verify in {folder}")
+    keys = chosen(data, sample, _commit())
+    jobs = [
+        Job(ExperimentConfig.from_dict(data["runs"][k]["config"]), data["runs"][k]["seed"])
+        for k in keys
+    ]
+    with tempfile.TemporaryDirectory(prefix="docking-verify-") as scratch:
+        run_jobs(
+            jobs,
+            scratch,
+            scheduler=scheduler,
+            workers=workers,
+            force=True,
+            progress=progress,
+            desc=f"verify: {len(jobs)} runs",
+        )
+        checks = []
+        for key, job in zip(keys, jobs, strict=True):
+            with np.load(result_path(job.config, job.seed, scratch), allow_pickle=False) as f:
+                digest = content_digest(f)
+            record = data["runs"][key]
+            checks.append(Check(record["name"], job.seed, key, record["digest"], digest))
+    return checks
