@@ -1,8 +1,11 @@
-# Two commands do everything from a fresh clone:
-#   make reproduce   run the experiments (progress bars in the terminal), run every notebook,
-#                    regenerate every figure in figures/, write the results table into README.md
-#   make test        ruff, the unit/browser/Dask/Gymnasium tests, every notebook under nbmake
-# Both create (or reuse) the virtual environment .venv and install what they need.
+# Tiers, quickest first (each creates or reuses the virtual environment .venv):
+#   make check       ruff + the unit tests (no notebooks, no slow tests): a few minutes
+#   make test        check + the slow tests + `verify --sample` (recomputes Experiments 1 and
+#                    2 and a few ledger runs, fails unless their digests equal the ledger's) +
+#                    every notebook under nbmake, reading the committed ledger (what CI runs)
+#   make paper       Experiments 1 and 2 from scratch, Figs. 2-5 and the results table
+#   make reproduce   recompute every run (resumable), execute every notebook, write the
+#                    ledger, every figure and the README tables
 #   make lab         JupyterLab on the project; the notebooks' .py files open as notebooks
 #   make benchmark   environment steps per second
 # Another interpreter: make test PYTHON=python3.10 VENV=.venv310
@@ -22,27 +25,44 @@ NOTEBOOKS := $(NOTEBOOK_SOURCES:.py=.ipynb)
 export MUJOCO_GL ?= egl
 export PYOPENGL_PLATFORM ?= egl
 
-.PHONY: reproduce experiments test setup system-deps notebooks lab benchmark clean
+.PHONY: reproduce experiments check test paper setup system-deps notebooks lab benchmark clean
 
+# The trace: what the notebooks and the README report read of each stored run (docking.ledger).
+TRACE := results/trace.jsonl
+
+# Everything from the runs up: computed into results/ (never from the ledger), the notebooks
+# and the README report executed on them while the trace records what they read, then the
+# ledger written from the trace.
 reproduce: setup notebooks experiments
-	$(VENV)/bin/jupyter nbconvert --to notebook --execute --inplace \
-	    --ExecutePreprocessor.timeout=-1 $(NOTEBOOKS)
-	$(PY) -m docking report --readme README.md
+	rm -f $(TRACE)
+	DOCKING_LEDGER=off DOCKING_TRACE=$(CURDIR)/$(TRACE) $(VENV)/bin/jupyter nbconvert --to notebook \
+	    --execute --inplace --ExecutePreprocessor.timeout=-1 $(NOTEBOOKS)
+	DOCKING_LEDGER=off DOCKING_TRACE=$(CURDIR)/$(TRACE) $(PY) -m docking report --readme README.md
+	$(PY) -m docking ledger update --trace $(TRACE)
 
-# The experiments through the CLI, so their progress bars reach the terminal; the notebooks
-# then load the saved runs from results/.
+# The experiments through the CLI, so their progress bars reach the terminal; computed, not
+# read from the ledger.
 experiments: setup
-	$(PY) -m docking run experiment1
-	$(PY) -m docking run experiment2
-	$(PY) -m docking calibration
-	$(PY) -m docking study
-	$(PY) -m docking experiment3
+	DOCKING_LEDGER=off $(PY) -m docking run experiment1
+	DOCKING_LEDGER=off $(PY) -m docking run experiment2
+	DOCKING_LEDGER=off $(PY) -m docking calibration
+	DOCKING_LEDGER=off $(PY) -m docking study
+	DOCKING_LEDGER=off $(PY) -m docking experiment3
 
-test: setup notebooks
+check: setup
 	$(VENV)/bin/ruff format --check .
 	$(VENV)/bin/ruff check .
-	$(PY) -m pytest tests -q
-	$(PY) -m pytest --nbmake --nbmake-timeout=3600 -q $(NOTEBOOKS)
+	$(PY) -m pytest tests -q -m "not slow"
+
+test: check notebooks
+	$(PY) -m pytest tests -q -m slow
+	$(PY) -m docking verify --sample 3
+	$(PY) -m pytest --nbmake --nbmake-timeout=1800 -n 2 -q $(NOTEBOOKS)
+
+# The paper's two experiments from an empty store, Figs. 2-5, the learning curves and the
+# results table (printed; `make reproduce` writes it into the README).
+paper: setup
+	DOCKING_LEDGER=off $(PY) -m docking report --figures --no-study --no-experiment3
 
 lab: setup notebooks
 	$(VENV)/bin/jupyter lab $$([ "$$(id -u)" = 0 ] && echo --allow-root)

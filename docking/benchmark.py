@@ -198,6 +198,11 @@ def main(argv=None) -> dict:
         "--quick", action="store_true", help="a shortened Experiment 2 (a smoke test)"
     )
     args = parser.parse_args(argv)
+    for name, lo, hi in (("repeats", 1, 1000), ("steps", 1, 1_000_000)):
+        if not lo <= getattr(args, name) <= hi:
+            parser.error(f"--{name} must be in [{lo}, {hi}], got {getattr(args, name)}")
+    if any(not 0 <= s <= 2**32 - 1 for s in args.seeds):
+        parser.error(f"--seeds must be in [0, {2**32 - 1}], got {args.seeds}")
     config = EXPERIMENT_2
     if args.quick:
         config = dataclasses.replace(config, train_trials=20, test_trials=10, eval_every=10)

@@ -264,6 +264,9 @@ class Report:
     """Also the table of Experiment 3 (notebook 06; runs it if it is not stored, and the
     oracle in every cell), into the README between <!-- experiment3:start --> and
     <!-- experiment3:end -->."""
+    figures: bool = False
+    """Also save Figs. 2-5 and the learning curves of Experiments 1 and 2 into figures/
+    (or DOCKING_FIGURES)."""
 
     def execute(self) -> int:
         from docking.experiments import EXPERIMENT_1, EXPERIMENT_2
@@ -276,6 +279,10 @@ class Report:
         ]
         table = results_table(*results)
         print(table)
+        if self.figures:
+            from docking.report import save_figures
+
+            save_figures(*results)
         changed = self.readme is not None and update_readme(self.readme, table)
         if self.study:
             from docking.study import run_study, verdict_table
@@ -418,3 +425,8 @@ def main(argv=None) -> int:
     except ValueError as exc:  # bad input (seeds, grid entries, configuration values)
         print(f"{PROG}: error: {exc}", file=sys.stderr)
         return 2
+    except (OSError, RuntimeError, LookupError) as exc:
+        # A folder that cannot be written, a scheduler that does not answer, code or a
+        # ledger that changed (StaleCode, StaleLedger), a run the ledger does not keep.
+        print(f"{PROG}: error: {exc}", file=sys.stderr)
+        return 1

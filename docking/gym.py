@@ -38,6 +38,7 @@ from gymnasium import spaces
 from gymnasium.utils import seeding
 
 from docking.camera import CameraConfig
+from docking.validate import MAX_SEED, check_int
 from docking.world import DockingEnv, WorldConfig
 
 #: The registered id.
@@ -99,6 +100,8 @@ class DockingGymEnv(gymnasium.Env):
 
     def reset(self, *, seed: int | None = None, options: dict | None = None):
         """Start an episode; ``seed`` reseeds the env first (``options`` is unused)."""
+        if seed is not None:  # NumPy integers too, as the constructor takes them
+            seed = check_int("reset", "seed", seed, lo=0, hi=MAX_SEED)
         super().reset(seed=seed)
         if seed is not None:
             self.dm_env.reseed(self.np_random)

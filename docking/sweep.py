@@ -50,7 +50,7 @@ from docking.store import (
     run_key,
     run_or_load,
 )
-from docking.validate import check_instance, check_int
+from docking.validate import MAX_SEED, check_instance, check_int
 
 __all__ = [
     "Job",
@@ -86,8 +86,13 @@ def jobs_for(configs: Iterable[ExperimentConfig], seeds: Iterable[int]) -> list[
 # ------------------------------------------------------------------------------------------
 
 
+#: The most seeds one command may name (each seed is a run of minutes).
+MAX_SEEDS = 10_000
+
+
 def parse_seeds(text: str) -> list[int]:
-    """Seeds from ``"0-19"``, ``"0,3,5"`` or ``"0-4,10-12"`` (ranges include both ends)."""
+    """Seeds from ``"0-19"``, ``"0,3,5"`` or ``"0-4,10-12"`` (ranges include both ends), at
+    most :data:`MAX_SEEDS` of them, each at most :data:`docking.validate.MAX_SEED`."""
     seeds: list[int] = []
     for part in str(text).replace(" ", "").split(","):
         bounds = part.split("-")
@@ -102,6 +107,10 @@ def parse_seeds(text: str) -> list[int]:
                 f"seeds must be integers >= 0 or ranges like 0-19, separated by commas; got "
                 f"{text!r}"
             ) from None
+        if hi > MAX_SEED:
+            raise ValueError(f"seeds must be at most {MAX_SEED}; got {text!r}")
+        if len(seeds) + hi - lo + 1 > MAX_SEEDS:
+            raise ValueError(f"at most {MAX_SEEDS} seeds in one command; got more in {text!r}")
         seeds.extend(range(lo, hi + 1))
     if len(set(seeds)) != len(seeds):
         raise ValueError(f"seeds must not repeat; got {text!r}")
@@ -256,7 +265,7 @@ class _EmbeddedCluster:
             protocol="tcp",  # not inproc: the workers are other processes
             host="127.0.0.1",
             scheduler_port=0,
-            dashboard_address=":0",
+            dashboard_address="127.0.0.1:0",  # ":0" would listen on every interface
             silence_logs=logging.ERROR,
         )
         package_root = str(Path(__file__).resolve().parent.parent)
@@ -284,6 +293,10 @@ class _EmbeddedCluster:
                             "--host",
                             "127.0.0.1",
                             "--no-dashboard",
+                            # The worker's HTTP server (metrics, health) listens here even
+                            # without a dashboard: on loopback only.
+                            "--dashboard-address",
+                            "127.0.0.1:0",
                             "--name",
                             f"docking-{k}",
                             "--local-directory",
@@ -353,6 +366,8 @@ def run_jobs(
     jobs = [check_instance("run_jobs", "jobs[]", j, Job) for j in jobs]
     if workers is not None:
         workers = check_int("run_jobs", "workers", workers, lo=1)
+    if scheduler is not None:
+        _check_scheduler(scheduler)
     root = Path(results_dir if results_dir is not None else paths.results_dir()).resolve()
     paths_ = [result_path(j.config, j.seed, root) for j in jobs]
     todo = [k for k, j in enumerate(jobs) if force or not _stored(j, root)]
@@ -410,8 +425,35 @@ def run_configs(
     return {key: [next(loaded) for _ in seeds] for key in configs}
 
 
+def _check_scheduler(scheduler) -> None:
+    import re
+
+    if not isinstance(scheduler, str) or not re.fullmatch(r"(tcp|tls)://[^/\s]+:\d+", scheduler):
+        raise ValueError(
+            f"the scheduler address must be tcp://HOST:PORT or tls://HOST:PORT, got {scheduler!r}"
+        )
+
+
+def _connect(scheduler: str):
+    """A client of the Dask scheduler at ``scheduler`` (``tcp://HOST:PORT`` or
+    ``tls://HOST:PORT``); ``OSError`` naming it if it does not answer as one within 10 s."""
+
+    from distributed import Client
+
+    _check_scheduler(scheduler)
+    try:
+        return Client(scheduler, timeout="10s")
+    except MemoryError:  # e.g. an HTTP server: its reply read as a frame length
+        raise OSError(f"{scheduler} does not answer as a Dask scheduler") from None
+    except (OSError, TimeoutError, asyncio.TimeoutError) as exc:
+        raise OSError(
+            f"cannot reach a Dask scheduler at {scheduler} within 10 s "
+            f"({type(exc).__name__}: {exc})"
+        ) from None
+
+
 def _run_on_dask(jobs, todo, root: Path, scheduler, n_workers: int, force: bool, bar) -> None:
-    from distributed import Client, wait
+    from distributed import wait
 
     # distributed logs at INFO through the root handler that absl (dm-control) installs;
     # warnings (a lost worker) stay visible. Worker processes read the variable at start.
@@ -423,7 +465,7 @@ def _run_on_dask(jobs, todo, root: Path, scheduler, n_workers: int, force: bool,
     cluster = None
     try:
         cluster = _EmbeddedCluster(n_workers) if scheduler is None else None
-        with cluster.client if cluster is not None else Client(scheduler) as client:
+        with cluster.client if cluster is not None else _connect(scheduler) as client:
             sweep = uuid.uuid4().hex[:8]
             futures = [
                 client.submit(

@@ -85,6 +85,19 @@ def test_bad_input_is_a_clear_error(tmp_path):
     assert out.returncode == 2 and "NetworkConfig.nope" in out.stderr
     out = _cli(["run", "experiment1", "--network.eps-w", "-1"], tmp_path)
     assert out.returncode == 2 and "NetworkConfig.eps_w" in out.stderr
+    for args, says in (
+        (["run", "experiment1", "--seeds", "0-9999999"], "at most 10000 seeds"),
+        (["run", "experiment1", "--seeds", "0", "--scheduler", "http://x:1"], "tcp://HOST:PORT"),
+        (["run", "experiment1", "--network.beta-s", "1" + "0" * 400], "NetworkConfig.beta_s"),
+        (["run", "experiment1", "--network.eps-q", "1e300"], "NetworkConfig.eps_q"),
+        (["run", "experiment1", "--world.view-margin-px", "100"], "view_margin_px"),
+        (["verify", "--sample", "-1"], "--sample"),
+    ):
+        out = _cli(args, tmp_path)
+        assert out.returncode == 2 and says in out.stderr, (args, out.stderr)
+        assert "Traceback" not in out.stderr
+    out = _cli(["benchmark", "--steps", "-5"], tmp_path)
+    assert out.returncode == 2 and "--steps must be" in out.stderr
     assert not (tmp_path / "results").exists()
 
 

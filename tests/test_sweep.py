@@ -314,3 +314,48 @@ def test_workers_end_with_their_parent(signum, tmp_path):
         if parent.poll() is None:
             parent.kill()
             parent.wait()
+
+
+@pytest.mark.slow
+def test_the_embedded_cluster_listens_on_loopback_only():
+    """The scheduler, its dashboard and every worker's servers: no socket of the cluster's
+    processes is bound to anything but 127.0.0.1 (whoever reaches a Dask scheduler can run
+    code as its user)."""
+    from docking.sweep import _EmbeddedCluster
+
+    cluster = _EmbeddedCluster(2)
+    try:
+        pids = [os.getpid()] + [p.pid for p in cluster._procs]
+        listening = [
+            c.laddr
+            for c in psutil.net_connections(kind="inet")
+            if c.status == psutil.CONN_LISTEN and c.pid in pids
+        ]
+    finally:
+        cluster.close()
+    assert len(listening) >= 5  # scheduler, its dashboard, and two servers per worker
+    assert {addr.ip for addr in listening} == {"127.0.0.1"}, listening
+
+
+def test_bad_seeds_and_scheduler_addresses_are_refused_before_any_work(tmp_path):
+    with pytest.raises(ValueError, match="at most 10000 seeds"):
+        parse_seeds("0-9999999")
+    with pytest.raises(ValueError, match="at most 4294967295"):
+        parse_seeds("0-99999999999999999999")
+    jobs = jobs_for([EXPERIMENT_1], [0])
+    for address in ("http://127.0.0.1:8787", "127.0.0.1", "tcp://host/path:1"):
+        with pytest.raises(ValueError, match="tcp://HOST:PORT"):
+            run_jobs(jobs, tmp_path, scheduler=address, progress=False)
+
+
+@pytest.mark.slow
+def test_a_scheduler_that_does_not_answer_is_a_clear_error(tmp_path):
+    from docking.sweep import _connect
+
+    with socket.socket() as s:  # a port that nothing listens on
+        s.bind(("127.0.0.1", 0))
+        port = s.getsockname()[1]
+    start = time.monotonic()
+    with pytest.raises(OSError, match="cannot reach a Dask scheduler"):
+        _connect(f"tcp://127.0.0.1:{port}")
+    assert time.monotonic() - start < 30
