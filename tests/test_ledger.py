@@ -312,3 +312,23 @@ def test_a_saved_file_digest_covers_every_array(two_runs):
     save_result(result, again)
     with np.load(again) as data:
         assert content_digest(data) == meta["digest"]  # same run: same arrays, bit for bit
+
+
+def test_a_nearly_full_disk_is_refused_before_a_run_naming_the_folder(tmp_path, monkeypatch):
+    import collections
+    import shutil as shutil_
+
+    usage = collections.namedtuple("usage", "total used free")
+    monkeypatch.setattr(shutil_, "disk_usage", lambda path: usage(10**9, 10**9 - 2**20, 2**20))
+    with pytest.raises(PermissionError, match=str(tmp_path)):
+        store.check_writable(tmp_path)
+    with pytest.raises(PermissionError, match="MiB free"):
+        run_or_load(TINY, 0, tmp_path, progress=False)
+
+
+def test_an_empty_results_variable_is_refused(monkeypatch):
+    from docking import paths
+
+    monkeypatch.setenv("DOCKING_RESULTS", "")
+    with pytest.raises(ValueError, match="DOCKING_RESULTS is set but empty"):
+        paths.results_dir()
