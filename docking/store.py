@@ -66,6 +66,7 @@ __all__ = [
     "check_writable",
     "load_result",
     "load_run",
+    "result_arrays",
     "result_path",
     "run_key",
     "run_or_load",
@@ -279,18 +280,7 @@ def save_result(result: ExperimentResult, path: Path | str) -> Path:
     """Write ``result`` to ``path`` (compressed .npz) atomically; also ``config.json`` beside
     it (the configuration, readable). Returns ``path``."""
     path = Path(path)
-    arrays = {
-        "W": result.network.W,
-        "Q": result.network.Q,
-        "curve_trials": result.curve_trials,
-        "curve_success": result.curve_success,
-        "curve_steps": result.curve_steps,
-        "curve_rewarded": result.curve_rewarded,
-    }
-    for part in ("train", "test", "heldout"):
-        log = getattr(result, part)
-        for field in dataclasses.fields(TrialLog) if log is not None else ():
-            arrays[f"{part}.{field.name}"] = getattr(log, field.name)
+    arrays = result_arrays(result)
     meta = {
         "format": FORMAT_VERSION,
         "key": run_key(result.config, result.seed),
@@ -316,6 +306,23 @@ def save_result(result: ExperimentResult, path: Path | str) -> Path:
             exc.errno, f"cannot save the run in {str(path)!r}: {exc.strerror or exc}"
         ) from exc
     return path
+
+
+def result_arrays(result: ExperimentResult) -> dict[str, np.ndarray]:
+    """The arrays a stored run holds (all but its ``meta`` record), by name."""
+    arrays = {
+        "W": result.network.W,
+        "Q": result.network.Q,
+        "curve_trials": result.curve_trials,
+        "curve_success": result.curve_success,
+        "curve_steps": result.curve_steps,
+        "curve_rewarded": result.curve_rewarded,
+    }
+    for part in ("train", "test", "heldout"):
+        log = getattr(result, part)
+        for field in dataclasses.fields(TrialLog) if log is not None else ():
+            arrays[f"{part}.{field.name}"] = getattr(log, field.name)
+    return arrays
 
 
 #: dtype kind and number of dimensions of every array in a result file.
