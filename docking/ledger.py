@@ -193,15 +193,19 @@ def lookup(config: ExperimentConfig, seed: int) -> ExperimentResult | None:
 
 
 class PartialTrialLog(TrialLog):
-    """A trial log of a ledger entry: every per-trial array, and the per-step arrays of the
-    trials in ``kept`` only (all of them, or none). Reading per-step data of a trial that is
-    not kept raises :class:`NotInLedger`."""
+    """A trial log of a ledger entry: every per-trial array; each per-step array either
+    whole (if an analysis read it whole) or only for the trials in ``kept``. Reading per-step
+    data that is not kept raises :class:`NotInLedger`."""
 
-    def __init__(self, where: str, per_trial: dict, kept: np.ndarray, steps: dict, starts):
+    def __init__(
+        self, where: str, per_trial: dict, kept: np.ndarray, steps: dict, whole: set, starts
+    ):
         self.__dict__.update(per_trial)
-        self._where, self._kept, self._steps, self._starts = where, kept, steps, starts
-        offsets = np.cumsum(np.where(kept, per_trial["steps"], 0))
-        self._offsets = np.concatenate([[0], offsets]).astype(np.int64)
+        self._where, self._kept, self._steps = where, kept, steps
+        self._whole_fields, self._starts = whole, starts
+        n = np.asarray(per_trial["steps"], dtype=np.int64)
+        self._all_offsets = np.concatenate([[0], np.cumsum(n)])
+        self._kept_offsets = np.concatenate([[0], np.cumsum(np.where(kept, n, 0))])
 
     def _missing(self, what: str) -> NotInLedger:
         return NotInLedger(
@@ -210,7 +214,7 @@ class PartialTrialLog(TrialLog):
         )
 
     def _whole(self, name: str) -> np.ndarray:
-        if not self._kept.all():
+        if name not in self._whole_fields and not self._kept.all():
             raise self._missing(f"{name} of every trial")
         return self._steps[name]
 
@@ -221,11 +225,15 @@ class PartialTrialLog(TrialLog):
 
     def _slice(self, name: str, k: int, extra: int) -> np.ndarray:
         k = int(k)
-        if not self._kept[k]:
+        length = int(self.steps[k]) + extra
+        if name in self._whole_fields:
+            start = int(self._all_offsets[k]) + extra * k
+        elif self._kept[k]:
+            before = int(np.count_nonzero(self._kept[:k]))  # kept trials before k
+            start = int(self._kept_offsets[k]) + extra * before
+        else:
             raise self._missing(f"{name} of trial {k}")
-        before = int(np.count_nonzero(self._kept[:k]))  # kept trials before k
-        start = int(self._offsets[k]) + extra * before
-        return self._steps[name][start : start + int(self.steps[k]) + extra]
+        return self._steps[name][start : start + length]
 
     def trial_poses(self, k: int) -> np.ndarray:
         return self._slice("poses", k, 1)
@@ -237,7 +245,9 @@ class PartialTrialLog(TrialLog):
     def starts(self) -> np.ndarray:
         if self._starts is not None:
             return self._starts
-        return TrialLog.starts.fget(self)
+        if "poses" in self._whole_fields or self._kept.all():
+            return TrialLog.starts.fget(self)
+        raise self._missing("the start poses")
 
 
 class LedgerResult(ExperimentResult):
@@ -275,8 +285,9 @@ def _read_entry(path: Path, key: str, record: dict) -> LedgerResult:
         per_trial = {name: arrays[f"{part}.{name}"] for name in TRIAL_FIELDS}
         kept = arrays[f"{part}.kept"]
         steps = {name: arrays[f"{part}.{name}"] for name in STEP_FIELDS}
+        whole = {n for n, w in zip(STEP_FIELDS, arrays[f"{part}.whole"], strict=True) if w}
         starts = arrays.get(f"{part}.starts")
-        logs[part] = PartialTrialLog(f"{where}, {part}", per_trial, kept, steps, starts)
+        logs[part] = PartialTrialLog(f"{where}, {part}", per_trial, kept, steps, whole, starts)
     network = None
     if "W" in arrays:
         network = Network.from_weights(config.network, arrays["W"], arrays["Q"])
@@ -306,19 +317,18 @@ def _entry_arrays(result: ExperimentResult, keep: dict) -> dict[str, np.ndarray]
         for name in TRIAL_FIELDS:
             arrays[f"{part}.{name}"] = getattr(log, name)
         wanted = keep.get("parts", {}).get(part, {})
+        whole = set(wanted.get("whole", ()))
         kept = np.zeros(len(log), dtype=bool)
-        if wanted.get("whole"):
-            kept[:] = True
-        else:
-            kept[np.asarray(wanted.get("trials", []), dtype=np.int64)] = True
+        kept[np.asarray(wanted.get("trials", []), dtype=np.int64)] = True
         n_steps = np.asarray(log.steps)
-        step_mask = np.repeat(kept, n_steps)
-        pose_mask = np.repeat(kept, n_steps + 1)
+        masks = {"poses": np.repeat(kept, n_steps + 1)}
+        masks.update(dict.fromkeys(("actions", "winners", "deltas"), np.repeat(kept, n_steps)))
         arrays[f"{part}.kept"] = kept
-        arrays[f"{part}.poses"] = log.poses[pose_mask]
-        for name in ("actions", "winners", "deltas"):
-            arrays[f"{part}.{name}"] = getattr(log, name)[step_mask]
-        if wanted.get("starts") and not kept.all():
+        arrays[f"{part}.whole"] = np.array([name in whole for name in STEP_FIELDS])
+        for name in STEP_FIELDS:
+            array = getattr(log, name)
+            arrays[f"{part}.{name}"] = array if name in whole else array[masks[name]]
+        if wanted.get("starts") and "poses" not in whole and not kept.all():
             arrays[f"{part}.starts"] = log.starts
     return arrays
 
@@ -418,9 +428,9 @@ def read_trace(lines: Iterable[str]) -> dict[str, dict]:
         if record["kind"] == "network":
             entry["network"] = True
             continue
-        part = entry["parts"].setdefault(record["part"], {"whole": False, "trials": set()})
+        part = entry["parts"].setdefault(record["part"], {"whole": set(), "trials": set()})
         if record["kind"] == "whole":
-            part["whole"] = True
+            part["whole"].add(record["value"])
         elif record["kind"] == "starts":
             part["starts"] = True
         else:
@@ -428,6 +438,7 @@ def read_trace(lines: Iterable[str]) -> dict[str, dict]:
     for entry in keep.values():
         for part in entry["parts"].values():
             part["trials"] = sorted(part["trials"])
+            part["whole"] = sorted(part["whole"])
     return keep
 
 
