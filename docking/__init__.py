@@ -14,6 +14,9 @@ The world is imported lazily, so ``docking.network`` works without OpenGL.
 
 __version__ = "0.1.0"
 
+# The rendering environment's defaults (MUJOCO_GL=egl, ...), before anything imports mujoco.
+from docking import glenv as _glenv  # noqa: E402, F401
+
 
 def _snapshot_sources() -> dict:
     """SHA-256 of every ``.py`` file of the package as it is when ``docking`` is imported:

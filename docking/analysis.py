@@ -27,11 +27,11 @@ import numpy as np
 from docking.camera import CameraConfig
 from docking.experiments import ExperimentConfig, ExperimentResult, TrialLog, initial_network
 from docking.network import Network
+from docking.scene import scene_facts
 from docking.world import (
     ACTION_LETTERS,
     LEFT,
     RIGHT,
-    ROBOT_RADIUS,
     TURN_LEFT,
     TURN_RIGHT,
     DockingEnv,
@@ -404,7 +404,7 @@ def failure_taxonomy(
     # The robot's reference point where its body meets what stops it in front of the landmark:
     # the sideboard's front, or in the floor scene the landmark's own front face.
     stop = plan["sideboard"] if "sideboard" in plan else plan["landmark_slab"]
-    contact_x = stop[0] - ROBOT_RADIUS
+    contact_x = stop[0] - scene_facts().robot_radius
     # Reversal pairs: sidesteps, and turns in a world that has them.
     pairs = [(LEFT, RIGHT), (RIGHT, LEFT), (TURN_LEFT, TURN_RIGHT), (TURN_RIGHT, TURN_LEFT)]
     precise = config.dock_heading_deg is not None

@@ -31,7 +31,8 @@ from docking.world import DockingEnv, make_model  # isort: skip
 import mujoco  # noqa: E402
 
 from docking.camera import preprocess_band  # noqa: E402
-from docking.experiments import EXPERIMENT_2, ExperimentConfig, run_experiment  # noqa: E402
+from docking.experiments import ExperimentConfig, run_experiment  # noqa: E402
+from docking.presets import EXPERIMENT_2  # noqa: E402
 from docking.world import _EYE_GROUP  # noqa: E402
 
 

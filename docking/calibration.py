@@ -4,14 +4,14 @@ The paper leaves the step lengths, the start region of Experiment 1, the docking
 orientation and the learning rates open; :mod:`docking.experiments` names our choices. The
 variants here are those choices changed one or two at a time, as data (each a
 :class:`Variant`: a named :class:`~docking.experiments.ExperimentConfig` built from
-:data:`~docking.experiments.EXPERIMENT_1` or :data:`~docking.experiments.EXPERIMENT_2` with
+:data:`~docking.presets.EXPERIMENT_1` or :data:`~docking.presets.EXPERIMENT_2` with
 ``dataclasses.replace``); running them is :func:`run` (one sweep, :mod:`docking.sweep`, which
 resumes and skips stored runs); the statistics are :mod:`docking.stats`; the notebooks show
 :func:`markdown_table` and assert their claims on the returned runs.
 
 Choices named here:
 
-* Seeds: the main experiments' :data:`~docking.experiments.SEEDS` (five each). A variant's
+* Seeds: the main experiments' :data:`~docking.presets.SEEDS` (five each). A variant's
   run of seed ``k`` is paired with the main run of seed ``k``: the same initial weights and
   the same random streams for start poses, step noise and action draws (they differ in what
   the changed fields make of them). The row "this configuration" *is* the main experiment's
@@ -49,13 +49,8 @@ from pathlib import Path
 import numpy as np
 
 from docking.analysis import rewarded_share
-from docking.experiments import (
-    EXPERIMENT_1,
-    EXPERIMENT_2,
-    SEEDS,
-    ExperimentConfig,
-    ExperimentResult,
-)
+from docking.experiments import ExperimentConfig, ExperimentResult
+from docking.presets import EXPERIMENT_1, EXPERIMENT_2, SEEDS
 from docking.stats import Interval, difference_ci, mean_ci
 
 __all__ = [
@@ -257,7 +252,7 @@ def run(
       experiment: ``"experiment1"`` or ``"experiment2"``.
       variants: The rows (default: the module's :func:`variants` of ``experiment``; tests
         pass small ones).
-      seeds: Default: the main experiment's :data:`~docking.experiments.SEEDS`.
+      seeds: Default: the main experiment's :data:`~docking.presets.SEEDS`.
       results_dir: The results store (default :func:`docking.paths.results_dir`).
       workers: Worker processes (default one per core; 1: one run after another here).
       scheduler: Address of an existing Dask scheduler, as for :func:`docking.sweep.run_jobs`.

@@ -29,7 +29,8 @@ from typing import Annotated, Literal, Union
 import numpy as np
 import tyro
 
-from docking.experiments import EXPERIMENTS, HEADLINE_SEED, SEEDS, ExperimentConfig
+from docking.experiments import ExperimentConfig
+from docking.presets import EXPERIMENTS, HEADLINE_SEED, SEEDS
 
 PROG = "python -m docking"
 DESCRIPTION = (
@@ -72,13 +73,13 @@ def _summary(results) -> str:
 class Run:
     """Run (or load) an experiment for several seeds; every run is saved in the results store.
 
-    EXPERIMENT names a configuration of docking.experiments.EXPERIMENTS; options after it
+    EXPERIMENT names a configuration of docking.presets.EXPERIMENTS; options after it
     override its fields (e.g. --network.eps-w 0, --train-trials 500)."""
 
     experiment: _ExperimentArg
     seeds: str | None = None
     """Seeds as ranges or lists: 0-19, 0,3,5 or 0-4,10 (default: the experiment's seeds in
-    docking.experiments.SEEDS)."""
+    docking.presets.SEEDS)."""
     processes: int | None = None
     """Worker processes of the embedded Dask cluster (default: one per core); 1 runs the seeds
     one after another in this process."""
@@ -269,7 +270,7 @@ class Report:
     (or DOCKING_FIGURES)."""
 
     def execute(self) -> int:
-        from docking.experiments import EXPERIMENT_1, EXPERIMENT_2
+        from docking.presets import EXPERIMENT_1, EXPERIMENT_2
         from docking.report import STUDY_END, STUDY_START, results_table, update_readme
         from docking.store import run_seeds
 

@@ -43,7 +43,8 @@ import itertools
 
 import numpy as np
 
-from docking.experiments import EXPERIMENT_2, ExperimentConfig
+from docking.experiments import ExperimentConfig
+from docking.presets import EXPERIMENT_2
 from docking.stats import Interval, difference_ci, mean_ci, removed_share_ci
 from docking.study import STUDY_SEEDS, Cell, StudyResults, cells, run_cells, share_verdict
 from docking.world import ACTION_SETS, DockingEnv, WorldConfig

@@ -19,24 +19,30 @@ from __future__ import annotations
 import dataclasses
 import json
 import time
+from collections.abc import Callable
+from typing import TYPE_CHECKING
 
 import numpy as np
 from tqdm.auto import tqdm
 
 from docking.camera import CameraConfig
 from docking.network import Network, NetworkConfig
+from docking.scene import Distractor, WorldConfig
 from docking.trial import TrialRecord, run_trial
 from docking.validate import (
     MAX_COUNT,
     MAX_SEED,
     check_bool,
+    check_choice,
     check_instance,
     check_int,
     check_name,
     check_real,
     normalise,
 )
-from docking.world import Distractor, DockingEnv, WorldConfig
+
+if TYPE_CHECKING:  # the task itself needs OpenGL: imported where a run starts
+    from docking.world import DockingEnv
 
 
 @dataclasses.dataclass(frozen=True)
@@ -79,6 +85,14 @@ class Curriculum:
         return self.far_initial + (final - self.far_initial) * trial / self.grow_trials
 
 
+#: What can act in a run (:attr:`ExperimentConfig.policy`): the learner, then the yardsticks
+#: of :mod:`docking.policies`.
+POLICIES = ("network", "oracle", "centroid", "forward", "random")
+
+#: The first-stage rules of a two-stage learner (:attr:`ExperimentConfig.pretrain_rule`).
+PRETRAIN_RULES = ("competitive", "som")
+
+
 @dataclasses.dataclass(frozen=True)
 class ExperimentConfig:
     """One experiment: the world, the network, the curriculum and the trial counts.
@@ -102,7 +116,19 @@ class ExperimentConfig:
       pretrain_trials: Before SARSA, this many random-walk trials whose frames train ``W`` by
         winner-take-all competitive learning (no delta; the two-stage learner of the paper's
         Sec. IV). 0: none (the paper).
-      pretrain_rate: The competitive step ``W_j += rate (I - W_j)`` of the winning unit.
+      pretrain_rate: The step ``rate`` of the pretraining rule (the winning unit's
+        ``W_j += rate (I - W_j)``; a SOM's neighbourhood scales it).
+      pretrain_rule: ``"competitive"`` (default): plain winner-take-all
+        (:meth:`~docking.network.Network.competitive_update`); ``"som"``: Kohonen's
+        self-organizing map (:meth:`~docking.network.Network.som_update`), the units on a
+        grid, the neighbourhood's width shrinking geometrically from half the grid's longer
+        side to 0.5 units over the pretraining trials. See :data:`PRETRAIN_RULES`.
+      policy: What acts: ``"network"`` (default), the paper's learner, trained; or a yardstick
+        that needs no learning (:mod:`docking.policies`): ``"oracle"`` (reads the true pose),
+        ``"centroid"`` (the one-line pixel rule), ``"forward"``, ``"random"``. A yardstick
+        run has no training (``train_trials``, ``pretrain_trials`` and ``eval_trials`` 0) and
+        acts in the test and held-out trials, drawing from the streams a learner of the same
+        seed draws from. See :data:`POLICIES`.
     """
 
     name: str
@@ -118,6 +144,8 @@ class ExperimentConfig:
     heldout_world: WorldConfig | None = None
     pretrain_trials: int = 0
     pretrain_rate: float = 0.05
+    pretrain_rule: str = "competitive"
+    policy: str = "network"
 
     def __post_init__(self):
         owner = "ExperimentConfig"
@@ -127,7 +155,7 @@ class ExperimentConfig:
             world=check_instance(owner, "world", self.world, WorldConfig),
             network=check_instance(owner, "network", self.network, NetworkConfig),
             curriculum=check_instance(owner, "curriculum", self.curriculum, Curriculum),
-            train_trials=check_int(owner, "train_trials", self.train_trials, lo=1, hi=MAX_COUNT),
+            train_trials=check_int(owner, "train_trials", self.train_trials, lo=0, hi=MAX_COUNT),
             test_trials=check_int(owner, "test_trials", self.test_trials, lo=0, hi=MAX_COUNT),
             eval_every=check_int(owner, "eval_every", self.eval_every, lo=1, hi=MAX_COUNT),
             eval_trials=check_int(owner, "eval_trials", self.eval_trials, lo=0, hi=MAX_COUNT),
@@ -141,7 +169,25 @@ class ExperimentConfig:
                 owner, "pretrain_trials", self.pretrain_trials, lo=0, hi=MAX_COUNT
             ),
             pretrain_rate=check_real(owner, "pretrain_rate", self.pretrain_rate, lo=0, hi=1),
+            pretrain_rule=check_choice(owner, "pretrain_rule", self.pretrain_rule, PRETRAIN_RULES),
+            policy=check_choice(owner, "policy", self.policy, POLICIES),
         )
+        if self.policy == "network" and self.train_trials < 1:
+            raise ValueError(
+                f"ExperimentConfig.train_trials must be >= 1 for the learner (policy='network'), "
+                f"got {self.train_trials}"
+            )
+        if self.policy != "network":
+            learning = {
+                name: getattr(self, name)
+                for name in ("train_trials", "pretrain_trials", "eval_trials")
+                if getattr(self, name)
+            }
+            if learning:
+                raise ValueError(
+                    f"ExperimentConfig: the yardstick policy={self.policy!r} does not learn; "
+                    f"{', '.join(f'{k}={v}' for k, v in learning.items())} must be 0"
+                )
         if self.heldout_world is not None:
             check_instance(owner, "heldout_world", self.heldout_world, WorldConfig)
             if self.heldout_world.camera.input_shape != self.world.camera.input_shape:
@@ -183,86 +229,62 @@ class ExperimentConfig:
 
     @classmethod
     def from_dict(cls, d: dict) -> ExperimentConfig:
-        """The inverse of :meth:`to_dict`; unknown or missing fields raise ``TypeError``."""
-        d = dict(d)
-        heldout = d.pop("heldout_world")
+        """The inverse of :meth:`to_dict`. A part that is not a mapping, an unknown field, or a
+        missing field that has no default raises ``TypeError`` naming it; values are
+        validated as always (``ValueError``)."""
+        fields = _fields("ExperimentConfig", cls, d)
+        heldout = fields.pop("heldout_world", None)
         return cls(
-            world=_world_from_dict(d.pop("world")),
-            heldout_world=None if heldout is None else _world_from_dict(heldout),
-            network=NetworkConfig(**d.pop("network")),
-            curriculum=Curriculum(**d.pop("curriculum")),
-            **d,
+            world=_world_from_dict(fields.pop("world"), "ExperimentConfig.world"),
+            heldout_world=None
+            if heldout is None
+            else _world_from_dict(heldout, "ExperimentConfig.heldout_world"),
+            network=NetworkConfig(
+                **_fields("ExperimentConfig.network", NetworkConfig, fields.pop("network"))
+            ),
+            curriculum=Curriculum(
+                **_fields("ExperimentConfig.curriculum", Curriculum, fields.pop("curriculum"))
+            ),
+            **fields,
         )
 
 
-def _world_from_dict(d: dict) -> WorldConfig:
-    world = dict(d)
-    camera = {k: tuple(v) if isinstance(v, list) else v for k, v in world.pop("camera").items()}
-    distractors = tuple(
-        Distractor(x["shape"], tuple(x["size"]), tuple(x["position"]))
-        for x in world.pop("distractors")
-    )
-    return WorldConfig(camera=CameraConfig(**camera), distractors=distractors, **world)
+def _fields(owner: str, cls, d) -> dict:
+    """``d`` as keyword arguments of the dataclass ``cls``: a mapping with exactly the
+    fields of ``cls`` that have no default, and no others, or ``TypeError`` naming them."""
+    if not isinstance(d, dict):
+        raise TypeError(f"{owner} must be a mapping of {cls.__name__}'s fields, got {d!r:.80}")
+    names = {f.name for f in dataclasses.fields(cls)}
+    required = {
+        f.name
+        for f in dataclasses.fields(cls)
+        if f.default is dataclasses.MISSING and f.default_factory is dataclasses.MISSING
+    }
+    unknown = sorted(set(d) - names, key=str)
+    missing = sorted(required - set(d))
+    if unknown or missing:
+        parts = [f"unknown {', '.join(map(repr, unknown))}"] if unknown else []
+        parts += [f"missing {', '.join(map(repr, missing))}"] if missing else []
+        raise TypeError(f"{owner}: {'; '.join(parts)} (fields: {', '.join(sorted(names))})")
+    return dict(d)
 
 
-# ------------------------------------------------------------------------------------------
-# The two experiments. Every value the paper does not give is named here, once.
-# ------------------------------------------------------------------------------------------
+def _tuples(value):
+    return tuple(value) if isinstance(value, list) else value
 
-#: Experiment 1 (paper Sec. III, Fig. 3): close to the dock, 4 units, local rule, 100 trials.
-#: "Close proximity": starts 0.58-0.70 m from the landmark, i.e. 6-18 cm beyond the docking
-#: region, one forward step away when aligned (the trapezoid is +-14 deg wide, +-17 cm).
-EXPERIMENT_1 = ExperimentConfig(
-    name="experiment1",
-    world=WorldConfig(start_near=0.58, start_far=0.70),
-    network=NetworkConfig(n_features=4, rule="local"),
-    curriculum=Curriculum(far_initial=0.70, grow_trials=0),
-    train_trials=100,
-    test_trials=200,
-    eval_every=5,
-    eval_trials=50,
-)
 
-#: Experiment 2 (paper Sec. III, Figs. 4-5): 36 units, non-local rule, the start region grows
-#: from Experiment 1's 0.70 m to 1.5 m over the first 1400 of 2000 trials (the paper gives no
-#: schedule); 725 test trials from the full region.
-EXPERIMENT_2 = ExperimentConfig(
-    name="experiment2",
-    world=WorldConfig(start_near=0.58, start_far=1.5),
-    network=NetworkConfig(n_features=36, rule="nonlocal"),
-    curriculum=Curriculum(far_initial=0.70, grow_trials=1400),
-    train_trials=2000,
-    test_trials=725,
-    eval_every=100,
-    eval_trials=50,
-)
-
-#: The study's second world (notebook 05), closer to the paper's scene and harder to game:
-#: the landmark stands on the floor (no sideboard stops the robot at the dock; it can
-#: overshoot or walk past the landmark's side), the camera looks 30 deg down so that the
-#: landmark's image moves vertically with distance, and the crop is the band of rows it
-#: moves through (10-120). Calibrated against the bounds only (notebook 05 measures them):
-#: the docking region is the paper's 8x20 cm read the other way round (8 cm across, 20 cm
-#: deep), sidesteps are 5 cm (so one can land inside 8 cm), and the start trapezoid is
-#: +-20 deg wide from 0.62 m (beyond the deeper region) to 1.5 m. Everything else is
-#: Experiment 2's.
-FLOOR_WORLD = WorldConfig(
-    scene="floor",
-    camera=CameraConfig(tilt_deg=30.0, crop=(0, 10, 160, 120)),
-    start_near=0.62,
-    start_far=1.5,
-    start_half_angle_deg=20.0,
-    dock_width=0.08,
-    dock_depth=0.20,
-    step_side=0.05,
-)
-
-EXPERIMENTS = {c.name: c for c in (EXPERIMENT_1, EXPERIMENT_2)}
-
-#: Seeds of the multi-seed runs (the paper reports one run) and the seed of the headline
-#: figures and numbers.
-SEEDS = {"experiment1": (0, 1, 2, 3, 4), "experiment2": (0, 1, 2, 3, 4)}
-HEADLINE_SEED = 0
+def _world_from_dict(d, owner: str) -> WorldConfig:
+    world = _fields(owner, WorldConfig, d)
+    camera = _fields(f"{owner}.camera", CameraConfig, world.pop("camera", {}))
+    camera = {k: _tuples(v) for k, v in camera.items()}
+    distractors = world.pop("distractors", ())
+    if not isinstance(distractors, (list, tuple)):
+        raise TypeError(f"{owner}.distractors must be a list, got {distractors!r:.80}")
+    found = []
+    for k, x in enumerate(distractors):
+        x = _fields(f"{owner}.distractors[{k}]", Distractor, x)
+        found.append(Distractor(x["shape"], _tuples(x["size"]), _tuples(x["position"])))
+    return WorldConfig(camera=CameraConfig(**camera), distractors=tuple(found), **world)
 
 
 # ------------------------------------------------------------------------------------------
@@ -373,6 +395,7 @@ def _streams(seed: int) -> dict[str, np.random.Generator]:
         "heldout_actions",
         "pretrain_world",
         "pretrain_actions",
+        "delta_shuffle",
     )
     # Child k of SeedSequence(seed) depends on k only, so streams added at the end leave the
     # earlier ones (and every run that does not use the new ones) unchanged.
@@ -386,50 +409,173 @@ def initial_network(config: ExperimentConfig, seed: int) -> Network:
 
 
 def evaluate(
-    env: DockingEnv, net: Network, rng: np.random.Generator, n_trials: int, config: ExperimentConfig
+    env: DockingEnv,
+    net: Network,
+    rng: np.random.Generator,
+    n_trials: int,
+    config: ExperimentConfig,
+    on_trials: Callable[[int], None] | None = None,
 ) -> list[TrialRecord]:
-    """``n_trials`` greedy test trials (beta_a = beta_a_test, no learning)."""
-    return [
-        run_trial(
-            env, net, rng, learn=False, bootstrap_on_truncation=config.bootstrap_on_truncation
-        )
-        for _ in range(n_trials)
-    ]
+    """``n_trials`` greedy test trials (beta_a = beta_a_test, no learning) of ``net``, or of
+    the yardstick ``config.policy`` (drawing from ``rng`` if it is random); ``on_trials(1)``
+    after each, if given."""
+    found = []
+    policy = None if config.policy == "network" else yardstick(config.policy, rng)
+    for _ in range(n_trials):
+        if policy is None:
+            record = run_trial(
+                env, net, rng, learn=False, bootstrap_on_truncation=config.bootstrap_on_truncation
+            )
+        else:
+            record = policy_trial(env, policy)
+        found.append(record)
+        if on_trials is not None:
+            on_trials(1)
+    return found
+
+
+def yardstick(name: str, rng: np.random.Generator):
+    """The policy ``policy(observation, env) -> action`` of :mod:`docking.policies` that
+    :data:`POLICIES` calls ``name`` (``"random"`` draws from ``rng``)."""
+    from docking import policies
+
+    check_choice("yardstick", "name", name, POLICIES[1:])
+    if name == "random":
+        return policies.RandomPolicy(rng)
+    return {
+        "oracle": policies.oracle,
+        "centroid": policies.centroid_rule,
+        "forward": policies.always_forward,
+    }[name]
+
+
+def policy_trial(env: DockingEnv, policy) -> TrialRecord:
+    """One trial of a yardstick policy in the shape of a learner's :class:`TrialRecord`: no
+    TD errors (0) and no winning feature unit (-1)."""
+    from docking.policies import run_episode
+
+    episode = run_episode(env, policy)
+    steps = episode.steps
+    rewards = np.zeros(steps, dtype=np.float64)
+    rewards[-1] = float(episode.success)
+    return TrialRecord(
+        poses=np.asarray(episode.poses, dtype=np.float64),
+        actions=episode.actions,
+        rewards=rewards,
+        deltas=np.zeros(steps, dtype=np.float64),
+        winners=np.full(steps, -1, dtype=np.int64),
+        success=episode.success,
+    )
+
+
+def trials_in_run(config: ExperimentConfig) -> int:
+    """How many trials a run of ``config`` executes (what a progress bar counts): the
+    pretraining, training, learning-curve, test and held-out trials."""
+    check_instance("trials_in_run", "config", config, ExperimentConfig)
+    points = 1 + config.train_trials // config.eval_every if config.eval_trials else 0
+    return (
+        config.pretrain_trials
+        + config.train_trials
+        + points * config.eval_trials
+        + config.test_trials
+        + config.heldout_trials
+    )
 
 
 def pretrain_competitive(
-    net: Network, env: DockingEnv, rng: np.random.Generator, n_trials: int, rate: float
+    net: Network,
+    env: DockingEnv,
+    rng: np.random.Generator,
+    n_trials: int,
+    rate: float,
+    rule: str = "competitive",
+    on_trials: Callable[[int], None] | None = None,
 ) -> None:
     """The first stage of a two-stage learner (paper Sec. IV): train ``net.W`` without delta,
-    by winner-take-all competitive learning (:meth:`Network.competitive_update`) on every
-    frame of ``n_trials`` random-walk trials (uniformly random actions) in ``env``."""
-    for _ in range(n_trials):
+    on every frame of ``n_trials`` random-walk trials (uniformly random actions) in ``env``,
+    by winner-take-all competitive learning (``rule="competitive"``,
+    :meth:`Network.competitive_update`) or a self-organizing map (``rule="som"``,
+    :meth:`Network.som_update`; the neighbourhood's width shrinks geometrically from half the
+    grid's longer side to 0.5 over the trials)."""
+    rule = check_choice("pretrain_competitive", "rule", rule, PRETRAIN_RULES)
+    sigma_start = max(max(Network.som_grid(net.config.n_features)) / 2, 0.5)
+    for k in range(n_trials):
+        sigma = sigma_start * (0.5 / sigma_start) ** (k / max(n_trials - 1, 1))
         timestep = env.reset()
         while True:
-            net.competitive_update(net.prepare(timestep.observation), rate)
+            I = net.prepare(timestep.observation)
+            if rule == "som":
+                net.som_update(I, rate, sigma)
+            else:
+                net.competitive_update(I, rate)
             if timestep.last():
                 break
             timestep = env.step(int(rng.integers(net.config.n_actions)))
+        if on_trials is not None:
+            on_trials(1)
+
+
+class DeltaShuffle:
+    """The permutation control's delta (:attr:`NetworkConfig.permute_delta`): called with each
+    training step's TD error, it returns one drawn uniformly from the run's earlier training
+    steps (the last ``window`` of them), then remembers the new one; 0 at the first step.
+    The returned deltas have delta's distribution (its sign and size, as training goes) and
+    no correlation with the current step's input or outcome."""
+
+    def __init__(self, rng: np.random.Generator, window: int = 1000):
+        self._rng = check_instance("DeltaShuffle", "rng", rng, np.random.Generator)
+        self._window = check_int("DeltaShuffle", "window", window, lo=1, hi=MAX_COUNT)
+        self._seen: list[float] = []
+        self._next = 0  # where the next delta goes once the window is full
+
+    def __call__(self, delta: float) -> float:
+        seen = self._seen
+        drawn = seen[int(self._rng.integers(len(seen)))] if seen else 0.0
+        if len(seen) < self._window:
+            seen.append(float(delta))
+        else:
+            seen[self._next] = float(delta)
+            self._next = (self._next + 1) % self._window
+        return drawn
 
 
 def heldout_trials(
-    config: ExperimentConfig, seed: int, net: Network, world: WorldConfig
+    config: ExperimentConfig,
+    seed: int,
+    net: Network,
+    world: WorldConfig,
+    on_trials: Callable[[int], None] | None = None,
 ) -> TrialLog:
     """``config.heldout_trials`` greedy trials of ``net`` in ``world`` from the held-out
     streams of ``seed``: start poses, step noise and action draws that training, the learning
-    curve and the main test never use. The same (``config``, ``seed``) gives the same draws
-    in any world, so two worlds are compared on paired trials (e.g. with and without a
-    distractor, or without heading noise: the same normal draws, scaled by 0)."""
+    curve and the main test never use. One world generator draws both the start poses and
+    every step's noise, so two runs of one seed share their first trial's start and draw from
+    the same distributions after it, but their later trials are not paired (a trial that
+    ends sooner draws fewer step noises). Compare such runs by their success rates, not
+    trial by trial."""
+    from docking.world import DockingEnv
+
     rngs = _streams(check_int("heldout_trials", "seed", seed, lo=0, hi=MAX_SEED))
     env = DockingEnv(
         check_instance("heldout_trials", "world", world, WorldConfig), rngs["heldout_world"]
     )
-    found = evaluate(env, net, rngs["heldout_actions"], config.heldout_trials, config)
+    found = evaluate(env, net, rngs["heldout_actions"], config.heldout_trials, config, on_trials)
     return TrialLog.from_records(found, [world.start_far] * len(found))
 
 
-def run_experiment(config: ExperimentConfig, seed: int, progress: bool = True) -> ExperimentResult:
-    """Train and test one network; every random draw comes from ``seed`` (an int >= 0)."""
+def run_experiment(
+    config: ExperimentConfig,
+    seed: int,
+    progress: bool = True,
+    on_trials: Callable[[int], None] | None = None,
+) -> ExperimentResult:
+    """Train and test one network; every random draw comes from ``seed`` (an int >= 0).
+
+    ``progress``: tqdm bars of the training and test trials. ``on_trials(n)``, if given, is
+    called as trials finish with how many just did (they add up to
+    :func:`trials_in_run`), for a caller's own progress bar; it cannot change the run."""
+    from docking.world import DockingEnv
+
     check_instance("run_experiment", "config", config, ExperimentConfig)
     seed = check_int("run_experiment", "seed", seed, lo=0, hi=MAX_SEED)
     rngs = _streams(seed)
@@ -445,8 +591,11 @@ def run_experiment(config: ExperimentConfig, seed: int, progress: bool = True) -
             rngs["pretrain_actions"],
             config.pretrain_trials,
             config.pretrain_rate,
+            config.pretrain_rule,
+            on_trials,
         )
     near = config.world.start_near
+    shuffle = DeltaShuffle(rngs["delta_shuffle"]) if config.network.permute_delta else None
 
     records, fars = [], []
     curve = {"trials": [], "success": [], "steps": [], "rewarded": []}
@@ -455,7 +604,7 @@ def run_experiment(config: ExperimentConfig, seed: int, progress: bool = True) -
     def measure(done: int) -> None:
         if config.eval_trials == 0:
             return
-        recs = evaluate(eval_env, net, rngs["eval_actions"], config.eval_trials, config)
+        recs = evaluate(eval_env, net, rngs["eval_actions"], config.eval_trials, config, on_trials)
         ok = [r.steps for r in recs if r.success]
         curve["trials"].append(done)
         curve["success"].append(len(ok) / len(recs))
@@ -479,9 +628,12 @@ def run_experiment(config: ExperimentConfig, seed: int, progress: bool = True) -
             rngs["train_actions"],
             learn=True,
             bootstrap_on_truncation=config.bootstrap_on_truncation,
+            feature_delta=shuffle,
         )
         records.append(rec)
         fars.append(far)
+        if on_trials is not None:
+            on_trials(1)
         rewarded += rec.success
         if (k + 1) % config.eval_every == 0:
             measure(k + 1)
@@ -490,24 +642,33 @@ def run_experiment(config: ExperimentConfig, seed: int, progress: bool = True) -
     wall_train = time.perf_counter() - t0
 
     t0 = time.perf_counter()
-    test_records = [
-        run_trial(
-            test_env,
-            net,
-            rngs["test_actions"],
-            learn=False,
-            bootstrap_on_truncation=config.bootstrap_on_truncation,
-        )
-        for _ in tqdm(
-            range(config.test_trials),
-            desc=f"{config.name} seed {seed} test",
-            disable=not progress,
-            leave=False,
-        )
-    ]
+    test_records = []
+    test_policy = (
+        None if config.policy == "network" else yardstick(config.policy, rngs["test_actions"])
+    )
+    for _ in tqdm(
+        range(config.test_trials),
+        desc=f"{config.name} seed {seed} test",
+        disable=not progress,
+        leave=False,
+    ):
+        if test_policy is None:
+            record = run_trial(
+                test_env,
+                net,
+                rngs["test_actions"],
+                learn=False,
+                bootstrap_on_truncation=config.bootstrap_on_truncation,
+            )
+        else:
+            record = policy_trial(test_env, test_policy)
+        test_records.append(record)
+        if on_trials is not None:
+            on_trials(1)
     heldout = None
     if config.heldout_trials:
-        heldout = heldout_trials(config, seed, net, config.heldout_world or config.world)
+        world = config.heldout_world or config.world
+        heldout = heldout_trials(config, seed, net, world, on_trials)
     wall_test = time.perf_counter() - t0
     return ExperimentResult(
         config=config,

@@ -51,7 +51,8 @@ from docking.experiments import ExperimentConfig
 from docking.fileio import atomic_write
 from docking.paths import figures_dir
 from docking.region import StartRegion
-from docking.world import ACTION_LETTERS, ROBOT_RADIUS, WorldConfig
+from docking.scene import scene_facts
+from docking.world import ACTION_LETTERS, WorldConfig
 
 __all__ = [
     "FIGURES_DIR",
@@ -554,7 +555,7 @@ def fig5(
     Successful trials in different shades of green, failures in red, start points as open
     circles; the docking region yellow (its size from the config), the sideboard grey, the
     landmark's two boxes red, the test start trapezoid dashed, and the robot's body (radius
-    ``ROBOT_RADIUS``) drawn once at the end of a successful trial for scale.
+    ``scene_facts().robot_radius``) drawn once at the end of a successful trial for scale.
 
     Args:
       config: The world (floor plan, docking region, start region).
@@ -599,7 +600,7 @@ def fig5(
         ax.add_patch(
             Circle(
                 (end[1], end[0]),
-                ROBOT_RADIUS,
+                scene_facts().robot_radius,
                 fill=False,
                 edgecolor="0.3",
                 linestyle=":",
@@ -655,7 +656,7 @@ def fig5(
             [],
             color="0.3",
             linestyle=":",
-            label=f"robot body (r = {100 * ROBOT_RADIUS:.0f} cm)",
+            label=f"robot body (r = {100 * scene_facts().robot_radius:.0f} cm)",
         ),
     ]
     fig.legend(handles=handles, loc="outside lower center", ncol=2, fontsize=7.5, frameon=False)

@@ -106,6 +106,12 @@ class NetworkConfig:
             Eq. (6). A number ``c``: Eq. (8) keeps its form with delta replaced by the
             constant ``c``, an unmodulated control (competitive Hebbian feature learning
             alongside SARSA; Eq. 7 still uses delta).
+        permute_delta: the permutation control of the modulation: Eq. (8) keeps its form,
+            but the delta it uses is not this step's: it is drawn uniformly from the TD errors
+            of the run's earlier training steps (:class:`docking.experiments.DeltaShuffle`),
+            so it keeps delta's distribution (sign and size) and loses its correlation with
+            the current input and learning progress (Eq. 7 still uses this step's delta).
+            False (default): the paper. Excludes ``feature_delta``.
         feature_layer: ``"softmax"`` (the paper, Eq. 1-2) or ``"none"``: no feature layer,
             ``s = I``, a linear SARSA on the pixels (``n_features`` must equal ``n_inputs``;
             ``W`` is the identity and is never learned).
@@ -125,6 +131,7 @@ class NetworkConfig:
     q_init: float = 0.0  # Q ~ U[0, q_init]; not in the paper
     feature_delta: float | None = None  # None: Eq. (8) uses delta; a number: that constant
     feature_layer: str = "softmax"  # Eq. (1)-(2); "none": linear SARSA on the pixels
+    permute_delta: bool = False  # True: Eq. (8) uses an earlier step's delta (a control)
 
     def __post_init__(self) -> None:
         owner = "NetworkConfig"
@@ -146,7 +153,13 @@ class NetworkConfig:
             rule=check_choice(owner, "rule", self.rule, RULES),
             normalize_input=check_bool(owner, "normalize_input", self.normalize_input),
             feature_layer=check_choice(owner, "feature_layer", self.feature_layer, FEATURE_LAYERS),
+            permute_delta=check_bool(owner, "permute_delta", self.permute_delta),
         )
+        if self.permute_delta and self.feature_delta is not None:
+            raise ValueError(
+                "NetworkConfig.permute_delta and feature_delta exclude each other (Eq. 8 is "
+                f"modulated by one of them), got feature_delta={self.feature_delta!r}"
+            )
         if self.feature_delta is not None:
             normalise(
                 self,
@@ -341,7 +354,7 @@ class Network:
         return s  # the local rule: Eq. (8) without the bracket
 
     def increments(
-        self, I: np.ndarray, s: np.ndarray, a: int, delta: float
+        self, I: np.ndarray, s: np.ndarray, a: int, delta: float, feature_delta=None
     ) -> tuple[np.ndarray, np.ndarray]:
         """The raw weight changes ``(Delta Q, Delta W)`` of Eq. (7) and (8) for the configured
         rule, as :meth:`update` computes them, before W is rectified and normalized; nothing is
@@ -350,17 +363,21 @@ class Network:
         """
         self._check_step(I, s, a, delta)
         cfg = self.config
+        feature_delta = self._feature_delta(delta, feature_delta)
         dQ = np.zeros_like(self.Q)
         dQ[a] = (cfg.eps_q * delta) * s  # Eq. (7), see update()
         if cfg.feature_layer == "none":
             return dQ, np.zeros_like(self.W)
-        feature_delta = delta if cfg.feature_delta is None else cfg.feature_delta
         dW = np.multiply.outer(self._feature_factor(s, a) * (cfg.eps_w * feature_delta), I)
         return dQ, dW  # Eq. (8), see update()
 
-    def update(self, I: np.ndarray, s: np.ndarray, a: int, delta: float) -> None:
+    def update(
+        self, I: np.ndarray, s: np.ndarray, a: int, delta: float, feature_delta=None
+    ) -> None:
         """One learning step from input ``I``, its state ``s = features(I)``, the chosen action
-        ``a`` and the TD error ``delta`` (Eq. 6), in place.
+        ``a`` and the TD error ``delta`` (Eq. 6), in place. ``feature_delta``: the permuted
+        delta Eq. (8) uses in the permutation control (``config.permute_delta``; required
+        there, refused otherwise).
 
         * Eq. (7) on the chosen action's row of Q.
         * Eq. (8) on W, with the *pre-update* Q in its bracket (``rule="local"``: without the
@@ -373,10 +390,10 @@ class Network:
         """
         self._check_step(I, s, a, delta)
         cfg = self.config
+        feature_delta = self._feature_delta(delta, feature_delta)
         # Eq. (8): Delta W_jn = eps_w delta s_j I_n (Q_ij - sum_k Q_ik s_k), i = the chosen
         # action a (delta: the constant feature_delta in the unmodulated control); its
         # coefficient per unit j is taken before Q changes.
-        feature_delta = delta if cfg.feature_delta is None else cfg.feature_delta
         coef = self._feature_factor(s, a) * (cfg.eps_w * feature_delta)
         q_row = self.Q[a] + (cfg.eps_q * delta) * s  # Eq. (7): Delta Q_ij = eps_q delta a_i s_j
         if not np.isfinite(q_row).all():
@@ -398,6 +415,51 @@ class Network:
                     norms[j] = self._fix_row(Wn, j)
         self.Q[a] = q_row  # nothing can fail from here on: the update is whole or not at all
         np.divide(Wn, norms[:, None], out=self.W)
+
+    def _feature_delta(self, delta: float, permuted) -> float:
+        """The factor that modulates Eq. (8): delta, the control's constant, or the permuted
+        delta given by the caller."""
+        cfg = self.config
+        if cfg.permute_delta != (permuted is not None):
+            raise ValueError(
+                "Network.update: a permuted feature_delta is required exactly when "
+                f"config.permute_delta (here {cfg.permute_delta}), got {permuted!r}"
+            )
+        if permuted is not None:
+            return check_real("Network", "feature_delta", permuted)
+        return delta if cfg.feature_delta is None else cfg.feature_delta
+
+    def som_update(self, I: np.ndarray, rate: float, sigma: float) -> int:
+        """Kohonen's self-organizing map, without delta (the first stage of a two-stage
+        learner, the kind the paper's Sec. IV names): the feature units sit on the grid
+        :meth:`som_grid`; the unit ``j`` with the largest ``h_j`` (Eq. 1) wins, and every unit
+        ``k`` moves towards the input, ``W_k += rate g_k (I - W_k)``, with the neighbourhood
+        ``g_k = exp(-d(j, k)^2 / (2 sigma^2))`` of its grid distance to the winner; rows are
+        then rectified and normalized like every row of W. An all-zero input changes
+        nothing. Returns the winner (-1 for an all-zero input)."""
+        self._check_vector(I, self.config.n_inputs, "I")
+        rate = check_real("Network", "rate", rate, lo=0, hi=1)
+        sigma = check_real("Network", "sigma", sigma, lo=0, lo_open=True, hi=MAX_RATE)
+        if self.config.feature_layer == "none" or not I.any():
+            return -1
+        j = int(np.argmax(self.W @ I))  # Eq. (1), the winner of Eq. (2)'s softmax
+        rows, cols = self.som_grid(self.config.n_features)
+        k = np.arange(self.config.n_features)
+        d2 = (k // cols - j // cols) ** 2 + (k % cols - j % cols) ** 2
+        g = np.exp(-d2 / (2.0 * sigma * sigma))
+        Wn = np.maximum(self.W + (rate * g)[:, None] * (I - self.W), 0.0)
+        for u in range(self.config.n_features):
+            norm = float(np.sqrt(Wn[u] @ Wn[u]))
+            if norm > _DEAD_NORM:
+                self.W[u] = Wn[u] / norm
+        return j
+
+    @staticmethod
+    def som_grid(n_features: int) -> tuple[int, int]:
+        """The ``(rows, cols)`` grid of :meth:`som_update`'s units, in row-major order: the
+        most nearly square factorisation of ``n_features`` (36: 6x6, 4: 2x2)."""
+        rows = max(r for r in range(1, math.isqrt(n_features) + 1) if n_features % r == 0)
+        return rows, n_features // rows
 
     def competitive_update(self, I: np.ndarray, rate: float) -> int:
         """Winner-take-all competitive learning, without delta (not the paper's rule; the

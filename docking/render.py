@@ -31,6 +31,10 @@ def _gl_context():
     """The process's shared OpenGL context, current on return."""
     global _CONTEXT
     if _CONTEXT is None:
+        # dm_control's renderer initialises the same EGL display when it is imported and
+        # registers its termination at exit; imported before this context exists, it
+        # terminates after the context is freed (atexit runs handlers in reverse order).
+        import dm_control.mujoco  # noqa: F401
         from mujoco.gl_context import GLContext
 
         # The size matters for window/pbuffer backends only; the models render into their

@@ -19,12 +19,8 @@ import numpy as np
 from matplotlib.figure import Figure
 
 from docking import analysis, figures
-from docking.experiments import (
-    HEADLINE_SEED,
-    SEEDS,
-    ExperimentConfig,
-    ExperimentResult,
-)
+from docking.experiments import ExperimentConfig, ExperimentResult
+from docking.presets import HEADLINE_SEED, SEEDS
 from docking.world import DockingEnv
 
 #: The paper's figures (Sec. III).

@@ -36,9 +36,6 @@ import dataclasses
 import numpy as np
 
 from docking.experiments import (
-    EXPERIMENT_1,
-    EXPERIMENT_2,
-    FLOOR_WORLD,
     Curriculum,
     ExperimentConfig,
     ExperimentResult,
@@ -46,6 +43,7 @@ from docking.experiments import (
     heldout_trials,
 )
 from docking.network import NetworkConfig
+from docking.presets import EXPERIMENT_1, EXPERIMENT_2, FLOOR_WORLD
 from docking.world import Distractor, WorldConfig
 
 __all__ = [

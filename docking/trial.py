@@ -32,6 +32,7 @@ End of an episode:
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass
 
 import numpy as np
@@ -78,6 +79,7 @@ def run_trial(
     learn: bool,
     beta_a: float | None = None,
     bootstrap_on_truncation: bool = True,
+    feature_delta: Callable[[float], float] | None = None,
 ) -> TrialRecord:
     """Run one episode of ``env`` with ``net`` choosing actions by Eq. (4); SARSA learning if
     ``learn`` (Eq. 6-8), otherwise the weights are left untouched.
@@ -91,6 +93,10 @@ def run_trial(
             when learning, ``net.config.beta_a_test`` otherwise.
         bootstrap_on_truncation: at the step limit (truncation, discount > 0) use
             ``v' = Q[a'] . s'`` (True, default) or ``v' = 0`` (False); see the module docstring.
+        feature_delta: the permutation control's source of the delta Eq. (8) uses
+            (``net.config.permute_delta``; required there when learning): called with each
+            learning step's delta, it returns the delta to use instead
+            (:class:`docking.experiments.DeltaShuffle`).
 
     Returns:
         A :class:`TrialRecord`.
@@ -107,6 +113,11 @@ def run_trial(
             f"{type(env).__name__}"
         )
     cfg = net.config
+    if learn and cfg.permute_delta and not callable(feature_delta):
+        raise FieldTypeError(
+            "run_trial.feature_delta must be a callable (the permuted delta) when learning with "
+            f"NetworkConfig.permute_delta, got {feature_delta!r}"
+        )
     if beta_a is None:
         beta_a = cfg.beta_a_train if learn else cfg.beta_a_test  # Eq. (4)
     beta_a = check_real("run_trial", "beta_a", beta_a, lo=0)
@@ -150,7 +161,8 @@ def run_trial(
         rewards.append(r)
         deltas.append(delta)
         if learn:
-            net.update(I, s, a, delta)  # Eq. (7), (8)
+            permuted = feature_delta(delta) if cfg.permute_delta else None
+            net.update(I, s, a, delta, permuted)  # Eq. (7), (8)
         if last:
             success = discount == 0.0 and r > 0.0
             break

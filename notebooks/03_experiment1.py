@@ -35,8 +35,8 @@ from IPython.display import Image, Markdown, display
 
 from docking import calibration
 from docking.analysis import best_actions, feature_change, learning_curves
-from docking.experiments import EXPERIMENT_1, SEEDS
 from docking.figures import FIGURES_DIR, fig_rewards, to_png
+from docking.presets import EXPERIMENT_1, SEEDS
 from docking.report import (
     configuration_table,
     experiment1_rows,
@@ -52,7 +52,7 @@ config = EXPERIMENT_1
 # %% [markdown]
 # ## The configuration: every choice the paper leaves open, named
 #
-# The values below are read from `docking.experiments.EXPERIMENT_1` and the dataclasses it is
+# The values below are read from `docking.presets.EXPERIMENT_1` and the dataclasses it is
 # built from, so this table is always the configuration that ran. "Close proximity" is a start
 # region 6-18 cm beyond the docking region, one forward step away when the robot is aligned;
 # the world's choices (steps, noise, landmark, region) are explained in notebook 02, the

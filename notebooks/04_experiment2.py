@@ -41,8 +41,9 @@ from docking.analysis import (
     start_views,
     winner_change,
 )
-from docking.experiments import EXPERIMENT_1, EXPERIMENT_2, SEEDS, initial_network
+from docking.experiments import initial_network
 from docking.figures import FIGURES_DIR
+from docking.presets import EXPERIMENT_1, EXPERIMENT_2, SEEDS
 from docking.report import (
     configuration_table,
     experiment2_rows,
@@ -61,7 +62,7 @@ config = EXPERIMENT_2
 # %% [markdown]
 # ## The configuration
 #
-# Read from `docking.experiments.EXPERIMENT_2`; everything not named as the paper's is ours.
+# Read from `docking.presets.EXPERIMENT_2`; everything not named as the paper's is ours.
 
 # %%
 display(Markdown(configuration_table(config)))

@@ -45,8 +45,9 @@ import numpy as np
 from IPython.display import Image, Markdown, display
 
 from docking import analysis, figures, study
-from docking.experiments import EXPERIMENT_2, FLOOR_WORLD, initial_network
+from docking.experiments import initial_network
 from docking.policies import RandomPolicy, always_forward, centroid_rule, evaluate_policy, oracle
+from docking.presets import EXPERIMENT_2, FLOOR_WORLD
 from docking.report import save_named
 from docking.stats import mean_ci
 from docking.world import DockingEnv

@@ -25,8 +25,9 @@ import numpy as np
 ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT))
 
-from docking.experiments import EXPERIMENT_1, Curriculum  # noqa: E402
+from docking.experiments import Curriculum  # noqa: E402
 from docking.network import Network, NetworkConfig  # noqa: E402
+from docking.presets import EXPERIMENT_1  # noqa: E402
 from docking.store import (  # noqa: E402
     CorruptResult,
     content_digest,

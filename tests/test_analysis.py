@@ -7,9 +7,11 @@ import numpy as np
 import pytest
 
 from docking import analysis
-from docking.experiments import EXPERIMENT_1, TrialLog, initial_network, run_experiment
+from docking.experiments import TrialLog, initial_network, run_experiment
 from docking.network import Network, NetworkConfig
-from docking.world import ACTION_LETTERS, ROBOT_RADIUS, DockingEnv, WorldConfig
+from docking.presets import EXPERIMENT_1
+from docking.scene import scene_facts
+from docking.world import ACTION_LETTERS, DockingEnv, WorldConfig
 
 TINY = dict(train_trials=4, test_trials=6, eval_every=2, eval_trials=2)
 L, R, F, B = (ACTION_LETTERS.index(c) for c in "LRFB")
@@ -206,7 +208,7 @@ def test_trajectory_sample_returns_the_chosen_paths():
 def test_failure_taxonomy_classifies_hand_made_trials(env):
     cfg = env.config
     assert cfg.max_steps == 25 and cfg.dock_center == 0.48 and cfg.dock_width == 0.20
-    contact_x = -0.35 - ROBOT_RADIUS  # the sideboard's front is at x = -0.35
+    contact_x = -0.35 - scene_facts().robot_radius  # the sideboard's front is at x = -0.35
     T = cfg.max_steps
     yaw15 = np.radians(15)
     trials = {
@@ -306,7 +308,8 @@ def test_learning_curves_of_several_seeds(result1):
 
 def test_floor_plan_and_taxonomy_of_the_floor_scene():
     from docking.analysis import failure_taxonomy, floor_plan
-    from docking.experiments import FLOOR_WORLD, TrialLog
+    from docking.experiments import TrialLog
+    from docking.presets import FLOOR_WORLD
     from docking.world import DockingEnv
 
     plan = floor_plan(FLOOR_WORLD)

@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 
 from docking.calibration import BASELINE, Variant, analyse, markdown_table, run, variants
-from docking.experiments import EXPERIMENT_1, EXPERIMENT_2, SEEDS
+from docking.presets import EXPERIMENT_1, EXPERIMENT_2, SEEDS
 from docking.stats import difference_ci, mean_ci
 from docking.store import config_key
 

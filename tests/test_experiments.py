@@ -7,13 +7,14 @@ import numpy as np
 import pytest
 
 from docking.experiments import (
-    EXPERIMENT_1,
-    EXPERIMENT_2,
     Curriculum,
+    DeltaShuffle,
     ExperimentConfig,
     initial_network,
     run_experiment,
+    trials_in_run,
 )
+from docking.presets import EXPERIMENT_1, EXPERIMENT_2
 from docking.store import load_result, result_path, run_or_load, save_result
 
 TINY = dataclasses.replace(EXPERIMENT_1, train_trials=4, test_trials=3, eval_every=2, eval_trials=2)
@@ -167,3 +168,124 @@ def test_two_stage_pretraining_moves_w_without_delta():
     assert len(moved) >= 1  # the winners moved towards the frames, SARSA left W alone
     np.testing.assert_allclose(np.linalg.norm(result.network.W, axis=1), 1.0)
     assert result.network.W.min() >= 0
+
+
+# -- from_dict, the permutation control, the SOM stage --------------------------------------
+
+
+@pytest.mark.parametrize(
+    ("change", "message"),
+    [
+        (lambda d: {**d, "extra": 1}, "unknown 'extra'"),
+        (lambda d: {k: v for k, v in d.items() if k != "world"}, "missing 'world'"),
+        (lambda d: {**d, "network": [1, 2]}, "ExperimentConfig.network must be a mapping"),
+        (lambda d: {**d, "world": {**d["world"], "camera": 3}}, "world.camera must be a mapping"),
+        (lambda d: {**d, "curriculum": {"grow_trials": 3}}, "missing 'far_initial'"),
+        (
+            lambda d: {**d, "world": {**d["world"], "distractors": [{"shape": "box"}]}},
+            r"distractors\[0\]: missing 'position', 'size'",
+        ),
+    ],
+)
+def test_from_dict_names_what_is_wrong_with_a_type_error(change, message):
+    with pytest.raises(TypeError, match=message):
+        ExperimentConfig.from_dict(change(EXPERIMENT_2.to_dict()))
+
+
+def test_from_dict_inverts_to_dict_with_every_option():
+    from docking.world import Distractor
+
+    config = dataclasses.replace(
+        EXPERIMENT_2,
+        heldout_world=dataclasses.replace(EXPERIMENT_2.world, distractors=(Distractor.cup(),)),
+        network=dataclasses.replace(EXPERIMENT_2.network, permute_delta=True),
+        pretrain_rule="som",
+        pretrain_trials=3,
+    )
+    assert ExperimentConfig.from_dict(config.to_dict()) == config
+    with pytest.raises(ValueError, match="pretrain_rule"):
+        dataclasses.replace(config, pretrain_rule="kohonen")
+
+
+def test_the_delta_shuffle_returns_earlier_deltas_of_its_window():
+    shuffle = DeltaShuffle(np.random.default_rng(0), window=3)
+    assert shuffle(1.0) == 0.0  # nothing earlier
+    assert shuffle(2.0) == 1.0
+    drawn = [shuffle(float(k)) for k in range(3, 200)]
+    for k, value in zip(range(3, 200), drawn, strict=True):
+        assert value in {k - 3.0, k - 2.0, k - 1.0} or (k == 3 and value in {1.0, 2.0})
+    assert len(set(drawn[-60:])) > 30  # draws, not a fixed lag
+
+
+def test_a_permutation_run_differs_from_the_papers_and_repeats_bit_for_bit():
+    permuted = dataclasses.replace(
+        TINY, network=dataclasses.replace(TINY.network, permute_delta=True)
+    )
+    a = run_experiment(permuted, seed=3, progress=False)
+    b = run_experiment(permuted, seed=3, progress=False)
+    plain = run_experiment(TINY, seed=3, progress=False)
+    np.testing.assert_array_equal(a.network.W, b.network.W)
+    np.testing.assert_array_equal(a.train.deltas, b.train.deltas)
+    assert not np.array_equal(a.network.W, plain.network.W)
+
+
+def test_som_pretraining_moves_w_and_leaves_the_other_streams_alone():
+    som = dataclasses.replace(TINY, pretrain_trials=2, pretrain_rule="som")
+    competitive = dataclasses.replace(TINY, pretrain_trials=2)
+    a = run_experiment(som, seed=5, progress=False)
+    b = run_experiment(competitive, seed=5, progress=False)
+    start = initial_network(TINY, 5)
+    assert not np.array_equal(a.network.W, b.network.W)
+    # The pretraining frames come from their own streams: the first training start is the same.
+    np.testing.assert_array_equal(a.train.starts[0], b.train.starts[0])
+    assert not np.array_equal(a.network.W, start.W)
+
+
+def test_on_trials_counts_every_trial_of_a_run_and_changes_nothing():
+    config = dataclasses.replace(TINY, pretrain_trials=2, heldout_trials=3)
+    counted = []
+    a = run_experiment(config, seed=4, progress=False, on_trials=counted.append)
+    b = run_experiment(config, seed=4, progress=False)
+    assert set(counted) == {1}
+    assert sum(counted) == trials_in_run(config) == 2 + 4 + 3 * 2 + 3 + 3
+    np.testing.assert_array_equal(a.network.W, b.network.W)
+    np.testing.assert_array_equal(a.heldout.success, b.heldout.success)
+
+
+# -- yardstick runs: a policy that does not learn, through the same runner and store ----------
+
+
+@pytest.mark.parametrize("policy", ["oracle", "centroid", "forward", "random"])
+def test_a_yardstick_run_is_stored_and_loaded_like_a_learners(policy, tmp_path):
+    config = dataclasses.replace(
+        EXPERIMENT_2, policy=policy, train_trials=0, eval_trials=0, test_trials=4, heldout_trials=3
+    )
+    result = run_experiment(config, seed=2, progress=False)
+    assert len(result.train) == 0 and len(result.curve_trials) == 0
+    assert len(result.test) == 4 and len(result.heldout) == 3
+    assert (result.heldout.winners == -1).all() and (result.heldout.deltas == 0).all()
+    back = load_result(save_result(result, tmp_path / "run.npz"))
+    np.testing.assert_array_equal(back.heldout.poses, result.heldout.poses)
+    again = run_experiment(config, seed=2, progress=False)
+    np.testing.assert_array_equal(again.test.actions, result.test.actions)
+
+
+def test_a_yardstick_starts_where_the_learner_of_its_seed_starts():
+    learner = dataclasses.replace(
+        EXPERIMENT_2, train_trials=2, eval_trials=0, test_trials=2, heldout_trials=2
+    )
+    oracle = dataclasses.replace(learner, policy="oracle", train_trials=0)
+    a = run_experiment(learner, seed=6, progress=False)
+    b = run_experiment(oracle, seed=6, progress=False)
+    np.testing.assert_array_equal(a.test.starts[0], b.test.starts[0])
+    np.testing.assert_array_equal(a.heldout.starts[0], b.heldout.starts[0])
+    assert b.heldout.success.all()  # the oracle docks from Experiment 2's region
+
+
+def test_a_yardstick_does_not_learn_and_a_learner_does():
+    with pytest.raises(ValueError, match="policy='oracle' does not learn; train_trials=5"):
+        dataclasses.replace(EXPERIMENT_2, policy="oracle", train_trials=5, eval_trials=0)
+    with pytest.raises(ValueError, match="train_trials must be >= 1 for the learner"):
+        dataclasses.replace(EXPERIMENT_2, train_trials=0)
+    with pytest.raises(ValueError, match="policy"):
+        dataclasses.replace(EXPERIMENT_2, policy="ppo", train_trials=0, eval_trials=0)

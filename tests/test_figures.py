@@ -9,7 +9,8 @@ import pytest
 from matplotlib.figure import Figure
 
 from docking import analysis, figures, report
-from docking.experiments import EXPERIMENT_1, EXPERIMENT_2, Curriculum, run_experiment
+from docking.experiments import Curriculum, run_experiment
+from docking.presets import EXPERIMENT_1, EXPERIMENT_2
 from docking.region import StartRegion
 from docking.store import load_result, save_result
 from docking.world import ACTION_LETTERS, DockingEnv

@@ -14,7 +14,8 @@ import numpy as np
 import pytest
 
 from docking import ledger, store
-from docking.experiments import EXPERIMENT_1, run_experiment
+from docking.experiments import run_experiment
+from docking.presets import EXPERIMENT_1
 from docking.store import (
     CorruptResult,
     StaleCode,
@@ -182,7 +183,7 @@ def test_a_ledger_from_other_code_is_refused_naming_the_module(built, tmp_path):
     code = """
         import dataclasses
         from docking import ledger
-        from docking.experiments import EXPERIMENT_1
+        from docking.presets import EXPERIMENT_1
         config = dataclasses.replace(EXPERIMENT_1, name="tiny", train_trials=4, test_trials=6,
                                      eval_every=4, eval_trials=1, heldout_trials=5)
         assert ledger.holds(config, 0)

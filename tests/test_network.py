@@ -404,3 +404,67 @@ def test_without_a_feature_layer_the_network_is_linear_sarsa_on_the_pixels():
         NetworkConfig(n_features=4, feature_layer="none")
     with pytest.raises(ValueError, match="feature_layer"):
         NetworkConfig(feature_layer="relu")
+
+
+# -- the controls of the study's second edition: the permuted delta, the SOM ----------------
+
+
+def _step_inputs(net, rng):
+    I = net.prepare(rng.random((10, 32)).astype(np.float32))
+    return I, net.features(I)
+
+
+def test_the_permutation_control_modulates_eq8_by_the_given_delta_and_eq7_by_delta():
+    rng = np.random.default_rng(0)
+    cfg = NetworkConfig(n_features=4, permute_delta=True)
+    net = Network(cfg, np.random.default_rng(1))
+    I, s = _step_inputs(net, rng)
+    dQ, dW = net.increments(I, s, 2, 0.5, feature_delta=-0.25)
+    plain = Network(NetworkConfig(n_features=4), np.random.default_rng(1))
+    dQ0, dW0 = plain.increments(I, s, 2, 0.5)
+    np.testing.assert_array_equal(dQ, dQ0)  # Eq. (7): this step's delta
+    np.testing.assert_allclose(dW, -0.5 * dW0)  # Eq. (8): the permuted delta, -0.25 / 0.5
+    before = net.W.copy()
+    net.update(I, s, 2, 0.5, -0.25)
+    assert not np.array_equal(before, net.W)
+
+
+def test_the_permuted_delta_is_required_exactly_in_the_permutation_control():
+    rng = np.random.default_rng(0)
+    permuting = Network(NetworkConfig(n_features=4, permute_delta=True), np.random.default_rng(1))
+    I, s = _step_inputs(permuting, rng)
+    with pytest.raises(ValueError, match="permuted feature_delta is required"):
+        permuting.update(I, s, 0, 0.5)
+    plain = Network(NetworkConfig(n_features=4), np.random.default_rng(1))
+    with pytest.raises(ValueError, match="permuted feature_delta is required"):
+        plain.update(I, s, 0, 0.5, 0.1)
+    with pytest.raises(ValueError, match="exclude each other"):
+        NetworkConfig(permute_delta=True, feature_delta=0.1)
+
+
+@pytest.mark.parametrize(("n", "grid"), [(36, (6, 6)), (4, (2, 2)), (12, (3, 4)), (7, (1, 7))])
+def test_the_som_grid_is_the_most_nearly_square_factorisation(n, grid):
+    assert Network.som_grid(n) == grid
+
+
+def test_a_som_step_is_kohonens_rule_and_with_a_narrow_neighbourhood_the_competitive_one():
+    rng = np.random.default_rng(3)
+    net = Network(NetworkConfig(n_features=36), np.random.default_rng(4))
+    I = net.prepare(rng.random((10, 32)).astype(np.float32))
+    before = net.W.copy()
+    j = net.som_update(I, 0.5, sigma=1.5)
+    assert j == int(np.argmax(before @ I))
+    grid = np.array([(k // 6, k % 6) for k in range(36)])
+    g = np.exp(-np.sum((grid - grid[j]) ** 2, axis=1) / (2 * 1.5**2))
+    expected = np.maximum(before + 0.5 * g[:, None] * (I - before), 0)
+    expected /= np.linalg.norm(expected, axis=1, keepdims=True)
+    np.testing.assert_allclose(net.W, expected, rtol=0, atol=1e-12)
+    assert (net.W >= 0).all()
+
+    narrow = Network(NetworkConfig(n_features=36), np.random.default_rng(4))
+    competitive = Network(NetworkConfig(n_features=36), np.random.default_rng(4))
+    assert narrow.som_update(I, 0.3, sigma=0.01) == competitive.competitive_update(I, 0.3) == j
+    np.testing.assert_allclose(narrow.W, competitive.W, rtol=0, atol=1e-12)
+    zero = narrow.W.copy()
+    assert narrow.som_update(np.zeros(320), 0.5, 1.0) == -1
+    np.testing.assert_array_equal(zero, narrow.W)

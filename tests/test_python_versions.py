@@ -15,7 +15,8 @@ from pathlib import Path
 
 import pytest
 
-from docking.experiments import EXPERIMENT_2, run_experiment
+from docking.experiments import run_experiment
+from docking.presets import EXPERIMENT_2
 from docking.store import content_digest, module_digests, result_arrays
 
 RECORDING = Path(__file__).parent / "data" / "interpreter_digest.json"

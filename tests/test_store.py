@@ -15,9 +15,10 @@ import numpy as np
 import pytest
 
 from docking import store
-from docking.experiments import EXPERIMENT_1, ExperimentConfig, run_experiment
+from docking.experiments import ExperimentConfig, run_experiment
 from docking.fileio import atomic_write, remove_stale_temporaries
 from docking.network import NetworkConfig
+from docking.presets import EXPERIMENT_1
 from docking.store import (
     CorruptResult,
     check_writable,
@@ -306,3 +307,10 @@ def test_a_run_without_a_final_test_saves_and_loads(tmp_path):
     assert len(result.heldout) == 2
     loaded = load_result(result_path(config, 1, tmp_path))
     assert len(loaded.test) == 0 and np.isnan(loaded.test.success_rate)
+
+
+def test_presets_and_designs_are_outside_the_fingerprint():
+    """A seed list or a preset is data: editing it must not re-key the stored runs."""
+    modules = store.module_digests()
+    assert "docking.experiments" in modules and "docking.scene" in modules
+    assert not any(name.startswith(("docking.presets", "docking.designs")) for name in modules)

@@ -5,7 +5,8 @@ import dataclasses
 import numpy as np
 import pytest
 
-from docking.experiments import EXPERIMENT_1, EXPERIMENT_2, heldout_trials, run_experiment
+from docking.experiments import heldout_trials, run_experiment
+from docking.presets import EXPERIMENT_1, EXPERIMENT_2
 from docking.store import config_key
 from docking.study import HELDOUT_TRIALS, STUDY_SEEDS, cells, control_cell
 

@@ -18,7 +18,7 @@ import numpy as np
 import psutil
 import pytest
 
-from docking.experiments import EXPERIMENT_1
+from docking.presets import EXPERIMENT_1
 from docking.store import load_result, run_seeds
 from docking.sweep import Job, apply_override, grid_configs, jobs_for, parse_seeds, run_jobs
 

@@ -7,9 +7,10 @@ import numpy as np
 import pytest
 
 from docking import analysis, experiment3
-from docking.experiments import EXPERIMENT_2, ExperimentConfig, TrialLog, run_experiment
+from docking.experiments import ExperimentConfig, TrialLog, run_experiment
 from docking.gym import DockingGymEnv
 from docking.oracle import oracle_action
+from docking.presets import EXPERIMENT_2
 from docking.study import cells as study_cells
 from docking.world import (
     ACTION_LETTERS,

@@ -15,14 +15,24 @@ from hypothesis import strategies as st
 from hypothesis.extra import numpy as hnp
 
 from docking.camera import CameraConfig
-from docking.experiments import EXPERIMENT_1, Curriculum, ExperimentConfig
+from docking.experiments import Curriculum, ExperimentConfig
 from docking.network import Network, NetworkConfig
+from docking.presets import EXPERIMENT_1
 from docking.trial import run_trial
 from docking.validate import FieldTypeError
 from docking.world import DockingEnv, WorldConfig
 
+
 # Values that are the wrong *type* for every numeric field.
-NOT_NUMBERS = [None, "1", b"1", True, False, np.bool_(True), 1j, [1], (1,), {}, object()]
+class _Opaque:
+    """An object that is no number, with a repr that is the same in every process (pytest-xdist
+    needs the same test ids in each worker)."""
+
+    def __repr__(self):
+        return "<opaque>"
+
+
+NOT_NUMBERS = [None, "1", b"1", True, False, np.bool_(True), 1j, [1], (1,), {}, _Opaque()]
 NOT_FINITE = [math.nan, math.inf, -math.inf, np.float64("nan")]
 NOT_INTEGERS = [2.5, 1.0, np.float64(3.0)]  # counts must be integers, also integral floats
 

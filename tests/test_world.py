@@ -1,6 +1,7 @@
 """Tests of the docking world (issue #2): determinism, observations, geometry, physics."""
 
 import dataclasses
+import os
 
 import dm_env
 import mujoco
@@ -23,7 +24,6 @@ from docking.world import (
     LEFT,
     POSE_JOINTS,
     RIGHT,
-    ROBOT_RADIUS,
     DockingEnv,
     WorldConfig,
     footprints,
@@ -206,8 +206,8 @@ def test_walking_into_the_landmark_does_not_pass_through(quiet_env):
         assert not timestep.last()
     # The robot's collision cylinder stops at the sideboard's front face.
     x0 = footprints(QUIET)["sideboard"][0]
-    assert max(xs) <= x0 - ROBOT_RADIUS + 0.01
-    assert max(xs) >= x0 - ROBOT_RADIUS - 0.01  # it did reach the sideboard
+    assert max(xs) <= x0 - scene_facts().robot_radius + 0.01
+    assert max(xs) >= x0 - scene_facts().robot_radius - 0.01  # it did reach the sideboard
     assert np.ptp(xs[-4:]) < 0.01  # and stays there
 
 
@@ -315,7 +315,7 @@ def test_config_sets_camera_and_dock_in_the_compiled_model():
 def test_scene_facts_are_read_from_the_compiled_model():
     facts = scene_facts()
     model = make_model(WorldConfig())
-    assert facts.robot_radius == ROBOT_RADIUS == model.geom("body_collider").size[0]
+    assert facts.robot_radius == scene_facts().robot_radius == model.geom("body_collider").size[0]
     assert facts.sideboard == footprints(WorldConfig())["sideboard"]
     sideboard = model.geom("sideboard")
     assert facts.sideboard[0] == pytest.approx(sideboard.pos[0] - sideboard.size[0])
@@ -370,7 +370,7 @@ def test_geom_groups_of_the_asset():
 
 
 def _worlds():
-    from docking.experiments import FLOOR_WORLD
+    from docking.presets import FLOOR_WORLD
     from docking.world import Distractor
 
     cup = WorldConfig(distractors=(Distractor.cup(y=0.30),))
@@ -532,7 +532,8 @@ def test_no_hidden_geom_can_occlude_the_landmark(world):
 
 
 def test_a_distractor_is_red_solid_and_seen_when_in_view():
-    from docking.experiments import EXPERIMENT_2, ExperimentConfig
+    from docking.experiments import ExperimentConfig
+    from docking.presets import EXPERIMENT_2
     from docking.world import Distractor
 
     cup = Distractor.cup(y=0.30)
@@ -578,7 +579,7 @@ def test_bad_distractors_raise_naming_the_field(kwargs, match):
 
 
 def test_the_floor_scene_has_no_sideboard_and_the_landmark_on_the_floor():
-    from docking.experiments import FLOOR_WORLD
+    from docking.presets import FLOOR_WORLD
 
     env = DockingEnv(FLOOR_WORLD, seed=0)
     model = env.physics.model
@@ -607,3 +608,74 @@ def test_the_floor_scene_has_no_sideboard_and_the_landmark_on_the_floor():
     for _ in range(30):
         env.reset()
         assert env.landmark_in_crop()
+
+
+# -- the world's configuration without rendering; heading hold; actions by name -------------
+
+
+def test_the_world_configuration_and_the_presets_need_no_opengl():
+    """Importing docking.scene needs nothing but numpy; the presets compile the asset (with
+    MuJoCo's GL disabled here: no rendering library is touched) but load no renderer."""
+    import subprocess
+    import sys
+
+    code = (
+        "import sys, docking.scene\n"
+        "assert 'mujoco' not in sys.modules, 'docking.scene imported mujoco'\n"
+        "import docking.presets\n"
+        "loaded = {'dm_control', 'OpenGL', 'docking.world', 'docking.render'} & set(sys.modules)\n"
+        "assert not loaded, loaded\n"
+        "print(docking.presets.EXPERIMENT_2.world.n_actions)"
+    )
+    env = {**os.environ, "MUJOCO_GL": "disable"}
+    out = subprocess.run(
+        [sys.executable, "-c", code], env=env, capture_output=True, text=True, check=False
+    )
+    assert out.returncode == 0, out.stderr
+    assert out.stdout.strip() == "4"
+
+
+def test_actions_are_found_by_name():
+    turning = WorldConfig(actions="turning")
+    assert turning.action_index("turn-left") == 4
+    assert WorldConfig().action_index("forward") == 0
+    with pytest.raises(ValueError, match="no action 'turn-left'; its actions are forward"):
+        WorldConfig().action_index("turn-left")
+
+
+def test_a_far_dock_centre_is_named_as_such():
+    with pytest.raises(ValueError, match="WorldConfig.dock_center must be in"):
+        WorldConfig(dock_center=1e300)
+
+
+def test_heading_hold_keeps_the_heading_error_from_adding_up():
+    noisy = WorldConfig(step_noise_yaw_deg=6.0, max_steps=100, start_far=0.9)
+    spreads = {}
+    for hold in (False, True):
+        env = DockingEnv(dataclasses.replace(noisy, heading_hold=hold), seed=11)
+        drift = []
+        for _ in range(8):
+            env.reset_to([-1.2, 0.0, 0.05])
+            for _ in range(12):
+                env.step(1 if env.pose[0] > -1.0 else 0)  # back and forth, never docking
+            drift.append(env.pose[2] - 0.05)
+        spreads[hold] = float(np.std(drift))
+    # 12 steps of 6 deg noise: ~21 deg without the hold, ~6 deg (one step's) with it.
+    assert spreads[True] < np.radians(12) < spreads[False]
+
+
+def test_the_gl_context_is_freed_cleanly_at_exit_whatever_was_imported_first():
+    """The store asks for the rendering stack before a run imports the world; the process
+    must still exit without EGL errors (the context is freed before the display ends)."""
+    import subprocess
+    import sys
+
+    code = (
+        "from docking.render import gl_stack\n"
+        "print(gl_stack())\n"
+        "from docking.world import DockingEnv\n"
+        "DockingEnv(seed=0).reset()\n"
+    )
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=False)
+    assert out.returncode == 0, out.stderr
+    assert "Exception ignored" not in out.stderr and "EGLError" not in out.stderr, out.stderr
