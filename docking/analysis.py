@@ -384,13 +384,16 @@ def failure_taxonomy(
     near_m: float = 0.10,
     min_reversals: int = 2,
     contact_tol: float = 0.02,
+    trials=None,
 ) -> dict[str, np.ndarray]:
     """Classify the trials of ``log`` from their logged poses and actions.
 
     Returns ``{class: bool array over all trials}`` for the classes of
-    :data:`FAILURE_CLASSES` (a trial may be in several; the flags are computed for every trial,
-    docked or not: select failures with ``~log.success``). ``env`` supplies the world's
-    geometry and the landmark's projection (its pose is restored).
+    :data:`FAILURE_CLASSES` (a trial may be in several). ``trials``: the indices of the
+    trials to classify (e.g. the failures, ``np.flatnonzero(~log.success)``: only their poses
+    are read, so a ledger need keep no others); default every trial, docked or not. Trials
+    not classified are False in every class. ``env`` supplies the world's geometry and the
+    landmark's projection (its pose is restored).
     """
     if not heading_deg > 0 or not near_m >= 0 or min_reversals < 1 or not contact_tol >= 0:
         raise ValueError(
@@ -410,7 +413,10 @@ def failure_taxonomy(
     precise = config.dock_heading_deg is not None
     limit = np.radians(heading_deg)
     flags = {name: np.zeros(len(log), dtype=bool) for name in FAILURE_CLASSES}
-    for k in range(len(log)):
+    chosen = range(len(log)) if trials is None else np.asarray(trials, dtype=np.int64).tolist()
+    if any(not 0 <= k < len(log) for k in chosen):
+        raise ValueError(f"failure_taxonomy: trials must index the log's {len(log)} trials")
+    for k in chosen:
         poses, actions = log.trial_poses(k), log.trial_actions(k)
         start, end = poses[0], poses[-1]
         flags["heading_drift"][k] = bool(np.any(np.abs(poses[:, 2]) > limit))

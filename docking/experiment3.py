@@ -289,8 +289,8 @@ def failure_shares(results: StudyResults, keys: list[str]) -> tuple[np.ndarray, 
         env = DockingEnv(results.cell(key).config.world, seed=0)
         counts, n = np.zeros(len(FAILURE_CLASSES)), 0
         for log in results.heldout[key]:
-            flags = failure_taxonomy(log, env)
             failed = ~log.success
+            flags = failure_taxonomy(log, env, trials=np.flatnonzero(failed))
             n += int(failed.sum())
             counts += [int(flags[c][failed].sum()) for c in FAILURE_CLASSES]
         env.close()

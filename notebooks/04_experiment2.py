@@ -184,7 +184,7 @@ display(Image(filename=str(FIGURES_DIR / "fig5_trajectories.png")))
 
 # %%
 env = DockingEnv(config.world, seed=0)
-flags = [failure_taxonomy(r.test, env) for r in results]
+flags = [failure_taxonomy(r.test, env, trials=np.flatnonzero(~r.test.success)) for r in results]
 failed = [~r.test.success for r in results]
 n_failed = int(sum(f.sum() for f in failed))
 rows = [

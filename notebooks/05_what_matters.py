@@ -257,7 +257,10 @@ taxonomy_cells = ["paper", "no-yaw-noise", "floor/paper", "floor/no-yaw-noise"]
 shares, counts = [], []
 for key in taxonomy_cells:
     env = DockingEnv(cells[key].test_world or cells[key].config.world, seed=0)
-    flags = [analysis.failure_taxonomy(log, env) for log in results.heldout[key]]
+    flags = [
+        analysis.failure_taxonomy(log, env, trials=np.flatnonzero(~log.success))
+        for log in results.heldout[key]
+    ]
     failed = np.concatenate([~log.success for log in results.heldout[key]])
     counts.append(int(failed.sum()))
     shares.append(

@@ -369,3 +369,18 @@ def test_rewarded_share_counts_the_far_training_trials():
     np.testing.assert_allclose(analysis.rewarded_share([run]), [2 / 3])
     np.testing.assert_allclose(analysis.rewarded_share([run], beyond=0.75), [0.5])
     assert np.isnan(analysis.rewarded_share([run], beyond=2.0)[0])
+
+
+def test_the_failure_taxonomy_of_chosen_trials_reads_only_their_poses():
+    result = run_experiment(
+        dataclasses.replace(EXPERIMENT_1, train_trials=3, test_trials=6, eval_trials=0), 1, progress=False
+    )
+    log = result.test
+    env = DockingEnv(EXPERIMENT_1.world, seed=0)
+    every = analysis.failure_taxonomy(log, env)
+    some = analysis.failure_taxonomy(log, env, trials=[1, 4])
+    for name in analysis.FAILURE_CLASSES:
+        np.testing.assert_array_equal(some[name][[1, 4]], every[name][[1, 4]])
+        assert not some[name][[0, 2, 3, 5]].any()
+    with pytest.raises(ValueError, match="must index the log's 6 trials"):
+        analysis.failure_taxonomy(log, env, trials=[6])
