@@ -6,9 +6,8 @@ Built by tyro from the configuration dataclasses and their docstrings, so every 
     python -m docking run experiment2 --seeds 0-19 --network.eps-w 0
     python -m docking sweep experiment2 --seeds 0-9 --grid network.eps_w=0,0.05 \\
         --scheduler tcp://127.0.0.1:8786
-    python -m docking study [--full]
-    python -m docking calibration
-    python -m docking experiment3
+    python -m docking design list
+    python -m docking design run study [--full]     (old name: python -m docking study)
     python -m docking report --readme README.md
     python -m docking benchmark --steps 2000
 
@@ -29,6 +28,7 @@ from typing import Annotated, Literal, Union
 import numpy as np
 import tyro
 
+from docking.designs import names as _design_names
 from docking.experiments import ExperimentConfig
 from docking.presets import EXPERIMENTS, HEADLINE_SEED, SEEDS
 
@@ -165,14 +165,22 @@ def _value(config, entry: str):
     return value
 
 
-@dataclasses.dataclass
-class Study:
-    """Run (or load) the study of notebook 05: every cell of docking.study for its ten seeds,
-    one sweep on a Dask cluster (embedded by default), then the unmodulated control."""
+#: The designs' names (docking.designs), as choices.
+_DesignName = Literal[tuple(_design_names())]  # type: ignore[valid-type]
 
+
+@dataclasses.dataclass
+class DesignRun:
+    """Run (or load) designs of docking.designs: every cell for the design's seeds in one
+    sweep on a Dask cluster (embedded by default), then the cells that need measured runs;
+    prints each design's summary (its table and the verdicts of its claims)."""
+
+    names: tyro.conf.Positional[tuple[_DesignName, ...]]
+    """The designs to run (python -m docking design list)."""
     full: bool = False
-    """Also the sensitivity cells (eps_W x10, beta_s 10 and 30, more distractor and floor
-    variants): about twice the runs."""
+    """Also the design's sensitivity cells (about twice the runs for the study)."""
+    seeds: str | None = None
+    """Seeds as ranges or lists, e.g. 0-4 (default: the design's)."""
     scheduler: str | None = None
     """Address of an existing Dask scheduler (tcp://HOST:PORT). Default: an embedded cluster."""
     processes: int | None = None
@@ -181,69 +189,72 @@ class Study:
     """The results store (default: DOCKING_RESULTS, the checkout's results/ or ./results)."""
 
     def execute(self) -> int:
-        from docking.stats import mean_ci
-        from docking.study import run_study
+        from docking.design import run_design, summary
+        from docking.designs import design
+        from docking.sweep import parse_seeds
 
-        results = run_study(
-            self.full, self.results_dir, scheduler=self.scheduler, workers=self.processes
-        )
-        for cell in results.cells:
-            ci = mean_ci(results.success(cell.key))
-            print(f"{cell.key:22s} held-out success {ci.format(unit='%')}  {cell.label}")
+        if not self.names:
+            raise ValueError("name at least one design (python -m docking design list)")
+        seeds = None if self.seeds is None else parse_seeds(self.seeds)
+        for name in self.names:
+            found = design(name)
+            results = run_design(
+                found,
+                full=self.full,
+                seeds=seeds,
+                results_dir=self.results_dir,
+                scheduler=self.scheduler,
+                workers=self.processes,
+            )
+            print(f"\n{name}: {found.title}\n")
+            print(summary(results))
         return 0
 
 
 @dataclasses.dataclass
-class Calibration:
-    """Run (or load) the calibration variants of Experiments 1 and 2 (notebooks 03 and 04,
-    "What the choices do": step lengths, start regions and learning rates changed one or two
-    at a time, the main experiments' seeds) and print their tables."""
-
-    processes: int | None = None
-    """Worker processes of the embedded Dask cluster (default: one per core)."""
-    scheduler: str | None = None
-    """Address of an existing Dask scheduler (tcp://HOST:PORT). Default: an embedded cluster."""
-    results_dir: Path | None = None
-    """The results store (default: DOCKING_RESULTS, the checkout's results/ or ./results)."""
+class DesignList:
+    """List the designs: name, cells (core / all), seeds, measure and what each asks."""
 
     def execute(self) -> int:
-        from docking import calibration
+        from docking.designs import design, names
 
-        for name, found in calibration.run_all(
-            results_dir=self.results_dir, workers=self.processes, scheduler=self.scheduler
-        ).items():
-            print(f"\n{name}\n")
-            print(calibration.markdown_table(found.rows(), seeds_at_100=name == "experiment1"))
-            print(f"\ncomputing time of the variants: {found.wall_time():.0f} s")
+        for name in names():
+            d = design(name)
+            core = len(d.select(False))
+            print(
+                f"{name:26s} {core:3d} / {len(d.cells):3d} cells x {len(d.seeds):2d} seeds, "
+                f"{d.measure:7s} {d.title}"
+            )
         return 0
+
+
+_DesignSubcommand = Union[  # noqa: UP007 (tyro needs a runtime Union)
+    Annotated[DesignRun, tyro.conf.subcommand("run")],
+    Annotated[DesignList, tyro.conf.subcommand("list")],
+]
 
 
 @dataclasses.dataclass
-class Experiment3:
-    """Run (or load) Experiment 3 of notebook 06: the paper's four actions against six (with
-    turns), the paper's task and precision docking, three heading noises; every cell for the
-    study's ten seeds, one sweep on a Dask cluster (embedded by default)."""
+class DesignCommand:
+    """Experiment designs (docking.designs): list them, or run some."""
 
-    full: bool = False
-    """Also the six-action cell of the paper's task at 2 deg trained twice as long."""
-    scheduler: str | None = None
-    """Address of an existing Dask scheduler (tcp://HOST:PORT). Default: an embedded cluster."""
-    processes: int | None = None
-    """Worker processes of the embedded cluster (default: one per core)."""
-    results_dir: Path | None = None
-    """The results store (default: DOCKING_RESULTS, the checkout's results/ or ./results)."""
+    command: Annotated[_DesignSubcommand, tyro.conf.arg(name=""), tyro.conf.OmitSubcommandPrefixes]
+    """list: the designs; run NAME ...: run (or load) them."""
 
     def execute(self) -> int:
-        from docking.experiment3 import run
-        from docking.stats import mean_ci
+        return self.command.execute()
 
-        results = run(
-            self.results_dir, scheduler=self.scheduler, workers=self.processes, full=self.full
-        )
-        for cell in results.cells:
-            ci = mean_ci(results.success(cell.key))
-            print(f"{cell.key:28s} held-out success {ci.format(unit='%')}")
-        return 0
+
+def _alias(names: tuple[str, ...], help: str):
+    """An old subcommand: ``design run NAMES`` under its old name."""
+    return Annotated[
+        DesignRun,
+        tyro.conf.subcommand(
+            names[0].split("-")[0] if len(names) > 1 else names[0],
+            default=DesignRun(names=names),
+            description=f"{help} (= python -m docking design run {' '.join(names)})",
+        ),
+    ]
 
 
 @dataclasses.dataclass
@@ -286,7 +297,7 @@ class Report:
             save_figures(*results)
         changed = self.readme is not None and update_readme(self.readme, table)
         if self.study:
-            from docking.study import run_study, verdict_table
+            from docking.designs.study import run_study, verdict_table
 
             verdicts = verdict_table(
                 run_study(results_dir=self.results_dir, workers=self.processes)
@@ -295,7 +306,7 @@ class Report:
             if self.readme is not None:
                 changed |= update_readme(self.readme, verdicts, STUDY_START, STUDY_END)
         if self.experiment3:
-            from docking import experiment3
+            from docking.designs import experiment3
             from docking.report import EXPERIMENT3_END, EXPERIMENT3_START
 
             found = experiment3.run(self.results_dir, workers=self.processes)
@@ -390,9 +401,13 @@ class Benchmark:
 Command = Union[  # noqa: UP007
     Annotated[Run, tyro.conf.subcommand("run")],
     Annotated[Sweep, tyro.conf.subcommand("sweep")],
-    Annotated[Study, tyro.conf.subcommand("study")],
-    Annotated[Calibration, tyro.conf.subcommand("calibration")],
-    Annotated[Experiment3, tyro.conf.subcommand("experiment3")],
+    Annotated[DesignCommand, tyro.conf.subcommand("design")],
+    _alias(("study",), "The study of notebook 05"),
+    _alias(
+        ("calibration-experiment1", "calibration-experiment2"),
+        "The calibration variants of notebooks 03 and 04",
+    ),
+    _alias(("experiment3",), "Experiment 3 of notebook 06"),
     Annotated[Report, tyro.conf.subcommand("report")],
     Annotated[Ledger, tyro.conf.subcommand("ledger")],
     Annotated[Verify, tyro.conf.subcommand("verify")],

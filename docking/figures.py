@@ -833,6 +833,7 @@ def fig_forest(
     success: np.ndarray,
     difference: np.ndarray,
     margin: float | None = None,
+    decided=None,
 ) -> Figure:
     """Every cell of the study as intervals (a forest plot).
 
@@ -846,6 +847,8 @@ def fig_forest(
         the same world, or the cell it is a test-only variant of), mean, low, high; NaN rows
         for the paper's configurations themselves (right panel).
       margin: If given, the +-margin band of "no effect" shaded in the right panel.
+      decided: Per cell, whether the rule of its claim decides its comparison (drawn red;
+        grey otherwise). Default: where the difference's interval excludes 0.
     """
     n = len(labels)
     if not (len(groups) == len(seeds) == len(success) == len(difference) == n):
@@ -861,8 +864,8 @@ def fig_forest(
         left.plot(100 * np.asarray(seeds[k]), y[k] + jitter, ".", color="C1", ms=3, alpha=0.7)
         if not np.isnan(difference[k, 0]):
             d = 100 * difference[k]
-            decided = d[1] > 0 or d[2] < 0
-            c = "C3" if decided else "0.45"
+            red = (d[1] > 0 or d[2] < 0) if decided is None else bool(decided[k])
+            c = "C3" if red else "0.45"
             right.plot(d[1:], [y[k]] * 2, color=c, lw=2.2, solid_capstyle="butt")
             right.plot(d[0], y[k], "o", color=c, markersize=5, zorder=3)
     if margin is not None:

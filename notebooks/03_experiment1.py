@@ -142,9 +142,9 @@ assert backward < 0.01
 
 # %%
 calib = calibration.run(config.name)
-rows = {r.key: r for r in calib.rows()}
+rows = {r.key: r for r in calibration.rows(calib)}
 display(Markdown(calibration.markdown_table(list(rows.values()), seeds_at_100=True)))
-print(f"computing time of the {len(rows) - 1} variants: {calib.wall_time():.0f} s")
+print(f"computing time of the {len(rows) - 1} variants: {calibration.wall_time(calib):.0f} s")
 
 # %% [markdown]
 # What the table shows (each statement is asserted below, from these runs):

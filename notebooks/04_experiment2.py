@@ -221,9 +221,9 @@ print(
 
 # %%
 calib = calibration.run(config.name)
-rows = {r.key: r for r in calib.rows()}
+rows = {r.key: r for r in calibration.rows(calib)}
 display(Markdown(calibration.markdown_table(list(rows.values()))))
-print(f"computing time of the {len(rows) - 1} variants: {calib.wall_time():.0f} s")
+print(f"computing time of the {len(rows) - 1} variants: {calibration.wall_time(calib):.0f} s")
 
 # %% [markdown]
 # What the table shows (each statement is asserted below, from these runs):
@@ -297,7 +297,7 @@ spread = max(float(r.network.Q.max() - r.network.Q.min()) for r in paper)
 world = config.world
 dock_edge = world.dock_center + world.dock_depth / 2
 for row in ("8cm-steps", calibration.BASELINE):
-    step = calib.variant(row).config.world.step_forward
+    step = calib.cell(row).config.world.step_forward
     moves = int(np.ceil((world.start_far - dock_edge) / step))
     print(
         f"{100 * step:.0f} cm forward steps: {moves} forward moves from the region's far edge "

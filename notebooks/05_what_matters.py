@@ -132,17 +132,23 @@ display(Image(save_named(fig, "study_floor_world")))
 #
 # Held-out success of every cell (A: mean, interval, one dot per seed) and its difference to
 # its baseline (B): the paper's configuration in the same world and experiment, or for "W
-# frozen, tested with a red cup" W frozen. Red where the interval excludes 0; the shaded band
-# is the ±2 pp margin of "does not affect performance".
+# frozen, tested with a red cup" W frozen. Red where the rule of the cell's claim decides the
+# comparison (for the rules above 0: where the interval excludes 0); the shaded band is the
+# ±2 pp margin of "does not affect performance".
 
 # %%
 order = list(cells)
-groups = {
-    **{k: "sideboard world, Experiment 2" for k in order if "/" not in k or k == "constant-delta"},
-    **{k: "sideboard world, Experiment 1" for k in order if k.startswith("exp1/")},
-    **{k: "floor world, Experiment 2" for k in order if k.startswith("floor/")},
-}
+groups = {k: f"{c['world']} world, {c['experiment']}" for k, c in cells.items()}
 order = sorted(order, key=lambda k: list(dict.fromkeys(groups.values())).index(groups[k]))
+# A row is drawn red where the rule of its cell's claim decides its comparison (supported or
+# contradicted), grey where it does not: the claim objects' rules, not the figure's own.
+claims = {c.key: c for c in study.CLAIMS}
+decided = [
+    k in diff
+    and claims[cells[k].claim].rule.decide(claims[cells[k].claim].interval(results, k))
+    != "not supported"
+    for k in order
+]
 success = {k: mean_ci(results.success(k)) for k in order}
 nan3 = [np.nan] * 3
 fig = figures.fig_forest(
@@ -154,6 +160,7 @@ fig = figures.fig_forest(
         [[(d := diff[k].negated()).estimate, d.low, d.high] if k in diff else nan3 for k in order]
     ),
     margin=study.EQUIVALENCE_MARGIN,
+    decided=decided,
 )
 display(Image(save_named(fig, "study_forest")))
 display(
@@ -232,11 +239,12 @@ print(f"paper minus constant: {pp(diff['constant-delta'])}")
 # %%
 fig = figures.fig_study_curves(
     {
-        world: {
-            cells[f"{p}{k}"].label: analysis.learning_curves(results.runs[f"{p}{k}"])
-            for k in ("paper", "none", "near-only")
+        f"{world} world": {
+            c.label: analysis.learning_curves(results.runs[c.key])
+            for variant in ("paper", "none", "near-only")
+            for c in results.where(world=world, experiment="Experiment 2", variant=variant)
         }
-        for world, p in (("sideboard world", ""), ("floor world", "floor/"))
+        for world in ("sideboard", "floor")
     }
 )
 display(Image(save_named(fig, "study_curriculum")))
@@ -270,10 +278,7 @@ for key in taxonomy_cells:
         ]
     )
 fig = figures.fig_failures(
-    [
-        ("floor world: " if k.startswith("floor/") else "sideboard world: ") + cells[k].label
-        for k in taxonomy_cells
-    ],
+    [f"{cells[k]['world']} world: {cells[k].label}" for k in taxonomy_cells],
     list(analysis.FAILURE_CLASSES),
     np.array(shares),
     counts,

@@ -94,8 +94,9 @@ display(
         + "\n".join(f"| {key} | {100 * rate:.1f}% |" for key, rate in oracle_rates.items())
     )
 )
-six = {k: v for k, v in oracle_rates.items() if k.startswith("6")}
-four = {k: v for k, v in oracle_rates.items() if k.startswith("4")}
+grid = {c.key: c for c in experiment3.experiment3_cells()}
+six = {k: v for k, v in oracle_rates.items() if grid[k]["actions"] == "turning"}
+four = {k: v for k, v in oracle_rates.items() if grid[k]["actions"] == "paper"}
 assert min(six.values()) >= 0.99, six  # every six-action configuration is solvable
 # without turns, precision docking at the largest noise is not solvable even for the oracle
 assert four["4 actions, precision, 6 deg"] < 0.95 < six["6 actions, precision, 6 deg"]
@@ -269,7 +270,8 @@ fig = figures.fig_action_fields(
     f"six action units, {headline.config.name} seed {headline.seed} (precision, 2°)",
 )
 display(Image(save_named(fig, "experiment3_action_fields")))
-turn_share = inputs.action_counts[4:].sum() / inputs.action_counts.sum()
+turns = [world.action_index("turn-left"), world.action_index("turn-right")]
+turn_share = inputs.action_counts[turns].sum() / inputs.action_counts.sum()
 print(
     "greedy actions over the held-out poses: "
     + ", ".join(

@@ -373,7 +373,9 @@ def test_rewarded_share_counts_the_far_training_trials():
 
 def test_the_failure_taxonomy_of_chosen_trials_reads_only_their_poses():
     result = run_experiment(
-        dataclasses.replace(EXPERIMENT_1, train_trials=3, test_trials=6, eval_trials=0), 1, progress=False
+        dataclasses.replace(EXPERIMENT_1, train_trials=3, test_trials=6, eval_trials=0),
+        1,
+        progress=False,
     )
     log = result.test
     env = DockingEnv(EXPERIMENT_1.world, seed=0)

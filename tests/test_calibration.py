@@ -6,7 +6,17 @@ import dataclasses
 import numpy as np
 import pytest
 
-from docking.calibration import BASELINE, Variant, analyse, markdown_table, run, variants
+from docking.calibration import (
+    BASELINE,
+    analyse,
+    markdown_table,
+    rewarded,
+    run,
+    variants,
+    wall_time,
+)
+from docking.calibration import rows as table_rows
+from docking.design import Cell
 from docking.presets import EXPERIMENT_1, EXPERIMENT_2, SEEDS
 from docking.stats import difference_ci, mean_ci
 from docking.store import config_key
@@ -70,7 +80,7 @@ def test_variants_are_distinct_runs_that_change_only_what_they_name(experiment):
         assert v.config.test_trials == base.test_trials  # the main experiment's test
         assert v.config.train_trials == base.train_trials
         expected = EXPECTED[experiment][v.key]
-        assert set(v.changes) == set(expected)
+        assert set(v["changes"]) == set(expected)
         assert differ == {"name": v.config.name, "eval_trials": 0, **expected}
         # The configuration round-trips (the store re-reads it).
         assert type(v.config).from_dict(v.config.to_dict()) == v.config
@@ -84,8 +94,8 @@ def test_unknown_experiment_is_refused():
 def _rows():
     base = EXPERIMENT_1
     return [
-        Variant("worse", "worse setting", dataclasses.replace(base, name="x")),
-        Variant(BASELINE, "the setting", base),
+        Cell("worse", dataclasses.replace(base, name="x"), label="worse setting"),
+        Cell(BASELINE, base, label="the setting"),
     ]
 
 
@@ -138,26 +148,27 @@ def test_analyse_needs_the_baseline():
 def test_run_goes_through_the_store_and_resumes(tmp_path, monkeypatch):
     tiny = dataclasses.replace(EXPERIMENT_1, train_trials=2, test_trials=2, eval_trials=0)
     rows = [
-        Variant(BASELINE, "tiny", tiny),
-        Variant(
+        Cell(BASELINE, tiny, label="tiny"),
+        Cell(
             "epsQ",
-            "tiny, eps_Q 0.2",
             dataclasses.replace(
                 tiny,
                 name="calibration-test",
                 network=dataclasses.replace(tiny.network, eps_q=0.2),
             ),
-            ("network.eps_q",),
+            {"changes": ("network.eps_q",)},
+            "tiny, eps_Q 0.2",
+            BASELINE,
         ),
     ]
     kwargs = dict(variants=rows, seeds=(0, 1), results_dir=tmp_path, workers=1, progress=False)
     first = run("experiment1", **kwargs)
-    assert first.seeds == (0, 1)
+    assert first.design.seeds == (0, 1)
     assert [r.seed for r in first.runs["epsQ"]] == [0, 1]
     assert first.runs["epsQ"][0].config == rows[1].config
     assert (tmp_path / "calibration-test").is_dir() and (tmp_path / tiny.name).is_dir()
-    assert first.success("epsQ").shape == (2,) and first.rewarded(BASELINE).shape == (2,)
-    assert first.wall_time() > 0
+    assert first.success("epsQ").shape == (2,) and rewarded(first, BASELINE).shape == (2,)
+    assert wall_time(first) > 0
 
     def refuse(*args, **kwargs):
         raise AssertionError("a stored run was computed again")
@@ -168,11 +179,11 @@ def test_run_goes_through_the_store_and_resumes(tmp_path, monkeypatch):
         np.testing.assert_array_equal(again.success(key), first.success(key))
         for a, b in zip(again.runs[key], first.runs[key], strict=True):
             np.testing.assert_array_equal(a.network.W, b.network.W)
-    table = markdown_table(again.rows(), seeds_at_100=True)
+    table = markdown_table(table_rows(again), seeds_at_100=True)
     assert "tiny, eps_Q 0.2" in table and "**tiny (this configuration)**" in table
     # every training trial starts beyond 0 m: the share is each run's training success rate
     expected = [r.train.success_rate for r in again.runs["epsQ"]]
-    np.testing.assert_array_equal(again.rewarded("epsQ"), expected)
+    np.testing.assert_array_equal(rewarded(again, "epsQ"), expected)
 
 
 def test_seeds_are_the_main_experiments():

@@ -86,16 +86,26 @@ def _log(rate: float, n: int = 200, seed: int = 0):
 
 
 def _study(rates: dict[str, float]):
-    from docking.study import StudyResults
+    from docking.study import DESIGN, StudyResults
 
     by_key = {c.key: c for c in cells(full=True)}
     chosen = [by_key[k] for k in rates]
     heldout = {k: [_log(r, seed=s) for s in STUDY_SEEDS] for k, r in rates.items()}
-    return StudyResults(chosen, {}, heldout)
+    return StudyResults(DESIGN, chosen, {}, heldout)
+
+
+def verdict(claim: str, results, key: str) -> str:
+    """The rule of ``claim`` on cell ``key`` (one comparison)."""
+    from docking.claims import claim_of
+    from docking.study import CLAIMS
+
+    found = claim_of(CLAIMS, claim)
+    return found.rule.decide(found.interval(results, key))
 
 
 def test_verdict_rules_on_synthetic_results():
-    from docking.study import difference, overall, rotation_share, verdict
+    from docking.claims import overall
+    from docking.study import difference, rotation_share
 
     s = _study(
         {

@@ -234,7 +234,7 @@ def _synthetic(rates: dict[str, float], n: int = 200):
 
     found = experiment3.experiment3_cells()
     heldout = {c.key: [log(rates[c.key], s) for s in STUDY_SEEDS] for c in found}
-    return StudyResults(found, {}, heldout)
+    return StudyResults(experiment3.DESIGN, found, {}, heldout)
 
 
 def test_experiment3_comparisons_table_and_verdict_on_synthetic_results():

@@ -1,0 +1,275 @@
+"""One way to ask a question: a *design* is data, one runner runs any design, and the results
+have one shape.
+
+A :class:`Design` is a grid of :class:`Cell` s (each an
+:class:`~docking.experiments.ExperimentConfig` with typed coordinates, e.g.
+``world="floor", variant="frozen"``), the seeds every cell runs for, the *measure* (the
+held-out trials, or the main test), and the claims judged on it (:mod:`docking.claims`).
+:func:`run_design` runs (or loads: :mod:`docking.store`, through the ledger when the store
+lacks a run) every trained cell for every seed in one sweep (:mod:`docking.sweep`), judges
+the *test-only* cells (a baseline's networks measured in another world), then any *stage*
+whose cells depend on measured runs (e.g. a control whose constant is measured on the
+paper's runs). It returns :class:`Results`: per cell, the runs in seed order, the measured
+trial logs, and the per-seed success (``Results.scores``, one array per cell: rliable's
+``score_dict``).
+
+Design files live in :mod:`docking.designs` (``python -m docking design list``); a new study
+is a new design file, nothing else.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+from collections.abc import Callable, Mapping, Sequence
+from types import MappingProxyType
+
+import numpy as np
+
+from docking.experiments import ExperimentConfig, ExperimentResult, TrialLog, heldout_trials
+from docking.scene import WorldConfig
+from docking.validate import check_instance, check_name
+
+__all__ = ["MEASURES", "Cell", "Design", "Results", "judge", "run_design", "summary"]
+
+#: What a design measures: ``"heldout"`` (each run's held-out trials, or a test-only cell's
+#: trials in its world) or ``"test"`` (each run's main test trials).
+MEASURES = ("heldout", "test")
+
+
+@dataclasses.dataclass(frozen=True, eq=False)
+class Cell:
+    """One cell of a design: a configuration and where it sits in the design.
+
+    Attributes:
+      key: Unique within the design (``"floor/frozen"``); names the cell in results, never
+        parsed: ask :attr:`coords` instead.
+      config: The run that trains the cell's networks (for a test-only cell: its
+        baseline's configuration).
+      coords: Typed coordinates (``{"world": "floor", "variant": "frozen"}``,
+        ``{"actions": "turning", "task": "precision", "noise_deg": 4.0}``): what a notebook
+        or figure selects and groups by.
+      label: What the cell is, for tables and figures.
+      baseline: The key of the cell it is compared with, or None.
+      test_world: A test-only cell: its baseline's networks are measured in this world on
+        the held-out streams (no training of its own). None: a trained cell.
+      core: Part of the design's default run (else added by ``full=True``).
+      claim: The key of the claim it bears on, if any.
+    """
+
+    key: str
+    config: ExperimentConfig
+    coords: Mapping[str, object] = dataclasses.field(default_factory=dict)
+    label: str = ""
+    baseline: str | None = None
+    test_world: WorldConfig | None = None
+    core: bool = True
+    claim: str | None = None
+
+    def __post_init__(self):
+        if not isinstance(self.key, str) or not self.key:
+            raise ValueError(f"Cell.key must be a non-empty string, got {self.key!r}")
+        check_instance(f"Cell {self.key!r}", "config", self.config, ExperimentConfig)
+        if self.test_world is not None:
+            check_instance(f"Cell {self.key!r}", "test_world", self.test_world, WorldConfig)
+            if self.baseline is None:
+                raise ValueError(f"Cell {self.key!r}: a test-only cell needs a baseline")
+        object.__setattr__(self, "coords", MappingProxyType(dict(self.coords)))
+        if not self.label:
+            object.__setattr__(self, "label", ", ".join(f"{v}" for v in self.coords.values()))
+
+    def __getitem__(self, name: str):
+        """The coordinate ``name`` (``cell["world"]``); ``KeyError`` naming the cell's
+        coordinates if it has none of that name."""
+        if name not in self.coords:
+            raise KeyError(
+                f"cell {self.key!r} has no coordinate {name!r} ({', '.join(self.coords)})"
+            )
+        return self.coords[name]
+
+    @property
+    def trained(self) -> bool:
+        """Whether the cell trains networks of its own (not a test-only cell)."""
+        return self.test_world is None
+
+    @property
+    def world(self) -> WorldConfig:
+        """The world the cell is measured in."""
+        if self.test_world is not None:
+            return self.test_world
+        return self.config.heldout_world or self.config.world
+
+
+@dataclasses.dataclass(frozen=True, eq=False)
+class Design:
+    """A question as data: cells x seeds, a measure, claims.
+
+    Attributes:
+      name: Identifies the design (``python -m docking design run NAME``).
+      title: One line: what the design asks.
+      cells: Every cell (core and sensitivity; see :attr:`Cell.core`).
+      seeds: The seeds every cell runs for.
+      measure: One of :data:`MEASURES`.
+      claims: The :class:`docking.claims.Claim` s judged on the results.
+      stages: Functions ``results -> [Cell, ...]`` for cells that need measured runs first
+        (run after the cells above, in order).
+      report: A function ``results -> str`` (Markdown) that :func:`summary` prints after the
+        cells' numbers (e.g. a table of the design's own); None: nothing more.
+    """
+
+    name: str
+    title: str
+    cells: tuple[Cell, ...]
+    seeds: tuple[int, ...]
+    measure: str = "heldout"
+    claims: tuple = ()
+    stages: tuple[Callable[[Results], Sequence[Cell]], ...] = ()
+    report: Callable[[Results], str] | None = None
+
+    def __post_init__(self):
+        check_name("Design", "name", self.name)
+        if self.measure not in MEASURES:
+            raise ValueError(f"Design.measure must be one of {MEASURES}, got {self.measure!r}")
+        keys = [c.key for c in self.cells]
+        if len(set(keys)) != len(keys):
+            raise ValueError(f"Design {self.name!r}: cell keys repeat")
+        for c in self.cells:
+            if c.test_world is not None and self.measure != "heldout":
+                raise ValueError(f"Design {self.name!r}: test-only cells need measure='heldout'")
+        if not self.seeds:
+            raise ValueError(f"Design {self.name!r} has no seeds")
+        object.__setattr__(self, "cells", tuple(self.cells))
+        object.__setattr__(self, "seeds", tuple(int(s) for s in self.seeds))
+        object.__setattr__(self, "claims", tuple(self.claims))
+        object.__setattr__(self, "stages", tuple(self.stages))
+
+    def select(self, full: bool = False) -> list[Cell]:
+        """The cells of a default run (the core ones), or every cell if ``full``."""
+        return [c for c in self.cells if full or c.core]
+
+    def cell(self, key: str) -> Cell:
+        return _find(self.cells, key, self.name)
+
+
+def _find(cells, key: str, where: str) -> Cell:
+    for c in cells:
+        if c.key == key:
+            return c
+    raise KeyError(f"{where} has no cell {key!r}")
+
+
+@dataclasses.dataclass
+class Results:
+    """What :func:`run_design` returns: one shape for every design.
+
+    Attributes:
+      design: The design run.
+      cells: The cells run, in order (a stage's cells last).
+      runs: ``{cell key: runs in seed order}`` (a test-only cell: its baseline's runs).
+      logs: ``{cell key: the measured trial logs in seed order}``.
+    """
+
+    design: Design
+    cells: list[Cell]
+    runs: dict[str, list[ExperimentResult]]
+    logs: dict[str, list[TrialLog]]
+
+    def cell(self, key: str) -> Cell:
+        return _find(self.cells, key, f"the results of {self.design.name!r}")
+
+    def score(self, key: str) -> np.ndarray:
+        """Per seed, the measured success rate of cell ``key``."""
+        return np.array([log.success_rate for log in self.logs[key]])
+
+    @property
+    def scores(self) -> dict[str, np.ndarray]:
+        """``{cell key: per-seed success}`` (rliable's ``score_dict``)."""
+        return {c.key: self.score(c.key) for c in self.cells}
+
+    def where(self, **coords) -> list[Cell]:
+        """The cells whose coordinates include ``coords`` (``where(world="floor")``)."""
+        return [
+            c
+            for c in self.cells
+            if all(k in c.coords and c.coords[k] == v for k, v in coords.items())
+        ]
+
+    # Names of the study's first edition.
+    @property
+    def heldout(self) -> dict[str, list[TrialLog]]:
+        return self.logs
+
+    def success(self, key: str) -> np.ndarray:
+        return self.score(key)
+
+
+def judge(design: Design, cells: Sequence[Cell], runs: Mapping[str, list]) -> Results:
+    """The results of ``cells`` from the runs of their trained cells: each trained cell's
+    measured logs, and each test-only cell's held-out trials of its baseline's networks in
+    its world."""
+    runs, logs = dict(runs), {}
+    for c in cells:
+        if c.trained:
+            logs[c.key] = [
+                r.heldout if design.measure == "heldout" else r.test for r in runs[c.key]
+            ]
+        else:
+            runs[c.key] = runs[c.baseline]
+            logs[c.key] = [
+                heldout_trials(r.config, r.seed, r.network, c.test_world) for r in runs[c.key]
+            ]
+    return Results(design, list(cells), runs, logs)
+
+
+def run_design(
+    design: Design,
+    full: bool = False,
+    seeds: Sequence[int] | None = None,
+    results_dir=None,
+    scheduler: str | None = None,
+    workers: int | None = None,
+    progress: bool = True,
+) -> Results:
+    """Run (or load) ``design``: its cells (every cell if ``full``, else the core ones) for
+    its seeds (or ``seeds``) in one sweep, then its stages, each in a sweep of its own."""
+    from docking.sweep import run_configs
+
+    check_instance("run_design", "design", design, Design)
+    seeds = design.seeds if seeds is None else tuple(seeds)
+    options = dict(results_dir=results_dir, scheduler=scheduler, workers=workers, progress=progress)
+    cells = design.select(full)
+    for c in cells:
+        if not c.trained and c.baseline not in {x.key for x in cells}:
+            raise ValueError(f"design {design.name!r}: cell {c.key!r} needs its baseline's runs")
+    runs = run_configs(
+        {c.key: c.config for c in cells if c.trained}, seeds, desc=design.name, **options
+    )
+    results = judge(design, cells, runs)
+    for k, stage in enumerate(design.stages):
+        extra = list(stage(results))
+        more = run_configs(
+            {c.key: c.config for c in extra if c.trained},
+            seeds,
+            desc=f"{design.name} (stage {k + 1})",
+            **options,
+        )
+        cells, runs = cells + extra, {**runs, **more}
+        results = judge(design, cells, runs)
+    return results
+
+
+def summary(results: Results) -> str:
+    """What a design's run shows, as Markdown: every cell's measured success (mean, 95%
+    interval over seeds), the design's own report, and its claims' verdict table."""
+    from docking.claims import verdict_table
+    from docking.stats import mean_ci
+
+    design = results.design
+    lines = [f"| cell | {design.measure} success (95% interval) | what it is |", "|---|---|---|"]
+    for c in results.cells:
+        lines.append(f"| {c.key} | {mean_ci(results.score(c.key)).format(unit='%')} | {c.label} |")
+    parts = ["\n".join(lines)]
+    if design.report is not None:
+        parts.append(design.report(results))
+    if design.claims:
+        parts.append(verdict_table(design.claims, results))
+    return "\n\n".join(parts)

@@ -1,0 +1,36 @@
+"""The design files: every question the package asks, as data (:mod:`docking.design`).
+
+Each module defines ``DESIGN`` (a :class:`docking.design.Design`); :data:`DESIGNS` names
+them for ``python -m docking design list|run NAME``. A new study is a new module here,
+registered below.
+"""
+
+from __future__ import annotations
+
+import importlib
+
+#: ``{design name: the module that defines it}``, in the order a reproduction runs them.
+MODULES = {
+    "paper": "docking.designs.paper",
+    "calibration-experiment1": "docking.designs.calibration",
+    "calibration-experiment2": "docking.designs.calibration",
+    "study": "docking.designs.study",
+    "experiment3": "docking.designs.experiment3",
+}
+
+
+def design(name: str):
+    """The :class:`~docking.design.Design` called ``name`` (``ValueError`` listing the
+    names otherwise)."""
+    if name not in MODULES:
+        raise ValueError(f"no design {name!r}; the designs are {', '.join(MODULES)}")
+    module = importlib.import_module(MODULES[name])
+    found = getattr(
+        module, "DESIGNS", {module.DESIGN.name: module.DESIGN} if hasattr(module, "DESIGN") else {}
+    )
+    return found[name]
+
+
+def names() -> list[str]:
+    """Every design's name."""
+    return list(MODULES)

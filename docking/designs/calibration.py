@@ -1,0 +1,372 @@
+"""What the choices do: the calibration variants of Experiments 1 and 2 (notebooks 03, 04).
+
+The paper leaves the step lengths, the start region of Experiment 1, the docking region's
+orientation and the learning rates open; :mod:`docking.experiments` names our choices. The
+variants here are those choices changed one or two at a time: two designs
+(:data:`DESIGNS`, :mod:`docking.design`) whose cells are :data:`~docking.presets.EXPERIMENT_1`
+or :data:`~docking.presets.EXPERIMENT_2` with a few fields replaced (coordinates
+``experiment``, ``variant``, ``changes``), measured by their test trials; running one is
+:func:`run`; the statistics are :mod:`docking.stats`; the notebooks show
+:func:`markdown_table` of :func:`rows` and assert their claims on the returned runs.
+
+Choices named here:
+
+* Seeds: the main experiments' :data:`~docking.presets.SEEDS` (five each). A variant's
+  run of seed ``k`` is paired with the main run of seed ``k``: the same initial weights and
+  the same random streams for start poses, step noise and action draws (they differ in what
+  the changed fields make of them). The row "this configuration" *is* the main experiment's
+  runs, loaded from the store (the notebooks compute them anyway), not a rerun.
+* Each variant keeps its experiment's test (Experiment 1: 200 greedy trials from its own
+  start region; Experiment 2: 725 from the full region), so its numbers compare with the
+  main experiment's; it skips the learning curve (``eval_trials = 0``), which does not change
+  training or the test (they draw from other streams).
+* The difference to this configuration is :func:`docking.stats.difference_ci`, which
+  resamples each row's seeds independently: it ignores the pairing, so its interval is, if
+  anything, wider than a paired one.
+* Experiment 1's rows (100 training trials, a few seconds each): the first row is where the
+  calibration started (8 cm forward / 6 cm side steps, starts 0.65-0.85 m, the docking
+  region read as 20 cm deep and 8 cm wide, ``eps_Q = 0.5``); then the short steps with this
+  configuration's start region and ``eps_Q``; ``eps_Q`` halved and doubled; a start region
+  further out (0.60-0.80 m).
+* Experiment 2's rows (2000 training trials each): 8 cm forward steps (the side step is
+  this configuration's 10 cm); ``eps_Q`` 0.03 and 0.2; ``eps_W`` 20 times this
+  configuration's (1.0). Not repeated here: ``eps_W = 0`` (W frozen) at 15 cm steps, which
+  notebook 05's study measures with ten seeds and held-out trials.
+* Besides test success, each row reports the share of training trials that ended in the
+  dock (``result.train.success``): how often the near-random walk of training is rewarded,
+  the quantity the notebooks' explanations turn on.
+
+``python -m docking calibration [--processes N] [--results-dir DIR]`` runs (or loads) both
+experiments' variants and prints the tables.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+from collections.abc import Mapping, Sequence
+from pathlib import Path
+
+import numpy as np
+
+from docking.analysis import rewarded_share
+from docking.design import Cell, Design, Results, run_design
+from docking.experiments import ExperimentConfig
+from docking.presets import EXPERIMENT_1, EXPERIMENT_2, SEEDS
+from docking.stats import Interval, difference_ci, mean_ci
+
+__all__ = [
+    "BASELINE",
+    "DESIGNS",
+    "Row",
+    "analyse",
+    "markdown_table",
+    "rewarded",
+    "rows",
+    "run",
+    "run_all",
+    "variants",
+    "wall_time",
+]
+
+#: The key of the row "this configuration" (the main experiment itself) in every list.
+BASELINE = "this"
+
+#: The results folder name of each experiment's variants (``results/<name>/...``).
+_NAMES = {"experiment1": "calibration-experiment1", "experiment2": "calibration-experiment2"}
+
+
+def _variant(base: ExperimentConfig, key: str, label: str, world=None, network=None) -> Cell:
+    """A row: ``base`` with the ``world`` and ``network`` fields replaced; its coordinate
+    ``changes`` names them as dotted paths of :meth:`ExperimentConfig.to_dict` (besides
+    ``name`` and ``eval_trials``)."""
+    world, network = dict(world or {}), dict(network or {})
+    config = dataclasses.replace(
+        base,
+        name=_NAMES[base.name],
+        eval_trials=0,
+        world=dataclasses.replace(base.world, **world),
+        network=dataclasses.replace(base.network, **network),
+    )
+    changes = tuple(f"world.{k}" for k in world) + tuple(f"network.{k}" for k in network)
+    coords = {"experiment": base.name, "variant": key, "changes": changes}
+    return Cell(key, config, coords, label, BASELINE)
+
+
+def _baseline(base: ExperimentConfig, label: str) -> Cell:
+    coords = {"experiment": base.name, "variant": BASELINE, "changes": ()}
+    return Cell(BASELINE, base, coords, label)
+
+
+def _experiment1() -> list[Cell]:
+    base = EXPERIMENT_1
+    short = dict(step_forward=0.08, step_side=0.06)
+    return [
+        # Where the calibration started. WorldConfig accepts it: the start region's near
+        # edge (0.65 m) lies beyond the 20 cm deep docking region (0.38-0.58 m).
+        _variant(
+            base,
+            "start",
+            "8 / 6 cm steps, start 0.65-0.85 m, 20 cm deep x 8 cm wide region, $\\epsilon_Q = 0.5$",
+            world=dict(short, start_near=0.65, start_far=0.85, dock_depth=0.20, dock_width=0.08),
+            network=dict(eps_q=0.5),
+        ),
+        _variant(
+            base,
+            "short-steps",
+            "8 / 6 cm steps, start 0.58-0.70 m, $\\epsilon_Q = 0.1$",
+            world=short,
+        ),
+        _variant(
+            base,
+            "epsQ-0.05",
+            "15 / 10 cm steps, start 0.58-0.70 m, $\\epsilon_Q = 0.05$",
+            network=dict(eps_q=0.05),
+        ),
+        _baseline(base, "15 / 10 cm steps, start 0.58-0.70 m, $\\epsilon_Q = 0.1$"),
+        _variant(
+            base,
+            "epsQ-0.2",
+            "15 / 10 cm steps, start 0.58-0.70 m, $\\epsilon_Q = 0.2$",
+            network=dict(eps_q=0.2),
+        ),
+        _variant(
+            base,
+            "start-0.60-0.80",
+            "15 / 10 cm steps, start 0.60-0.80 m, $\\epsilon_Q = 0.1$",
+            world=dict(start_near=0.60, start_far=0.80),
+        ),
+    ]
+
+
+def _experiment2() -> list[Cell]:
+    base = EXPERIMENT_2
+    return [
+        _variant(
+            base,
+            "8cm-steps",
+            "8 cm forward / 10 cm side steps, $\\epsilon_Q = 0.1$",
+            world=dict(step_forward=0.08),
+        ),
+        _baseline(base, "15 / 10 cm steps, $\\epsilon_Q = 0.1$"),
+        _variant(
+            base, "epsQ-0.03", "15 / 10 cm steps, $\\epsilon_Q = 0.03$", network=dict(eps_q=0.03)
+        ),
+        _variant(
+            base, "epsQ-0.2", "15 / 10 cm steps, $\\epsilon_Q = 0.2$", network=dict(eps_q=0.2)
+        ),
+        _variant(
+            base,
+            "epsW-1",
+            "15 / 10 cm steps, $\\epsilon_Q = 0.1$, $\\epsilon_W = 1$",
+            network=dict(eps_w=1.0),
+        ),
+    ]
+
+
+_VARIANTS = {"experiment1": _experiment1, "experiment2": _experiment2}
+
+
+def variants(experiment: str) -> list[Cell]:
+    """The rows of ``experiment``'s (``"experiment1"`` or ``"experiment2"``) calibration table,
+    in table order, :data:`BASELINE` among them."""
+    return _rows_of(experiment)
+
+
+def _rows_of(experiment: str) -> list[Cell]:
+    if experiment not in _VARIANTS:
+        raise ValueError(f"experiment must be one of {', '.join(_VARIANTS)}, got {experiment!r}")
+    return _VARIANTS[experiment]()
+
+
+# ------------------------------------------------------------------------------------------
+# Running.
+# ------------------------------------------------------------------------------------------
+
+
+def rewarded(results: Results, key: str) -> np.ndarray:
+    """Per seed, the share of row ``key``'s training trials that ended in the dock."""
+    return rewarded_share(results.runs[key])
+
+
+def rows(results: Results, seed: int = 0) -> list[Row]:
+    """The table's rows (:func:`analyse`) of a calibration's results."""
+    return analyse(
+        results.cells,
+        {c.key: results.score(c.key) for c in results.cells},
+        {c.key: rewarded(results, c.key) for c in results.cells},
+        seed=seed,
+    )
+
+
+def wall_time(results: Results, key: str | None = None) -> float:
+    """Seconds of computing (training and test) of row ``key``'s runs, or of every row's but
+    :data:`BASELINE` (the calibration's own cost) if ``key`` is None."""
+    keys = [key] if key is not None else [c.key for c in results.cells if c.key != BASELINE]
+    return float(sum(r.wall_time_train + r.wall_time_test for k in keys for r in results.runs[k]))
+
+
+def _design(experiment: str, cells: Sequence[Cell], seeds: Sequence[int]) -> Design:
+    return Design(
+        name=_NAMES[experiment],
+        title=f"what the choices do: {experiment}'s choices changed one or two at a time",
+        cells=tuple(cells),
+        seeds=tuple(seeds),
+        measure="test",
+        report=_report,
+    )
+
+
+def _report(results: Results) -> str:
+    table = markdown_table(rows(results), seeds_at_100=results.design.name.endswith("1"))
+    return f"{table}\n\ncomputing time of the variants: {wall_time(results):.0f} s"
+
+
+#: The two calibration designs, ``{name: design}``.
+DESIGNS = {
+    _NAMES[experiment]: _design(experiment, _rows_of(experiment), SEEDS[experiment])
+    for experiment in _VARIANTS
+}
+
+
+def run(
+    experiment: str,
+    *,
+    variants: Sequence[Cell] | None = None,
+    seeds: Sequence[int] | None = None,
+    results_dir: Path | str | None = None,
+    workers: int | None = None,
+    scheduler: str | None = None,
+    progress: bool = True,
+) -> Results:
+    """Run (or load) every row of ``experiment``'s calibration for its seeds in one sweep
+    (:func:`docking.sweep.run_jobs`: stored runs are loaded, not recomputed; the row
+    :data:`BASELINE` is the main experiment's own runs, shared with its notebook).
+
+    Args:
+      experiment: ``"experiment1"`` or ``"experiment2"``.
+      variants: The rows (default: the module's :func:`variants` of ``experiment``; tests
+        pass small ones).
+      seeds: Default: the main experiment's :data:`~docking.presets.SEEDS`.
+      results_dir: The results store (default :func:`docking.paths.results_dir`).
+      workers: Worker processes (default one per core; 1: one run after another here).
+      scheduler: Address of an existing Dask scheduler, as for :func:`docking.sweep.run_jobs`.
+      progress: Show a bar of finished runs.
+    """
+    cells = list(variants) if variants is not None else _rows_of(experiment)
+    seeds = tuple(SEEDS[experiment] if seeds is None else seeds)
+    return run_design(
+        _design(experiment, cells, seeds),
+        full=True,
+        results_dir=results_dir,
+        scheduler=scheduler,
+        workers=workers,
+        progress=progress,
+    )
+
+
+def run_all(**kwargs) -> dict[str, Results]:
+    """:func:`run` for both experiments (keyword arguments as there)."""
+    return {experiment: run(experiment, **kwargs) for experiment in _VARIANTS}
+
+
+# ------------------------------------------------------------------------------------------
+# Analysis and the table.
+# ------------------------------------------------------------------------------------------
+
+
+@dataclasses.dataclass(frozen=True)
+class Row:
+    """One row of a calibration table, computed from per-seed numbers.
+
+    Attributes:
+      key, label: As the variant's.
+      success: Mean test success over seeds with its 95% bootstrap interval (the per-seed
+        values in ``success.values``).
+      difference: Mean success minus :data:`BASELINE`'s, with its 95% interval (seeds
+        resampled per row); None for the baseline itself.
+      at_100: Seeds whose test success is 100%.
+      rewarded: Mean share of training trials rewarded, with its interval; None if not given.
+      rewarded_difference: That share minus :data:`BASELINE`'s, with its interval (seeds
+        resampled per row); None for the baseline or if not given.
+    """
+
+    key: str
+    label: str
+    success: Interval
+    difference: Interval | None
+    at_100: int
+    rewarded: Interval | None = None
+    rewarded_difference: Interval | None = None
+
+    @property
+    def n_seeds(self) -> int:
+        return len(self.success.values)
+
+
+def analyse(
+    rows: Sequence[Cell],
+    success: Mapping[str, Sequence[float]],
+    rewarded: Mapping[str, Sequence[float]] | None = None,
+    seed: int = 0,
+) -> list[Row]:
+    """The table's rows from per-seed test success (and training trials rewarded) per
+    variant key; differences against the row :data:`BASELINE`, which ``rows`` must hold."""
+    if BASELINE not in {v.key for v in rows}:
+        raise ValueError(f"the rows must include the baseline {BASELINE!r}")
+    base = np.asarray(success[BASELINE], dtype=float)
+    out = []
+    for v in rows:
+        x = np.asarray(success[v.key], dtype=float)
+        baseline = v.key == BASELINE
+        out.append(
+            Row(
+                v.key,
+                v.label,
+                mean_ci(x, seed=seed),
+                None if baseline else difference_ci(x, base, seed=seed),
+                int(np.sum(x == 1.0)),
+                None if rewarded is None else mean_ci(rewarded[v.key], seed=seed),
+                None
+                if rewarded is None or baseline
+                else difference_ci(rewarded[v.key], rewarded[BASELINE], seed=seed),
+            )
+        )
+    return out
+
+
+def _pct(x: float) -> str:
+    return f"{100 * x:.1f}"
+
+
+def markdown_table(rows: Sequence[Row], seeds_at_100: bool = False) -> str:
+    """The calibration table in Markdown: the setting; mean test success with its 95%
+    interval; the per-seed values; the difference to this configuration with its interval
+    (pp); the share of training trials rewarded (if the rows carry it); the seeds at 100%
+    (if ``seeds_at_100``). The baseline row is in bold."""
+    with_rewarded = all(r.rewarded is not None for r in rows)
+    header = ["setting", "test success, % [95% CI]", "per seed, %", "minus this config., pp"]
+    if with_rewarded:
+        header.append("training trials rewarded, %")
+    if seeds_at_100:
+        header.append("seeds at 100 %")
+    lines = ["| " + " | ".join(header) + " |", "|" + "---|" * len(header)]
+    for r in rows:
+        cells = [
+            r.label + (" (this configuration)" if r.key == BASELINE else ""),
+            r.success.format(),
+            ", ".join(_pct(v) for v in r.success.values),
+            "—" if r.difference is None else r.difference.format(),
+        ]
+        if with_rewarded:
+            cells.append(r.rewarded.format())
+        if seeds_at_100:
+            cells.append(f"{r.at_100} of {r.n_seeds}")
+        if r.key == BASELINE:
+            cells = [f"**{c}**" for c in cells]
+        lines.append("| " + " | ".join(cells) + " |")
+    return "\n".join(lines)
+
+
+# ------------------------------------------------------------------------------------------
+# Command line.
+# ------------------------------------------------------------------------------------------

@@ -1,0 +1,325 @@
+"""Experiment 3, beyond the paper: turning actions and precision docking (notebook 06).
+
+The paper blames its failures on rotation that "currently is not compensated" (Sec. III) and
+names its next step: "a real-world precision approach including turning of Nao" (Sec. IV).
+Experiment 3 is Experiment 2 (same world, network, curriculum and trial counts) in a grid of
+*cells*:
+
+* the action set: the paper's four steps, or six with turn-left and turn-right
+  (:attr:`docking.world.WorldConfig.actions`; the network gets one action unit per action);
+* the task: the paper's (the reference point in the docking region) or precision docking
+  (besides, the heading within :data:`PRECISION_DEG` of facing the landmark,
+  :attr:`~docking.world.WorldConfig.dock_heading_deg`);
+* the heading noise of every step: :data:`NOISE_DEG`.
+
+A design (:data:`DESIGN`, :mod:`docking.design`): each cell trains networks for
+:data:`~docking.designs.study.STUDY_SEEDS` and judges each on
+:data:`~docking.designs.study.HELDOUT_TRIALS` held-out trials; its coordinates are
+``actions``, ``task`` and ``noise_deg``. The cell with four actions, the paper's task and
+2 deg noise *is* the study's paper configuration (the same runs).
+
+Choices named here:
+
+* :data:`NOISE_DEG`: 2 deg (the world's default) and two larger values, 4 and 6 deg. The
+  issue that asked for this experiment suggested 5 and 8 deg; at 8 deg the six-action oracle
+  (:func:`docking.oracle.oracle_action`) docks in only about 98% of trials, below the 99% that
+  must prove a configuration solvable before a learner is judged in it, and 6 deg is the
+  largest whole value at which it keeps that bound with a margin. The noise values were
+  fixed from the oracle alone, before any learner ran.
+* :data:`PRECISION_DEG`: +-10 deg, the example of the issue; one turn (``turn_deg``, 10 deg)
+  spans it.
+* Runs skip the learning curve and the final test (the held-out trials are the measure),
+  as the study's cells do.
+* One extra cell (``full=True``, ``python -m docking experiment3 --full``; not in
+  ``make reproduce`` or CI, whose 90-minute budget the grid already fills for the most part)
+  asks whether six actions need more training than the paper's 2000 trials: six actions,
+  the paper's task, 2 deg, trained :data:`LONGER` times as long (the curriculum stretched in
+  proportion).
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import itertools
+
+import numpy as np
+
+from docking.design import Cell, Design, Results, run_design
+from docking.designs.study import DESIGN as STUDY
+from docking.designs.study import STUDY_SEEDS, share_verdict
+from docking.experiments import ExperimentConfig
+from docking.presets import EXPERIMENT_2
+from docking.scene import ACTION_SETS, WorldConfig
+from docking.stats import Interval, difference_ci, mean_ci, removed_share_ci
+
+__all__ = [
+    "COMPARED",
+    "Comparison",
+    "LONGER",
+    "LONGER_KEY",
+    "comparisons",
+    "failure_shares",
+    "final_headings",
+    "oracle_table",
+    "rotation_verdict",
+    "table",
+    "NOISE_DEG",
+    "ORACLE_TRIALS",
+    "PRECISION_DEG",
+    "TASKS",
+    "cell_key",
+    "experiment3_cells",
+    "oracle_success",
+    "run",
+]
+
+#: Heading noise per step (deg), the world's default first.
+NOISE_DEG = (2.0, 4.0, 6.0)
+
+#: The precision task's heading tolerance (deg).
+PRECISION_DEG = 10.0
+
+#: The tasks: the paper's (None: the reference point alone) and precision docking.
+TASKS = {"paper task": None, "precision": PRECISION_DEG}
+
+#: The action sets compared (keys of :data:`docking.world.ACTION_SETS`).
+COMPARED = ("paper", "turning")
+
+#: The extra cell: six actions in the paper's task at 2 deg, trained this many times longer.
+LONGER = 2
+
+#: Its key.
+LONGER_KEY = "6 actions, paper task, 2 deg, trained twice as long"
+
+#: Oracle trials per configuration (its bound is judged on these; seeded, so repeatable).
+ORACLE_TRIALS = 1000
+
+#: The seed of the oracle's trials (a stream no learner's run uses).
+ORACLE_SEED = 2011
+
+
+def cell_key(actions: str, task: str, noise: float) -> str:
+    """The key of a cell, e.g. ``"6 actions, precision, 4 deg"``."""
+    return f"{len(ACTION_SETS[actions])} actions, {task}, {noise:g} deg"
+
+
+def world(actions: str, task: str, noise: float, base: WorldConfig | None = None) -> WorldConfig:
+    """Experiment 2's world (or ``base``) with the action set, task and heading noise of a
+    cell."""
+    base = EXPERIMENT_2.world if base is None else base
+    return dataclasses.replace(
+        base, actions=actions, dock_heading_deg=TASKS[task], step_noise_yaw_deg=float(noise)
+    )
+
+
+def _paper_config() -> ExperimentConfig:
+    """The study's paper configuration (Experiment 2 as a study run)."""
+    return STUDY.cell("paper").config
+
+
+def experiment3_cells(full: bool = False) -> list[Cell]:
+    """Every cell of Experiment 3 (with ``full``, also the six-action cell trained
+    :data:`LONGER` times as long). A six-action cell's baseline is the four-action cell of the
+    same task and noise; four-action cells have none."""
+    paper = _paper_config()
+    found = []
+    for task, noise, actions in itertools.product(TASKS, NOISE_DEG, COMPARED):
+        key = cell_key(actions, task, noise)
+        w = world(actions, task, noise, paper.world)
+        if w == paper.world:
+            config = paper  # the study's runs
+        else:
+            config = dataclasses.replace(
+                paper,
+                name="experiment3",
+                world=w,
+                network=dataclasses.replace(paper.network, n_actions=w.n_actions),
+                eval_trials=0,
+            )
+        baseline = None if actions == "paper" else cell_key("paper", task, noise)
+        label = f"{w.n_actions} actions ({', '.join(w.action_letters)}), {task}, {noise:g} deg"
+        coords = {"actions": actions, "task": task, "noise_deg": float(noise), "longer": 1}
+        found.append(Cell(key, config, coords, label, baseline, claim="turning"))
+    if not full:
+        return found
+    # Is six actions' deficit a matter of training time? The same cell trained twice as long,
+    # its curriculum stretched in proportion.
+    six = next(c for c in found if c.key == cell_key("turning", "paper task", NOISE_DEG[0]))
+    longer = dataclasses.replace(
+        six.config,
+        train_trials=LONGER * six.config.train_trials,
+        curriculum=dataclasses.replace(
+            six.config.curriculum, grow_trials=LONGER * six.config.curriculum.grow_trials
+        ),
+    )
+    label = f"{six.label}, {longer.train_trials} training trials"
+    coords = {**six.coords, "longer": LONGER}
+    found.append(Cell(LONGER_KEY, longer, coords, label, six.baseline, core=False, claim="turning"))
+    return found
+
+
+def run(
+    results_dir=None,
+    scheduler: str | None = None,
+    workers: int | None = None,
+    progress: bool = True,
+    full: bool = False,
+) -> Results:
+    """Run (or load) :data:`DESIGN` (one sweep; stored runs, e.g. the study's paper
+    configuration, are loaded); ``full``: also the cell trained longer."""
+    return run_design(
+        DESIGN,
+        full=full,
+        results_dir=results_dir,
+        scheduler=scheduler,
+        workers=workers,
+        progress=progress,
+    )
+
+
+def oracle_success(config: WorldConfig, n: int = ORACLE_TRIALS, seed: int = ORACLE_SEED) -> float:
+    """The pose-reading oracle's success rate over ``n`` trials from the whole start region
+    of ``config`` (:func:`docking.policies.oracle`; it turns only if ``config`` has turns)."""
+    from docking.policies import evaluate_policy, oracle
+    from docking.world import DockingEnv
+
+    episodes = evaluate_policy(DockingEnv(config, seed=seed), oracle, n)
+    return float(np.mean([e.success for e in episodes]))
+
+
+# ------------------------------------------------------------------------------------------
+# What the runs show.
+# ------------------------------------------------------------------------------------------
+
+
+@dataclasses.dataclass(frozen=True)
+class Comparison:
+    """Four against six actions in one task at one heading noise.
+
+    Attributes:
+      task, noise: The cell pair's task and heading noise (deg).
+      four, six: Held-out success with four and with six actions (95% intervals over seeds).
+      gain: Six minus four actions (percentage points as fractions, 95% interval).
+      removed: The share of the four-action learner's failures that are gone with six
+        actions, ``1 - failures6 / failures4`` (95% interval, seeds of each resampled
+        independently); None if the four-action learner never failed.
+    """
+
+    task: str
+    noise: float
+    four: Interval
+    six: Interval
+    gain: Interval
+    removed: Interval | None
+
+    @property
+    def failure_ratio(self) -> Interval | None:
+        """How many times as often six actions fail as four, ``failures6 / failures4``
+        (``1 - removed``, with its interval)."""
+        if self.removed is None:
+            return None
+        r = self.removed
+        return Interval(1 - r.estimate, 1 - r.high, 1 - r.low, r.values, r.confidence)
+
+
+def comparisons(results: Results) -> list[Comparison]:
+    """One :class:`Comparison` per task and heading noise, in the order of :data:`TASKS` and
+    :data:`NOISE_DEG`."""
+    found = []
+    for task, noise in itertools.product(TASKS, NOISE_DEG):
+        four = results.success(cell_key("paper", task, noise))
+        six = results.success(cell_key("turning", task, noise))
+        removed = None
+        if np.mean(1 - four) > 0:
+            removed = removed_share_ci(1 - six, 1 - four, paired=False)
+        found.append(
+            Comparison(task, noise, mean_ci(four), mean_ci(six), difference_ci(six, four), removed)
+        )
+    return found
+
+
+def oracle_table(n: int = ORACLE_TRIALS) -> dict[str, float]:
+    """The oracle's success in the world of every cell (``{cell key: rate}``): it turns in
+    the six-action worlds and cannot in the four-action ones."""
+    return {c.key: oracle_success(c.config.world, n) for c in experiment3_cells()}
+
+
+def table(results: Results, oracle: dict[str, float]) -> str:
+    """The Markdown table of Experiment 3: per task and noise, the oracle and the learner
+    with four and six actions, six minus four, and how many times as often six actions fail
+    as four (the extra cell, trained longer, is not in it)."""
+    rows = []
+    for c in comparisons(results):
+        o4 = oracle[cell_key("paper", c.task, c.noise)]
+        o6 = oracle[cell_key("turning", c.task, c.noise)]
+        ratio = "no failures" if c.failure_ratio is None else c.failure_ratio.format(1.0, "x", 2)
+        rows.append(
+            f"| {c.task} | {c.noise:g} | {100 * o4:.1f}% / {100 * o6:.1f}% | "
+            f"{c.four.format(unit='%')} | {c.six.format(unit='%')} | "
+            f"{c.gain.format(unit=' pp')} | {ratio} |"
+        )
+    header = (
+        "| task | heading noise (deg) | oracle, 4 / 6 actions | learner, 4 actions | "
+        "learner, 6 actions | 6 minus 4 | failures, 6 / 4 actions |\n"
+        "|---|---|---|---|---|---|---|"
+    )
+    return header + "\n" + "\n".join(rows)
+
+
+def rotation_verdict(results: Results) -> tuple[str, Interval]:
+    """The paper's rotation claim ("the reason for most of the unsuccessful trials") judged
+    by the remedy it names: in the paper's task at the paper world's 2 deg heading noise, the
+    share of the four-action learner's held-out failures that are gone when the learner can
+    turn, judged by :func:`~docking.study.share_verdict` (the study's rule for the same
+    claim); the verdict and the interval."""
+    found = next(
+        c for c in comparisons(results) if c.task == "paper task" and c.noise == NOISE_DEG[0]
+    )
+    ci = found.removed
+    if ci is None:
+        raise ValueError("the four-action learner never failed: nothing to remove")
+    return share_verdict(ci), ci
+
+
+DESIGN = Design(
+    name="experiment3",
+    title="turning actions and precision docking at three heading noises (beyond the paper)",
+    cells=tuple(experiment3_cells(full=True)),
+    seeds=STUDY_SEEDS,
+    measure="heldout",
+)
+
+
+def failure_shares(results: Results, keys: list[str]) -> tuple[np.ndarray, list[int]]:
+    """The failure taxonomy (:func:`docking.analysis.failure_taxonomy`) of the held-out
+    failures of each cell in ``keys``, all seeds pooled: ``(shares, failures)`` with
+    ``shares[k, c]`` the share of cell ``k``'s failed trials in class ``c`` (classes in the
+    order of :data:`docking.analysis.FAILURE_CLASSES`; NaN for a cell without failures)."""
+    from docking.analysis import FAILURE_CLASSES, failure_taxonomy
+    from docking.world import DockingEnv
+
+    shares, failures = np.full((len(keys), len(FAILURE_CLASSES)), np.nan), []
+    for k, key in enumerate(keys):
+        env = DockingEnv(results.cell(key).config.world, seed=0)
+        counts, n = np.zeros(len(FAILURE_CLASSES)), 0
+        for log in results.heldout[key]:
+            failed = ~log.success
+            flags = failure_taxonomy(log, env, trials=np.flatnonzero(failed))
+            n += int(failed.sum())
+            counts += [int(flags[c][failed].sum()) for c in FAILURE_CLASSES]
+        env.close()
+        failures.append(n)
+        if n:
+            shares[k] = counts / n
+    return shares, failures
+
+
+def final_headings(results: Results, key: str) -> np.ndarray:
+    """``|yaw|`` (deg; 0 = facing the landmark's wall) at the end of every failed held-out
+    trial of cell ``key``, all seeds pooled."""
+    out = [
+        abs(np.degrees(log.trial_poses(k)[-1][2]))
+        for log in results.heldout[key]
+        for k in np.flatnonzero(~log.success)
+    ]
+    return np.array(out, dtype=np.float64)
