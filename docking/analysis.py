@@ -20,26 +20,27 @@ from __future__ import annotations
 
 import dataclasses
 import warnings
-from typing import NamedTuple
+from typing import TYPE_CHECKING, NamedTuple
 
 import numpy as np
 
 from docking.camera import CameraConfig
 from docking.experiments import ExperimentConfig, ExperimentResult, TrialLog, initial_network
 from docking.network import Network
-from docking.scene import scene_facts
-from docking.world import (
+from docking.scene import (
     ACTION_LETTERS,
     LEFT,
     RIGHT,
     TURN_LEFT,
     TURN_RIGHT,
-    DockingEnv,
     WorldConfig,
-    footprints,
     in_dock,
     in_region,
+    scene_facts,
 )
+
+if TYPE_CHECKING:  # the task renders (OpenGL): imported where a function needs it
+    from docking.world import DockingEnv
 
 __all__ = [
     "rewarded_share",
@@ -177,6 +178,8 @@ def decisions(net: Network, observations) -> Decisions:
 def start_views(world: WorldConfig, n: int, seed: int) -> np.ndarray:
     """``(n, rows, cols)`` network inputs at ``n`` start poses of ``world``'s start region
     (``DockingEnv(world, seed).reset()``, one rendered frame each)."""
+    from docking.world import DockingEnv
+
     if n < 1:
         raise ValueError(f"n must be >= 1, got {n}")
     env = DockingEnv(world, seed=seed)
@@ -265,6 +268,8 @@ def mean_winning_inputs(
     action (``argmax_i h_i``, Eq. 3). With ``poses`` (``(m, 3)``, e.g. every pose of logged
     trials) the views are those at ``poses`` instead, and ``n`` and ``seed`` are not used.
     """
+    from docking.world import DockingEnv
+
     if poses is not None:
         poses = np.asarray(poses, dtype=np.float64)
         if poses.ndim != 2 or poses.shape[1] != 3 or len(poses) == 0:
@@ -365,6 +370,8 @@ def floor_plan(config: WorldConfig) -> dict[str, tuple[float, float, float, floa
     ``landmark_slab``,
     ``landmark_post`` and ``dock``, from :func:`docking.world.footprints`. The only place the
     analysis and the figures read the world's footprint keys."""
+    from docking.world import footprints
+
     fp = footprints(config)
     names = ("sideboard",) if config.scene == "sideboard" else ()
     return {name: fp[name] for name in names + ("landmark_slab", "landmark_post", "dock")}

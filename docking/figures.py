@@ -51,8 +51,7 @@ from docking.experiments import ExperimentConfig
 from docking.fileio import atomic_write
 from docking.paths import figures_dir
 from docking.region import StartRegion
-from docking.scene import scene_facts
-from docking.world import ACTION_LETTERS, WorldConfig
+from docking.scene import ACTION_LETTERS, WorldConfig, scene_facts
 
 __all__ = [
     "FIGURES_DIR",

@@ -2,22 +2,21 @@
 
 It is not part of the paper. It proves that the docking task, with this world's step sizes,
 noise and 25-step budget, is solvable, and it bounds what a learner that sees only pixels can
-reach: the learner's success rate is judged against the oracle's.
+reach: the learner's success rate is judged against the oracle's. Running it is
+:func:`docking.policies.oracle` (with :func:`docking.policies.run_oracle_trial`).
 """
 
 from __future__ import annotations
 
 import numpy as np
-from tqdm.auto import tqdm
 
-from docking.world import (
+from docking.scene import (
     BACKWARD,
     FORWARD,
     LEFT,
     RIGHT,
     TURN_LEFT,
     TURN_RIGHT,
-    DockingEnv,
     WorldConfig,
     heading_error,
     in_dock,
@@ -56,31 +55,3 @@ def oracle_action(pose, config: WorldConfig) -> int:
     if abs(left) > tolerance:
         return LEFT if left > 0 else RIGHT
     return FORWARD if ahead > 0 else BACKWARD
-
-
-def run_oracle_trial(env: DockingEnv) -> tuple[bool, int, np.ndarray]:
-    """One trial of the oracle: ``(success, actions taken, poses)``; ``poses`` holds the
-    start pose and the pose after every action."""
-    from docking.policies import oracle, run_episode  # policies builds on this module
-
-    episode = run_episode(env, oracle)
-    return episode.success, episode.steps, episode.poses
-
-
-def evaluate_oracle(env: DockingEnv, n_trials: int, progress: bool = True) -> dict:
-    """Run ``n_trials`` oracle trials: success rate, the successes, and steps per success."""
-    if n_trials < 1:
-        raise ValueError(f"n_trials must be >= 1, got {n_trials}")
-    successes, steps = 0, []
-    for _ in tqdm(range(n_trials), desc="oracle", disable=not progress):
-        ok, n, _ = run_oracle_trial(env)
-        successes += ok
-        if ok:
-            steps.append(n)
-    return {
-        "trials": n_trials,
-        "successes": successes,
-        "success_rate": successes / n_trials,
-        "mean_steps": float(np.mean(steps)) if steps else float("nan"),
-        "max_steps": int(max(steps)) if steps else 0,
-    }

@@ -14,11 +14,15 @@ these bounds (notebook 05):
 from __future__ import annotations
 
 import dataclasses
+from typing import TYPE_CHECKING
 
 import numpy as np
 
 from docking.oracle import oracle_action
-from docking.world import BACKWARD, FORWARD, LEFT, N_ACTIONS, RIGHT, DockingEnv
+from docking.scene import BACKWARD, FORWARD, LEFT, N_ACTIONS, RIGHT
+
+if TYPE_CHECKING:
+    from docking.world import DockingEnv
 
 __all__ = [
     "Episode",
@@ -29,6 +33,7 @@ __all__ = [
     "evaluate_policy",
     "oracle",
     "run_episode",
+    "run_oracle_trial",
 ]
 
 #: Half-width of the centroid rule's dead band, in input columns (1 column = 5 camera pixels,
@@ -73,6 +78,13 @@ def evaluate_policy(env: DockingEnv, policy, n_trials: int) -> list[Episode]:
 def oracle(observation, env: DockingEnv) -> int:
     """The pose-reading oracle (:func:`docking.oracle.oracle_action`); ignores the pixels."""
     return oracle_action(env.pose, env.config)
+
+
+def run_oracle_trial(env: DockingEnv) -> tuple[bool, int, np.ndarray]:
+    """One trial of the oracle: ``(success, actions taken, poses)``; ``poses`` holds the
+    start pose and the pose after every action."""
+    episode = run_episode(env, oracle)
+    return episode.success, episode.steps, episode.poses
 
 
 def always_forward(observation, env=None) -> int:

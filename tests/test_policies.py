@@ -3,7 +3,6 @@
 import numpy as np
 import pytest
 
-from docking.oracle import run_oracle_trial
 from docking.policies import (
     RandomPolicy,
     always_forward,
@@ -11,6 +10,7 @@ from docking.policies import (
     evaluate_policy,
     oracle,
     run_episode,
+    run_oracle_trial,
 )
 from docking.world import BACKWARD, FORWARD, LEFT, RIGHT, DockingEnv, WorldConfig
 
