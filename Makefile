@@ -1,5 +1,6 @@
 # Tiers, quickest first (each creates or reuses the virtual environment .venv):
-#   make check       ruff + the unit tests (no notebooks, no slow tests): a few minutes
+#   make check       ruff, the layers contract + the unit tests (no notebooks, no slow
+#                    tests): a few minutes
 #   make test        check + the slow tests + `verify --sample` (recomputes Experiments 1 and
 #                    2 and a few ledger runs, fails unless their digests equal the ledger's) +
 #                    every notebook under nbmake, reading the committed ledger (what CI runs)
@@ -52,6 +53,7 @@ experiments: setup
 check: setup
 	$(VENV)/bin/ruff format --check .
 	$(VENV)/bin/ruff check .
+	$(VENV)/bin/lint-imports
 	$(PY) -m pytest tests -q -m "not slow"
 
 test: check notebooks

@@ -91,7 +91,7 @@ class Run:
     """Recompute and replace stored runs."""
 
     def execute(self) -> int:
-        from docking.store import load_run
+        from docking.ledger import load_run
         from docking.sweep import jobs_for, run_jobs
 
         config = self.experiment
@@ -136,7 +136,7 @@ class Sweep:
     """Recompute and replace stored runs."""
 
     def execute(self) -> int:
-        from docking.store import load_run
+        from docking.ledger import load_run
         from docking.sweep import grid_configs, jobs_for, run_jobs
 
         configs = grid_configs(self.experiment, self.grid)
@@ -283,7 +283,7 @@ class Report:
     def execute(self) -> int:
         from docking.presets import EXPERIMENT_1, EXPERIMENT_2
         from docking.report import STUDY_END, STUDY_START, results_table, update_readme
-        from docking.store import run_seeds
+        from docking.sweep import run_seeds
 
         results = [
             run_seeds(c, SEEDS[c.name], self.results_dir, processes=self.processes)
@@ -372,11 +372,11 @@ class Verify:
     """Worker processes of the embedded cluster (default: one per core)."""
 
     def execute(self) -> int:
-        from docking import ledger
+        from docking import verify
 
         if self.sample < 0:
             raise ValueError(f"--sample must be 0 or more, got {self.sample}")
-        checks = ledger.verify(
+        checks = verify.verify(
             None if self.all else self.sample, self.scheduler, workers=self.processes
         )
         bad = [c for c in checks if not c.ok]

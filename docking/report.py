@@ -334,17 +334,3 @@ def update_readme(path, table: str, start: str = README_START, end: str = README
         return False
     atomic_write(path, lambda f: f.write(new.encode("utf-8")))
     return True
-
-
-def main(argv=None) -> int:
-    """``python -m docking.report [--readme README.md]``: the same as ``python -m docking
-    report``."""
-    import sys
-
-    from docking.cli import main as cli_main
-
-    return cli_main(["report", *(sys.argv[1:] if argv is None else argv)])
-
-
-if __name__ == "__main__":
-    raise SystemExit(main())

@@ -65,12 +65,10 @@ __all__ = [
     "rendering_stack",
     "check_writable",
     "load_result",
-    "load_run",
     "result_arrays",
     "result_path",
     "run_key",
     "run_or_load",
-    "run_seeds",
     "save_result",
     "source_fingerprint",
 ]
@@ -510,23 +508,6 @@ def check_writable(results_dir: Path | str | None = None) -> Path:
     return root
 
 
-def load_run(
-    config: ExperimentConfig, seed: int, results_dir: Path | str | None = None
-) -> ExperimentResult | None:
-    """The run of (``config``, ``seed``) if it is stored: from the results store (checked
-    against its key and digest; ``CorruptResult`` if the file there is bad), else from the
-    committed ledger (:func:`docking.ledger.lookup`; ``StaleLedger`` if the ledger holds the
-    run but was computed by other code); None if neither holds it. Runs from the store are
-    traced when ``DOCKING_TRACE`` is set (:func:`docking.ledger.trace`)."""
-    from docking import ledger
-
-    path = result_path(config, seed, results_dir)
-    if path.exists():
-        key = run_key(config, seed)
-        return ledger.trace(load_result(path, key), key, path)
-    return ledger.lookup(config, seed)
-
-
 def run_or_load(
     config: ExperimentConfig,
     seed: int,
@@ -536,49 +517,21 @@ def run_or_load(
 ) -> ExperimentResult:
     """The run of (``config``, ``seed``): loaded from the store if a valid file with its key
     is there, otherwise computed and saved (a bad file is a warning, then replaced).
-    ``force`` recomputes and replaces whatever is stored."""
+    ``force`` recomputes and replaces whatever is stored. The ledger is not consulted (its
+    entries keep parts of runs): :func:`docking.ledger.load_run` reads the store, then the
+    ledger; :func:`docking.sweep.run_jobs` skips runs the ledger holds."""
     path = result_path(config, seed, results_dir)
     remove_stale_temporaries(path)  # of writers killed during an earlier save
-    if not force:
+    if not force and path.exists():
         try:
-            found = load_run(config, seed, results_dir)
+            return load_result(path, run_key(config, seed))
         except CorruptResult as exc:
             warnings.warn(
                 f"ignoring the stored result {path}: {exc}; recomputing it",
                 RuntimeWarning,
                 stacklevel=2,
             )
-        else:
-            if found is not None:
-                return found
     check_writable(path.parent)
     result = run_experiment(config, seed, progress=progress)
     save_result(result, path)
     return result
-
-
-def run_seeds(
-    config: ExperimentConfig,
-    seeds,
-    results_dir: Path | str | None = None,
-    force: bool = False,
-    processes: int | None = None,
-    progress: bool = True,
-) -> list[ExperimentResult]:
-    """Run (or load) ``config`` for every seed, several seeds at once in worker processes
-    (one per core by default; each renders with its own OpenGL context): a sweep of one
-    configuration on an embedded Dask ``LocalCluster`` (:func:`docking.sweep.run_jobs`),
-    or one seed after another in this process if ``processes <= 1``. Stored runs are loaded,
-    not recomputed."""
-    from docking.sweep import jobs_for, run_jobs
-
-    seeds = [check_int("run_seeds", "seeds[]", s, lo=0) for s in seeds]
-    run_jobs(
-        jobs_for([config], seeds),
-        results_dir,
-        workers=processes or None,
-        force=force,
-        progress=progress,
-        desc=f"{config.name}, {len(seeds)} seeds",
-    )
-    return [load_run(config, s, results_dir) for s in seeds]

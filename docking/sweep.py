@@ -40,12 +40,12 @@ from collections.abc import Iterable, Mapping, Sequence
 from pathlib import Path
 
 from docking import ledger, paths
-from docking.experiments import ExperimentConfig
+from docking.experiments import ExperimentConfig, ExperimentResult
+from docking.ledger import load_run
 from docking.store import (
     CorruptResult,
     check_writable,
     load_result,
-    load_run,
     result_path,
     run_key,
     run_or_load,
@@ -498,3 +498,28 @@ def _run_on_dask(jobs, todo, root: Path, scheduler, n_workers: int, force: bool,
             os.environ.pop(_LOG_VARIABLE, None)
         else:
             os.environ[_LOG_VARIABLE] = saved_env
+
+
+def run_seeds(
+    config: ExperimentConfig,
+    seeds,
+    results_dir: Path | str | None = None,
+    force: bool = False,
+    processes: int | None = None,
+    progress: bool = True,
+) -> list[ExperimentResult]:
+    """Run (or load) ``config`` for every seed, several seeds at once in worker processes
+    (one per core by default; each renders with its own OpenGL context): a sweep of one
+    configuration on an embedded Dask ``LocalCluster`` (:func:`docking.sweep.run_jobs`),
+    or one seed after another in this process if ``processes <= 1``. Stored runs are loaded,
+    not recomputed."""
+    seeds = [check_int("run_seeds", "seeds[]", s, lo=0) for s in seeds]
+    run_jobs(
+        jobs_for([config], seeds),
+        results_dir,
+        workers=processes or None,
+        force=force,
+        progress=progress,
+        desc=f"{config.name}, {len(seeds)} seeds",
+    )
+    return [load_run(config, s, results_dir) for s in seeds]

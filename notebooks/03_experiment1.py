@@ -44,7 +44,7 @@ from docking.report import (
     markdown_table,
     save_fig3,
 )
-from docking.store import run_seeds
+from docking.sweep import run_seeds
 from docking.world import ACTION_LETTERS, DockingEnv
 
 config = EXPERIMENT_1

@@ -54,7 +54,7 @@ from docking.report import (
     save_learning_curves,
 )
 from docking.stats import difference_ci
-from docking.store import run_seeds
+from docking.sweep import run_seeds
 from docking.world import ACTION_LETTERS, DockingEnv
 
 config = EXPERIMENT_2

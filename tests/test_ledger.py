@@ -13,15 +13,15 @@ import zipfile
 import numpy as np
 import pytest
 
-from docking import ledger, store
+from docking import ledger, store, verify
 from docking.experiments import run_experiment
+from docking.ledger import load_run
 from docking.presets import EXPERIMENT_1
 from docking.store import (
     CorruptResult,
     StaleCode,
     content_digest,
     load_result,
-    load_run,
     result_path,
     run_key,
     run_or_load,
@@ -134,14 +134,14 @@ def test_a_tampered_entry_is_refused(built, monkeypatch, tmp_path):
 @pytest.mark.slow
 def test_verify_passes_on_the_ledger_and_fails_on_a_wrong_digest(built, tmp_path):
     folder, *_ = built
-    checks = ledger.verify(None, workers=1, progress=False, folder=folder)
+    checks = verify.verify(None, workers=1, progress=False, folder=folder)
     assert len(checks) == 2 and all(c.ok for c in checks)
     copy = tmp_path / "ledger"
     shutil.copytree(folder, copy)
     manifest = json.loads((copy / "manifest.json").read_text())
     manifest["runs"][run_key(TINY, 1)]["digest"] = "0" * 64
     (copy / "manifest.json").write_text(json.dumps(manifest))
-    checks = ledger.verify(None, workers=1, progress=False, folder=copy)
+    checks = verify.verify(None, workers=1, progress=False, folder=copy)
     assert [c.ok for c in sorted(checks, key=lambda c: c.seed)] == [True, False]
 
 
@@ -149,10 +149,10 @@ def test_verify_draws_its_sample_from_the_commit():
     runs = {f"k{i}": {"name": "x", "seed": i} for i in range(20)}
     runs.update({"p": {"name": "experiment2", "seed": 0}})
     data = {"runs": runs}
-    a, b = ledger.chosen(data, 3, "commit-a"), ledger.chosen(data, 3, "commit-b")
+    a, b = verify.chosen(data, 3, "commit-a"), verify.chosen(data, 3, "commit-b")
     assert a[0] == b[0] == "p" and len(a) == len(b) == 4
-    assert a != b and a == ledger.chosen(data, 3, "commit-a")
-    assert len(ledger.chosen(data, None, "c")) == 21
+    assert a != b and a == verify.chosen(data, 3, "commit-a")
+    assert len(verify.chosen(data, None, "c")) == 21
 
 
 def _copied_package(tmp_path):

@@ -28,6 +28,7 @@ from docking.store import (
     save_result,
     source_fingerprint,
 )
+from docking.sweep import run_seeds
 
 TINY = dataclasses.replace(EXPERIMENT_1, train_trials=3, test_trials=2, eval_every=3, eval_trials=1)
 SEED = 7
@@ -190,7 +191,7 @@ def test_an_unwritable_results_folder_fails_before_the_run(tmp_path, monkeypatch
     with pytest.raises(PermissionError, match="a-file"):
         run_or_load(TINY, SEED, results_dir=blocker / "results", progress=False)
     with pytest.raises(PermissionError, match="a-file"):
-        store.run_seeds(TINY, [0, 1], results_dir=blocker / "results", progress=False)
+        run_seeds(TINY, [0, 1], results_dir=blocker / "results", progress=False)
     assert calls == []
 
 

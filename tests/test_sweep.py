@@ -19,8 +19,16 @@ import psutil
 import pytest
 
 from docking.presets import EXPERIMENT_1
-from docking.store import load_result, run_seeds
-from docking.sweep import Job, apply_override, grid_configs, jobs_for, parse_seeds, run_jobs
+from docking.store import load_result
+from docking.sweep import (
+    Job,
+    apply_override,
+    grid_configs,
+    jobs_for,
+    parse_seeds,
+    run_jobs,
+    run_seeds,
+)
 
 REPO = Path(__file__).resolve().parent.parent
 TINY = dataclasses.replace(EXPERIMENT_1, train_trials=4, test_trials=3, eval_every=2, eval_trials=2)
