@@ -43,6 +43,8 @@ if TYPE_CHECKING:  # the task renders (OpenGL): imported where a function needs 
     from docking.world import DockingEnv
 
 __all__ = [
+    "feature_fidelity",
+    "first_trials_poses",
     "rewarded_share",
     "VIEW_POSES",
     "FAILURE_CLASSES",
@@ -295,6 +297,32 @@ def mean_winning_inputs(
         action_mean = np.nan_to_num(action_sum / action_counts[:, None, None])
         unit_mean = np.nan_to_num(unit_sum / unit_counts[:, None, None])
     return MeanInputs(action_mean, unit_mean, action_counts, unit_counts)
+
+
+def feature_fidelity(net: Network, inputs: MeanInputs, min_views: int = 20) -> float:
+    """How much each feature unit looks like what it responds to: the Pearson correlation
+    of unit ``j``'s weights ``W_j`` with the mean input of the views it wins
+    (``inputs.unit_mean[j]``, :func:`mean_winning_inputs`), averaged over the units that win
+    at least ``min_views`` views (NaN if none does). The study's second edition measures
+    "interpretable features" by it, learned W against frozen random W."""
+    if min_views < 1:
+        raise ValueError(f"min_views must be >= 1, got {min_views}")
+    rs = []
+    for j in np.flatnonzero(inputs.unit_counts >= min_views):
+        w, x = net.W[j], inputs.unit_mean[j].reshape(-1)
+        if np.ptp(w) == 0 or np.ptp(x) == 0:
+            continue
+        rs.append(float(np.corrcoef(w, x)[0, 1]))
+    return float(np.mean(rs)) if rs else float("nan")
+
+
+def first_trials_poses(log: TrialLog, n_trials: int) -> np.ndarray:
+    """Every pose of the first ``n_trials`` trials of ``log``, ``(m, 3)`` (read trial by
+    trial, so a ledger keeps only these trials' poses)."""
+    n = min(int(n_trials), len(log))
+    if n < 1:
+        raise ValueError(f"first_trials_poses needs at least one trial, got {n_trials}")
+    return np.concatenate([log.trial_poses(k) for k in range(n)])
 
 
 # ------------------------------------------------------------------------------------------

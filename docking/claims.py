@@ -15,16 +15,33 @@ Rules:
   excludes 0.
 * :class:`ShareAbove`: the share of the baseline's failures that are gone in the cell lies
   above a share (e.g. 0.5: "most").
+* :class:`Gap`: a change costs a reference learner more than this one: ``(reference's
+  baseline - reference) - (baseline - cell)`` lies above 0.
+
+Each rule computes its interval by the first edition's percentile bootstrap
+(``method="bootstrap"``) or by Student-t (``method="t"``, the second edition's: its
+coverage at ten seeds is checked by :func:`docking.stats.coverage`). A family of claims is
+judged together by :func:`judge_family`: a p-value per comparison, Holm's adjustment over
+the family, and "at the bound" where a deciding interval ends within 1 pp of the rule's
+bound.
 """
 
 from __future__ import annotations
 
 import dataclasses
-from collections.abc import Mapping
+from collections.abc import Callable, Mapping
 
 import numpy as np
 
-from docking.stats import Interval, difference_ci, removed_share_ci
+from docking.stats import (
+    Interval,
+    difference_ci,
+    holm,
+    removed_share_ci,
+    t_difference_ci,
+    t_interaction_ci,
+    t_share_ci,
+)
 
 __all__ = [
     "SUPPORTED",
@@ -40,9 +57,14 @@ __all__ = [
 ]
 
 SUPPORTED, NOT_SUPPORTED, CONTRADICTED = "supported", "not supported", "contradicted"
+AT_BOUND = "at the bound"
+
+#: How near a deciding interval's end may come to a rule's bound before the verdict is "at
+#: the bound" instead of decided (a fraction: 1 percentage point).
+NEAR_BOUND = 0.01
 
 #: The colour of each verdict in figures (matplotlib colours).
-VERDICT_COLOURS = {SUPPORTED: "C2", NOT_SUPPORTED: "0.45", CONTRADICTED: "C3"}
+VERDICT_COLOURS = {SUPPORTED: "C2", NOT_SUPPORTED: "0.45", CONTRADICTED: "C3", AT_BOUND: "C1"}
 
 
 class Rule:
@@ -50,11 +72,36 @@ class Rule:
 
     #: Whether the statistic is a difference of success (pp) or a share of failures (%).
     unit = " pp"
+    method = "bootstrap"
 
     def statistic(self, baseline: np.ndarray, cell: np.ndarray, seed: int = 0) -> Interval:
-        """``baseline - cell`` of per-seed success, with its bootstrap interval (seeds
-        resampled per group)."""
+        """``baseline - cell`` of per-seed values, with its interval (bootstrap: seeds
+        resampled per group; t: Welch)."""
+        if self.method == "t":
+            return t_difference_ci(baseline, cell)
         return difference_ci(baseline, cell, seed=seed)
+
+    def interval(self, results, pair: tuple[str, ...], measure, seed: int = 0) -> Interval:
+        """The statistic of the comparison ``pair`` = ``(cell, baseline)``;
+        ``measure(results, key)`` gives per-seed values."""
+        key, baseline = pair[:2]
+        return self.statistic(measure(results, baseline), measure(results, key), seed=seed)
+
+    def bound(self) -> float:
+        """The value the statistic is judged against."""
+        return 0.0
+
+    def p_side(self, ci: Interval) -> tuple[float, str]:
+        """The p-value of the comparison and the verdict it would decide (Student-t
+        intervals): two-sided against :meth:`bound`."""
+        b = self.bound()
+        return ci.p_value(b), SUPPORTED if ci.estimate > b else CONTRADICTED
+
+    def near_bound(self, ci: Interval, verdict: str) -> bool:
+        """Whether the end of ``ci`` that decides ``verdict`` lies within
+        :data:`NEAR_BOUND` of the bound."""
+        end = ci.low if verdict == SUPPORTED else ci.high
+        return abs(end - self.bound()) < NEAR_BOUND
 
     def decide(self, ci: Interval) -> str:
         raise NotImplementedError
@@ -73,15 +120,19 @@ class Above(Rule):
     """Supported if the interval of ``baseline - cell`` lies above ``bound``, contradicted if
     it lies below it."""
 
-    bound: float = 0.0
+    at: float = 0.0
+    method: str = "bootstrap"
+
+    def bound(self) -> float:
+        return self.at
 
     def decide(self, ci: Interval) -> str:
-        if ci.low > self.bound:
+        if ci.low > self.at:
             return SUPPORTED
-        return CONTRADICTED if ci.high < self.bound else NOT_SUPPORTED
+        return CONTRADICTED if ci.high < self.at else NOT_SUPPORTED
 
     def describe(self) -> str:
-        return f"supported if the 95% interval lies above {100 * self.bound:g}"
+        return f"supported if the 95% interval lies above {100 * self.at:g}"
 
 
 @dataclasses.dataclass(frozen=True)
@@ -90,6 +141,7 @@ class Within(Rule):
     ``+-margin``, contradicted if it excludes 0."""
 
     margin: float
+    method: str = "bootstrap"
 
     def decide(self, ci: Interval) -> str:
         if -self.margin <= ci.low and ci.high <= self.margin:
@@ -98,6 +150,27 @@ class Within(Rule):
 
     def describe(self) -> str:
         return f"supported if the interval lies within +-{100 * self.margin:.0f} pp"
+
+    def p_side(self, ci: Interval) -> tuple[float, str]:
+        """Equivalence (two one-sided tests against +-margin) or a difference from 0,
+        whichever the data favour; the smaller p-value doubled (two tests per comparison)."""
+        from scipy import stats
+
+        if ci.se == 0:
+            inside = -self.margin < ci.estimate < self.margin
+            return 0.0, SUPPORTED if inside else CONTRADICTED
+        lower = stats.t.sf((ci.estimate + self.margin) / ci.se, ci.df)
+        upper = stats.t.cdf((ci.estimate - self.margin) / ci.se, ci.df)
+        equivalence = float(max(lower, upper))
+        difference = ci.p_value(0.0)
+        if equivalence <= difference:
+            return min(1.0, 2 * equivalence), SUPPORTED
+        return min(1.0, 2 * difference), CONTRADICTED
+
+    def near_bound(self, ci: Interval, verdict: str) -> bool:
+        if verdict == SUPPORTED:
+            return min(self.margin - ci.high, ci.low + self.margin) < NEAR_BOUND
+        return min(abs(ci.low), abs(ci.high)) < NEAR_BOUND
 
     @property
     def band(self) -> tuple[float, float]:
@@ -110,9 +183,15 @@ class ShareAbove(Rule):
     its interval lies above ``share``, contradicted if below."""
 
     share: float
+    method: str = "bootstrap"
     unit = "%"
 
+    def bound(self) -> float:
+        return self.share
+
     def statistic(self, baseline: np.ndarray, cell: np.ndarray, seed: int = 0) -> Interval:
+        if self.method == "t":
+            return t_share_ci(1 - cell, 1 - baseline)
         return removed_share_ci(1 - cell, 1 - baseline, paired=True, seed=seed)
 
     def decide(self, ci: Interval) -> str:
@@ -125,6 +204,41 @@ class ShareAbove(Rule):
 
 
 @dataclasses.dataclass(frozen=True)
+class Gap(Rule):
+    """A change costs a reference learner more than this one: a comparison is
+    ``(cell, baseline, reference_baseline, reference_cell)`` and the statistic is
+    ``(mean(reference_baseline) - mean(reference_cell)) - (mean(baseline) - mean(cell))``
+    (Welch's t over four groups of seeds), supported if its interval lies above 0."""
+
+    method: str = "t"
+
+    def interval(self, results, pair: tuple[str, ...], measure, seed: int = 0) -> Interval:
+        key, baseline, reference_baseline, reference_cell = pair
+        return t_interaction_ci(
+            measure(results, reference_baseline),
+            measure(results, reference_cell),
+            measure(results, baseline),
+            measure(results, key),
+        )
+
+    def decide(self, ci: Interval) -> str:
+        if ci.low > 0:
+            return SUPPORTED
+        return CONTRADICTED if ci.high < 0 else NOT_SUPPORTED
+
+    def describe(self) -> str:
+        return (
+            "supported if the interval of (the reference's loss) - (this learner's loss) "
+            "lies above 0"
+        )
+
+
+def success(results, key: str) -> np.ndarray:
+    """Per seed, the measured success of cell ``key`` (the default measure of a claim)."""
+    return results.score(key)
+
+
+@dataclasses.dataclass(frozen=True)
 class Claim:
     """A claim of the paper and how a design tests it.
 
@@ -134,9 +248,13 @@ class Claim:
       source: Where the paper says it.
       compares: What is compared, in words (the rule's wording follows it).
       rule: The :class:`Rule` of every comparison.
-      cells: ``{world: (cell keys)}``: the comparisons (each cell against its baseline). In
-        a world with several, the claim is supported there only if every comparison
-        supports it, and contradicted if any contradicts it.
+      cells: ``{world: comparisons}``: each a cell key (compared with the cell's baseline)
+        or a tuple ``(cell, baseline, ...)`` (more keys for rules that need them,
+        :class:`Gap`). In a world with several, the claim is supported there only if every
+        comparison supports it, and contradicted if any contradicts it.
+      measure: ``measure(results, key) -> per-seed values`` (default: measured success).
+      judged: False for a finding that is reported with its numbers but is not a verdict
+        (not in the family of :func:`judge_family`).
     """
 
     key: str
@@ -145,23 +263,25 @@ class Claim:
     compares: str
     rule: Rule
     cells: Mapping[str, tuple[str, ...]]
+    measure: Callable = success
+    judged: bool = True
 
     @property
     def test(self) -> str:
         """How the claim is tested: the comparison, then the rule."""
         return f"{self.compares}: {self.rule.describe()}"
 
-    def interval(self, results, key: str, seed: int = 0) -> Interval:
-        """The statistic of cell ``key`` against its baseline in ``results``."""
-        baseline = results.cell(key).baseline
-        return self.rule.statistic(results.score(baseline), results.score(key), seed=seed)
+    def interval(self, results, entry, seed: int = 0) -> Interval:
+        """The statistic of the comparison ``entry`` (a cell key, or a tuple, see
+        :attr:`cells`) in ``results``."""
+        return self.rule.interval(results, pair_of(results, entry), self.measure, seed=seed)
 
-    def evidence(self, results, key: str) -> str:
+    def evidence(self, results, entry) -> str:
         """The comparison's number with its interval, as text."""
-        ci = self.interval(results, key)
+        ci = self.interval(results, entry)
         if isinstance(self.rule, ShareAbove):
             return f"{ci.format(unit='%')} of the failures go"
-        return f"{ci.format(unit=' pp')} vs {key}"
+        return f"{ci.format(unit=' pp')} vs {pair_of(results, entry)[0]}"
 
     def verdict(self, results) -> tuple[str, dict[str, str], list[str]]:
         """The overall verdict, the verdict per world, and the evidence (per comparison)."""
@@ -181,6 +301,17 @@ class Claim:
         """The claim's row of a verdict table (Markdown)."""
         verdict, _, evidence = self.verdict(results)
         return f"| {self.words} ({self.source}) | {verdict} | {'; '.join(evidence)} |"
+
+
+def pair_of(results, entry) -> tuple[str, ...]:
+    """A claim's comparison as ``(cell, baseline, ...)``: a bare cell key is compared with
+    the cell's baseline."""
+    if isinstance(entry, str):
+        baseline = results.cell(entry).baseline
+        if baseline is None:
+            raise ValueError(f"cell {entry!r} has no baseline to be compared with")
+        return (entry, baseline)
+    return tuple(entry)
 
 
 def overall(verdicts: dict[str, str]) -> str:
@@ -207,3 +338,65 @@ def claim_of(claims, key: str) -> Claim:
         if c.key == key:
             return c
     raise KeyError(f"no claim {key!r} ({', '.join(c.key for c in claims)})")
+
+
+@dataclasses.dataclass(frozen=True)
+class Decision:
+    """One comparison of a family: its claim, world and cell, the interval, the p-value,
+    Holm's adjusted p-value over the family, and the verdict."""
+
+    claim: str
+    world: str
+    key: str
+    interval: Interval
+    p: float
+    p_adjusted: float
+    verdict: str
+
+
+def judge_family(claims, results, alpha: float = 0.05) -> list[Decision]:
+    """Judge every comparison of the ``judged`` claims as one family: each rule's p-value
+    (Student-t intervals), Holm's adjustment over all of them; a comparison whose adjusted
+    p-value is below ``alpha`` gets the verdict its side decides, else "not supported"; a
+    decided comparison whose deciding interval end lies within :data:`NEAR_BOUND` of the
+    bound is "at the bound" instead."""
+    found = []
+    for claim in claims:
+        if not claim.judged:
+            continue
+        for world, keys in claim.cells.items():
+            for entry in keys:
+                ci = claim.interval(results, entry)
+                p, side = claim.rule.p_side(ci)
+                found.append((claim, world, pair_of(results, entry)[0], ci, p, side))
+    adjusted = holm([f[4] for f in found]) if found else []
+    decisions = []
+    for (claim, world, key, ci, p, side), p_adj in zip(found, adjusted, strict=True):
+        verdict = side if p_adj < alpha else NOT_SUPPORTED
+        if verdict != NOT_SUPPORTED and claim.rule.near_bound(ci, verdict):
+            verdict = AT_BOUND
+        decisions.append(Decision(claim.key, world, key, ci, p, float(p_adj), verdict))
+    return decisions
+
+
+def family_verdicts(claims, decisions: list[Decision]) -> dict[str, tuple[str, dict[str, str]]]:
+    """Per judged claim: the overall verdict and the verdict per world, from the family's
+    decisions (in a world: supported if every comparison is, contradicted if any is, at the
+    bound if any is and none is contradicted, else not supported)."""
+    out = {}
+    for claim in claims:
+        if not claim.judged:
+            continue
+        per_world = {}
+        for world in claim.cells:
+            found = [d.verdict for d in decisions if d.claim == claim.key and d.world == world]
+            if all(v == SUPPORTED for v in found):
+                per_world[world] = SUPPORTED
+            elif CONTRADICTED in found:
+                per_world[world] = CONTRADICTED
+            elif AT_BOUND in found:
+                per_world[world] = AT_BOUND
+            else:
+                per_world[world] = NOT_SUPPORTED
+        out[claim.key] = (overall(per_world), per_world)
+    return out

@@ -54,6 +54,7 @@ class Cell:
         the held-out streams (no training of its own). None: a trained cell.
       core: Part of the design's default run (else added by ``full=True``).
       claim: The key of the claim it bears on, if any.
+      seeds: The cell's own seeds, if not the design's (e.g. fewer for a yardstick).
     """
 
     key: str
@@ -64,6 +65,7 @@ class Cell:
     test_world: WorldConfig | None = None
     core: bool = True
     claim: str | None = None
+    seeds: tuple[int, ...] | None = None
 
     def __post_init__(self):
         if not isinstance(self.key, str) or not self.key:
@@ -74,6 +76,8 @@ class Cell:
             if self.baseline is None:
                 raise ValueError(f"Cell {self.key!r}: a test-only cell needs a baseline")
         object.__setattr__(self, "coords", MappingProxyType(dict(self.coords)))
+        if self.seeds is not None:
+            object.__setattr__(self, "seeds", tuple(int(x) for x in self.seeds))
         if not self.label:
             object.__setattr__(self, "label", ", ".join(f"{v}" for v in self.coords.values()))
 
@@ -220,6 +224,22 @@ def judge(design: Design, cells: Sequence[Cell], runs: Mapping[str, list]) -> Re
     return Results(design, list(cells), runs, logs)
 
 
+def _sweep(cells, seeds, desc: str, options) -> dict[str, list]:
+    """Run (or load) the trained ``cells``: one sweep per distinct seed list (a cell's own
+    seeds, else ``seeds``)."""
+    from docking.sweep import run_configs
+
+    groups: dict[tuple[int, ...], dict] = {}
+    for c in cells:
+        if c.trained:
+            groups.setdefault(c.seeds or tuple(seeds), {})[c.key] = c.config
+    runs = {}
+    for k, (group_seeds, configs) in enumerate(groups.items()):
+        label = desc if len(groups) == 1 else f"{desc} ({k + 1}/{len(groups)})"
+        runs.update(run_configs(configs, group_seeds, desc=label, **options))
+    return runs
+
+
 def run_design(
     design: Design,
     full: bool = False,
@@ -231,8 +251,6 @@ def run_design(
 ) -> Results:
     """Run (or load) ``design``: its cells (every cell if ``full``, else the core ones) for
     its seeds (or ``seeds``) in one sweep, then its stages, each in a sweep of its own."""
-    from docking.sweep import run_configs
-
     check_instance("run_design", "design", design, Design)
     seeds = design.seeds if seeds is None else tuple(seeds)
     options = dict(results_dir=results_dir, scheduler=scheduler, workers=workers, progress=progress)
@@ -240,18 +258,11 @@ def run_design(
     for c in cells:
         if not c.trained and c.baseline not in {x.key for x in cells}:
             raise ValueError(f"design {design.name!r}: cell {c.key!r} needs its baseline's runs")
-    runs = run_configs(
-        {c.key: c.config for c in cells if c.trained}, seeds, desc=design.name, **options
-    )
+    runs = _sweep(cells, seeds, design.name, options)
     results = judge(design, cells, runs)
     for k, stage in enumerate(design.stages):
         extra = list(stage(results))
-        more = run_configs(
-            {c.key: c.config for c in extra if c.trained},
-            seeds,
-            desc=f"{design.name} (stage {k + 1})",
-            **options,
-        )
+        more = _sweep(extra, seeds, f"{design.name} (stage {k + 1})", options)
         cells, runs = cells + extra, {**runs, **more}
         results = judge(design, cells, runs)
     return results

@@ -16,6 +16,7 @@ MODULES = {
     "calibration-experiment2": "docking.designs.calibration",
     "study": "docking.designs.study",
     "experiment3": "docking.designs.experiment3",
+    "second-edition": "docking.designs.second_edition",
 }
 
 

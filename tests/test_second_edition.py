@@ -1,0 +1,150 @@
+"""The study's second edition (issue 19): its rules are fixed before its runs, its cells
+are well formed, and its statistics do what they say."""
+
+import hashlib
+
+import numpy as np
+import pytest
+
+from docking import claims, stats
+from docking.designs import second_edition as se
+
+#: SHA-256 of second_edition.rules_text() as committed before the edition's runs. A change
+#: of a rule, a cell or a constant fails this test: a new rule is a new, labelled analysis,
+#: never an edit of this one after its runs.
+RULES_DIGEST = "b5371a03216f1a4fe6218f14d30802a3b9ad55f78c258ea96e48c2a40ed55d4f"
+
+
+def test_the_rules_are_those_committed_before_the_runs():
+    digest = hashlib.sha256(se.rules_text().encode()).hexdigest()
+    assert digest == RULES_DIGEST, "the second edition's rules changed after they were fixed"
+
+
+def test_every_comparison_names_cells_of_the_design():
+    keys = {c.key for c in se.DESIGN.cells}
+    for claim in se.CLAIMS:
+        for entries in claim.cells.values():
+            for entry in entries:
+                assert set([entry] if isinstance(entry, str) else entry) <= keys, entry
+
+
+def test_the_path_changes_one_factor_at_a_time_and_ends_in_the_floor_world():
+    import dataclasses
+
+    from docking.presets import FLOOR_WORLD
+
+    worlds = [w for _, _, w, _ in se.PATH[:5]]
+    assert worlds[-1] == FLOOR_WORLD
+    for a, b in zip(worlds, worlds[1:], strict=False):
+        changed = {
+            f.name for f in dataclasses.fields(a) if getattr(a, f.name) != getattr(b, f.name)
+        }
+        # one factor: a field, or the fields that must move together (named in PATH)
+        assert changed and changed <= {
+            "scene",
+            "camera",
+            "dock_width",
+            "dock_depth",
+            "start_near",
+            "step_side",
+            "start_half_angle_deg",
+        }, changed
+        assert len(changed) <= 3
+
+
+def test_yardsticks_do_not_learn_and_run_on_their_own_seeds():
+    for cell in se.DESIGN.cells:
+        if cell.coords.get("variant") in se.YARDSTICKS:
+            assert cell.config.policy == cell["variant"] and cell.config.train_trials == 0
+            assert cell.seeds == se.YARDSTICK_SEEDS
+
+
+# -- statistics ------------------------------------------------------------------------------
+
+
+def test_t_intervals_cover_at_ten_seeds_where_the_percentile_bootstrap_does_not():
+    t = stats.coverage("t", repeats=300, seed=1)
+    percentile = stats.coverage("percentile", repeats=300, seed=1)
+    assert t >= 0.92 and t > percentile
+
+
+def test_holm_adjusts_step_down():
+    adjusted = stats.holm([0.01, 0.04, 0.03, 0.5])
+    np.testing.assert_allclose(adjusted, [0.04, 0.09, 0.09, 0.5])
+    with pytest.raises(ValueError, match="p-values"):
+        stats.holm([1.5])
+
+
+def test_welch_interval_and_p_value_agree_with_scipy():
+    from scipy import stats as sps
+
+    rng = np.random.default_rng(0)
+    a, b = rng.normal(0.9, 0.03, 10), rng.normal(0.85, 0.05, 10)
+    ci = stats.t_difference_ci(a, b)
+    ref = sps.ttest_ind(a, b, equal_var=False)
+    assert ci.p_value(0.0) == pytest.approx(ref.pvalue)
+    low, high = ref.confidence_interval(0.95)
+    assert (ci.low, ci.high) == pytest.approx((low, high))
+
+
+def test_a_share_of_failures_by_the_delta_method():
+    base = np.array([0.10, 0.12, 0.08, 0.11, 0.09])
+    ci = stats.t_share_ci(base / 4, base)  # a quarter of every seed's failures remain
+    assert ci.estimate == pytest.approx(0.75) and ci.low == pytest.approx(0.75)
+
+
+# -- the family of verdicts --------------------------------------------------------------------
+
+
+class _Fake:
+    """Results with given per-seed values per cell."""
+
+    def __init__(self, values, baselines):
+        self._values, self._baselines = values, baselines
+
+    def score(self, key):
+        return np.asarray(self._values[key])
+
+    def cell(self, key):
+        return type("C", (), {"baseline": self._baselines.get(key)})()
+
+
+def test_a_family_is_judged_with_holm_and_near_bounds_are_not_decided():
+    rng = np.random.default_rng(3)
+    values = {
+        "paper": 0.90 + 0.0005 * rng.standard_normal(10),
+        "clear": 0.70 + 0.01 * rng.standard_normal(10),  # far below the paper: supported
+        "edge": 0.895 + 0.0005 * rng.standard_normal(10),  # decided, but 0.5 pp from 0
+        "same": 0.90 + 0.01 * rng.standard_normal(10),  # no difference
+    }
+    base = {k: "paper" for k in values if k != "paper"}
+    claim = claims.Claim(
+        "x",
+        "words",
+        "src",
+        "paper minus",
+        claims.Above(0.0, method="t"),
+        {"w1": ("clear",), "w2": ("edge",), "w3": ("same",)},
+    )
+    decisions = {d.key: d for d in claims.judge_family([claim], _Fake(values, base))}
+    assert decisions["clear"].verdict == claims.SUPPORTED
+    assert decisions["edge"].p_adjusted < 0.05  # decided by the test ...
+    assert decisions["edge"].verdict == claims.AT_BOUND  # ... but reported at the bound
+    assert decisions["same"].verdict == claims.NOT_SUPPORTED
+    p = [d.p for d in decisions.values()]
+    np.testing.assert_allclose([d.p_adjusted for d in decisions.values()], stats.holm(p))
+
+
+def test_equivalence_and_gap_rules():
+    within = claims.Within(0.02, method="t")
+    tight = stats.t_difference_ci(np.full(10, 0.9) + np.linspace(-1e-3, 1e-3, 10), np.full(10, 0.9))
+    p, side = within.p_side(tight)
+    assert side == claims.SUPPORTED and p < 0.01
+    far = stats.t_difference_ci(np.linspace(0.80, 0.82, 10), np.linspace(0.90, 0.92, 10))
+    assert within.p_side(far)[1] == claims.CONTRADICTED
+    values = {"paper": [0.9] * 5, "cup": [0.88] * 5, "frozen": [0.8] * 5, "cupf": [0.7] * 5}
+    values = {k: np.asarray(v) + np.linspace(0, 0.01, 5) for k, v in values.items()}
+    gap = claims.Gap().interval(
+        _Fake(values, {}), ("cup", "paper", "frozen", "cupf"), claims.success
+    )
+    assert gap.estimate == pytest.approx((0.8 - 0.7) - (0.9 - 0.88))
