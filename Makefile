@@ -46,9 +46,9 @@ reproduce: setup notebooks experiments
 experiments: setup
 	DOCKING_LEDGER=off $(PY) -m docking run experiment1
 	DOCKING_LEDGER=off $(PY) -m docking run experiment2
-	DOCKING_LEDGER=off $(PY) -m docking calibration
-	DOCKING_LEDGER=off $(PY) -m docking study
-	DOCKING_LEDGER=off $(PY) -m docking experiment3
+	DOCKING_LEDGER=off $(PY) -m docking design run calibration-experiment1 calibration-experiment2
+	DOCKING_LEDGER=off $(PY) -m docking design run study
+	DOCKING_LEDGER=off $(PY) -m docking design run experiment3
 
 check: setup
 	$(VENV)/bin/ruff format --check .

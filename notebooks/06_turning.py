@@ -104,7 +104,7 @@ assert four["4 actions, precision, 6 deg"] < 0.95 < six["6 actions, precision, 6
 # %% [markdown]
 # ## Run (or load) the grid
 #
-# One sweep on the embedded Dask cluster (`python -m docking experiment3` from a terminal);
+# One sweep on the embedded Dask cluster (`python -m docking design run experiment3` from a terminal);
 # stored runs are loaded.
 
 # %%
@@ -189,7 +189,7 @@ assert verdict == "contradicted" and removed.high < 0
 
 # %% [markdown]
 # Is it training time? Six actions are a larger problem for a near-random explorer
-# ($\beta^a = 2$): a third of its draws are turns. `python -m docking experiment3 --full`
+# ($\beta^a = 2$): a third of its draws are turns. `python -m docking design run experiment3 --full`
 # also trains the six-action learner of the paper's task at 2° twice as long (4000 trials,
 # the curriculum stretched in proportion). It is not part of this notebook's runs: with it
 # the computation from a fresh clone would no longer fit the CI's 90 minutes.
@@ -313,4 +313,4 @@ assert centroid["TL"] < 0 < centroid["TR"] and turn_share > 0.1
 #   does not spend a third of its draws on turns.
 #
 # Compute: the table above cost the summed training and test time printed under "Run";
-# `python -m docking experiment3` runs the whole grid on the embedded Dask cluster.
+# `python -m docking design run experiment3` runs the whole grid on the embedded Dask cluster.

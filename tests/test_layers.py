@@ -54,3 +54,24 @@ def test_the_layers_contract_is_kept():
     )
     assert out.returncode == 0, out.stdout[-3000:]
     assert "1 kept, 0 broken" in out.stdout
+
+
+def test_contributings_example_design_is_a_valid_design_in_one_file(tmp_path):
+    """The example of "How to add a design" builds as written (issue 18: a new study is a
+    design file)."""
+    text = (ROOT / "CONTRIBUTING.md").read_text()
+    section = text.split("### a design", 1)[1]
+    code = section.split("```python", 1)[1].split("```", 1)[0]
+    namespace: dict = {}
+    exec(compile(code, "two_cups.py", "exec"), namespace)
+    design = namespace["DESIGN"]
+    from docking.design import Design
+
+    assert isinstance(design, Design) and [c.key for c in design.cells] == [
+        "paper",
+        "frozen",
+        "cups",
+    ]
+    assert design.cell("cups").config.world.distractors and design.claims[0].cells == {
+        "floor": ("cups",)
+    }

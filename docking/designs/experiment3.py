@@ -30,7 +30,7 @@ Choices named here:
   spans it.
 * Runs skip the learning curve and the final test (the held-out trials are the measure),
   as the study's cells do.
-* One extra cell (``full=True``, ``python -m docking experiment3 --full``; not in
+* One extra cell (``full=True``, ``python -m docking design run experiment3 --full``; not in
   ``make reproduce`` or CI, whose 90-minute budget the grid already fills for the most part)
   asks whether six actions need more training than the paper's 2000 trials: six actions,
   the paper's task, 2 deg, trained :data:`LONGER` times as long (the curriculum stretched in
