@@ -35,6 +35,40 @@ def _snapshot_sources() -> dict:
 
 _SOURCES_AT_IMPORT = _snapshot_sources()
 
+#: The Gymnasium ids ``import docking`` registers: ``{id: the preset world it starts from}``
+#: (:func:`docking.gym.preset_world`; None: the default ``WorldConfig``).
+ENV_IDS = {
+    "docking/Docking-v0": None,
+    "docking/Experiment1-v0": "experiment1",
+    "docking/Experiment2-v0": "experiment2",
+    "docking/Floor-v0": "floor",
+    "docking/Turning-v0": "turning",
+    "docking/Precision-v0": "precision",
+}
+
+
+def _register_envs() -> None:
+    """Register :data:`ENV_IDS` with Gymnasium (if installed); the environments and their
+    worlds are built only by ``gymnasium.make``."""
+    try:
+        import gymnasium
+    except ImportError:  # pragma: no cover - gymnasium is a dependency
+        return
+    from docking.scene import WorldConfig
+
+    steps = WorldConfig.__dataclass_fields__["max_steps"].default  # the presets keep it
+    for env_id, preset in ENV_IDS.items():
+        if env_id not in gymnasium.registry:
+            gymnasium.register(
+                id=env_id,
+                entry_point="docking.gym:DockingGymEnv",
+                kwargs={"preset": preset},
+                max_episode_steps=steps,
+            )
+
+
+_register_envs()
+
 _LAZY = {
     "DockingEnv": "docking.world",
     "WorldConfig": "docking.world",

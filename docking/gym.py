@@ -1,19 +1,25 @@
-"""The docking task as a Gymnasium environment, ``docking/Docking-v0``.
+"""The docking task as Gymnasium environments, one id per task.
 
 The ``dm_env`` :class:`~docking.world.DockingEnv` stays the primary API (the experiments use
-it); this module adapts it for Gymnasium users and registers it on import::
+it); this module adapts it for Gymnasium users. ``import docking`` registers the ids of
+:data:`docking.ENV_IDS` (Gymnasium 1.x has no plugin entry points)::
 
     import gymnasium
-    import docking.gym  # registers docking/Docking-v0
+    import docking  # registers docking/Experiment2-v0 and the others
 
-    env = gymnasium.make("docking/Docking-v0", start_far=1.0, seed=0)
+    env = gymnasium.make("docking/Experiment2-v0", seed=0)
     obs, info = env.reset(seed=1)            # obs: float32 (10, 32) in [0, 1]
     obs, reward, terminated, truncated, info = env.step(0)  # 0 F, 1 B, 2 L, 3 R
 
-``gymnasium.make("docking.gym:docking/Docking-v0")`` imports and registers in one go. The
-keyword arguments of ``make`` are the fields of :class:`~docking.world.WorldConfig` (``camera``
-as a :class:`~docking.camera.CameraConfig` or a dict of its fields) plus ``seed`` and
-``render_mode`` (``None`` or ``"rgb_array"``: an overview render of the room).
+The ids: ``docking/Docking-v0`` (the default :class:`~docking.scene.WorldConfig`),
+``docking/Experiment1-v0`` and ``docking/Experiment2-v0`` (the paper's start regions),
+``docking/Floor-v0`` (the study's floor world), ``docking/Turning-v0`` (Experiment 3: six
+actions with turns) and ``docking/Precision-v0`` (six actions, docked only when facing the
+landmark within 10 deg). Each spec's ``max_episode_steps`` is the world's ``max_steps``
+(the paper's 25 actions). The keyword arguments of ``make`` are ``seed``, ``render_mode``
+(``None`` or ``"rgb_array"``: an overview render of the room) and any field of
+:class:`~docking.scene.WorldConfig` (``camera`` as a :class:`~docking.camera.CameraConfig`
+or a dict of its fields), which overrides the id's world.
 
 The mapping from ``dm_env`` time steps: docking gives reward 1 and ends the episode as
 ``terminated`` (dm_env discount 0); the ``max_steps``-th action without docking ends it as
@@ -38,14 +44,34 @@ from gymnasium import spaces
 from gymnasium.utils import seeding
 
 from docking.camera import CameraConfig
+from docking.scene import WorldConfig
 from docking.validate import MAX_SEED, check_int
-from docking.world import DockingEnv, WorldConfig
 
-#: The registered id.
+#: The id of the default world (see :data:`docking.ENV_IDS` for every id).
 ENV_ID = "docking/Docking-v0"
 
 
-def _world_config(kwargs: dict[str, Any]) -> WorldConfig:
+def preset_world(name: str | None) -> WorldConfig:
+    """The world of a registered id's ``preset`` (:data:`docking.ENV_IDS`)."""
+    from docking.presets import EXPERIMENT_1, EXPERIMENT_2, FLOOR_WORLD
+
+    worlds = {
+        None: WorldConfig(),
+        "experiment1": EXPERIMENT_1.world,
+        "experiment2": EXPERIMENT_2.world,
+        "floor": FLOOR_WORLD,
+        # Experiment 3's worlds at the paper's 2 deg (docking.designs.experiment3.world).
+        "turning": dataclasses.replace(EXPERIMENT_2.world, actions="turning"),
+        "precision": dataclasses.replace(
+            EXPERIMENT_2.world, actions="turning", dock_heading_deg=10.0
+        ),
+    }
+    if name not in worlds:
+        raise ValueError(f"no preset world {name!r}; the presets are {', '.join(map(str, worlds))}")
+    return worlds[name]
+
+
+def _world_config(kwargs: dict[str, Any], preset: str | None = None) -> WorldConfig:
     names = {f.name for f in dataclasses.fields(WorldConfig)}
     unknown = sorted(set(kwargs) - names)
     if unknown:
@@ -60,7 +86,7 @@ def _world_config(kwargs: dict[str, Any]) -> WorldConfig:
         raise TypeError(
             f"WorldConfig.camera must be a CameraConfig or a dict of its fields, got {camera!r}"
         )
-    return WorldConfig(**kwargs)
+    return dataclasses.replace(preset_world(preset), **kwargs)
 
 
 class DockingGymEnv(gymnasium.Env):
@@ -69,12 +95,21 @@ class DockingGymEnv(gymnasium.Env):
     Args:
       seed: Seeds the env's ``np_random`` (an int or ``None``); ``reset(seed=...)`` reseeds.
       render_mode: ``None`` or ``"rgb_array"`` (``render()`` returns a 480x640 overview).
-      **world: Fields of :class:`~docking.world.WorldConfig`.
+      preset: The world to start from (:func:`preset_world`; None: ``WorldConfig()``).
+      **world: Fields of :class:`~docking.scene.WorldConfig` that override the preset's.
     """
 
     metadata = {"render_modes": ["rgb_array"], "render_fps": 2}
 
-    def __init__(self, seed: int | None = None, render_mode: str | None = None, **world):
+    def __init__(
+        self,
+        seed: int | None = None,
+        render_mode: str | None = None,
+        preset: str | None = None,
+        **world,
+    ):
+        from docking.world import DockingEnv
+
         if render_mode is not None and render_mode not in self.metadata["render_modes"]:
             raise ValueError(
                 f"render_mode must be None or one of {self.metadata['render_modes']}, "
@@ -83,7 +118,7 @@ class DockingGymEnv(gymnasium.Env):
         if seed is not None and not isinstance(seed, (int, np.integer)):
             raise TypeError(f"seed must be None or an int, got {seed!r}")
         self.render_mode = render_mode
-        self.config = _world_config(world)
+        self.config = _world_config(world, preset)
         if seed is not None:
             self._np_random, self._np_random_seed = seeding.np_random(int(seed))
         # One generator for both: the dm_env world draws from this env's np_random.
@@ -127,4 +162,8 @@ class DockingGymEnv(gymnasium.Env):
         return None
 
 
-gymnasium.register(id=ENV_ID, entry_point="docking.gym:DockingGymEnv")
+def register() -> None:
+    """Register every id of :data:`docking.ENV_IDS` (done by ``import docking``)."""
+    import docking
+
+    docking._register_envs()

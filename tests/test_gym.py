@@ -5,6 +5,7 @@ import numpy as np
 import pytest
 from gymnasium.utils.env_checker import check_env
 
+import docking
 import docking.gym
 from docking.world import DockingEnv, WorldConfig
 
@@ -114,3 +115,61 @@ def test_async_vector_env_with_spawn():
         np.testing.assert_array_equal(single.reset(seed=2)[0], envs.reset(seed=[1, 2])[0][1])
     finally:
         envs.close()
+
+
+# -- one id per task ------------------------------------------------------------------------
+
+
+@pytest.mark.parametrize("env_id", sorted(docking.ENV_IDS))
+def test_every_task_id_passes_check_env_and_has_its_step_limit(env_id):
+    env = gymnasium.make(env_id, seed=0)
+    try:
+        world = docking.gym.preset_world(docking.ENV_IDS[env_id])
+        assert env.unwrapped.config == world
+        assert env.spec.max_episode_steps == world.max_steps == 25
+        assert env.action_space.n == world.n_actions
+        check_env(env.unwrapped, skip_render_check=True)
+    finally:
+        env.close()
+
+
+def test_the_ids_are_registered_by_importing_docking_alone():
+    import subprocess
+    import sys
+
+    code = (
+        "import gymnasium, docking\n"
+        "env = gymnasium.make('docking/Experiment2-v0')\n"
+        "print(env.unwrapped.config.start_far, env.spec.max_episode_steps)\n"
+    )
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=False)
+    assert out.returncode == 0, out.stderr
+    assert out.stdout.split() == ["1.5", "25"]
+
+
+def test_an_ids_world_fields_can_be_overridden():
+    env = gymnasium.make("docking/Floor-v0", step_forward=0.08)
+    assert env.unwrapped.config.scene == "floor" and env.unwrapped.config.step_forward == 0.08
+    env.close()
+    with pytest.raises(ValueError, match="no preset world"):
+        docking.gym.DockingGymEnv(preset="moon")
+
+
+def test_record_video_writes_an_episode(tmp_path):
+    pytest.importorskip("moviepy", reason="the video extra: pip install docking[video]")
+    from gymnasium.wrappers import RecordVideo
+
+    env = RecordVideo(
+        gymnasium.make("docking/Experiment1-v0", render_mode="rgb_array", seed=0),
+        video_folder=str(tmp_path / "videos"),
+        episode_trigger=lambda k: True,
+        disable_logger=True,
+    )
+    env.reset(seed=0)
+    done = False
+    while not done:
+        _, _, terminated, truncated, _ = env.step(0)
+        done = terminated or truncated
+    env.close()
+    videos = list((tmp_path / "videos").glob("*.mp4"))
+    assert len(videos) == 1 and videos[0].stat().st_size > 1000
