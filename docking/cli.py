@@ -280,8 +280,15 @@ class Report:
     """Also save Figs. 2-5 and the learning curves of Experiments 1 and 2 into figures/
     (or DOCKING_FIGURES)."""
 
+    compute: bool = False
+    """Compute the runs that neither the results store nor the ledger holds (without it, the
+    report refuses to start a computation: the study and Experiment 3 are hours on 2 cores)."""
+
     def execute(self) -> int:
         from docking.presets import EXPERIMENT_1, EXPERIMENT_2
+
+        if not self.compute:
+            _refuse_to_compute(self.study, self.experiment3, self.results_dir)
         from docking.report import STUDY_END, STUDY_START, results_table, update_readme
         from docking.sweep import run_seeds
 
@@ -317,6 +324,28 @@ class Report:
         if self.readme is not None:
             print(f"{self.readme}: {'updated' if changed else 'already up to date'}")
         return 0
+
+
+def _refuse_to_compute(study: bool, experiment3: bool, results_dir) -> None:
+    """``ValueError`` if the report would compute runs: it names how many and the option."""
+    from docking.designs import design
+    from docking.sweep import jobs_for, missing
+
+    names = ["paper"] + ["study"] * study + ["experiment3"] * experiment3
+    jobs = []
+    for name in names:
+        d = design(name)
+        for cell in d.select(False):
+            if cell.trained:
+                jobs += jobs_for([cell.config], cell.seeds or d.seeds)
+    absent = missing(jobs, results_dir)
+    if absent:
+        kinds = sorted({j.config.name for j in absent})
+        raise ValueError(
+            f"{len(absent)} runs ({', '.join(kinds)}) are neither stored nor in the ledger: "
+            "computing them takes from minutes to hours. Pass --compute to compute them, or "
+            "run the designs first (python -m docking design run ...)"
+        )
 
 
 @dataclasses.dataclass

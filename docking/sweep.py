@@ -228,6 +228,13 @@ def _run_job(config: ExperimentConfig, seed: int, results_dir: str, force: bool)
     return str(result_path(config, seed, results_dir))
 
 
+def missing(jobs: Iterable[Job], results_dir: Path | str | None = None) -> list[Job]:
+    """The jobs whose runs neither the store nor the ledger holds (what a sweep would
+    compute)."""
+    root = Path(results_dir) if results_dir is not None else paths.results_dir()
+    return [j for j in jobs if not _stored(j, root)]
+
+
 def _stored(job: Job, results_dir: Path) -> bool:
     """Whether ``job``'s run can be loaded: a valid file in the store, or the ledger's
     entry (``StaleLedger`` if the ledger holds it but was made by other code)."""

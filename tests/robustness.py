@@ -105,6 +105,47 @@ def config_fields() -> None:
             lambda v=value: Curriculum(1, v, 1),
             "grow",
         )
+    # config.json read back (ExperimentConfig.from_dict): every wrong shape a TypeError
+    from docking.experiments import ExperimentConfig
+
+    good = TINY.to_dict()
+    for what, d, names in (
+        ("an unknown field", {**good, "nope": 1}, "nope"),
+        ("no world", {k: v for k, v in good.items() if k != "world"}, "world"),
+        ("world a list", {**good, "world": [1]}, "world"),
+        ("network a string", {**good, "network": "x"}, "network"),
+        ("camera unknown field", {**good, "world": {**good["world"], "camera": {"x": 1}}}, "x"),
+        (
+            "distractor a number",
+            {**good, "world": {**good["world"], "distractors": [3]}},
+            "distractors",
+        ),
+        ("curriculum empty", {**good, "curriculum": {}}, "far_initial"),
+        ("not a dict", [good], "mapping"),
+    ):
+        expect_refusal(
+            "config", f"from_dict({what})", lambda x=d: ExperimentConfig.from_dict(x), names
+        )
+    for field, value in (("dock_center", 1e300), ("dock_center", 5.0), ("view_margin_px", 100)):
+        expect_refusal(
+            "config",
+            f"WorldConfig({field}={value})",
+            lambda f=field, v=value: WorldConfig(**{f: v}),
+            field,
+        )
+    for what, change, names in (
+        ("a yardstick that trains", dict(policy="oracle"), "does not learn"),
+        ("an unknown policy", dict(policy="ppo", train_trials=0, eval_trials=0), "policy"),
+        ("an unknown pretraining rule", dict(pretrain_rule="kohonen"), "pretrain_rule"),
+        ("no training for the learner", dict(train_trials=0), "train_trials"),
+    ):
+        expect_refusal("config", what, lambda c=change: dataclasses.replace(TINY, **c), names)
+    expect_refusal(
+        "config",
+        "permute_delta with a constant",
+        lambda: NetworkConfig(permute_delta=True, feature_delta=0.1),
+        "permute_delta",
+    )
 
 
 def env_inputs() -> None:
@@ -208,6 +249,12 @@ def cli() -> None:
         (["benchmark", "--steps", "-5"], "--steps"),
         (["benchmark", "--repeats", "0"], "--repeats"),
         (["run", "experiment1", "--results-dir", "/proc/forbidden"], "/proc/forbidden"),
+        (["run", "experiment1", "--world.scene", "flor"], "scene"),
+        (["run", "experiment1", "--network.rule", "nonlcal"], "rule"),
+        (["design", "run", "nosuch"], "nosuch"),
+        (["design", "run", "study", "--seeds", "5-2"], "seeds"),
+        (["design", "run", "study", "--scheduler", "tcp://127.0.0.1:1"], "127.0.0.1:1"),
+        (["ledger", "update", "--trace", "/nonexistent/trace.jsonl"], "trace"),
     ]
     for args, names in cases:
         found = subprocess.run(

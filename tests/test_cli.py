@@ -46,6 +46,9 @@ def _cli(args, tmp_path, module="docking", timeout=300):
         ["study"],
         ["experiment3"],
         ["calibration"],
+        ["design"],
+        ["design", "run"],
+        ["design", "list"],
         ["benchmark"],
     ],
     ids=lambda a: " ".join(a) or "top",
@@ -62,12 +65,6 @@ def test_help_prints_usage_and_starts_nothing(args, tmp_path):
 
 
 @pytest.mark.slow
-def test_report_module_help_does_not_train(tmp_path):
-    out = _cli(["--help"], tmp_path, module="docking.report", timeout=60)
-    assert out.returncode == 0 and "usage:" in out.stdout
-    assert list(tmp_path.iterdir()) == []
-
-
 @pytest.mark.slow
 def test_help_lists_subcommands_and_overrides(tmp_path):
     top = _cli(["--help"], tmp_path).stdout
@@ -148,3 +145,24 @@ def test_update_readme(tmp_path):
 def test_project_readme_has_the_markers():
     text = (REPO / "README.md").read_text()
     assert text.count(README_START) == 1 and text.count(README_END) == 1
+
+
+def test_report_refuses_to_start_a_computation_without_compute(tmp_path):
+    env_off = {"DOCKING_LEDGER": "off"}
+    os.environ.update(env_off)
+    try:
+        out = _cli(["report"], tmp_path, timeout=120)
+    finally:
+        del os.environ["DOCKING_LEDGER"]
+    assert out.returncode == 2, out.stderr
+    assert "--compute" in out.stderr and "Traceback" not in out.stderr
+    assert (
+        not list((tmp_path / "results").rglob("*.npz")) if (tmp_path / "results").exists() else True
+    )
+
+
+def test_design_list_names_every_design(tmp_path):
+    out = _cli(["design", "list"], tmp_path, timeout=120)
+    assert out.returncode == 0, out.stderr
+    for name in ("paper", "calibration-experiment1", "study", "experiment3", "second-edition"):
+        assert name in out.stdout
