@@ -514,9 +514,11 @@ def run_or_load(
     results_dir: Path | str | None = None,
     force: bool = False,
     progress: bool = True,
+    on_trials=None,
 ) -> ExperimentResult:
     """The run of (``config``, ``seed``): loaded from the store if a valid file with its key
     is there, otherwise computed and saved (a bad file is a warning, then replaced).
+    ``on_trials(n)``: called as the computed run's trials finish (its progress).
     ``force`` recomputes and replaces whatever is stored. The ledger is not consulted (its
     entries keep parts of runs): :func:`docking.ledger.load_run` reads the store, then the
     ledger; :func:`docking.sweep.run_jobs` skips runs the ledger holds."""
@@ -532,6 +534,6 @@ def run_or_load(
                 stacklevel=2,
             )
     check_writable(path.parent)
-    result = run_experiment(config, seed, progress=progress)
+    result = run_experiment(config, seed, progress=progress, on_trials=on_trials)
     save_result(result, path)
     return result

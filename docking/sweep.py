@@ -222,10 +222,50 @@ def dask_setup(worker=None) -> None:
         _die_with_parent(int(parent))
 
 
-def _run_job(config: ExperimentConfig, seed: int, results_dir: str, force: bool) -> str:
-    """The task a worker runs: compute or load one run in the store; its path."""
-    run_or_load(config, seed, results_dir, force=force, progress=False)
+#: The Dask event topic on which workers report finished trials (``(job index, trials)``).
+_PROGRESS_TOPIC = "docking-trials"
+
+
+def _run_job(
+    config: ExperimentConfig,
+    seed: int,
+    results_dir: str,
+    force: bool,
+    on_trials=None,
+    report: str | None = None,
+) -> str:
+    """The task a worker runs: compute or load one run in the store; its path.
+    ``on_trials(n)``: called as trials finish (in this process); ``report``: ``"sweep:k"``
+    to publish them, at most once a second, on the Dask event topic
+    :data:`_PROGRESS_TOPIC` (in a worker)."""
+    if report is not None:
+        on_trials = _Reporter(report)
+    try:
+        run_or_load(config, seed, results_dir, force=force, progress=False, on_trials=on_trials)
+    finally:
+        if report is not None:
+            on_trials.flush()
     return str(result_path(config, seed, results_dir))
+
+
+class _Reporter:
+    """Counts a worker's finished trials and publishes them on the Dask event topic at most
+    once a second (``flush`` sends the rest)."""
+
+    def __init__(self, tag: str):
+        self.tag, self.count, self.sent_at = tag, 0, time.monotonic()
+
+    def __call__(self, n: int) -> None:
+        self.count += n
+        if time.monotonic() - self.sent_at >= 1.0:
+            self.flush()
+
+    def flush(self) -> None:
+        if self.count:
+            from distributed import get_worker
+
+            get_worker().log_event(_PROGRESS_TOPIC, {"tag": self.tag, "trials": self.count})
+            self.count, self.sent_at = 0, time.monotonic()
 
 
 def missing(jobs: Iterable[Job], results_dir: Path | str | None = None) -> list[Job]:
@@ -367,7 +407,9 @@ def run_jobs(
       workers: Worker processes of the embedded cluster (default: one per core, at most one
         per job to run). ``1`` runs the jobs one after another in this process, no Dask.
       force: Recompute and replace stored runs.
-      progress: Show a bar of finished jobs on stderr.
+      progress: Show a bar on stderr that counts trials as they finish (the runs' trials
+        of :func:`docking.experiments.trials_in_run`), with the runs done beside it; quiet
+        when stderr is not a terminal.
       desc: The bar's label.
     """
     jobs = [check_instance("run_jobs", "jobs[]", j, Job) for j in jobs]
@@ -383,28 +425,45 @@ def run_jobs(
 
     from tqdm.auto import tqdm
 
+    from docking.experiments import trials_in_run
+
+    trials = [trials_in_run(j.config) for j in jobs]
     bar = tqdm(
-        total=len(jobs),
-        initial=len(jobs) - len(todo),
+        total=sum(trials),
+        initial=sum(trials) - sum(trials[k] for k in todo),
         desc=desc,
-        unit="run",
-        disable=not progress,
+        unit="trial",
+        disable=None if progress else True,  # None: quiet unless stderr is a terminal
         file=sys.stderr,
         dynamic_ncols=True,
+        smoothing=0.05,
     )
+    runs = _RunCount(bar, len(jobs), len(jobs) - len(todo))
     try:
         if not todo:
             return paths_
         n_workers = workers or min(len(todo), os.cpu_count() or 1)
         if scheduler is None and n_workers <= 1:
             for k in todo:
-                _run_job(jobs[k].config, jobs[k].seed, str(root), force)
-                bar.update(1)
+                _run_job(jobs[k].config, jobs[k].seed, str(root), force, on_trials=bar.update)
+                runs.done(1)
             return paths_
-        _run_on_dask(jobs, todo, root, scheduler, n_workers, force, bar)
+        _run_on_dask(jobs, todo, root, scheduler, n_workers, force, bar, trials, runs)
         return paths_
     finally:
         bar.close()
+
+
+class _RunCount:
+    """The runs done, shown beside a bar of trials."""
+
+    def __init__(self, bar, total: int, done: int):
+        self.bar, self.total, self.count = bar, total, done
+        self.done(0)
+
+    def done(self, n: int) -> None:
+        self.count += n
+        self.bar.set_postfix_str(f"runs {self.count}/{self.total}", refresh=True)
 
 
 def run_configs(
@@ -459,7 +518,9 @@ def _connect(scheduler: str):
         ) from None
 
 
-def _run_on_dask(jobs, todo, root: Path, scheduler, n_workers: int, force: bool, bar) -> None:
+def _run_on_dask(
+    jobs, todo, root: Path, scheduler, n_workers: int, force: bool, bar, trials, runs
+) -> None:
     from distributed import wait
 
     # distributed logs at INFO through the root handler that absl (dm-control) installs;
@@ -474,29 +535,57 @@ def _run_on_dask(jobs, todo, root: Path, scheduler, n_workers: int, force: bool,
         cluster = _EmbeddedCluster(n_workers) if scheduler is None else None
         with cluster.client if cluster is not None else _connect(scheduler) as client:
             sweep = uuid.uuid4().hex[:8]
-            futures = [
-                client.submit(
+            reported = dict.fromkeys(todo, 0)  # trials each job has reported so far
+            news: list = []  # (job, trials) from the event topic's handler thread
+            lock = threading.Lock()
+
+            def heard(event) -> None:
+                _, message = event
+                tag, _, k = str(message.get("tag", "")).partition(":")
+                if tag == sweep and k.isdigit() and int(k) in reported:
+                    with lock:
+                        news.append((int(k), int(message.get("trials", 0))))
+
+            client.subscribe_topic(_PROGRESS_TOPIC, heard)
+            index = {}
+            for k in todo:
+                future = client.submit(
                     _run_job,
                     jobs[k].config,
                     jobs[k].seed,
                     str(root),
                     force,
+                    report=f"{sweep}:{k}",
                     key=f"docking-{jobs[k].config.name}-seed{jobs[k].seed}-{sweep}-{k}",
                     pure=False,
                 )
-                for k in todo
-            ]
-            pending = set(futures)
+                index[future] = k
+            pending = set(index)
+
+            def apply_news() -> None:
+                with lock:
+                    found, news[:] = list(news), []
+                for k, n in found:
+                    n = min(n, trials[k] - reported[k])  # never beyond the job's total
+                    reported[k] += n
+                    bar.update(n)
+
             while pending:
-                # Wake every second so the bar's clock moves while long runs compute.
+                # Wake every second: trials reported since, and the bar's clock.
                 try:
                     done, pending = wait(pending, timeout=1.0, return_when="FIRST_COMPLETED")
                 except (TimeoutError, asyncio.TimeoutError):  # distinct before 3.11
+                    apply_news()
                     bar.refresh()
                     continue
+                apply_news()
                 for future in done:
                     future.result()  # re-raises a job's exception here
-                bar.update(len(done))
+                    k = index[future]
+                    bar.update(trials[k] - reported[k])  # a loaded run, or unreported trials
+                    reported[k] = trials[k]
+                runs.done(len(done))
+            client.unsubscribe_topic(_PROGRESS_TOPIC)
     finally:
         if cluster is not None:
             cluster.close()

@@ -367,3 +367,41 @@ def test_a_scheduler_that_does_not_answer_is_a_clear_error(tmp_path):
     with pytest.raises(OSError, match="cannot reach a Dask scheduler"):
         _connect(f"tcp://127.0.0.1:{port}")
     assert time.monotonic() - start < 30
+
+
+class _RecordingBar:
+    """A stand-in for tqdm that records every update (issue 20: trials, not runs)."""
+
+    made: list = []
+
+    def __init__(self, *args, total=0, initial=0, **kwargs):
+        self.total, self.n, self.updates = total, initial, []
+        _RecordingBar.made.append(self)
+
+    def update(self, n=1):
+        self.updates.append(n)
+        self.n += n
+
+    def set_postfix_str(self, *args, **kwargs):
+        pass
+
+    def refresh(self):
+        pass
+
+    def close(self):
+        pass
+
+
+@pytest.mark.parametrize("workers", [1, 2], ids=["in-process", "dask"])
+def test_the_bar_counts_trials_as_they_finish(workers, tmp_path, monkeypatch):
+    from docking.experiments import trials_in_run
+
+    monkeypatch.setattr("tqdm.auto.tqdm", _RecordingBar)
+    _RecordingBar.made.clear()
+    slow = dataclasses.replace(TINY, train_trials=40, eval_trials=0, test_trials=20)
+    jobs = jobs_for([slow], [0, 1])
+    run_jobs(jobs, tmp_path, workers=workers, progress=True)
+    (bar,) = _RecordingBar.made
+    assert bar.total == bar.n == 2 * trials_in_run(slow)
+    # trials reported while runs compute: more updates than runs, each below a run's total
+    assert len(bar.updates) > len(jobs) and min(bar.updates) < trials_in_run(slow)
