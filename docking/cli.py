@@ -55,6 +55,20 @@ _Experiment = Union[  # noqa: UP007 (tyro needs a runtime Union of Annotated mem
 _ExperimentArg = Annotated[_Experiment, tyro.conf.arg(name=""), tyro.conf.OmitSubcommandPrefixes]
 
 
+def _default(text: str):
+    """A field's default as tyro's help shows it, in words (instead of "(default: None)")."""
+    return tyro.conf.arg(help_behavior_hint=f"(default: {text})")
+
+
+_Processes = Annotated[int | None, _default("one per core")]
+_Scheduler = Annotated[str | None, _default("an embedded cluster on 127.0.0.1")]
+_ResultsDir = Annotated[
+    Path | None, _default("DOCKING_RESULTS, the checkout's results/ or ./results")
+]
+_ExperimentSeeds = Annotated[str | None, _default("the experiment's seeds, docking.presets.SEEDS")]
+_DesignSeeds = Annotated[str | None, _default("the design's")]
+
+
 def _seeds_of(config: ExperimentConfig, text: str | None) -> list[int]:
     from docking.sweep import parse_seeds
 
@@ -77,16 +91,15 @@ class Run:
     override its fields (e.g. --network.eps-w 0, --train-trials 500)."""
 
     experiment: _ExperimentArg
-    seeds: str | None = None
-    """Seeds as ranges or lists: 0-19, 0,3,5 or 0-4,10 (default: the experiment's seeds in
-    docking.presets.SEEDS)."""
-    processes: int | None = None
-    """Worker processes of the embedded Dask cluster (default: one per core); 1 runs the seeds
-    one after another in this process."""
-    scheduler: str | None = None
+    seeds: _ExperimentSeeds = None
+    """Seeds as ranges or lists: 0-19, 0,3,5 or 0-4,10."""
+    processes: _Processes = None
+    """Worker processes of the embedded Dask cluster; 1 runs the seeds one after another in
+    this process."""
+    scheduler: _Scheduler = None
     """Run on an existing Dask cluster instead, e.g. tcp://HOST:8786."""
-    results_dir: Path | None = None
-    """The results store (default: DOCKING_RESULTS, the checkout's results/ or ./results)."""
+    results_dir: _ResultsDir = None
+    """The results store."""
     force: bool = False
     """Recompute and replace stored runs."""
 
@@ -119,19 +132,19 @@ class Sweep:
     an interrupted sweep resumes and finished runs are never recomputed."""
 
     experiment: _ExperimentArg
-    seeds: str | None = None
-    """Seeds as ranges or lists: 0-19, 0,3,5 (default: the experiment's seeds)."""
+    seeds: _ExperimentSeeds = None
+    """Seeds as ranges or lists: 0-19, 0,3,5."""
     grid: tuple[str, ...] = ()
     """Fields to vary, each PATH=V1,V2,...; all combinations are run, e.g.
     --grid network.eps_w=0,0.05 world.step_forward=0.1,0.15."""
-    scheduler: str | None = None
-    """Address of an existing Dask scheduler (tcp://HOST:PORT; started with `dask scheduler`,
-    workers with `dask worker tcp://HOST:PORT`). Default: an embedded LocalCluster."""
-    processes: int | None = None
-    """Worker processes of the embedded cluster (default: one per core)."""
-    results_dir: Path | None = None
-    """The results store (default: DOCKING_RESULTS, the checkout's results/ or ./results);
-    with a remote cluster it must be the same path on every worker (a shared file system)."""
+    scheduler: _Scheduler = None
+    """Address of an existing Dask scheduler (tcp://HOST:PORT; started with dask scheduler,
+    workers with dask worker tcp://HOST:PORT)."""
+    processes: _Processes = None
+    """Worker processes of the embedded cluster."""
+    results_dir: _ResultsDir = None
+    """The results store; with a remote cluster, the same path on every worker (a shared
+    file system)."""
     force: bool = False
     """Recompute and replace stored runs."""
 
@@ -179,14 +192,14 @@ class DesignRun:
     """The designs to run (python -m docking design list)."""
     full: bool = False
     """Also the design's sensitivity cells (about twice the runs for the study)."""
-    seeds: str | None = None
-    """Seeds as ranges or lists, e.g. 0-4 (default: the design's)."""
-    scheduler: str | None = None
-    """Address of an existing Dask scheduler (tcp://HOST:PORT). Default: an embedded cluster."""
-    processes: int | None = None
-    """Worker processes of the embedded cluster (default: one per core)."""
-    results_dir: Path | None = None
-    """The results store (default: DOCKING_RESULTS, the checkout's results/ or ./results)."""
+    seeds: _DesignSeeds = None
+    """Seeds as ranges or lists, e.g. 0-4."""
+    scheduler: _Scheduler = None
+    """Address of an existing Dask scheduler (tcp://HOST:PORT)."""
+    processes: _Processes = None
+    """Worker processes of the embedded cluster."""
+    results_dir: _ResultsDir = None
+    """The results store."""
 
     def execute(self) -> int:
         from docking.design import run_design, summary
@@ -265,10 +278,10 @@ class Report:
     readme: Path | None = None
     """Also write the table into this README, between <!-- results:start --> and
     <!-- results:end -->."""
-    processes: int | None = None
-    """Worker processes for missing runs (default: one per core)."""
-    results_dir: Path | None = None
-    """The results store (default: DOCKING_RESULTS, the checkout's results/ or ./results)."""
+    processes: _Processes = None
+    """Worker processes for missing runs."""
+    results_dir: _ResultsDir = None
+    """The results store."""
     study: bool = True
     """Also the table of the study's verdicts (notebook 05; runs the study if it is not
     stored), into the README between <!-- study:start --> and <!-- study:end -->."""
@@ -395,10 +408,10 @@ class Verify:
     """How many runs besides Experiments 1 and 2 (0 or more)."""
     all: bool = False
     """Recompute every run of the ledger (hours on 2 cores; use --scheduler for a cluster)."""
-    scheduler: str | None = None
-    """Address of an existing Dask scheduler (tcp://HOST:PORT). Default: an embedded cluster."""
-    processes: int | None = None
-    """Worker processes of the embedded cluster (default: one per core)."""
+    scheduler: _Scheduler = None
+    """Address of an existing Dask scheduler (tcp://HOST:PORT)."""
+    processes: _Processes = None
+    """Worker processes of the embedded cluster."""
 
     def execute(self) -> int:
         from docking import verify
