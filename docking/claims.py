@@ -104,7 +104,12 @@ class Rule:
         return abs(end - self.bound()) < NEAR_BOUND
 
     def decide(self, ci: Interval) -> str:
-        raise NotImplementedError
+        """Supported if ``ci`` lies above the bound, contradicted if below, else not
+        supported."""
+        b = self.bound()
+        if ci.low > b:
+            return SUPPORTED
+        return CONTRADICTED if ci.high < b else NOT_SUPPORTED
 
     def describe(self) -> str:
         raise NotImplementedError
@@ -125,11 +130,6 @@ class Above(Rule):
 
     def bound(self) -> float:
         return self.at
-
-    def decide(self, ci: Interval) -> str:
-        if ci.low > self.at:
-            return SUPPORTED
-        return CONTRADICTED if ci.high < self.at else NOT_SUPPORTED
 
     def describe(self) -> str:
         return f"supported if the 95% interval lies above {100 * self.at:g}"
@@ -194,11 +194,6 @@ class ShareAbove(Rule):
             return t_share_ci(1 - cell, 1 - baseline)
         return removed_share_ci(1 - cell, 1 - baseline, paired=True, seed=seed)
 
-    def decide(self, ci: Interval) -> str:
-        if ci.low > self.share:
-            return SUPPORTED
-        return CONTRADICTED if ci.high < self.share else NOT_SUPPORTED
-
     def describe(self) -> str:
         return f"supported if its interval lies above {self.share:.0%}"
 
@@ -220,11 +215,6 @@ class Gap(Rule):
             measure(results, baseline),
             measure(results, key),
         )
-
-    def decide(self, ci: Interval) -> str:
-        if ci.low > 0:
-            return SUPPORTED
-        return CONTRADICTED if ci.high < 0 else NOT_SUPPORTED
 
     def describe(self) -> str:
         return (

@@ -329,7 +329,7 @@ class Report:
             from docking.designs import experiment3
             from docking.report import EXPERIMENT3_END, EXPERIMENT3_START
 
-            found = experiment3.run(self.results_dir, workers=self.processes)
+            found = experiment3.run(results_dir=self.results_dir, workers=self.processes)
             text = experiment3.table(found, experiment3.oracle_table())
             print(text)
             if self.readme is not None:

@@ -146,6 +146,11 @@ class Design:
         object.__setattr__(self, "claims", tuple(self.claims))
         object.__setattr__(self, "stages", tuple(self.stages))
 
+    def run(self, full: bool = False, **options) -> Results:
+        """:func:`run_design` of this design (options: ``seeds``, ``results_dir``,
+        ``scheduler``, ``workers``, ``progress``)."""
+        return run_design(self, full=full, **options)
+
     def select(self, full: bool = False) -> list[Cell]:
         """The cells of a default run (the core ones), or every cell if ``full``."""
         return [c for c in self.cells if full or c.core]

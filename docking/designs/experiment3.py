@@ -44,7 +44,7 @@ import itertools
 
 import numpy as np
 
-from docking.design import Cell, Design, Results, run_design
+from docking.design import Cell, Design, Results
 from docking.designs.study import DESIGN as STUDY
 from docking.designs.study import STUDY_SEEDS, share_verdict
 from docking.experiments import ExperimentConfig
@@ -158,25 +158,6 @@ def experiment3_cells(full: bool = False) -> list[Cell]:
     return found
 
 
-def run(
-    results_dir=None,
-    scheduler: str | None = None,
-    workers: int | None = None,
-    progress: bool = True,
-    full: bool = False,
-) -> Results:
-    """Run (or load) :data:`DESIGN` (one sweep; stored runs, e.g. the study's paper
-    configuration, are loaded); ``full``: also the cell trained longer."""
-    return run_design(
-        DESIGN,
-        full=full,
-        results_dir=results_dir,
-        scheduler=scheduler,
-        workers=workers,
-        progress=progress,
-    )
-
-
 def oracle_success(config: WorldConfig, n: int = ORACLE_TRIALS, seed: int = ORACLE_SEED) -> float:
     """The pose-reading oracle's success rate over ``n`` trials from the whole start region
     of ``config`` (:func:`docking.policies.oracle`; it turns only if ``config`` has turns)."""
@@ -288,6 +269,10 @@ DESIGN = Design(
     seeds=STUDY_SEEDS,
     measure="heldout",
 )
+
+#: Run (or load) Experiment 3: :meth:`Design.run` of :data:`DESIGN` (one sweep; stored runs,
+#: e.g. the study's paper configuration, are loaded; ``full``: also the cell trained longer).
+run = DESIGN.run
 
 
 def failure_shares(results: Results, keys: list[str]) -> tuple[np.ndarray, list[int]]:

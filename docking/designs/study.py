@@ -318,16 +318,9 @@ DESIGN = Design(
 StudyResults = Results
 
 
-def run_study(full: bool = False, results_dir=None, scheduler=None, workers=None, progress=True):
-    """Run (or load) the study (:data:`DESIGN`; ``full``: with its sensitivity cells)."""
-    return run_design(
-        DESIGN,
-        full=full,
-        results_dir=results_dir,
-        scheduler=scheduler,
-        workers=workers,
-        progress=progress,
-    )
+#: Run (or load) the study: :meth:`Design.run` of :data:`DESIGN` (``full``: with its
+#: sensitivity cells; ``results_dir``, ``scheduler``, ``workers``, ``progress``).
+run_study = DESIGN.run
 
 
 def run_cells(
