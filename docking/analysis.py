@@ -43,7 +43,10 @@ if TYPE_CHECKING:  # the task renders (OpenGL): imported where a function needs 
     from docking.world import DockingEnv
 
 __all__ = [
+    "curve_flatness",
     "feature_fidelity",
+    "path_drops",
+    "trials_to_level",
     "first_trials_poses",
     "rewarded_share",
     "VIEW_POSES",
@@ -561,3 +564,43 @@ def learning_curves(results: list[ExperimentResult]) -> LearningCurves:
         mean_success=mean_success,
         mean_steps=mean_steps,
     )
+
+
+# ------------------------------------------------------------------------------------------
+# The study's second edition: sample efficiency, flat curves, the path's steps.
+# ------------------------------------------------------------------------------------------
+
+
+def trials_to_level(runs: list[ExperimentResult], level: float) -> np.ndarray:
+    """Per run, the training trials at the first learning-curve point whose greedy success
+    is at least ``level`` (NaN if none is): the sample efficiency of the second edition."""
+    if not 0 < level <= 1:
+        raise ValueError(f"level must be in (0, 1], got {level}")
+    out = []
+    for r in runs:
+        if len(r.curve_trials) == 0:
+            raise ValueError(f"run {r.config.name} seed {r.seed} has no learning curve")
+        hits = np.flatnonzero(r.curve_success >= level)
+        out.append(float(r.curve_trials[hits[0]]) if len(hits) else np.nan)
+    return np.array(out)
+
+
+def curve_flatness(runs: list[ExperimentResult]) -> float:
+    """How much the mean learning curve still rises at its end: the mean greedy success of
+    its last quarter of points minus that of its third quarter (seeds pooled)."""
+    curves = np.array([r.curve_success for r in runs])
+    if curves.ndim != 2 or curves.shape[1] < 4:
+        raise ValueError("curve_flatness needs runs with learning curves of at least 4 points")
+    q = curves.shape[1] // 4
+    return float(curves[:, -q:].mean() - curves[:, -2 * q : -q].mean())
+
+
+def path_drops(success: list[np.ndarray]) -> list:
+    """For consecutive worlds of a path, per-seed success ``success[k]`` of a learner: the
+    drop from world ``k`` to ``k + 1`` (Welch's t interval, :func:`docking.stats.t_difference_ci`
+    of ``success[k] - success[k + 1]``)."""
+    from docking.stats import t_difference_ci
+
+    if len(success) < 2:
+        raise ValueError("a path needs at least two worlds")
+    return [t_difference_ci(a, b) for a, b in zip(success[:-1], success[1:], strict=True)]

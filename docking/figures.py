@@ -1121,3 +1121,64 @@ def fig_action_fields(
     axes[0, 0].set_ylabel("field", fontsize=8)
     axes[1, 0].set_ylabel("mean input", fontsize=8)
     return fig
+
+
+# ------------------------------------------------------------------------------------------
+# The study's second edition.
+# ------------------------------------------------------------------------------------------
+
+
+def fig_path(
+    worlds: list[str], learners: dict[str, list[np.ndarray]], bound: float, branches: int = 0
+) -> Figure:
+    """Held-out success of each learner along the path between the worlds (one factor at a
+    time): per learner a line through the means and a dot per seed, per world; the dashed
+    line is the level at which "the pixels suffice" (``bound``).
+
+    Args:
+      worlds: The worlds' labels, in path order (the x axis).
+      learners: ``{learner: [per-seed success in each world]}`` (NaN-free arrays; a learner
+        missing in a world: an empty array).
+      bound: The level drawn dashed (a fraction).
+      branches: The last ``branches`` worlds are branches off the path (e.g. 8 cm steps),
+        drawn after a divider, their means not joined to the path's line.
+    """
+    if not worlds or any(len(v) != len(worlds) for v in learners.values()):
+        raise ValueError("fig_path: every learner needs one array per world")
+    fig = _new_figure(1.35 * len(worlds) + 3.5, 4.2)
+    ax = fig.subplots()
+    x = np.arange(len(worlds))
+    for k, (name, values) in enumerate(learners.items()):
+        colour = f"C{k}"
+        means = np.array([np.mean(v) if len(v) else np.nan for v in values])
+        n = len(worlds) - branches
+        ax.plot(x[:n], 100 * means[:n], "-o", color=colour, lw=1.6, ms=4, label=name, zorder=3)
+        ax.plot(x[n:], 100 * means[n:], "o", color=colour, ms=4, zorder=3)
+        for i, v in enumerate(values):
+            jitter = (k - (len(learners) - 1) / 2) * 0.06
+            ax.plot(
+                np.full(len(v), x[i] + jitter),
+                100 * np.asarray(v),
+                ".",
+                color=colour,
+                ms=3,
+                alpha=0.6,
+            )
+    if branches:
+        ax.axvline(len(worlds) - branches - 0.5, color="0.6", lw=0.8)
+        ax.text(len(worlds) - branches - 0.45, 101, "branches", fontsize=8, color="0.4", va="top")
+    ax.axhline(100 * bound, color="0.3", lw=0.8, ls="--")
+    ax.text(
+        x[-1] + 0.25, 100 * bound + 1, f"{100 * bound:.0f}%", va="bottom", fontsize=8, color="0.3"
+    )
+    ax.set_xticks(x, [textwrap.fill(w, 14) for w in worlds], fontsize=8)
+    ax.set_ylabel("held-out success (%): mean (line), seeds (dots)")
+    ax.set_ylim(-3, 103)
+    ax.grid(axis="y", alpha=0.3, lw=0.5)
+    ax.legend(fontsize=8, loc="lower left", frameon=False)
+    ax.set_title(
+        "Along the path from the sideboard world to the floor world, one factor at a time",
+        fontsize=10,
+        loc="left",
+    )
+    return fig

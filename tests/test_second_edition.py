@@ -148,3 +148,57 @@ def test_equivalence_and_gap_rules():
         _Fake(values, {}), ("cup", "paper", "frozen", "cupf"), claims.success
     )
     assert gap.estimate == pytest.approx((0.8 - 0.7) - (0.9 - 0.88))
+
+
+# -- its analysis and figure, on synthetic arrays ----------------------------------------------
+
+
+class _Run:
+    def __init__(self, trials, success, name="x", seed=0):
+        self.curve_trials, self.curve_success = np.asarray(trials), np.asarray(success)
+        self.config = type("C", (), {"name": name})()
+        self.seed = seed
+
+
+def test_trials_to_level_and_flatness():
+    from docking.analysis import curve_flatness, trials_to_level
+
+    runs = [
+        _Run([0, 100, 200, 300], [0.1, 0.5, 0.92, 0.95]),
+        _Run([0, 100, 200, 300], [0.1, 0.2, 0.3, 0.4]),
+    ]
+    out = trials_to_level(runs, 0.9)
+    assert out[0] == 200 and np.isnan(out[1])
+    flat = [_Run(range(8), [0.1, 0.5, 0.8, 0.9, 0.9, 0.9, 0.91, 0.9])]
+    assert abs(curve_flatness(flat)) < 0.01
+    rising = [_Run(range(8), np.linspace(0, 0.7, 8))]
+    assert curve_flatness(rising) == pytest.approx(0.2)
+    with pytest.raises(ValueError, match="level"):
+        trials_to_level(runs, 0)
+
+
+def test_path_drops_are_welch_intervals_of_consecutive_worlds():
+    from docking.analysis import path_drops
+
+    a, b, c = np.full(10, 0.9), np.full(10, 0.6), np.full(10, 0.6)
+    a = a + np.linspace(0, 0.01, 10)
+    drops = path_drops([a, b, c])
+    assert len(drops) == 2 and drops[0].estimate == pytest.approx(a.mean() - 0.6)
+    assert drops[1].estimate == 0
+
+
+def test_the_path_figure_draws_every_learner_in_every_world():
+    from matplotlib.figure import Figure
+
+    from docking import figures
+
+    rng = np.random.default_rng(0)
+    worlds = ["sideboard", "floor-view", "dock", "sidestep", "floor"]
+    learners = {name: [rng.random(10) for _ in worlds] for name in ("paper", "linear", "PPO")}
+    learners["PPO"][1] = np.array([])  # not run there
+    fig = figures.fig_path(worlds, learners, bound=0.9)
+    assert isinstance(fig, Figure)
+    (ax,) = fig.axes
+    assert [t.get_text() for t in ax.get_legend().get_texts()] == ["paper", "linear", "PPO"]
+    with pytest.raises(ValueError, match="one array per world"):
+        figures.fig_path(worlds, {"paper": learners["paper"][:2]}, 0.9)
