@@ -29,7 +29,10 @@
 # learning curve and the main test never use. Intervals are 95% percentile bootstraps over
 # seeds (`scipy.stats.bootstrap`); differences resample the seeds of each cell separately.
 # Test-only variants (a red cup, no heading noise) judge the paper configuration's networks
-# on the *same* held-out draws in another world, so those comparisons are paired.
+# in another world on the held-out streams of the same seeds, so those comparisons are paired
+# by seed (the same network). They are not paired trial by trial: one world generator draws
+# both the start poses and every step's noise, so after the first trial the starts differ as
+# soon as a trial ends sooner or later.
 #
 # Two worlds. The **sideboard world** of notebooks 02–04, where the sideboard's front funnels
 # the robot into the dock; and a **floor world**, closer to the paper's scene and harder to
