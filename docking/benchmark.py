@@ -13,12 +13,11 @@ One run reports:
 The machine may be shared: every measurement is repeated, the minimum and the median are
 reported, and CPU time is preferred over wall time wherever one process is measured.
 
-    python -m docking.benchmark [--repeats 5] [--steps 2000] [--seeds 0 1] [--quick]
+    python -m docking benchmark [--repeats 5] [--steps 2000] [--seeds 0-1] [--quick]
 """
 
 from __future__ import annotations
 
-import argparse
 import contextlib
 import dataclasses
 import multiprocessing
@@ -187,33 +186,27 @@ def _noop(*_):
     return None
 
 
-def main(argv=None) -> dict:
-    """Run the benchmark and print its report; returns the figures as a dict."""
-    parser = argparse.ArgumentParser(
-        prog="python -m docking benchmark", description=__doc__.splitlines()[0]
-    )
-    parser.add_argument("--repeats", type=int, default=5, help="repetitions of each timing")
-    parser.add_argument("--steps", type=int, default=2000, help="env steps per repetition")
-    parser.add_argument("--seeds", type=int, nargs="+", default=[0, 1], help="Experiment 2")
-    parser.add_argument(
-        "--quick", action="store_true", help="a shortened Experiment 2 (a smoke test)"
-    )
-    args = parser.parse_args(argv)
-    for name, lo, hi in (("repeats", 1, 1000), ("steps", 1, 1_000_000)):
-        if not lo <= getattr(args, name) <= hi:
-            parser.error(f"--{name} must be in [{lo}, {hi}], got {getattr(args, name)}")
-    if any(not 0 <= s <= 2**32 - 1 for s in args.seeds):
-        parser.error(f"--seeds must be in [0, {2**32 - 1}], got {args.seeds}")
+def run(repeats: int = 5, steps: int = 2000, seeds=(0, 1), quick: bool = False) -> dict:
+    """Run the benchmark and print its report (``python -m docking benchmark``); returns the
+    figures as a dict. ``repeats`` repetitions of ``steps`` environment steps for the step
+    and floor timings; Experiment 2 for each of ``seeds`` (``quick``: a shortened Experiment
+    2, a smoke test)."""
+    for name, value, lo, hi in (("repeats", repeats, 1, 1000), ("steps", steps, 1, 1_000_000)):
+        if isinstance(value, bool) or not isinstance(value, int) or not lo <= value <= hi:
+            raise ValueError(f"--{name} must be an integer in [{lo}, {hi}], got {value!r}")
+    seeds = tuple(seeds)
+    if not seeds or any(not 0 <= s <= 2**32 - 1 for s in seeds):
+        raise ValueError(f"--seeds must be in [0, {2**32 - 1}], got {list(seeds)}")
     config = EXPERIMENT_2
-    if args.quick:
+    if quick:
         config = dataclasses.replace(config, train_trials=20, test_trials=10, eval_every=10)
     world = config.world
 
-    step = env_step_time(world, args.steps, args.repeats)
-    floor = floor_time(world, args.steps, args.repeats)
+    step = env_step_time(world, steps, repeats)
+    floor = floor_time(world, steps, repeats)
     ratio = step["median"] / floor["floor"]["median"]
     ms = 1e3
-    print(f"CPU time per step, {args.repeats} repetitions of {args.steps} (min / median):")
+    print(f"CPU time per step, {repeats} repetitions of {steps} (min / median):")
     print(
         f"  env step  {ms * step['min']:.3f} / {ms * step['median']:.3f} ms "
         f"({1 / step['median']:.0f} steps/s)"
@@ -226,13 +219,13 @@ def main(argv=None) -> dict:
     )
     print(f"  env step / floor (medians): {ratio:.2f}")
 
-    runs = experiment_times(config, args.seeds)
+    runs = experiment_times(config, list(seeds))
     cpus = [r["cpu"] for r in runs["serial"]]
     cpu = _stats(cpus)
     r0 = runs["serial"][0]
     print(
         f"{config.name} ({config.train_trials} training + learning curve + "
-        f"{config.test_trials} test trials), one process, seeds {list(args.seeds)} in turn:"
+        f"{config.test_trials} test trials), one process, seeds {list(seeds)} in turn:"
     )
     for r in runs["serial"]:
         print(
@@ -241,7 +234,7 @@ def main(argv=None) -> dict:
         )
     print(f"  CPU time per seed (min / median): {cpu['min']:.1f} / {cpu['median']:.1f} s")
     print(
-        f"two processes over one on {len(args.seeds)} seeds (wall): "
+        f"two processes over one on {len(seeds)} seeds (wall): "
         f"{runs['serial_wall']:.1f} s / {runs['parallel_wall']:.1f} s = "
         f"{runs['speedup']:.2f}x (CPU per seed in parallel: "
         + ", ".join(f"{r['cpu']:.1f} s" for r in runs["parallel"])
@@ -255,7 +248,3 @@ def main(argv=None) -> dict:
         "seed_cpu": cpu,
         "seed_steps": r0["steps"],
     }
-
-
-if __name__ == "__main__":
-    main()

@@ -430,13 +430,23 @@ class Verify:
 
 @dataclasses.dataclass
 class Benchmark:
-    """The benchmark of docking.benchmark: environment steps per second against their floor
-    and a full Experiment 2 seed; its own options: python -m docking benchmark --help."""
+    """Environment steps per second against their floor (rendering + physics + preprocessing
+    alone), and full Experiment 2 runs, one process and two (docking.benchmark)."""
 
-    def execute(self) -> int:  # pragma: no cover - main() dispatches before tyro
-        from docking.benchmark import main
+    repeats: int = 5
+    """Repetitions of each timing (min and median are reported)."""
+    steps: int = 2000
+    """Environment steps per repetition."""
+    seeds: str = "0-1"
+    """Seeds of the Experiment 2 runs, as ranges or lists (0-1, 0,3)."""
+    quick: bool = False
+    """A shortened Experiment 2 (a smoke test)."""
 
-        main([])
+    def execute(self) -> int:
+        from docking.benchmark import run
+        from docking.sweep import parse_seeds
+
+        run(self.repeats, self.steps, parse_seeds(self.seeds), self.quick)
         return 0
 
 
@@ -465,11 +475,6 @@ def _exit_on_sigterm(signum, frame):
 def main(argv=None) -> int:
     """Parse ``argv`` (default ``sys.argv[1:]``) and run the subcommand; its exit status."""
     argv = sys.argv[1:] if argv is None else list(argv)
-    if argv and argv[0] == "benchmark":  # the benchmark parses its own options
-        from docking.benchmark import main as benchmark_main
-
-        benchmark_main(argv[1:])  # prints its report; returns the figures as a dict
-        return 0
     command = tyro.cli(
         Command,
         args=argv,

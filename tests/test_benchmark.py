@@ -1,5 +1,5 @@
 """Smoke tests of the benchmark's measurements (issue 9); the acceptance figures come from a
-full run of ``python -m docking.benchmark`` on an idle machine."""
+full run of ``python -m docking benchmark`` on an idle machine."""
 
 from docking.benchmark import env_step_time, floor_time
 from docking.world import WorldConfig
