@@ -41,9 +41,9 @@ class CameraConfig:
       fovy_deg: Vertical field of view; Nao's top camera has 47.6 deg (horizontal 60.9 deg
         follows from the aspect ratio).
       tilt_deg: Downward pitch of the optical axis.
-      crop: The fixed input rectangle ``(x0, y0, x1, y1)`` in frame pixels, the white dotted
+      crop: The fixed input rectangle (x0, y0, x1, y1) in frame pixels, the white dotted
         rectangle of Fig. 2B.
-      input_shape: ``(rows, cols)`` of the network input: 32x10 pixels (Sec. II-A).
+      input_shape: (rows, cols) of the network input: 32x10 pixels (Sec. II-A).
       hue_tol: Half-width of the accepted hue band around red, in OpenCV hue units (0..180).
       min_saturation, min_value: Lower bounds of saturation and value (0..255) for a red pixel.
     """

@@ -362,6 +362,38 @@ def _refuse_to_compute(study: bool, experiment3: bool, results_dir) -> None:
 
 
 @dataclasses.dataclass
+class Figures:
+    """Regenerate Figs. 2-5 and the learning curves of Experiments 1 and 2 from their runs in
+    the results store or the committed ledger (never computing one); the study's and
+    Experiment 3's figures are written by notebooks 05 and 06."""
+
+    folder: Annotated[Path | None, _default("DOCKING_FIGURES or the checkout's figures/")] = None
+    """Where the .png and .pdf files go."""
+    results_dir: _ResultsDir = None
+    """The results store."""
+
+    def execute(self) -> int:
+        from docking.ledger import load_run
+        from docking.presets import EXPERIMENT_1, EXPERIMENT_2
+        from docking.report import save_figures
+
+        results = []
+        for config in (EXPERIMENT_1, EXPERIMENT_2):
+            runs = [load_run(config, s, self.results_dir) for s in SEEDS[config.name]]
+            absent = [s for s, r in zip(SEEDS[config.name], runs, strict=True) if r is None]
+            if absent:
+                raise ValueError(
+                    f"{config.name} seeds {absent} are neither stored nor in the ledger: "
+                    f"python -m docking run {config.name} computes them"
+                )
+            results.append(runs)
+        for fig in save_figures(*results, self.folder):
+            del fig
+        print(f"figures written to {self.folder or 'the figures folder'}")
+        return 0
+
+
+@dataclasses.dataclass
 class Ledger:
     """Write the results ledger (ledger/, committed) from the stored runs that the notebooks
     and the README report read, as recorded in the trace file that `make reproduce` writes
@@ -461,6 +493,7 @@ Command = Union[  # noqa: UP007
     ),
     _alias(("experiment3",), "Experiment 3 of notebook 06"),
     Annotated[Report, tyro.conf.subcommand("report")],
+    Annotated[Figures, tyro.conf.subcommand("figures")],
     Annotated[Ledger, tyro.conf.subcommand("ledger")],
     Annotated[Verify, tyro.conf.subcommand("verify")],
     Annotated[Benchmark, tyro.conf.subcommand("benchmark")],

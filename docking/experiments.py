@@ -48,16 +48,16 @@ if TYPE_CHECKING:  # the task itself needs OpenGL: imported where a run starts
 @dataclasses.dataclass(frozen=True)
 class Curriculum:
     """Learning from Easy Missions (Asada et al.; paper Sec. II-C): the far edge of the start
-    trapezoid grows linearly from ``far_initial`` to the test region's far edge
-    (``world.start_far``) over the first ``grow_trials`` training trials and stays there.
-    ``grow_trials = 0`` means no curriculum (``far_initial`` is then unused).
+    trapezoid grows linearly from far_initial to the test region's far edge
+    (world.start_far) over the first grow_trials training trials and stays there.
+    grow_trials = 0 means no curriculum (far_initial is then unused).
 
     Attributes:
       far_initial: The start region's far edge in the first training trial (m).
       grow_trials: Training trials over which the far edge grows (0: no curriculum).
-      far_final: Where the training region's far edge ends (m). ``None`` (default): at the
-        test region's (``world.start_far``). A nearer value trains on a region nearer than
-        the one tested (e.g. "near-only" training, ``grow_trials = 0``).
+      far_final: Where the training region's far edge ends (m). None (default): at the
+        test region's (world.start_far). A nearer value trains on a region nearer than
+        the one tested (e.g. "near-only" training, grow_trials = 0).
     """
 
     far_initial: float
@@ -98,37 +98,37 @@ class ExperimentConfig:
     """One experiment: the world, the network, the curriculum and the trial counts.
 
     Attributes:
-      name: Names the results folder; a safe file-name component (letters, digits, ``.``,
-        ``_``, ``-``). Variants may share a name: results are keyed by the whole configuration.
-      world: The world; its ``start_near``/``start_far`` are the test region.
+      name: Names the results folder; a safe file-name component (letters, digits, .,
+        _, -). Variants may share a name: results are keyed by the whole configuration.
+      world: The world; its start_near/start_far are the test region.
       network: The network and its learning rule.
       curriculum: How the start region's far edge grows during training.
-      train_trials: Training trials (beta_a = ``network.beta_a_train``, learning on).
-      test_trials: Final test trials (beta_a = ``network.beta_a_test``, no learning) from the
+      train_trials: Training trials (beta_a = network.beta_a_train, learning on).
+      test_trials: Final test trials (beta_a = network.beta_a_test, no learning) from the
         world's full start region (0: none, e.g. when held-out trials are the measure).
       eval_every: Every this many training trials the learning curve is measured ...
       eval_trials: ... with this many test trials from the full start region (0: no curve).
-      bootstrap_on_truncation: SARSA target at the step limit; see :func:`docking.trial.run_trial`.
+      bootstrap_on_truncation: SARSA target at the step limit; see run_trial.
       heldout_trials: After the test, this many more greedy trials from start poses and noise
         of streams used nowhere else (the study's held-out evaluation; 0: none).
-      heldout_world: The world of the held-out trials (default ``world``; e.g. one with a
+      heldout_world: The world of the held-out trials (default world; e.g. one with a
         distractor that training never saw).
-      pretrain_trials: Before SARSA, this many random-walk trials whose frames train ``W`` by
+      pretrain_trials: Before SARSA, this many random-walk trials whose frames train W by
         winner-take-all competitive learning (no delta; the two-stage learner of the paper's
         Sec. IV). 0: none (the paper).
-      pretrain_rate: The step ``rate`` of the pretraining rule (the winning unit's
-        ``W_j += rate (I - W_j)``; a SOM's neighbourhood scales it).
-      pretrain_rule: ``"competitive"`` (default): plain winner-take-all
-        (:meth:`~docking.network.Network.competitive_update`); ``"som"``: Kohonen's
-        self-organizing map (:meth:`~docking.network.Network.som_update`), the units on a
+      pretrain_rate: The step rate of the pretraining rule (the winning unit's
+        W_j += rate (I - W_j); a SOM's neighbourhood scales it).
+      pretrain_rule: "competitive" (default): plain winner-take-all
+        (competitive_update); "som": Kohonen's
+        self-organizing map (som_update), the units on a
         grid, the neighbourhood's width shrinking geometrically from half the grid's longer
-        side to 0.5 units over the pretraining trials. See :data:`PRETRAIN_RULES`.
-      policy: What acts: ``"network"`` (default), the paper's learner, trained; or a yardstick
-        that needs no learning (:mod:`docking.policies`): ``"oracle"`` (reads the true pose),
-        ``"centroid"`` (the one-line pixel rule), ``"forward"``, ``"random"``. A yardstick
-        run has no training (``train_trials``, ``pretrain_trials`` and ``eval_trials`` 0) and
+        side to 0.5 units over the pretraining trials. See PRETRAIN_RULES.
+      policy: What acts: "network" (default), the paper's learner, trained; or a yardstick
+        that needs no learning (policies): "oracle" (reads the true pose),
+        "centroid" (the one-line pixel rule), "forward", "random". A yardstick
+        run has no training (train_trials, pretrain_trials and eval_trials 0) and
         acts in the test and held-out trials, drawing from the streams a learner of the same
-        seed draws from. See :data:`POLICIES`.
+        seed draws from. See POLICIES.
     """
 
     name: str

@@ -91,30 +91,30 @@ class NetworkConfig:
             notebooks 03 and 04, "What the choices do").
         eps_w: learning rate of the feature weights, Eq. (8) (not in the paper; 0.05 is our
             choice).  The factor beta_s of the exact gradient is absorbed into it.
-        rule: ``"nonlocal"`` = Eq. (8) with its bracket; ``"local"`` = Eq. (8) without the
-            bracket (Sec. II-B); see :data:`RULES`.
-        normalize_input: scale each input vector ``I`` to unit Euclidean length before Eq. (1)
-            (an all-zero input stays zero).  Not in the paper; it makes ``h_j`` a cosine
+        rule: "nonlocal" = Eq. (8) with its bracket; "local" = Eq. (8) without the
+            bracket (Sec. II-B); see RULES.
+        normalize_input: scale each input vector I to unit Euclidean length before Eq. (1)
+            (an all-zero input stays zero).  Not in the paper; it makes h_j a cosine
             similarity in [0, 1] (rows of W have unit length too), so that beta_s = 100 has
             the same meaning whatever the brightness of the image.
-        q_init: initial action weights are drawn uniform in ``[0, q_init]``.  Default 0: all
+        q_init: initial action weights are drawn uniform in [0, q_init].  Default 0: all
             actions start equally likely and all values start at 0, the natural start for a
             reward in {0, 1}.  W is drawn first, and Q consumes the same number of draws
             whatever q_init (also 0), so q_init changes nothing else that the same
             generator produces.
-        feature_delta: what modulates Eq. (8). ``None`` (the paper): the TD error delta of
-            Eq. (6). A number ``c``: Eq. (8) keeps its form with delta replaced by the
-            constant ``c``, an unmodulated control (competitive Hebbian feature learning
+        feature_delta: what modulates Eq. (8). None (the paper): the TD error delta of
+            Eq. (6). A number c: Eq. (8) keeps its form with delta replaced by the
+            constant c, an unmodulated control (competitive Hebbian feature learning
             alongside SARSA; Eq. 7 still uses delta).
         permute_delta: the permutation control of the modulation: Eq. (8) keeps its form,
             but the delta it uses is not this step's: it is drawn uniformly from the TD errors
-            of the run's earlier training steps (:class:`docking.experiments.DeltaShuffle`),
+            of the run's earlier training steps (DeltaShuffle),
             so it keeps delta's distribution (sign and size) and loses its correlation with
             the current input and learning progress (Eq. 7 still uses this step's delta).
-            False (default): the paper. Excludes ``feature_delta``.
-        feature_layer: ``"softmax"`` (the paper, Eq. 1-2) or ``"none"``: no feature layer,
-            ``s = I``, a linear SARSA on the pixels (``n_features`` must equal ``n_inputs``;
-            ``W`` is the identity and is never learned).
+            False (default): the paper. Excludes feature_delta.
+        feature_layer: "softmax" (the paper, Eq. 1-2) or "none": no feature layer,
+            s = I, a linear SARSA on the pixels (n_features must equal n_inputs;
+            W is the identity and is never learned).
     """
 
     n_inputs: int = 320  # 32x10 image, Sec. II-A

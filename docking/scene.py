@@ -77,11 +77,11 @@ class Distractor:
     threshold wherever it enters the crop; it is solid (the robot bumps into it).
 
     Attributes:
-      shape: ``"box"``, ``"cylinder"`` (standing upright) or ``"sphere"``.
-      size: MuJoCo's geom size for the shape (m): box half-extents ``(x, y, z)``, cylinder
-        ``(radius, half-height)``, sphere ``(radius,)``.
-      position: The centre ``(x, y, z)`` in the world frame (m; the landmark's front face is
-        ``x = 0``, the sideboard's top 0.43 m above the floor).
+      shape: "box", "cylinder" (standing upright) or "sphere".
+      size: MuJoCo's geom size for the shape (m): box half-extents (x, y, z), cylinder
+        (radius, half-height), sphere (radius,).
+      position: The centre (x, y, z) in the world frame (m; the landmark's front face is
+        x = 0, the sideboard's top 0.43 m above the floor).
     """
 
     shape: str
@@ -136,8 +136,8 @@ class WorldConfig:
       start_near, start_far: The start trapezoid spans these distances of the robot's
         reference point from the landmark's front plane (m). Experiment 2 ends at 1.5 m.
       start_half_angle_deg: Half the opening angle of the start trapezoid, a wedge with its
-        apex at the landmark, cut at ``start_near`` and ``start_far``
-        (:class:`docking.region.StartRegion`, which ``DockingEnv`` samples from).
+        apex at the landmark, cut at start_near and start_far
+        (StartRegion, which DockingEnv samples from).
       start_yaw_deg: Start headings are uniform in +-this around facing the landmark's wall.
       dock_center: Distance of the docking region's centre from the landmark's front plane (m);
         the region's near edge lies 1 cm beyond where the robot meets the sideboard (0.45 m).
@@ -146,15 +146,15 @@ class WorldConfig:
       view_margin_px: At a start pose the landmark's projection keeps this many pixels from
         the crop's border.
       camera: The head camera and the observation pipeline.
-      distractors: Red objects besides the landmark (:class:`Distractor`); none by default.
-      scene: ``"sideboard"`` (default): the landmark stands on a sideboard at the camera's
-        height, whose front stops the robot at the dock. ``"floor"``: the sideboard is taken
+      distractors: Red objects besides the landmark (Distractor); none by default.
+      scene: "sideboard" (default): the landmark stands on a sideboard at the camera's
+        height, whose front stops the robot at the dock. "floor": the sideboard is taken
         away and the landmark stands on the floor at the same place; nothing stops the robot
         at the dock (it can overshoot or walk past the landmark's side), and with the camera
-        tilted down the landmark's image moves vertically with distance. See :data:`SCENES`.
-      actions: The action set (:data:`ACTION_SETS`): ``"paper"`` (default), the paper's four
-        steps; ``"turning"`` adds turn-left and turn-right (indices 4 and 5), a rotation in
-        place by ``turn_deg`` with the same noise as every step (position noise on both body
+        tilted down the landmark's image moves vertically with distance. See SCENES.
+      actions: The action set (ACTION_SETS): "paper" (default), the paper's four
+        steps; "turning" adds turn-left and turn-right (indices 4 and 5), a rotation in
+        place by turn_deg with the same noise as every step (position noise on both body
         axes, heading noise).
       turn_deg: The rotation of one turn (deg; used by the turning set only). Our choice:
         10 deg, the precision tolerance below, so one turn from just outside the tolerance

@@ -166,3 +166,21 @@ def test_design_list_names_every_design(tmp_path):
     assert out.returncode == 0, out.stderr
     for name in ("paper", "calibration-experiment1", "study", "experiment3", "second-edition"):
         assert name in out.stdout
+
+
+def test_figures_refuses_runs_it_does_not_have(tmp_path):
+    os.environ["DOCKING_LEDGER"] = "off"
+    try:
+        out = _cli(["figures", "--folder", str(tmp_path / "f")], tmp_path, timeout=120)
+    finally:
+        del os.environ["DOCKING_LEDGER"]
+    assert out.returncode == 2 and "neither stored nor in the ledger" in out.stderr
+    assert not (tmp_path / "f").exists()
+
+
+def test_help_is_plain_text(tmp_path):
+    """Option help comes from the config dataclasses' docstrings: no Sphinx markup there."""
+    out = _cli(["run", "experiment2", "--help"], tmp_path, timeout=60)
+    assert out.returncode == 0
+    for markup in ("``", ":class:", ":func:", ":data:", ":attr:", ":meth:"):
+        assert markup not in out.stdout, markup
