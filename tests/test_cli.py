@@ -16,22 +16,69 @@ REPO = Path(__file__).resolve().parent.parent
 TINY_ARGS = ["--train-trials", "4", "--test-trials", "3", "--eval-every", "2", "--eval-trials", "2"]
 
 
-def _cli(args, tmp_path, module="docking", timeout=300):
-    env = {
+def _env(tmp_path, columns=250):
+    return {
         **os.environ,
         "PYTHONPATH": os.pathsep.join([str(REPO), os.environ.get("PYTHONPATH", "")]),
         "DOCKING_RESULTS": str(tmp_path / "results"),
         "DOCKING_FIGURES": str(tmp_path / "figures"),
-        "COLUMNS": "250",  # help text on one line per option
+        "COLUMNS": str(columns),  # help text on one line per option
     }
+
+
+def _cli(args, tmp_path, module="docking", timeout=300, columns=250):
     return subprocess.run(
         [sys.executable, "-m", module, *args],
         cwd=tmp_path,
-        env=env,
+        env=_env(tmp_path, columns),
         capture_output=True,
         text=True,
         timeout=timeout,
     )
+
+
+def _cli_on_a_terminal(args, tmp_path, timeout=300):
+    """Run the CLI with stderr on a pseudo-terminal (where progress bars are drawn); its
+    exit status, stdout and what reached the terminal."""
+    import pty
+    import threading
+
+    import fcntl
+    import struct
+    import termios
+
+    master, slave = pty.openpty()
+    # A terminal 120 columns wide (a new pty has none: a bar would get no width).
+    fcntl.ioctl(slave, termios.TIOCSWINSZ, struct.pack("HHHH", 24, 120, 0, 0))
+    chunks = []
+
+    def read():
+        while True:
+            try:
+                data = os.read(master, 65536)
+            except OSError:  # the terminal closed
+                return
+            if not data:
+                return
+            chunks.append(data)
+
+    reader = threading.Thread(target=read, daemon=True)
+    reader.start()
+    try:
+        out = subprocess.run(
+            [sys.executable, "-m", "docking", *args],
+            cwd=tmp_path,
+            env=_env(tmp_path),
+            stdout=subprocess.PIPE,
+            stderr=slave,
+            text=True,
+            timeout=timeout,
+        )
+    finally:
+        os.close(slave)
+        reader.join(timeout=10)
+        os.close(master)
+    return out.returncode, out.stdout, b"".join(chunks).decode("utf-8", "replace")
 
 
 @pytest.mark.parametrize(
@@ -70,8 +117,11 @@ def test_help_lists_subcommands_and_overrides(tmp_path):
     top = _cli(["--help"], tmp_path).stdout
     for name in ("run", "sweep", "study", "experiment3", "report", "benchmark"):
         assert name in top
-    run = _cli(["run", "experiment2", "--help"], tmp_path).stdout
-    assert "--network.eps-w" in run and "--seeds" in run and "(default: 2000)" in run
+    # One column of options: a default wrapped onto the next line stays next to its option.
+    run = _cli(["run", "experiment2", "--help"], tmp_path, columns=100).stdout
+    flat = " ".join(run.replace("│", " ").split())
+    assert "--network.eps-w" in run and "--seeds" in run
+    assert "--train-trials INT" in flat and "(default: 2000)" in flat
 
 
 @pytest.mark.slow
@@ -106,11 +156,17 @@ def test_run_stores_runs_and_loads_them_again(tmp_path):
     assert "experiment1: test success mean" in out.stdout
     files = sorted((tmp_path / "results").rglob("seed*.npz"))
     assert [f.name for f in files] == ["seed0.npz", "seed1.npz"]
-    assert "experiment1, 2 seeds" in out.stderr  # the progress bar, on the terminal
+    assert "experiment1, 2 seeds" not in out.stderr  # no bar when stderr is not a terminal
     mtimes = [f.stat().st_mtime_ns for f in files]
     again = _cli([*args, "--network.eps-w", "0"], tmp_path)
     assert again.returncode == 0 and again.stdout == out.stdout
     assert [f.stat().st_mtime_ns for f in files] == mtimes  # loaded, not recomputed
+    # On a terminal the bar counts trials: a new seed shows its trials as they finish.
+    status, stdout, terminal = _cli_on_a_terminal(
+        [*args[:3], "2", *args[4:], "--network.eps-w", "0"], tmp_path
+    )
+    assert status == 0, terminal
+    assert "experiment1, 1 seeds" in terminal and "trial" in terminal and "runs 1/1" in terminal
 
 
 @pytest.mark.slow
