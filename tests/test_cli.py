@@ -40,12 +40,11 @@ def _cli(args, tmp_path, module="docking", timeout=300, columns=250):
 def _cli_on_a_terminal(args, tmp_path, timeout=300):
     """Run the CLI with stderr on a pseudo-terminal (where progress bars are drawn); its
     exit status, stdout and what reached the terminal."""
-    import pty
-    import threading
-
     import fcntl
+    import pty
     import struct
     import termios
+    import threading
 
     master, slave = pty.openpty()
     # A terminal 120 columns wide (a new pty has none: a bar would get no width).
