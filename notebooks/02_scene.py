@@ -59,7 +59,8 @@ from docking.oracle import oracle_action
 from docking.policies import run_oracle_trial
 from docking.presets import EXPERIMENT_1, EXPERIMENT_2
 from docking.report import save_fig2
-from docking.world import ACTION_NAMES, ROBOT_RADIUS, DockingEnv, WorldConfig
+from docking.scene import scene_facts
+from docking.world import ACTION_NAMES, DockingEnv, WorldConfig
 
 env = DockingEnv(seed=0)
 cfg, cam, region = env.config, env.config.camera, env.start_region
@@ -102,7 +103,7 @@ display(
 | input | {cols}×{rows}, fraction of each block that is red, in [0, 1] | paper: 32×10 grayscale of the thresholded crop; the coverage fraction carries the same information |
 | sideboard | {cm(size["sideboard"][0])} deep × {cm(size["sideboard"][1])} wide × {cm(size["sideboard"][2])} high, front face at x = {fp["sideboard"][0]:+.2f} m | puts the landmark at the camera's height, see below |
 | landmark | slab {cm(size["landmark_slab"][1])} wide × {cm(size["landmark_slab"][2])} high × {cm(size["landmark_slab"][0])} deep, its front face at x = 0; post {cm(size["landmark_post"][1])} × {cm(size["landmark_post"][0])} × {cm(size["landmark_post"][2])} high, {cm(fp["landmark_post"][0])} behind the slab's front | a 3-D shape whose image changes with the viewpoint, see below |
-| robot body | collision cylinder of radius {cm(ROBOT_RADIUS)} | stops it at the sideboard and the walls |
+| robot body | collision cylinder of radius {cm(scene_facts().robot_radius)} | stops it at the sideboard and the walls |
 """)
 )
 
