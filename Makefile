@@ -26,7 +26,7 @@ NOTEBOOKS := $(NOTEBOOK_SOURCES:.py=.ipynb)
 export MUJOCO_GL ?= egl
 export PYOPENGL_PLATFORM ?= egl
 
-.PHONY: reproduce experiments check test paper setup system-deps notebooks lab benchmark clean
+.PHONY: reproduce experiments check test paper setup system-deps notebooks lab benchmark docs clean
 
 # The trace: what the notebooks and the README report read of each stored run (docking.ledger).
 TRACE := results/trace.jsonl
@@ -54,12 +54,21 @@ check: setup
 	$(VENV)/bin/ruff format --check .
 	$(VENV)/bin/ruff check .
 	$(VENV)/bin/lint-imports
-	$(PY) -m pytest tests -q -m "not slow"
+	$(PY) -m pytest tests -q -m "not slow and not docs"
 
+# The notebooks run under nbmake with --overwrite: their outputs land in notebooks/*.ipynb,
+# from which `make docs` builds the site, and the site is then checked in Chromium.
 test: check notebooks
 	$(PY) -m pytest tests -q -m slow
 	$(PY) -m docking verify --sample 3
-	$(PY) -m pytest --nbmake --nbmake-timeout=1800 -n 2 -q $(NOTEBOOKS)
+	$(PY) -m pytest --nbmake --nbmake-timeout=1800 --overwrite -n 2 -q $(NOTEBOOKS)
+	$(MAKE) docs
+	$(PY) -m pytest tests -q -m docs
+
+# The documentation site in build/site (open build/site/index.html): the README, the
+# executed notebooks (make test writes their outputs), CONTRIBUTING, the API reference.
+docs: setup
+	NO_MKDOCS_2_WARNING=1 $(PY) docs/build.py
 
 # The paper's two experiments from an empty store, Figs. 2-5, the learning curves and the
 # results table (printed; `make reproduce` writes it into the README).

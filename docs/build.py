@@ -1,0 +1,116 @@
+"""Build the documentation site (``make docs``): the README, the executed notebooks with their
+outputs, the figures, CONTRIBUTING and the API reference, as a static mkdocs site in
+``build/site`` that needs no server and no network (MathJax is served from the site).
+
+The notebooks are not executed here: ``make test`` executes every notebook under
+``pytest --nbmake --overwrite``, which writes its outputs into ``notebooks/*.ipynb``; this
+script copies those. A notebook without outputs is an error (run ``make test`` first).
+
+    python docs/build.py [--out build/site]
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import re
+import shutil
+import subprocess
+import sys
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parents[1]
+SOURCE = ROOT / "build" / "site-src"
+
+#: The API reference: one page per layer of the package (CONTRIBUTING's layer table).
+API_MODULES = (
+    "docking.design",
+    "docking.claims",
+    "docking.experiments",
+    "docking.scene",
+    "docking.world",
+    "docking.network",
+    "docking.trial",
+    "docking.policies",
+    "docking.analysis",
+    "docking.stats",
+    "docking.store",
+    "docking.ledger",
+    "docking.sweep",
+    "docking.gym",
+)
+
+MATHJAX_CONFIG = """window.MathJax = window.MathJax || {};
+MathJax.Hub && MathJax.Hub.Config({});
+"""
+
+
+def _executed(path: Path) -> bool:
+    cells = json.loads(path.read_text())["cells"]
+    return any(c.get("outputs") for c in cells if c["cell_type"] == "code")
+
+
+def _markdown(text: str) -> str:
+    """README/CONTRIBUTING links made site links: notebooks' .py sources to their pages."""
+    text = re.sub(r"\((notebooks/\d\d_\w+)\.py\)", r"(\1.ipynb)", text)
+    return text.replace("(CONTRIBUTING.md)", "(contributing.md)")
+
+
+def prepare() -> Path:
+    if SOURCE.exists():
+        shutil.rmtree(SOURCE)
+    (SOURCE / "notebooks").mkdir(parents=True)
+    (SOURCE / "index.md").write_text(_markdown((ROOT / "README.md").read_text()))
+    (SOURCE / "contributing.md").write_text(_markdown((ROOT / "CONTRIBUTING.md").read_text()))
+    shutil.copytree(ROOT / "figures", SOURCE / "figures")
+    notebooks = sorted((ROOT / "notebooks").glob("[0-9]*.ipynb"))
+    if not notebooks:
+        raise SystemExit("no notebooks/*.ipynb: run make test (it executes them) first")
+    for nb in notebooks:
+        if not _executed(nb):
+            raise SystemExit(f"{nb} has no outputs: run make test (nbmake --overwrite) first")
+        shutil.copy(nb, SOURCE / "notebooks" / nb.name)
+    api = ["# API reference", ""]
+    for module in API_MODULES:
+        api += [
+            f"## `{module}`",
+            "",
+            f"::: {module}",
+            "    options:",
+            "      show_root_heading: false",
+            "",
+        ]
+    (SOURCE / "api.md").write_text("\n".join(api))
+    import jupyter_server_mathjax
+
+    mathjax = Path(jupyter_server_mathjax.__file__).parent / "static"
+    shutil.copytree(mathjax, SOURCE / "mathjax")
+    (SOURCE / "mathjax-config.js").write_text(
+        "window.MathJax = {tex2jax: {inlineMath: [['$', '$'], ['\\\\(', '\\\\)']],"
+        " displayMath: [['$$', '$$'], ['\\\\[', '\\\\]']], processEscapes: true},"
+        " 'HTML-CSS': {availableFonts: ['TeX']}};\n"
+    )
+    return SOURCE
+
+
+def main(argv=None) -> int:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--out", type=Path, default=ROOT / "build" / "site")
+    args = parser.parse_args(argv)
+    prepare()
+    mkdocs = Path(sys.executable).with_name("mkdocs")
+    return subprocess.call(
+        [
+            str(mkdocs),
+            "build",
+            "-f",
+            str(ROOT / "docs" / "mkdocs.yml"),
+            "--site-dir",
+            str(args.out.resolve()),
+        ],
+        cwd=ROOT,
+    )
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())

@@ -1,0 +1,118 @@
+"""The documentation site (issue 20): built by ``make docs`` into ``build/site``, opened in
+headless Chromium (Debian's, through playwright): every notebook page shows its figures and
+its equations rendered by MathJax (no raw ``$$`` left in the text), and every internal link
+resolves. Run by ``make test`` after ``make docs`` (``pytest -m docs``)."""
+
+from __future__ import annotations
+
+import shutil
+from pathlib import Path
+from urllib.parse import unquote, urlparse
+
+import pytest
+
+pytestmark = pytest.mark.docs
+
+SITE = Path(__file__).resolve().parent.parent / "build" / "site"
+CHROMIUM = shutil.which("chromium") or "/usr/bin/chromium"
+NOTEBOOKS = sorted(p.name for p in (SITE / "notebooks").glob("*.html")) if SITE.exists() else []
+
+
+@pytest.fixture(scope="module")
+def browser():
+    from playwright.sync_api import sync_playwright
+
+    assert (SITE / "index.html").exists(), "no site in build/site: run make docs first"
+    with sync_playwright() as p:
+        b = p.chromium.launch(
+            executable_path=CHROMIUM, args=["--headless", "--no-sandbox", "--disable-gpu"]
+        )
+        yield b
+        b.close()
+
+
+def _has_tex(name: str) -> bool:
+    """Whether the notebook's markdown cells hold TeX (``$...$``)."""
+    import json
+
+    source = SITE.parent / "site-src" / "notebooks" / name.replace(".html", ".ipynb")
+    cells = json.loads(source.read_text())["cells"]
+    return any("$" in "".join(c["source"]) for c in cells if c["cell_type"] == "markdown")
+
+
+def _open(browser, page_path: Path):
+    page = browser.new_page()
+    page.goto(page_path.as_uri())
+    page.wait_for_load_state("load")
+    return page
+
+
+def test_every_notebook_is_on_the_site():
+    assert NOTEBOOKS == [
+        "01_gradient.html",
+        "02_scene.html",
+        "03_experiment1.html",
+        "04_experiment2.html",
+        "05_what_matters.html",
+        "06_turning.html",
+    ]
+
+
+@pytest.mark.parametrize("name", NOTEBOOKS)
+def test_a_notebook_page_shows_its_figures_and_renders_its_equations(browser, name):
+    page = _open(browser, SITE / "notebooks" / name)
+    try:
+        page.wait_for_function(
+            "() => window.MathJax && MathJax.Hub && MathJax.Hub.queue.pending === 0"
+            " && MathJax.Hub.queue.running === 0",
+            timeout=60_000,
+        )
+        images = page.evaluate(
+            "Array.from(document.querySelectorAll('.jp-OutputArea img, .output img'))"
+            ".map(i => i.naturalWidth)"
+        )
+        prose = page.evaluate(
+            "Array.from(document.querySelectorAll('.jp-MarkdownOutput, .text_cell_render'))"
+            ".map(e => e.innerText).join('\\n')"
+        )
+        math = page.locator(".MathJax, .MathJax_Display").count()
+    finally:
+        page.close()
+    assert "$$" not in prose, "an equation left as raw TeX"
+    if _has_tex(name):
+        assert math > 0, "equations in the notebook's text, none rendered"
+    assert all(w > 0 for w in images), f"{name}: a figure that does not load"
+    if name != "01_gradient.html":
+        assert images, f"{name}: no figure"
+
+
+def test_every_internal_link_resolves(browser):
+    broken = []
+    for html in sorted(SITE.rglob("*.html")):
+        if html.name == "404.html":  # a server's error page: its links are absolute
+            continue
+        page = _open(browser, html)
+        try:
+            links = page.evaluate(
+                "Array.from(document.querySelectorAll('a[href]')).map(a => a.href)"
+            )
+        finally:
+            page.close()
+        for link in links:
+            url = urlparse(link)
+            if url.scheme != "file":
+                continue  # external (not followed: the test runs offline)
+            target = Path(unquote(url.path))
+            if not target.exists():
+                broken.append(f"{html.relative_to(SITE)} -> {target}")
+    assert not broken, broken[:20]
+
+
+def test_the_start_page_shows_the_readmes_figures(browser):
+    page = _open(browser, SITE / "index.html")
+    try:
+        widths = page.evaluate("Array.from(document.images).map(i => [i.src, i.naturalWidth])")
+    finally:
+        page.close()
+    figures = [(src, w) for src, w in widths if "/figures/" in src]
+    assert len(figures) >= 10 and all(w > 0 for _, w in figures), figures
