@@ -29,8 +29,10 @@ import numpy as np
 import tyro
 
 from docking.designs import names as _design_names
-from docking.experiments import ExperimentConfig
+from docking.experiments import POLICIES, PRETRAIN_RULES, ExperimentConfig
+from docking.network import FEATURE_LAYERS, RULES, NetworkConfig
 from docking.presets import EXPERIMENTS, HEADLINE_SEED, SEEDS
+from docking.scene import ACTION_SETS, DISTRACTOR_SHAPES, SCENES, Distractor, WorldConfig
 
 PROG = "python -m docking"
 DESCRIPTION = (
@@ -53,6 +55,42 @@ _Experiment = Union[  # noqa: UP007 (tyro needs a runtime Union of Annotated mem
     )
 ]
 _ExperimentArg = Annotated[_Experiment, tyro.conf.arg(name=""), tyro.conf.OmitSubcommandPrefixes]
+
+
+# The configuration fields whose value is one of a few names (checked by check_choice in
+# their __post_init__, which a test compares with this table): tyro shows them as choices and
+# refuses any other value in one line. The dataclasses keep plain ``str`` annotations (they
+# are part of the runs' fingerprint); the CLI gives these fields Literal types instead.
+CHOICES: dict[type, dict[str, tuple[str, ...]]] = {
+    ExperimentConfig: {"pretrain_rule": PRETRAIN_RULES, "policy": POLICIES},
+    NetworkConfig: {"rule": RULES, "feature_layer": FEATURE_LAYERS},
+    WorldConfig: {"scene": SCENES, "actions": tuple(ACTION_SETS)},
+    Distractor: {"shape": tuple(DISTRACTOR_SHAPES)},
+}
+_registry = tyro.constructors.ConstructorRegistry()
+_expanding: set[type] = set()
+
+
+@_registry.struct_rule
+def _with_choices(info):
+    """tyro's own expansion of a configuration dataclass, its named-value fields as Literals."""
+    choices = CHOICES.get(info.type)
+    if choices is None or info.type in _expanding:
+        return None
+    _expanding.add(info.type)
+    try:
+        spec = tyro.constructors.ConstructorRegistry.get_struct_spec(info)
+    finally:
+        _expanding.discard(info.type)
+    if not isinstance(spec, tyro.constructors.StructConstructorSpec):
+        return spec
+    fields = tuple(
+        dataclasses.replace(field, type=Literal[choices[field.name]])
+        if field.name in choices
+        else field
+        for field in spec.fields
+    )
+    return dataclasses.replace(spec, fields=fields)
 
 
 def _default(text: str):
@@ -514,6 +552,7 @@ def main(argv=None) -> int:
         prog=PROG,
         description=DESCRIPTION,
         config=(tyro.conf.CascadeSubcommandArgs,),
+        registry=_registry,
     )
     signal.signal(signal.SIGTERM, _exit_on_sigterm)
     try:

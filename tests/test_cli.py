@@ -111,7 +111,6 @@ def test_help_prints_usage_and_starts_nothing(args, tmp_path):
 
 
 @pytest.mark.slow
-@pytest.mark.slow
 def test_help_lists_subcommands_and_overrides(tmp_path):
     top = _cli(["--help"], tmp_path).stdout
     for name in ("run", "sweep", "study", "experiment3", "report", "benchmark"):
@@ -239,3 +238,42 @@ def test_help_is_plain_text(tmp_path):
     assert out.returncode == 0
     for markup in ("``", ":class:", ":func:", ":data:", ":attr:", ":meth:"):
         assert markup not in out.stdout, markup
+
+
+def _choice_checks() -> set[tuple[str, str]]:
+    """(class, field) of every check_choice(owner, "field", ...) call in a class's methods."""
+    import ast
+
+    import docking
+
+    found = set()
+    for path in Path(docking.__file__).parent.rglob("*.py"):
+        for cls in ast.walk(ast.parse(path.read_text())):
+            if not isinstance(cls, ast.ClassDef):
+                continue
+            for call in ast.walk(cls):
+                if (
+                    isinstance(call, ast.Call)
+                    and getattr(call.func, "id", None) == "check_choice"
+                    and isinstance(call.args[1], ast.Constant)
+                ):
+                    found.add((cls.name, call.args[1].value))
+    return found
+
+
+def test_every_named_value_field_is_a_choice_on_the_command_line():
+    from docking.cli import CHOICES
+
+    table = {(cls.__name__, name) for cls, fields in CHOICES.items() for name in fields}
+    assert table == _choice_checks()
+
+
+@pytest.mark.slow
+def test_named_values_are_shown_and_checked_as_choices(tmp_path):
+    help_text = _cli(["run", "experiment2", "--help"], tmp_path, timeout=60).stdout
+    for option in ("--world.scene {sideboard,floor}", "--network.rule {local,nonlocal}"):
+        assert option in help_text
+    out = _cli(["run", "experiment2", "--world.scene", "flor"], tmp_path, timeout=60)
+    assert out.returncode == 2 and "invalid choice 'flor'" in out.stderr
+    assert "--world.scene" in out.stderr and "__tyro" not in out.stderr
+    assert not (tmp_path / "results").exists()
