@@ -373,8 +373,23 @@ class Report:
             if self.readme is not None:
                 changed |= update_readme(self.readme, text, EXPERIMENT3_START, EXPERIMENT3_END)
         if self.readme is not None:
+            changed |= _write_timings(self.readme)
+        if self.readme is not None:
             print(f"{self.readme}: {'updated' if changed else 'already up to date'}")
         return 0
+
+
+def _write_timings(readme: Path) -> bool:
+    """The README's paragraph of times from the ledger (its runs' wall times and the tiers'
+    record of tools/time_tiers.py); whether the README changed."""
+    from docking import ledger
+    from docking.report import TIMINGS_END, TIMINGS_START, timings_text, update_readme
+
+    data = ledger.manifest()
+    if data is None:
+        return False
+    text = timings_text(ledger.timings(), *ledger.computing_seconds(data))
+    return update_readme(readme, text, TIMINGS_START, TIMINGS_END)
 
 
 def _refuse_to_compute(study: bool, experiment3: bool, results_dir) -> None:

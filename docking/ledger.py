@@ -112,6 +112,25 @@ def manifest(folder: Path | None = None) -> dict | None:
     return data
 
 
+#: The tiers' measured times (written by tools/time_tiers.py from a fresh clone).
+TIMINGS_FILE = "timings.json"
+
+
+def timings(folder: Path | None = None) -> dict | None:
+    """The record of ``tools/time_tiers.py`` in the ledger's folder (None if there is none)."""
+    folder = ledger_dir() if folder is None else Path(folder)
+    if folder is None or not (folder / TIMINGS_FILE).is_file():
+        return None
+    return json.loads((folder / TIMINGS_FILE).read_text())
+
+
+def computing_seconds(data: dict) -> tuple[int, float]:
+    """The number of runs in a manifest and the sum of their recorded wall times (seconds of
+    one process each, training and testing)."""
+    walls = [record.get("wall_seconds", float("nan")) for record in data["runs"].values()]
+    return len(walls), float(sum(walls))
+
+
 def _raw_manifest(folder: Path | None) -> dict | None:
     if folder is None or not (folder / "manifest.json").is_file():
         return None
@@ -492,6 +511,7 @@ def update(keep: dict[str, dict], folder: Path | str | None = None) -> dict:
             "file": relative,
             "entry_digest": hashlib.sha256(files[relative]).hexdigest(),
             "config": config.to_dict(),
+            "wall_seconds": round(result.wall_time_train + result.wall_time_test, 1),
         }
     data = {
         "format": LEDGER_FORMAT,

@@ -306,6 +306,41 @@ EXPERIMENT3_START = "<!-- experiment3:start -->"
 EXPERIMENT3_END = "<!-- experiment3:end -->"
 
 
+#: The markers of the README's paragraph of measured times.
+TIMINGS_START = "<!-- timings:start -->"
+TIMINGS_END = "<!-- timings:end -->"
+
+
+def timings_text(measured: dict | None, runs: int, run_seconds: float) -> str:
+    """The README's paragraph of times: ``measured`` is ``tools/time_tiers.py``'s record (None
+    if the tiers were not timed), ``runs`` and ``run_seconds`` the ledger's runs and the sum
+    of their wall times (:func:`docking.ledger.computing_seconds`)."""
+    per_run = run_seconds / max(runs, 1)
+    reproduce = (
+        f"`make reproduce` computes the ledger's {runs} runs, whose recorded wall times add "
+        f"up to {run_seconds / 3600:.1f} h of one process ({per_run:.0f} s per run on "
+        "average; the embedded cluster runs one per core), then executes the notebooks and "
+        "writes the ledger. A Dask cluster divides the computing by its number of cores "
+        "(`--scheduler` on `design run`, `sweep`)."
+    )
+    if measured is None:
+        return f"The tiers have not been timed on this commit's ledger. {reproduce}"
+    names = {"setup": " (package downloads)"}
+    tiers = "; ".join(
+        f"`make {tier}` {t['wall_s'] / 60:.1f} min{names.get(tier, '')}"
+        for tier, t in measured["tiers"].items()
+    )
+    step = measured["step"]
+    return (
+        f"Measured by `tools/time_tiers.py` on {measured['date']} from a fresh clone (commit "
+        f"{measured['commit'][:7]}) on a {measured['cores']}-core CPU-only machine, Python "
+        f"{measured['python']}, where `python -m docking benchmark --quick` gives "
+        f"{step['min_ms']:.2f} / {step['median_ms']:.2f} ms of CPU per environment step "
+        f"(min / median; on a machine where it is twice that, expect twice the times): "
+        f"{tiers}. {reproduce}"
+    )
+
+
 def replace_block(text: str, block: str, start: str = README_START, end: str = README_END) -> str:
     """``text`` with the lines between the markers ``start`` and ``end`` replaced by
     ``block``; ``ValueError`` unless each marker occurs once, in that order."""

@@ -197,8 +197,35 @@ def test_update_readme(tmp_path):
 
 
 def test_project_readme_has_the_markers():
+    from docking import report
+
     text = (REPO / "README.md").read_text()
-    assert text.count(README_START) == 1 and text.count(README_END) == 1
+    for start, end in (
+        (README_START, README_END),
+        (report.STUDY_START, report.STUDY_END),
+        (report.EXPERIMENT3_START, report.EXPERIMENT3_END),
+        (report.TIMINGS_START, report.TIMINGS_END),
+    ):
+        assert text.count(start) == 1 and text.count(end) == 1
+
+
+def test_timings_paragraph_says_what_was_measured():
+    from docking.report import timings_text
+
+    record = {
+        "date": "2026-01-02",
+        "commit": "abcdef0123",
+        "cores": 2,
+        "python": "3.11.7",
+        "step": {"min_ms": 0.3, "median_ms": 0.35},
+        "tiers": {"setup": {"wall_s": 480.0, "cpu_s": 100.0}, "test": {"wall_s": 900, "cpu_s": 1}},
+    }
+    text = timings_text(record, 300, 7200.0)
+    assert "on 2026-01-02" in text and "commit abcdef0" in text and "2-core" in text
+    assert "0.30 / 0.35 ms" in text
+    assert "`make setup` 8.0 min (package downloads); `make test` 15.0 min." in text
+    assert "300 runs" in text and "2.0 h of one process (24 s per run" in text
+    assert "have not been timed" in timings_text(None, 300, 7200.0)
 
 
 def test_report_refuses_to_start_a_computation_without_compute(tmp_path):

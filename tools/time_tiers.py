@@ -1,0 +1,103 @@
+"""Time the Makefile's tiers on this checkout and record them in ``ledger/timings.json``.
+
+Run it from a fresh clone (``git clone`` of the commit to measure), on a machine doing nothing
+else::
+
+    python3 tools/time_tiers.py                 # make setup, check, test, paper in turn
+    python3 tools/time_tiers.py --tiers check   # some of them
+
+Each tier is timed in wall-clock seconds and in the CPU seconds of its processes (user +
+system of the waited-for children). Before the first tier and after the last,
+``python -m docking benchmark --quick`` gives the CPU time of one environment step (minimum
+and median over its repetitions), so that the times can be scaled to another machine. The
+record (with the date, the commit, the number of cores and the Python version) is written to
+``ledger/timings.json``; copy it into the checkout the clone came from, where
+``python -m docking report --readme README.md`` writes it into the README. A tier that fails
+stops the measurement and nothing is written.
+"""
+
+from __future__ import annotations
+
+import argparse
+import datetime
+import json
+import os
+import platform
+import resource
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+TIERS = ("setup", "check", "test", "paper")
+ROOT = Path(__file__).resolve().parent.parent
+
+
+def _children_cpu() -> float:
+    usage = resource.getrusage(resource.RUSAGE_CHILDREN)
+    return usage.ru_utime + usage.ru_stime
+
+
+def timed(command: list[str]) -> dict:
+    """Run ``command`` in the checkout; its wall and CPU seconds (``RuntimeError`` if it fails)."""
+    cpu, wall = _children_cpu(), time.monotonic()
+    done = subprocess.run(command, cwd=ROOT)
+    if done.returncode != 0:
+        raise RuntimeError(f"{' '.join(command)} failed (exit status {done.returncode})")
+    return {"wall_s": round(time.monotonic() - wall, 1), "cpu_s": round(_children_cpu() - cpu, 1)}
+
+
+def step_time() -> dict:
+    """``benchmark --quick``'s CPU milliseconds per environment step (min and median)."""
+    code = (
+        "import contextlib, io, json; from docking.benchmark import run\n"
+        "with contextlib.redirect_stdout(io.StringIO()): r = run(quick=True)\n"
+        "print(json.dumps(r['env_step']))"
+    )
+    out = subprocess.run(
+        [str(ROOT / ".venv/bin/python"), "-c", code],
+        cwd=ROOT,
+        check=True,
+        capture_output=True,
+        text=True,
+        env={**os.environ, "MUJOCO_GL": "egl", "PYOPENGL_PLATFORM": "egl"},
+    )
+    step = json.loads(out.stdout.strip().splitlines()[-1])
+    return {"min_ms": round(1e3 * step["min"], 3), "median_ms": round(1e3 * step["median"], 3)}
+
+
+def main(argv=None) -> int:
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser.add_argument("--tiers", nargs="+", choices=TIERS, default=list(TIERS))
+    args = parser.parse_args(argv)
+    commit = subprocess.run(
+        ["git", "rev-parse", "HEAD"], cwd=ROOT, check=True, capture_output=True, text=True
+    ).stdout.strip()
+    tiers, benchmarks = {}, []
+    for tier in args.tiers:
+        print(f"--- make {tier}", flush=True)
+        tiers[tier] = timed(["make", tier])
+        print(f"--- make {tier}: {tiers[tier]}", flush=True)
+        if tier == "setup" or not benchmarks:
+            benchmarks.append(step_time())
+    benchmarks.append(step_time())
+    record = {
+        "date": datetime.date.today().isoformat(),
+        "commit": commit,
+        "cores": os.cpu_count(),
+        "python": platform.python_version(),
+        "step": {
+            "min_ms": min(b["min_ms"] for b in benchmarks),
+            "median_ms": sorted(b["median_ms"] for b in benchmarks)[len(benchmarks) // 2],
+        },
+        "tiers": tiers,
+    }
+    target = ROOT / "ledger" / "timings.json"
+    target.write_text(json.dumps(record, indent=1, sort_keys=True) + "\n")
+    print(json.dumps(record, indent=1))
+    print(f"written to {target}")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
