@@ -140,14 +140,21 @@ def _module_file(name: str, package_dir: Path) -> Path | None:
     return None
 
 
-def source_fingerprint(package_dir: Path | str | None = None) -> str:
+def source_fingerprint(
+    package_dir: Path | str | None = None,
+    root: str = _ROOT_MODULE,
+    libraries: tuple[str, ...] = _LIBRARIES,
+) -> str:
     """SHA-256 of the code that computes results (see the module docstring).
 
     ``package_dir`` is the ``docking`` package folder to read (default: this package's, whose
-    files must still be those this process imported, or :class:`StaleCode` is raised)."""
+    files must still be those this process imported, or :class:`StaleCode` is raised);
+    ``root`` and ``libraries`` name another computation's code (e.g. :mod:`docking.ppo`'s)."""
     own = Path(__file__).resolve().parent
     package_dir = (Path(package_dir) if package_dir else own).resolve()
-    fingerprint, _, files = _fingerprint_parts(package_dir, _stamp(package_dir))
+    fingerprint, _, files = _fingerprint_parts(
+        package_dir, _stamp(package_dir), root, tuple(libraries)
+    )
     if package_dir == own:
         import docking
 
@@ -181,11 +188,13 @@ def _stamp(package_dir: Path) -> tuple:
 
 
 @functools.lru_cache(maxsize=8)
-def _fingerprint_parts(package_dir: Path, stamp: tuple) -> tuple[str, tuple, dict]:
+def _fingerprint_parts(
+    package_dir: Path, stamp: tuple, root: str = _ROOT_MODULE, libraries: tuple = _LIBRARIES
+) -> tuple[str, tuple, dict]:
     """(fingerprint, ((part, digest), ...), {file: SHA-256 of its bytes})."""
     digest = hashlib.sha256()
     parts, files = [], {}
-    seen, queue = set(), [_ROOT_MODULE]
+    seen, queue = set(), [root]
     while queue:
         name = queue.pop()
         if name in seen:
@@ -210,7 +219,7 @@ def _fingerprint_parts(package_dir: Path, stamp: tuple) -> tuple[str, tuple, dic
             digest.update(f"asset {relative}\n".encode())
             digest.update(data)
             parts.append((f"assets/{relative}", hashlib.sha256(data).hexdigest()))
-    for library in _LIBRARIES:
+    for library in libraries:
         try:
             version = importlib.metadata.version(library)
         except importlib.metadata.PackageNotFoundError:

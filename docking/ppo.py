@@ -1,0 +1,490 @@
+"""The pixel-level bound: PPO from a maintained library on the package's Gymnasium env.
+
+What the paper's learner should be compared with in a world is not only what reads the true
+pose (the oracle) but what a generic learner makes of the same 32x10 pixels. This module
+trains PPO (skrl 2.1 on JAX, CPU) on :class:`docking.gym.DockingGymEnv` of a world, the
+observation flattened to its 320 pixels, for :attr:`PPOConfig.steps` environment steps from
+the world's full start region (no curriculum), and then judges its greedy policy (the most
+probable action) on the **same held-out streams** as the paper's learner of the same seed
+(:func:`docking.experiments.heldout_trials`: the start poses and step noise of stream
+``heldout_world``), so that its held-out success is comparable with theirs.
+
+Choices, named: the networks are two-layer tanh MLPs of :attr:`PPOConfig.hidden` units for
+the policy and for the value; every PPO setting is skrl 2.1.1's default (``PPO_CFG``),
+written out in :class:`PPOConfig` so that the key records it; the entropy bonus stays at
+skrl's default 0 (skrl's JAX categorical model does not compute an entropy). skrl draws
+from a global seed (``skrl.utils.set_seed``: Python's, NumPy's and JAX's), which is set
+from ``SeedSequence([PPO_STREAM, seed])``, as is the training env's seed; the held-out
+streams are children of ``SeedSequence(seed)``, so training never sees them.
+
+Runs are stored like the learner's (:mod:`docking.store`): under
+``<results>/<config.name>/<key[:16]>/seed<k>.npz``, keyed by the configuration, the code
+of this module and everything it imports (:func:`fingerprint`, which also covers the
+versions of skrl, JAX, Flax, Optax and Gymnasium), the rendering stack and the seed, with a
+content digest checked on load against the key asked for.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import hashlib
+import io
+import json
+import os
+import time
+from pathlib import Path
+
+import gymnasium
+import numpy as np
+
+from docking import paths
+from docking.experiments import TrialLog, _streams, policy_trial
+from docking.fileio import atomic_write, remove_stale_temporaries
+from docking.scene import WorldConfig
+from docking.validate import (
+    MAX_COUNT,
+    MAX_SEED,
+    check_instance,
+    check_int,
+    check_int_tuple,
+    check_name,
+    check_real,
+    normalise,
+)
+
+__all__ = ["PPOConfig", "PPOResult", "fingerprint", "run_ppo", "run_or_load", "load", "save"]
+
+#: Version of the stored file's layout.
+FORMAT_VERSION = 1
+
+#: The first word of the training seeds' SeedSequence (disjoint from every learner stream).
+PPO_STREAM = 0x70706F
+
+#: Libraries whose versions enter the key, beyond those of the learner's runs.
+LIBRARIES = (
+    "mujoco",
+    "dm-control",
+    "numpy",
+    "opencv-python-headless",
+    "gymnasium",
+    "skrl",
+    "jax",
+    "jaxlib",
+    "flax",
+    "optax",
+)
+
+
+@dataclasses.dataclass(frozen=True)
+class PPOConfig:
+    """One PPO run: the world, the budget, the networks and skrl's PPO settings.
+
+    Attributes:
+      name: The results folder (a file-name component).
+      world: The world PPO trains and is judged in.
+      steps: Environment steps of training (2000 trials x 25 actions at most: 50,000).
+      heldout_trials: Greedy trials on the held-out streams after training.
+      hidden: Units of the hidden tanh layers of the policy and of the value network.
+      rollouts, learning_epochs, mini_batches, discount_factor, gae_lambda, learning_rate,
+        grad_norm_clip, ratio_clip, value_clip, value_loss_scale: skrl 2.1.1's ``PPO_CFG``
+        (its defaults).
+    """
+
+    name: str = "ppo"
+    world: WorldConfig = dataclasses.field(default_factory=WorldConfig)
+    steps: int = 50_000
+    heldout_trials: int = 500
+    hidden: tuple[int, ...] = (64, 64)
+    rollouts: int = 16
+    learning_epochs: int = 8
+    mini_batches: int = 2
+    discount_factor: float = 0.99
+    gae_lambda: float = 0.95
+    learning_rate: float = 1e-3
+    grad_norm_clip: float = 0.5
+    ratio_clip: float = 0.2
+    value_clip: float = 0.2
+    value_loss_scale: float = 2.5
+
+    def __post_init__(self):
+        owner = "PPOConfig"
+        hidden = self.hidden
+        if not isinstance(hidden, (tuple, list)) or not 1 <= len(hidden) <= 4:
+            raise ValueError(f"PPOConfig.hidden must be 1 to 4 layer widths, got {hidden!r}")
+        normalise(
+            self,
+            name=check_name(owner, "name", self.name),
+            world=check_instance(owner, "world", self.world, WorldConfig),
+            steps=check_int(owner, "steps", self.steps, lo=1, hi=100 * MAX_COUNT),
+            heldout_trials=check_int(
+                owner, "heldout_trials", self.heldout_trials, lo=0, hi=MAX_COUNT
+            ),
+            hidden=check_int_tuple(owner, "hidden", tuple(hidden), len(hidden), lo=1, hi=4096),
+            rollouts=check_int(owner, "rollouts", self.rollouts, lo=1, hi=4096),
+            learning_epochs=check_int(owner, "learning_epochs", self.learning_epochs, lo=1, hi=100),
+            mini_batches=check_int(owner, "mini_batches", self.mini_batches, lo=1, hi=4096),
+            discount_factor=check_real(owner, "discount_factor", self.discount_factor, lo=0, hi=1),
+            gae_lambda=check_real(owner, "gae_lambda", self.gae_lambda, lo=0, hi=1),
+            learning_rate=check_real(
+                owner, "learning_rate", self.learning_rate, lo=0, hi=1, lo_open=True
+            ),
+            grad_norm_clip=check_real(owner, "grad_norm_clip", self.grad_norm_clip, lo=0, hi=1e3),
+            ratio_clip=check_real(owner, "ratio_clip", self.ratio_clip, lo=0, hi=1),
+            value_clip=check_real(owner, "value_clip", self.value_clip, lo=0, hi=1e3),
+            value_loss_scale=check_real(
+                owner, "value_loss_scale", self.value_loss_scale, lo=0, hi=1e3
+            ),
+        )
+        if self.mini_batches > self.rollouts:
+            raise ValueError(
+                f"PPOConfig.mini_batches ({self.mini_batches}) must not exceed rollouts "
+                f"({self.rollouts})"
+            )
+
+    def to_dict(self) -> dict:
+        """Every field, nested, as JSON-ready values."""
+        return json.loads(json.dumps(dataclasses.asdict(self)))
+
+    @classmethod
+    def from_dict(cls, d: dict) -> PPOConfig:
+        """The inverse of :meth:`to_dict` (``TypeError`` for unknown or missing fields)."""
+        from docking.experiments import _world_from_dict
+
+        if not isinstance(d, dict):
+            raise TypeError(f"PPOConfig.from_dict needs a dict, got {d!r:.80}")
+        names = {f.name for f in dataclasses.fields(cls)}
+        unknown = sorted(set(d) - names)
+        if unknown:
+            raise TypeError(f"PPOConfig has no field {', '.join(unknown)}")
+        fields = dict(d)
+        if "world" in fields:
+            fields["world"] = _world_from_dict(fields["world"], "PPOConfig.world")
+        if "hidden" in fields:
+            fields["hidden"] = tuple(fields["hidden"])
+        return cls(**fields)
+
+
+@dataclasses.dataclass
+class PPOResult:
+    """A PPO run: its training episodes' outcomes and its greedy held-out trials.
+
+    ``train_success`` and ``train_steps`` hold one entry per training episode, in order (an
+    episode cut off by the step budget is not counted); ``heldout`` is the log of the greedy
+    held-out trials (no TD errors: 0; no feature unit: -1)."""
+
+    config: PPOConfig
+    seed: int
+    train_success: np.ndarray
+    train_steps: np.ndarray
+    heldout: TrialLog
+    wall_time_train: float
+    wall_time_test: float
+
+    @property
+    def heldout_success(self) -> float:
+        return float(np.mean(self.heldout.success)) if len(self.heldout) else float("nan")
+
+
+# ------------------------------------------------------------------------------------------
+# Keys.
+# ------------------------------------------------------------------------------------------
+
+
+def fingerprint() -> str:
+    """The source fingerprint of PPO runs: this module's code and everything it imports from
+    the package, the assets and :data:`LIBRARIES`' versions."""
+    from docking.store import source_fingerprint
+
+    return source_fingerprint(root=__name__, libraries=LIBRARIES)
+
+
+def run_key(config: PPOConfig, seed: int) -> str:
+    """The key of the PPO run of (``config``, ``seed``)."""
+    from docking.store import rendering_stack
+
+    check_instance("run_key", "config", config, PPOConfig)
+    seed = check_int("run_key", "seed", seed, lo=0, hi=MAX_SEED)
+    canonical = json.dumps(config.to_dict(), sort_keys=True, separators=(",", ":"))
+    text = (
+        f"ppo format {FORMAT_VERSION}\nconfig {canonical}\nsource {fingerprint()}"
+        f"\nrender {rendering_stack()}"
+    )
+    return f"{hashlib.sha256(text.encode()).hexdigest()}:seed{seed}"
+
+
+def result_path(config: PPOConfig, seed: int, results_dir: Path | str | None = None) -> Path:
+    """Where the PPO run of (``config``, ``seed``) is stored."""
+    root = Path(results_dir) if results_dir is not None else paths.results_dir()
+    return root / config.name / run_key(config, seed)[:16] / f"seed{seed}.npz"
+
+
+# ------------------------------------------------------------------------------------------
+# Running.
+# ------------------------------------------------------------------------------------------
+
+
+def _training_seeds(seed: int) -> tuple[int, int]:
+    """(skrl's global seed, the training env's seed) of run ``seed``."""
+    words = np.random.SeedSequence([PPO_STREAM, seed]).generate_state(2, dtype=np.uint32)
+    return int(words[0]), int(words[1])
+
+
+def _quiet_jax() -> None:
+    # One CPU thread per process (a sweep runs one process per core), before JAX starts.
+    os.environ.setdefault("JAX_PLATFORMS", "cpu")
+    os.environ.setdefault(
+        "XLA_FLAGS", "--xla_cpu_multi_thread_eigen=false intra_op_parallelism_threads=1"
+    )
+
+
+def _models(config: PPOConfig, observation_space, action_space, device):
+    import flax.linen as nn
+    from skrl.models.jax import CategoricalMixin, DeterministicMixin, Model
+
+    hidden = config.hidden
+
+    def trunk(x):
+        for width in hidden:
+            x = nn.tanh(nn.Dense(width)(x))
+        return x
+
+    class Policy(CategoricalMixin, Model):
+        def __init__(self, observation_space, action_space, device=None, **kwargs):
+            Model.__init__(
+                self,
+                observation_space=observation_space,
+                action_space=action_space,
+                device=device,
+                **kwargs,
+            )
+            CategoricalMixin.__init__(self, unnormalized_log_prob=True)
+
+        @nn.compact
+        def __call__(self, inputs, role):
+            return nn.Dense(self.num_actions)(trunk(inputs["observations"])), {}
+
+    class Value(DeterministicMixin, Model):
+        def __init__(self, observation_space, action_space, device=None, **kwargs):
+            Model.__init__(
+                self,
+                observation_space=observation_space,
+                action_space=action_space,
+                device=device,
+                **kwargs,
+            )
+            DeterministicMixin.__init__(self)
+
+        @nn.compact
+        def __call__(self, inputs, role):
+            return nn.Dense(1)(trunk(inputs["observations"])), {}
+
+    models = {
+        "policy": Policy(observation_space, action_space, device),
+        "value": Value(observation_space, action_space, device),
+    }
+    for role, model in models.items():
+        model.init_state_dict(role=role)
+    return models
+
+
+class _EpisodeLog(gymnasium.Wrapper):
+    """Records every finished episode's success and length into the lists given."""
+
+    def __init__(self, env, success: list, steps: list):
+        super().__init__(env)
+        self._success, self._steps, self._n = success, steps, 0
+
+    def reset(self, **kwargs):
+        self._n = 0
+        return self.env.reset(**kwargs)
+
+    def step(self, action):
+        out = self.env.step(action)
+        self._n += 1
+        if out[2] or out[3]:  # terminated (docked) or truncated (out of actions)
+            self._success.append(bool(out[2]))
+            self._steps.append(self._n)
+        return out
+
+
+def run_ppo(config: PPOConfig, seed: int, progress: bool | None = None) -> PPOResult:
+    """Train PPO in ``config.world`` and judge it greedily on the held-out streams of
+    ``seed`` (see the module docstring). ``progress``: skrl's bar over the training steps
+    (None: shown on a terminal only)."""
+    check_instance("run_ppo", "config", config, PPOConfig)
+    seed = check_int("run_ppo", "seed", seed, lo=0, hi=MAX_SEED)
+    _quiet_jax()
+    import logging
+    import tempfile
+
+    import jax
+    import jax.numpy as jnp
+    import skrl
+    from skrl.agents.jax.ppo import PPO, PPO_CFG
+    from skrl.envs.wrappers.jax import wrap_env
+    from skrl.memories.jax import RandomMemory
+    from skrl.trainers.jax import SequentialTrainer
+    from skrl.utils import set_seed
+
+    from docking.gym import DockingGymEnv
+    from docking.world import DockingEnv
+
+    skrl.logger.setLevel(logging.ERROR)
+    global_seed, env_seed = _training_seeds(seed)
+    set_seed(global_seed)
+    success, steps = [], []
+    env = DockingGymEnv(seed=env_seed, **_world_kwargs(config.world))
+    env = gymnasium.wrappers.FlattenObservation(_EpisodeLog(env, success, steps))
+    env = wrap_env(env, wrapper="gymnasium")
+    models = _models(config, env.observation_space, env.action_space, env.device)
+    memory = RandomMemory(memory_size=config.rollouts, num_envs=env.num_envs, device=env.device)
+    settings = {
+        name: getattr(config, name)
+        for name in (
+            "rollouts",
+            "learning_epochs",
+            "mini_batches",
+            "discount_factor",
+            "gae_lambda",
+            "learning_rate",
+            "grad_norm_clip",
+            "ratio_clip",
+            "value_clip",
+            "value_loss_scale",
+        )
+    }
+    cfg = PPO_CFG(**settings)
+    t0 = time.perf_counter()
+    with tempfile.TemporaryDirectory() as scratch:
+        cfg.experiment.directory = scratch  # skrl writes nothing with both intervals 0
+        cfg.experiment.write_interval = 0
+        cfg.experiment.checkpoint_interval = 0
+        agent = PPO(
+            models=models,
+            memory=memory,
+            observation_space=env.observation_space,
+            action_space=env.action_space,
+            device=env.device,
+            cfg=cfg,
+        )
+        trainer = SequentialTrainer(
+            cfg={
+                "timesteps": config.steps,
+                "headless": True,
+                "disable_progressbar": None if progress is None else not progress,
+                "close_environment_at_exit": False,
+            },
+            env=env,
+            agents=agent,
+        )
+        trainer.train()
+    wall_train = time.perf_counter() - t0
+
+    t0 = time.perf_counter()
+    policy = models["policy"]
+    params = policy.state_dict.params
+    logits = jax.jit(lambda x: policy.apply(params, {"observations": x}, "policy")[0])
+
+    def greedy(observation, _env) -> int:
+        x = jnp.asarray(np.asarray(observation, dtype=np.float32).reshape(1, -1))
+        return int(np.argmax(np.asarray(logits(x))[0]))
+
+    heldout_env = DockingEnv(config.world, _streams(seed)["heldout_world"])
+    records = [policy_trial(heldout_env, greedy) for _ in range(config.heldout_trials)]
+    heldout = TrialLog.from_records(records, [config.world.start_far] * len(records))
+    return PPOResult(
+        config=config,
+        seed=seed,
+        train_success=np.array(success, dtype=bool),
+        train_steps=np.array(steps, dtype=np.int64),
+        heldout=heldout,
+        wall_time_train=wall_train,
+        wall_time_test=time.perf_counter() - t0,
+    )
+
+
+def _world_kwargs(world: WorldConfig) -> dict:
+    return {f.name: getattr(world, f.name) for f in dataclasses.fields(WorldConfig)}
+
+
+# ------------------------------------------------------------------------------------------
+# Storing.
+# ------------------------------------------------------------------------------------------
+
+
+def _arrays(result: PPOResult) -> dict[str, np.ndarray]:
+    arrays = {"train.success": result.train_success, "train.steps": result.train_steps}
+    for field in dataclasses.fields(TrialLog):
+        arrays[f"heldout.{field.name}"] = getattr(result.heldout, field.name)
+    return arrays
+
+
+def save(result: PPOResult, path: Path | str) -> Path:
+    """Write ``result`` to ``path`` atomically (compressed .npz with its key and digest)."""
+    from docking.store import content_digest
+
+    path = Path(path)
+    arrays = _arrays(result)
+    meta = {
+        "format": FORMAT_VERSION,
+        "key": run_key(result.config, result.seed),
+        "digest": content_digest(arrays),
+        "config": result.config.to_dict(),
+        "seed": result.seed,
+        "wall_time_train": float(result.wall_time_train),
+        "wall_time_test": float(result.wall_time_test),
+    }
+    arrays["meta"] = np.array(json.dumps(meta))
+    buffer = io.BytesIO()
+    np.savez_compressed(buffer, **arrays)
+    remove_stale_temporaries(path)
+    atomic_write(path, lambda f: f.write(buffer.getvalue()))
+    return path
+
+
+def load(path: Path | str, key: str) -> PPOResult:
+    """The PPO run stored at ``path``, checked against ``key`` (the run asked for) and its
+    content digest (``docking.store.CorruptResult`` if either differs or it is unreadable)."""
+    from docking.store import CorruptResult, content_digest
+
+    try:
+        with np.load(path, allow_pickle=False) as data:
+            arrays = {name: data[name] for name in data.files}
+        meta = json.loads(str(arrays.pop("meta")))
+        if meta.get("format") != FORMAT_VERSION or meta.get("key") != key:
+            raise CorruptResult(f"{path}: holds run {meta.get('key')!r:.30}, not {key[:30]!r}")
+        if content_digest(arrays) != meta["digest"]:
+            raise CorruptResult(f"{path}: its arrays do not match their digest")
+        config = PPOConfig.from_dict(meta["config"])
+        heldout = TrialLog(
+            **{f.name: arrays[f"heldout.{f.name}"] for f in dataclasses.fields(TrialLog)}
+        )
+        return PPOResult(
+            config=config,
+            seed=int(meta["seed"]),
+            train_success=arrays["train.success"],
+            train_steps=arrays["train.steps"],
+            heldout=heldout,
+            wall_time_train=float(meta["wall_time_train"]),
+            wall_time_test=float(meta["wall_time_test"]),
+        )
+    except CorruptResult:
+        raise
+    except (OSError, ValueError, KeyError, TypeError) as exc:
+        raise CorruptResult(f"{path}: unreadable PPO run ({exc})") from exc
+
+
+def run_or_load(
+    config: PPOConfig,
+    seed: int,
+    results_dir: Path | str | None = None,
+    force: bool = False,
+    progress: bool | None = None,
+) -> PPOResult:
+    """The stored PPO run of (``config``, ``seed``), or run and store it."""
+    path = result_path(config, seed, results_dir)
+    if path.exists() and not force:
+        return load(path, run_key(config, seed))
+    result = run_ppo(config, seed, progress=progress)
+    save(result, path)
+    return result

@@ -1,0 +1,91 @@
+"""The pixel-level bound (docking.ppo): its configuration, key, storage and streams."""
+
+from __future__ import annotations
+
+import dataclasses
+
+import numpy as np
+import pytest
+
+from docking.ppo import PPOConfig, fingerprint, load, result_path, run_key, run_or_load, save
+from docking.presets import EXPERIMENT_2
+from docking.store import CorruptResult, source_fingerprint
+
+TINY = PPOConfig(name="ppo-test", world=EXPERIMENT_2.world, steps=48, heldout_trials=3)
+
+
+@pytest.mark.parametrize(
+    ("changes", "says"),
+    [
+        ({"steps": 0}, "PPOConfig.steps"),
+        ({"learning_rate": 0.0}, "PPOConfig.learning_rate"),
+        ({"hidden": ()}, "PPOConfig.hidden"),
+        ({"hidden": (64, 0)}, "PPOConfig.hidden"),
+        ({"mini_batches": 32}, "mini_batches"),
+        ({"name": "../x"}, "PPOConfig.name"),
+        ({"world": "floor"}, "PPOConfig.world"),
+    ],
+)
+def test_bad_configurations_are_clear_errors(changes, says):
+    with pytest.raises((ValueError, TypeError), match=says.replace(".", r"\.")):
+        dataclasses.replace(TINY, **changes)
+
+
+def test_configuration_round_trips_and_refuses_unknown_fields():
+    assert PPOConfig.from_dict(TINY.to_dict()) == TINY
+    with pytest.raises(TypeError, match="no field nope"):
+        PPOConfig.from_dict({**TINY.to_dict(), "nope": 1})
+
+
+def test_key_covers_its_own_code_and_libraries():
+    assert fingerprint() != source_fingerprint()
+    assert run_key(TINY, 0) != run_key(TINY, 1)
+    assert run_key(TINY, 0) != run_key(dataclasses.replace(TINY, steps=49), 0)
+
+
+@pytest.fixture(scope="module")
+def tiny_run(tmp_path_factory):
+    folder = tmp_path_factory.mktemp("ppo")
+    return folder, run_or_load(TINY, 0, folder, progress=False)
+
+
+@pytest.mark.slow
+def test_a_run_is_repeatable_bit_for_bit_and_stored_under_its_key(tiny_run, tmp_path):
+    folder, first = tiny_run
+    again = run_or_load(TINY, 0, tmp_path, progress=False)
+    for name in ("train_success", "train_steps"):
+        np.testing.assert_array_equal(getattr(first, name), getattr(again, name))
+    for field in dataclasses.fields(first.heldout):
+        np.testing.assert_array_equal(
+            getattr(first.heldout, field.name), getattr(again.heldout, field.name)
+        )
+    assert first.train_steps.sum() <= TINY.steps and len(first.heldout) == 3
+    path = result_path(TINY, 0, folder)
+    assert load(path, run_key(TINY, 0)).heldout_success == first.heldout_success
+    with pytest.raises(CorruptResult, match="not"):
+        load(path, run_key(TINY, 1))  # a file of another run is refused
+    tampered = dataclasses.replace(first, train_steps=first.train_steps + 1)
+    save(tampered, tmp_path / "t.npz")
+    raw = dict(np.load(tmp_path / "t.npz"))
+    raw["train.steps"] = first.train_steps  # arrays edited behind the meta record's back
+    np.savez(tmp_path / "t.npz", **raw)
+    with pytest.raises(CorruptResult, match="digest"):
+        load(tmp_path / "t.npz", run_key(TINY, 0))
+
+
+@pytest.mark.slow
+def test_it_is_judged_on_the_learners_heldout_streams(tiny_run):
+    """The first held-out trial starts where a learner's (or yardstick's) of the same seed does."""
+    from docking.experiments import heldout_trials
+
+    _, result = tiny_run
+    yardstick = dataclasses.replace(
+        EXPERIMENT_2,
+        policy="forward",
+        train_trials=0,
+        eval_trials=0,
+        test_trials=0,
+        heldout_trials=1,
+    )
+    log = heldout_trials(yardstick, 0, None, EXPERIMENT_2.world)
+    np.testing.assert_array_equal(log.trial_poses(0)[0], result.heldout.trial_poses(0)[0])
