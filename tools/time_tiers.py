@@ -13,7 +13,8 @@ and median over its repetitions), so that the times can be scaled to another mac
 record (with the date, the commit, the number of cores and the Python version) is written to
 ``ledger/timings.json``; copy it into the checkout the clone came from, where
 ``python -m docking report --readme README.md`` writes it into the README. A tier that fails
-stops the measurement and nothing is written.
+stops the measurement and nothing is written. Tiers already in the record and not measured
+again are kept (each tier names its commit and date).
 """
 
 from __future__ import annotations
@@ -81,8 +82,14 @@ def main(argv=None) -> int:
         if tier == "setup" or not benchmarks:
             benchmarks.append(step_time())
     benchmarks.append(step_time())
+    target = ROOT / "ledger" / "timings.json"
+    # Tiers measured earlier (e.g. make setup before the last commit) are kept beside these.
+    earlier = json.loads(target.read_text())["tiers"] if target.is_file() else {}
+    today = datetime.date.today().isoformat()
+    for timing in tiers.values():
+        timing.update(commit=commit, date=today)
     record = {
-        "date": datetime.date.today().isoformat(),
+        "date": today,
         "commit": commit,
         "cores": os.cpu_count(),
         "python": platform.python_version(),
@@ -90,9 +97,8 @@ def main(argv=None) -> int:
             "min_ms": min(b["min_ms"] for b in benchmarks),
             "median_ms": sorted(b["median_ms"] for b in benchmarks)[len(benchmarks) // 2],
         },
-        "tiers": tiers,
+        "tiers": {name: (earlier | tiers)[name] for name in TIERS if name in earlier | tiers},
     }
-    target = ROOT / "ledger" / "timings.json"
     target.write_text(json.dumps(record, indent=1, sort_keys=True) + "\n")
     print(json.dumps(record, indent=1))
     print(f"written to {target}")
