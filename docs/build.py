@@ -38,6 +38,7 @@ API_MODULES = (
     "docking.ledger",
     "docking.sweep",
     "docking.gym",
+    "docking.ppo",
 )
 
 MATHJAX_CONFIG = """window.MathJax = window.MathJax || {};
