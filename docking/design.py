@@ -26,6 +26,7 @@ from types import MappingProxyType
 import numpy as np
 
 from docking.experiments import ExperimentConfig, ExperimentResult, TrialLog, heldout_trials
+from docking.ppo import PPOConfig
 from docking.scene import WorldConfig
 from docking.validate import check_instance, check_name
 
@@ -44,7 +45,7 @@ class Cell:
       key: Unique within the design (``"floor/frozen"``); names the cell in results, never
         parsed: ask :attr:`coords` instead.
       config: The run that trains the cell's networks (for a test-only cell: its
-        baseline's configuration).
+        baseline's configuration); a ``docking.ppo.PPOConfig`` for the pixel-level bound.
       coords: Typed coordinates (``{"world": "floor", "variant": "frozen"}``,
         ``{"actions": "turning", "task": "precision", "noise_deg": 4.0}``): what a notebook
         or figure selects and groups by.
@@ -70,7 +71,13 @@ class Cell:
     def __post_init__(self):
         if not isinstance(self.key, str) or not self.key:
             raise ValueError(f"Cell.key must be a non-empty string, got {self.key!r}")
-        check_instance(f"Cell {self.key!r}", "config", self.config, ExperimentConfig)
+        if not isinstance(self.config, (ExperimentConfig, PPOConfig)):
+            raise TypeError(
+                f"Cell {self.key!r}: config must be an ExperimentConfig or a PPOConfig, got "
+                f"{self.config!r:.80}"
+            )
+        if isinstance(self.config, PPOConfig) and self.test_world is not None:
+            raise ValueError(f"Cell {self.key!r}: a PPO cell cannot be test-only")
         if self.test_world is not None:
             check_instance(f"Cell {self.key!r}", "test_world", self.test_world, WorldConfig)
             if self.baseline is None:
@@ -100,7 +107,7 @@ class Cell:
         """The world the cell is measured in."""
         if self.test_world is not None:
             return self.test_world
-        return self.config.heldout_world or self.config.world
+        return getattr(self.config, "heldout_world", None) or self.config.world
 
 
 @dataclasses.dataclass(frozen=True, eq=False)

@@ -11,7 +11,13 @@ probable action) on the **same held-out streams** as the paper's learner of the 
 
 Choices, named: the networks are two-layer tanh MLPs of :attr:`PPOConfig.hidden` units for
 the policy and for the value; every PPO setting is skrl 2.1.1's default (``PPO_CFG``),
-written out in :class:`PPOConfig` so that the key records it; the entropy bonus stays at
+written out in :class:`PPOConfig` so that the key records it; PPO collects its experience
+from :attr:`PPOConfig.envs` copies of the world at once (a Gymnasium ``SyncVectorEnv``, each
+copy reset in the step that ends its episode), so that one update learns from
+``envs x rollouts`` steps: skrl's JAX agent spends about 20 ms of bookkeeping per agent step
+and per update whatever the batch, which with one env would make the 50,000 steps of the
+paper's budget cost about 20 CPU minutes per run; the budget counts the steps of all copies;
+the entropy bonus stays at
 skrl's default 0 (skrl's JAX categorical model does not compute an entropy). skrl draws
 from a global seed (``skrl.utils.set_seed``: Python's, NumPy's and JAX's), which is set
 from ``SeedSequence([PPO_STREAM, seed])``, as is the training env's seed; the held-out
@@ -52,7 +58,16 @@ from docking.validate import (
     normalise,
 )
 
-__all__ = ["PPOConfig", "PPOResult", "fingerprint", "run_ppo", "run_or_load", "load", "save"]
+__all__ = [
+    "PPOConfig",
+    "PPOResult",
+    "fingerprint",
+    "load",
+    "run_or_load",
+    "run_ppo",
+    "save",
+    "trials_in_run",
+]
 
 #: Version of the stored file's layout.
 FORMAT_VERSION = 1
@@ -82,7 +97,9 @@ class PPOConfig:
     Attributes:
       name: The results folder (a file-name component).
       world: The world PPO trains and is judged in.
-      steps: Environment steps of training (2000 trials x 25 actions at most: 50,000).
+      steps: Environment steps of training, summed over the ``envs`` copies (2000 trials x
+        25 actions at most: 50,000); a multiple of ``envs``.
+      envs: Copies of the world that PPO steps at once (one agent step steps all of them).
       heldout_trials: Greedy trials on the held-out streams after training.
       hidden: Units of the hidden tanh layers of the policy and of the value network.
       rollouts, learning_epochs, mini_batches, discount_factor, gae_lambda, learning_rate,
@@ -93,6 +110,7 @@ class PPOConfig:
     name: str = "ppo"
     world: WorldConfig = dataclasses.field(default_factory=WorldConfig)
     steps: int = 50_000
+    envs: int = 16
     heldout_trials: int = 500
     hidden: tuple[int, ...] = (64, 64)
     rollouts: int = 16
@@ -116,6 +134,7 @@ class PPOConfig:
             name=check_name(owner, "name", self.name),
             world=check_instance(owner, "world", self.world, WorldConfig),
             steps=check_int(owner, "steps", self.steps, lo=1, hi=100 * MAX_COUNT),
+            envs=check_int(owner, "envs", self.envs, lo=1, hi=256),
             heldout_trials=check_int(
                 owner, "heldout_trials", self.heldout_trials, lo=0, hi=MAX_COUNT
             ),
@@ -135,10 +154,15 @@ class PPOConfig:
                 owner, "value_loss_scale", self.value_loss_scale, lo=0, hi=1e3
             ),
         )
-        if self.mini_batches > self.rollouts:
+        if self.steps % self.envs:
             raise ValueError(
-                f"PPOConfig.mini_batches ({self.mini_batches}) must not exceed rollouts "
-                f"({self.rollouts})"
+                f"PPOConfig.steps ({self.steps}) must be a multiple of envs ({self.envs}): the "
+                "budget counts the steps of every copy of the world"
+            )
+        if self.mini_batches > self.rollouts * self.envs:
+            raise ValueError(
+                f"PPOConfig.mini_batches ({self.mini_batches}) must not exceed rollouts x "
+                f"envs ({self.rollouts * self.envs})"
             )
 
     def to_dict(self) -> dict:
@@ -288,11 +312,13 @@ def _models(config: PPOConfig, observation_space, action_space, device):
 
 
 class _EpisodeLog(gymnasium.Wrapper):
-    """Records every finished episode's success and length into the lists given."""
+    """Records every finished episode's success and length into the lists given, and calls
+    ``on_steps(1)`` after each step (if given)."""
 
-    def __init__(self, env, success: list, steps: list):
+    def __init__(self, env, success: list, steps: list, on_steps=None):
         super().__init__(env)
         self._success, self._steps, self._n = success, steps, 0
+        self._on_steps = on_steps
 
     def reset(self, **kwargs):
         self._n = 0
@@ -301,16 +327,44 @@ class _EpisodeLog(gymnasium.Wrapper):
     def step(self, action):
         out = self.env.step(action)
         self._n += 1
+        if self._on_steps is not None:
+            self._on_steps(1)
         if out[2] or out[3]:  # terminated (docked) or truncated (out of actions)
             self._success.append(bool(out[2]))
             self._steps.append(self._n)
         return out
 
 
-def run_ppo(config: PPOConfig, seed: int, progress: bool | None = None) -> PPOResult:
+def trials_in_run(config: PPOConfig) -> int:
+    """The trials a run of ``config`` reports to ``on_trials``: its training budget in trials
+    of the world's ``max_steps`` actions, then its held-out trials."""
+    check_instance("trials_in_run", "config", config, PPOConfig)
+    return config.steps // config.world.max_steps + config.heldout_trials
+
+
+class _TrialBudget:
+    """Turns environment steps into trials of ``max_steps`` actions for ``on_trials``."""
+
+    def __init__(self, on_trials, max_steps: int, total: int):
+        self.on_trials, self.max_steps, self.left, self.steps = on_trials, max_steps, total, 0
+
+    def __call__(self, n: int) -> None:
+        self.steps += n
+        done = min(self.steps // self.max_steps, self.left)
+        if done:
+            self.steps -= done * self.max_steps
+            self.left -= done
+            self.on_trials(done)
+
+
+def run_ppo(
+    config: PPOConfig, seed: int, progress: bool | None = None, on_trials=None
+) -> PPOResult:
     """Train PPO in ``config.world`` and judge it greedily on the held-out streams of
     ``seed`` (see the module docstring). ``progress``: skrl's bar over the training steps
-    (None: shown on a terminal only)."""
+    (None: shown on a terminal only); ``on_trials(n)``: called as training uses up trials of
+    ``max_steps`` actions and as held-out trials finish (:func:`trials_in_run` in all), for
+    a caller's own bar."""
     check_instance("run_ppo", "config", config, PPOConfig)
     seed = check_int("run_ppo", "seed", seed, lo=0, hi=MAX_SEED)
     _quiet_jax()
@@ -333,8 +387,26 @@ def run_ppo(config: PPOConfig, seed: int, progress: bool | None = None) -> PPORe
     global_seed, env_seed = _training_seeds(seed)
     set_seed(global_seed)
     success, steps = [], []
-    env = DockingGymEnv(seed=env_seed, **_world_kwargs(config.world))
-    env = gymnasium.wrappers.FlattenObservation(_EpisodeLog(env, success, steps))
+    budget = None
+    if on_trials is not None:
+        budget = _TrialBudget(
+            on_trials, config.world.max_steps, config.steps // config.world.max_steps
+        )
+
+    def make(k: int):
+        def env():
+            one = DockingGymEnv(seed=env_seed + k, **_world_kwargs(config.world))
+            return gymnasium.wrappers.FlattenObservation(_EpisodeLog(one, success, steps, budget))
+
+        return env
+
+    # Same-step autoreset: a finished copy is reset within the step that ends its episode,
+    # as skrl's wrapper assumes (with next-step autoreset, every episode would add a step
+    # whose action is ignored).
+    env = gymnasium.vector.SyncVectorEnv(
+        [make(k) for k in range(config.envs)],
+        autoreset_mode=gymnasium.vector.AutoresetMode.SAME_STEP,
+    )
     env = wrap_env(env, wrapper="gymnasium")
     models = _models(config, env.observation_space, env.action_space, env.device)
     memory = RandomMemory(memory_size=config.rollouts, num_envs=env.num_envs, device=env.device)
@@ -369,7 +441,7 @@ def run_ppo(config: PPOConfig, seed: int, progress: bool | None = None) -> PPORe
         )
         trainer = SequentialTrainer(
             cfg={
-                "timesteps": config.steps,
+                "timesteps": config.steps // config.envs,  # agent steps: all copies each
                 "headless": True,
                 "disable_progressbar": None if progress is None else not progress,
                 "close_environment_at_exit": False,
@@ -390,7 +462,11 @@ def run_ppo(config: PPOConfig, seed: int, progress: bool | None = None) -> PPORe
         return int(np.argmax(np.asarray(logits(x))[0]))
 
     heldout_env = DockingEnv(config.world, _streams(seed)["heldout_world"])
-    records = [policy_trial(heldout_env, greedy) for _ in range(config.heldout_trials)]
+    records = []
+    for _ in range(config.heldout_trials):
+        records.append(policy_trial(heldout_env, greedy))
+        if on_trials is not None:
+            on_trials(1)
     heldout = TrialLog.from_records(records, [config.world.start_far] * len(records))
     return PPOResult(
         config=config,
@@ -480,11 +556,13 @@ def run_or_load(
     results_dir: Path | str | None = None,
     force: bool = False,
     progress: bool | None = None,
+    on_trials=None,
 ) -> PPOResult:
-    """The stored PPO run of (``config``, ``seed``), or run and store it."""
+    """The stored PPO run of (``config``, ``seed``), or run and store it (``progress`` and
+    ``on_trials`` as in :func:`run_ppo`)."""
     path = result_path(config, seed, results_dir)
     if path.exists() and not force:
         return load(path, run_key(config, seed))
-    result = run_ppo(config, seed, progress=progress)
+    result = run_ppo(config, seed, progress=progress, on_trials=on_trials)
     save(result, path)
     return result

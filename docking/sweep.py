@@ -39,9 +39,10 @@ import uuid
 from collections.abc import Iterable, Mapping, Sequence
 from pathlib import Path
 
-from docking import ledger, paths
+from docking import ledger, paths, ppo
 from docking.experiments import ExperimentConfig, ExperimentResult
 from docking.ledger import load_run
+from docking.ppo import PPOConfig
 from docking.store import (
     CorruptResult,
     check_writable,
@@ -53,26 +54,60 @@ from docking.store import (
 from docking.validate import MAX_SEED, check_instance, check_int
 
 __all__ = [
+    "CONFIG_TYPES",
     "Job",
     "apply_override",
     "grid_configs",
     "jobs_for",
+    "load_job",
     "parse_seeds",
     "run_configs",
     "run_jobs",
 ]
 
 
+#: What a job may run: the paper's learner or a yardstick (``ExperimentConfig``), or the
+#: pixel-level bound (``docking.ppo.PPOConfig``).
+CONFIG_TYPES = (ExperimentConfig, PPOConfig)
+
+
 @dataclasses.dataclass(frozen=True)
 class Job:
-    """One run of a sweep: an experiment configuration and a seed."""
+    """One run of a sweep: a configuration (one of :data:`CONFIG_TYPES`) and a seed."""
 
-    config: ExperimentConfig
+    config: ExperimentConfig | PPOConfig
     seed: int
 
     def __post_init__(self):
-        check_instance("Job", "config", self.config, ExperimentConfig)
+        if not isinstance(self.config, CONFIG_TYPES):
+            raise TypeError(
+                f"Job.config must be an ExperimentConfig or a PPOConfig, got {self.config!r:.80}"
+            )
         object.__setattr__(self, "seed", check_int("Job", "seed", self.seed, lo=0))
+
+
+def _path(config, seed: int, results_dir) -> Path:
+    if isinstance(config, PPOConfig):
+        return ppo.result_path(config, seed, results_dir)
+    return result_path(config, seed, results_dir)
+
+
+def _trials(config) -> int:
+    from docking.experiments import trials_in_run
+
+    if isinstance(config, PPOConfig):
+        return ppo.trials_in_run(config)
+    return trials_in_run(config)
+
+
+def load_job(config, seed: int, results_dir: Path | str | None = None):
+    """The stored run of (``config``, ``seed``): an ``ExperimentResult`` from the store or
+    the ledger (:func:`docking.ledger.load_run`), or a ``docking.ppo.PPOResult`` from the
+    store; None if it is not stored."""
+    if isinstance(config, PPOConfig):
+        path = ppo.result_path(config, seed, results_dir)
+        return ppo.load(path, ppo.run_key(config, seed)) if path.exists() else None
+    return load_run(config, seed, results_dir)
 
 
 def jobs_for(configs: Iterable[ExperimentConfig], seeds: Iterable[int]) -> list[Job]:
@@ -240,12 +275,13 @@ def _run_job(
     :data:`_PROGRESS_TOPIC` (in a worker)."""
     if report is not None:
         on_trials = _Reporter(report)
+    run = ppo.run_or_load if isinstance(config, PPOConfig) else run_or_load
     try:
-        run_or_load(config, seed, results_dir, force=force, progress=False, on_trials=on_trials)
+        run(config, seed, results_dir, force=force, progress=False, on_trials=on_trials)
     finally:
         if report is not None:
             on_trials.flush()
-    return str(result_path(config, seed, results_dir))
+    return str(_path(config, seed, results_dir))
 
 
 class _Reporter:
@@ -278,7 +314,15 @@ def missing(jobs: Iterable[Job], results_dir: Path | str | None = None) -> list[
 def _stored(job: Job, results_dir: Path) -> bool:
     """Whether ``job``'s run can be loaded: a valid file in the store, or the ledger's
     entry (``StaleLedger`` if the ledger holds it but was made by other code)."""
-    path = result_path(job.config, job.seed, results_dir)
+    path = _path(job.config, job.seed, results_dir)
+    if isinstance(job.config, PPOConfig):
+        if not path.exists():
+            return False
+        try:
+            ppo.load(path, ppo.run_key(job.config, job.seed))
+        except CorruptResult:
+            return False
+        return True
     if not path.exists():
         if ledger.holds(job.config, job.seed):
             ledger.manifest()  # raises StaleLedger: no recomputing behind a stale ledger
@@ -418,16 +462,14 @@ def run_jobs(
     if scheduler is not None:
         _check_scheduler(scheduler)
     root = Path(results_dir if results_dir is not None else paths.results_dir()).resolve()
-    paths_ = [result_path(j.config, j.seed, root) for j in jobs]
+    paths_ = [_path(j.config, j.seed, root) for j in jobs]
     todo = [k for k, j in enumerate(jobs) if force or not _stored(j, root)]
     if todo:  # a read-only store that holds every run can still be read
         check_writable(root)
 
     from tqdm.auto import tqdm
 
-    from docking.experiments import trials_in_run
-
-    trials = [trials_in_run(j.config) for j in jobs]
+    trials = [_trials(j.config) for j in jobs]
     bar = tqdm(
         total=sum(trials),
         initial=sum(trials) - sum(trials[k] for k in todo),
@@ -476,7 +518,8 @@ def run_configs(
     desc: str = "runs",
 ) -> dict:
     """Run (or load) every configuration of ``configs`` for every seed in one sweep
-    (:func:`run_jobs`); ``{key: its runs in seed order}`` (``ExperimentResult``s)."""
+    (:func:`run_jobs`); ``{key: its runs in seed order}`` (``ExperimentResult`` s, or
+    ``docking.ppo.PPOResult`` s for PPO configurations)."""
     seeds = tuple(seeds)
     jobs = jobs_for(configs.values(), seeds)
     run_jobs(
@@ -487,7 +530,7 @@ def run_configs(
         progress=progress,
         desc=desc,
     )
-    loaded = iter(load_run(j.config, j.seed, results_dir) for j in jobs)
+    loaded = iter(load_job(j.config, j.seed, results_dir) for j in jobs)
     return {key: [next(loaded) for _ in seeds] for key in configs}
 
 

@@ -7,11 +7,20 @@ import dataclasses
 import numpy as np
 import pytest
 
-from docking.ppo import PPOConfig, fingerprint, load, result_path, run_key, run_or_load, save
+from docking.ppo import (
+    PPOConfig,
+    fingerprint,
+    load,
+    result_path,
+    run_key,
+    run_or_load,
+    save,
+    trials_in_run,
+)
 from docking.presets import EXPERIMENT_2
 from docking.store import CorruptResult, source_fingerprint
 
-TINY = PPOConfig(name="ppo-test", world=EXPERIMENT_2.world, steps=48, heldout_trials=3)
+TINY = PPOConfig(name="ppo-test", world=EXPERIMENT_2.world, steps=64, envs=2, heldout_trials=3)
 
 
 @pytest.mark.parametrize(
@@ -21,7 +30,9 @@ TINY = PPOConfig(name="ppo-test", world=EXPERIMENT_2.world, steps=48, heldout_tr
         ({"learning_rate": 0.0}, "PPOConfig.learning_rate"),
         ({"hidden": ()}, "PPOConfig.hidden"),
         ({"hidden": (64, 0)}, "PPOConfig.hidden"),
-        ({"mini_batches": 32}, "mini_batches"),
+        ({"mini_batches": 300}, "mini_batches"),
+        ({"steps": 51}, "multiple of envs"),
+        ({"envs": 0}, "PPOConfig.envs"),
         ({"name": "../x"}, "PPOConfig.name"),
         ({"world": "floor"}, "PPOConfig.world"),
     ],
@@ -40,13 +51,16 @@ def test_configuration_round_trips_and_refuses_unknown_fields():
 def test_key_covers_its_own_code_and_libraries():
     assert fingerprint() != source_fingerprint()
     assert run_key(TINY, 0) != run_key(TINY, 1)
-    assert run_key(TINY, 0) != run_key(dataclasses.replace(TINY, steps=49), 0)
+    assert run_key(TINY, 0) != run_key(dataclasses.replace(TINY, steps=66), 0)
 
 
 @pytest.fixture(scope="module")
 def tiny_run(tmp_path_factory):
     folder = tmp_path_factory.mktemp("ppo")
-    return folder, run_or_load(TINY, 0, folder, progress=False)
+    reported = []
+    result = run_or_load(TINY, 0, folder, progress=False, on_trials=reported.append)
+    assert sum(reported) == trials_in_run(TINY) == 64 // 25 + 3
+    return folder, result
 
 
 @pytest.mark.slow
@@ -89,3 +103,29 @@ def test_it_is_judged_on_the_learners_heldout_streams(tiny_run):
     )
     log = heldout_trials(yardstick, 0, None, EXPERIMENT_2.world)
     np.testing.assert_array_equal(log.trial_poses(0)[0], result.heldout.trial_poses(0)[0])
+
+
+@pytest.mark.slow
+def test_a_sweep_runs_ppo_jobs_beside_the_learners(tmp_path):
+    """PPO runs go through the same sweep as the learner's: stored under their key, loaded
+    on the next call instead of recomputed."""
+    from docking.sweep import run_configs
+
+    runs = run_configs({"ppo": TINY}, [1], tmp_path, workers=1, progress=False)
+    (first,) = runs["ppo"]
+    assert result_path(TINY, 1, tmp_path).exists() and len(first.heldout) == 3
+    stamp = result_path(TINY, 1, tmp_path).stat().st_mtime_ns
+    (again,) = run_configs({"ppo": TINY}, [1], tmp_path, workers=1, progress=False)["ppo"]
+    assert result_path(TINY, 1, tmp_path).stat().st_mtime_ns == stamp
+    np.testing.assert_array_equal(first.heldout.success, again.heldout.success)
+
+
+def test_a_design_cell_may_be_the_pixel_level_bound_but_not_test_only():
+    from docking.design import Cell
+
+    cell = Cell("w/ppo", TINY, {"world": "w"}, seeds=(0, 1))
+    assert cell.trained and cell.world == TINY.world
+    with pytest.raises(ValueError, match="PPO cell cannot be test-only"):
+        Cell("w/ppo-test", TINY, baseline="w/ppo", test_world=TINY.world)
+    with pytest.raises(TypeError, match="config"):
+        Cell("w/x", TINY.to_dict())

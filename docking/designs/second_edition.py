@@ -74,6 +74,7 @@ from docking.designs.study import (
     with_cup,
 )
 from docking.experiments import Curriculum, ExperimentConfig
+from docking.ppo import PPOConfig
 from docking.presets import EXPERIMENT_2, FLOOR_WORLD
 
 #: The family-wise error rate of the verdicts (Holm).
@@ -186,7 +187,8 @@ def _yardstick(base: ExperimentConfig, policy: str) -> ExperimentConfig:
 
 def _path_cells() -> list[Cell]:
     """Per world of the path: the paper's configuration and linear SARSA (with learning
-    curves), and the yardsticks."""
+    curves), the pixel-level bound (PPO, :mod:`docking.ppo`, with its settings there) and
+    the yardsticks."""
     found = []
     for key, what, world, name in PATH:
         base = _base(world, name)
@@ -199,6 +201,15 @@ def _path_cells() -> list[Cell]:
         )
         found.append(_cell(key, "paper", paper, f"the paper's configuration ({what})"))
         found.append(_cell(key, "linear", linear, f"linear SARSA on the pixels ({what})"))
+        found.append(
+            _cell(
+                key,
+                "ppo",
+                PPOConfig(name="ppo", world=world, steps=PPO_STEPS, heldout_trials=HELDOUT_TRIALS),
+                f"PPO on the pixels, {PPO_STEPS:,} steps ({what})",
+                seeds=PPO_SEEDS,
+            )
+        )
         for policy in YARDSTICKS:
             found.append(
                 _cell(
