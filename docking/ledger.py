@@ -48,10 +48,11 @@ from pathlib import Path
 
 import numpy as np
 
-from docking import paths
+from docking import paths, ppo
 from docking.experiments import ExperimentConfig, ExperimentResult, TrialLog
 from docking.fileio import atomic_write
 from docking.network import Network
+from docking.ppo import PPOConfig
 
 __all__ = [
     "LEDGER_FORMAT",
@@ -125,9 +126,10 @@ def timings(folder: Path | None = None) -> dict | None:
 
 
 def computing_seconds(data: dict) -> tuple[int, float]:
-    """The number of runs in a manifest and the sum of their recorded wall times (seconds of
-    one process each, training and testing)."""
-    walls = [record.get("wall_seconds", float("nan")) for record in data["runs"].values()]
+    """The number of runs in a manifest (the learner's, the yardsticks' and PPO's) and the
+    sum of their recorded wall times (seconds of one process each, training and testing)."""
+    records = [*data["runs"].values(), *data.get("ppo_runs", {}).values()]
+    walls = [record.get("wall_seconds", float("nan")) for record in records]
     return len(walls), float(sum(walls))
 
 
@@ -141,9 +143,11 @@ def _raw_manifest(folder: Path | None) -> dict | None:
 @functools.lru_cache(maxsize=4)
 def _read_manifest(path: Path, _mtime: int) -> dict:
     data = json.loads(path.read_text())
-    data["index"] = {
-        _index_key(record["config"], record["seed"]): key for key, record in data["runs"].items()
-    }
+    for runs, index in (("runs", "index"), ("ppo_runs", "ppo_index")):
+        data[index] = {
+            _index_key(record["config"], record["seed"]): key
+            for key, record in data.get(runs, {}).items()
+        }
     return data
 
 
@@ -181,10 +185,11 @@ def _check(folder: Path, data: dict) -> None:
         )
 
 
-def holds(config: ExperimentConfig, seed: int) -> bool:
+def holds(config: ExperimentConfig | PPOConfig, seed: int) -> bool:
     """Whether the ledger holds the run of (``config``, ``seed``) (computed by any code)."""
     data = _raw_manifest(ledger_dir())
-    return data is not None and _index_key(config.to_dict(), seed) in data["index"]
+    index = "ppo_index" if isinstance(config, PPOConfig) else "index"
+    return data is not None and _index_key(config.to_dict(), seed) in data[index]
 
 
 def lookup(config: ExperimentConfig, seed: int) -> ExperimentResult | None:
@@ -204,6 +209,86 @@ def lookup(config: ExperimentConfig, seed: int) -> ExperimentResult | None:
     if key != run_key(config, seed, render=data["rendering_stack"]):
         raise StaleLedger(f"the ledger's key of {config.name!r} seed {seed} is not this code's")
     return _read_entry(folder / data["runs"][key]["file"], key, data["runs"][key])
+
+
+def _check_ppo(folder: Path, data: dict) -> None:
+    """:class:`StaleLedger` unless the ledger's PPO runs were computed by this code
+    (:func:`docking.ppo.fingerprint`)."""
+    from docking.store import module_digests
+
+    if data.get("ppo_fingerprint") != ppo.fingerprint():
+        ours, theirs = module_digests(), data.get("ppo_modules", {})
+        changed = sorted(k for k in set(ours) | set(theirs) if ours.get(k) != theirs.get(k))
+        raise StaleLedger(
+            f"the ledger in {folder} holds PPO runs of other code (changed: "
+            f"{', '.join(changed) or 'the fingerprint or a library version'}); they are not "
+            f"used. Recompute them: {_RECOMPUTE}"
+        )
+
+
+def lookup_ppo(config: PPOConfig, seed: int) -> ppo.PPOResult | None:
+    """The ledger's entry for the PPO run (``config``, ``seed``): a ``PPOResult`` whose
+    held-out log keeps every per-trial array and no per-step one (reading one raises
+    :class:`NotInLedger`); None if the ledger does not hold it; :class:`StaleLedger` if it
+    was computed by other code."""
+    folder = ledger_dir()
+    data = _raw_manifest(folder)
+    if data is None:
+        return None
+    key = data["ppo_index"].get(_index_key(config.to_dict(), seed))
+    if key is None:
+        return None
+    _check_ppo(folder, data)
+    if key != ppo.run_key(config, seed):
+        raise StaleLedger(f"the ledger's key of PPO run {config.name!r} seed {seed} is not ours")
+    record = data["ppo_runs"][key]
+    raw = (folder / record["file"]).read_bytes()
+    if hashlib.sha256(raw).hexdigest() != record["entry_digest"]:
+        raise StaleLedger(f"the ledger entry {record['file']} does not match its digest")
+    with np.load(io.BytesIO(raw), allow_pickle=False) as entry:
+        arrays = {name: entry[name] for name in entry.files}
+    where = f"PPO run {config.name!r} seed {seed} (key {key[:16]}), heldout"
+    per_trial = {name: arrays[f"heldout.{name}"] for name in TRIAL_FIELDS}
+    n = len(per_trial["success"])
+    empty = {name: np.zeros(0, dtype=np.float32) for name in STEP_FIELDS}
+    heldout = PartialTrialLog(where, per_trial, np.zeros(n, dtype=bool), empty, set(), None)
+    return ppo.PPOResult(
+        config=config,
+        seed=seed,
+        train_success=arrays["train.success"],
+        train_steps=arrays["train.steps"],
+        heldout=heldout,
+        wall_time_train=float(record["wall_time_train"]),
+        wall_time_test=float(record["wall_time_test"]),
+    )
+
+
+def _ppo_entry(path: Path, key: str) -> tuple[dict, bytes]:
+    """The manifest record and the entry file of the stored PPO run at ``path``: its
+    training episodes and its held-out per-trial arrays (what the analyses read of a PPO
+    run)."""
+    result = ppo.load(path, key)  # checks the file against the key and its digest
+    with np.load(path, allow_pickle=False) as stored:
+        digest = json.loads(str(stored["meta"]))["digest"]
+    arrays = {"train.success": result.train_success, "train.steps": result.train_steps}
+    for name in TRIAL_FIELDS:
+        arrays[f"heldout.{name}"] = getattr(result.heldout, name)
+    buffer = io.BytesIO()
+    _savez_deterministic(buffer, arrays)
+    raw = buffer.getvalue()
+    config, seed = result.config, result.seed
+    record = {
+        "name": config.name,
+        "seed": seed,
+        "digest": digest,
+        "file": f"ppo/{config.name}/{key[:16]}/seed{seed}.npz",
+        "entry_digest": hashlib.sha256(raw).hexdigest(),
+        "config": config.to_dict(),
+        "wall_time_train": round(result.wall_time_train, 1),
+        "wall_time_test": round(result.wall_time_test, 1),
+        "wall_seconds": round(result.wall_time_train + result.wall_time_test, 1),
+    }
+    return record, raw
 
 
 # ------------------------------------------------------------------------------------------
@@ -433,16 +518,32 @@ def trace(result: ExperimentResult, key: str, source: Path) -> ExperimentResult:
     return result if path is None else TracedResult(result, key, path, source)
 
 
+def _trace_ppo(key: str, source: Path) -> None:
+    """Record in the trace file (if any) that the PPO run ``key`` was loaded from ``source``
+    (its ledger entry keeps what the analyses read of a PPO run: :func:`_ppo_entry`)."""
+    path = trace_file()
+    fact = (key, None, "load-ppo", str(Path(source).resolve()))
+    if path is None or fact in _NOTED:
+        return
+    _NOTED.add(fact)
+    line = json.dumps({"key": key, "part": None, "kind": "load-ppo", "value": fact[3]})
+    with open(path, "a") as f:
+        f.write(line + "\n")
+
+
 def read_trace(lines: Iterable[str]) -> dict[str, dict]:
-    """``{run key: what to keep}`` from the lines of trace files."""
+    """``{run key: what to keep}`` from the lines of trace files (a PPO run's record has
+    ``"ppo": True``)."""
     keep: dict[str, dict] = {}
     for line in lines:
         if not line.strip():
             continue
         record = json.loads(line)
         entry = keep.setdefault(record["key"], {"network": False, "parts": {}})
-        if record["kind"] == "load":
+        if record["kind"] in ("load", "load-ppo"):
             entry["path"] = record["value"]
+            if record["kind"] == "load-ppo":
+                entry["ppo"] = True
             continue
         if record["kind"] == "network":
             entry["network"] = True
@@ -482,11 +583,15 @@ def update(keep: dict[str, dict], folder: Path | str | None = None) -> dict:
     folder = Path(folder) if folder is not None else ledger_dir()
     if folder is None:
         raise ValueError("no ledger folder: DOCKING_LEDGER is off and no folder was given")
-    runs, files = {}, {}
+    runs, ppo_runs, files = {}, {}, {}
     for key, wanted in sorted(keep.items()):
         if "path" not in wanted:
             raise ValueError(f"the trace names run {key[:16]} but not where it is stored")
         path = Path(wanted["path"])
+        if wanted.get("ppo"):
+            record, files_raw = _ppo_entry(path, key)
+            ppo_runs[key], files[record["file"]] = record, files_raw
+            continue
         result = load_result(path, key)  # checks the file against the key and its digest
         with np.load(path, allow_pickle=False) as data:
             digest = content_digest(data)
@@ -521,8 +626,11 @@ def update(keep: dict[str, dict], folder: Path | str | None = None) -> dict:
         "rendering_stack": rendering_stack(),
         "runs": runs,
     }
+    if ppo_runs:
+        data.update(ppo_fingerprint=ppo.fingerprint(), ppo_modules=module_digests())
+        data["ppo_runs"] = ppo_runs
     folder.mkdir(parents=True, exist_ok=True)
-    old = set(folder.glob("runs/**/*.npz"))
+    old = set(folder.glob("runs/**/*.npz")) | set(folder.glob("ppo/**/*.npz"))
     for relative, raw in files.items():
         target = folder / relative
         old.discard(target)
@@ -551,15 +659,24 @@ def _savez_deterministic(buffer, arrays: dict) -> None:
 
 
 def load_run(
-    config: ExperimentConfig, seed: int, results_dir: Path | str | None = None
-) -> ExperimentResult | None:
+    config: ExperimentConfig | PPOConfig, seed: int, results_dir: Path | str | None = None
+) -> ExperimentResult | ppo.PPOResult | None:
     """The run of (``config``, ``seed``) if it is stored: from the results store (checked
     against its key and digest; ``CorruptResult`` if the file there is bad), else from the
     committed ledger (:func:`lookup`; ``StaleLedger`` if the ledger holds the
     run but was computed by other code); None if neither holds it. Runs from the store are
-    traced when ``DOCKING_TRACE`` is set (:func:`trace`)."""
+    traced when ``DOCKING_TRACE`` is set (:func:`trace`). A ``docking.ppo.PPOConfig`` gives
+    its ``PPOResult`` the same way (:func:`lookup_ppo`)."""
     from docking.store import load_result, result_path, run_key
 
+    if isinstance(config, PPOConfig):
+        path = ppo.result_path(config, seed, results_dir)
+        if path.exists():
+            key = ppo.run_key(config, seed)
+            result = ppo.load(path, key)
+            _trace_ppo(key, path)
+            return result
+        return lookup_ppo(config, seed)
     path = result_path(config, seed, results_dir)
     if path.exists():
         key = run_key(config, seed)

@@ -101,12 +101,9 @@ def _trials(config) -> int:
 
 
 def load_job(config, seed: int, results_dir: Path | str | None = None):
-    """The stored run of (``config``, ``seed``): an ``ExperimentResult`` from the store or
-    the ledger (:func:`docking.ledger.load_run`), or a ``docking.ppo.PPOResult`` from the
-    store; None if it is not stored."""
-    if isinstance(config, PPOConfig):
-        path = ppo.result_path(config, seed, results_dir)
-        return ppo.load(path, ppo.run_key(config, seed)) if path.exists() else None
+    """The stored run of (``config``, ``seed``) from the store or the ledger
+    (:func:`docking.ledger.load_run`): an ``ExperimentResult``, or a ``docking.ppo.PPOResult``
+    for a PPO configuration; None if neither holds it."""
     return load_run(config, seed, results_dir)
 
 
@@ -317,6 +314,9 @@ def _stored(job: Job, results_dir: Path) -> bool:
     path = _path(job.config, job.seed, results_dir)
     if isinstance(job.config, PPOConfig):
         if not path.exists():
+            if ledger.holds(job.config, job.seed):
+                ledger.lookup_ppo(job.config, job.seed)  # StaleLedger: no recomputing behind it
+                return True
             return False
         try:
             ppo.load(path, ppo.run_key(job.config, job.seed))

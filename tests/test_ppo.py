@@ -129,3 +129,41 @@ def test_a_design_cell_may_be_the_pixel_level_bound_but_not_test_only():
         Cell("w/ppo-test", TINY, baseline="w/ppo", test_world=TINY.world)
     with pytest.raises(TypeError, match="config"):
         Cell("w/x", TINY.to_dict())
+
+
+@pytest.mark.slow
+def test_the_ledger_serves_a_ppo_run_and_refuses_one_of_other_code(tiny_run, tmp_path, monkeypatch):
+    """A PPO run read under tracing enters the ledger (training episodes, held-out per-trial
+    arrays); served from it bit for bit; per-step data is not kept; other code is refused."""
+    import json
+
+    from docking import ledger
+    from docking.sweep import run_configs
+
+    folder, stored = tiny_run
+    trace = tmp_path / "trace.jsonl"
+    monkeypatch.setenv("DOCKING_TRACE", str(trace))
+    monkeypatch.setenv("DOCKING_LEDGER", "off")
+    ledger._NOTED.clear()
+    ledger.load_run(TINY, 0, folder)
+    keep = ledger.read_trace(trace.read_text().splitlines())
+    assert keep[run_key(TINY, 0)]["ppo"]
+    data = ledger.update(keep, tmp_path / "ledger")
+    assert set(data["ppo_runs"]) == {run_key(TINY, 0)} and not data["runs"]
+    monkeypatch.delenv("DOCKING_TRACE")
+    monkeypatch.setenv("DOCKING_LEDGER", str(tmp_path / "ledger"))
+    served = ledger.load_run(TINY, 0, tmp_path / "empty-store")
+    np.testing.assert_array_equal(served.train_success, stored.train_success)
+    np.testing.assert_array_equal(served.heldout.success, stored.heldout.success)
+    np.testing.assert_array_equal(served.heldout.steps, stored.heldout.steps)
+    with pytest.raises(ledger.NotInLedger, match="poses"):
+        served.heldout.trial_poses(0)
+    monkeypatch.setattr("docking.ppo.run_ppo", lambda *a, **k: pytest.fail("recomputed"))
+    (again,) = run_configs({"p": TINY}, [0], tmp_path / "s", workers=1, progress=False)["p"]
+    assert again.heldout_success == stored.heldout_success
+    manifest = tmp_path / "ledger" / "manifest.json"
+    raw = json.loads(manifest.read_text())
+    raw["ppo_fingerprint"] = "0" * 64  # as if docking.ppo had changed since
+    manifest.write_text(json.dumps(raw))
+    with pytest.raises(ledger.StaleLedger, match="PPO runs of other code"):
+        ledger.load_run(TINY, 0, tmp_path / "empty-store")
