@@ -369,16 +369,22 @@ def _field_block(
     unit_notes,
     world: WorldConfig,
 ) -> None:
-    """One half of Fig. 4 in the subfigure ``sub``: the action panels (L, R, F, B, then any
-    turns) above a grid of unit panels, the units in ``framed`` framed red."""
+    """One block of Fig. 4 in the subfigure ``sub``: the action panels (L, R, F, B, then any
+    turns; ``actions`` None: the text ``action_notes`` in their place) above a grid of unit
+    panels, the units in ``framed`` framed red."""
     _panel(sub, letter, heading)
     rows = int(np.ceil(units.shape[0] / columns))
     sf_actions, sf_units = sub.subfigures(2, 1, height_ratios=(1.25, rows * 0.62))
     order = action_order(world)
-    for ax, i in zip(sf_actions.subplots(1, len(order)), order, strict=True):
-        _image(ax, actions[i])
-        ax.set_title(world.action_letters[i], fontsize=11, pad=2)
-        ax.set_xlabel(action_notes[i], fontsize=7, color="0.3", labelpad=2)
+    if actions is None:
+        sf_actions.text(
+            0.5, 0.45, action_notes, ha="center", va="center", fontsize=9, color="0.25", wrap=True
+        )
+    else:
+        for ax, i in zip(sf_actions.subplots(1, len(order)), order, strict=True):
+            _image(ax, actions[i])
+            ax.set_title(world.action_letters[i], fontsize=11, pad=2)
+            ax.set_xlabel(action_notes[i], fontsize=7, color="0.3", labelpad=2)
     for j, ax in enumerate(sf_units.subplots(rows, columns).flat):
         if j >= units.shape[0]:
             ax.set_visible(False)
@@ -406,8 +412,10 @@ def fig4(
     mean_inputs: MeanInputs,
     framed: dict[int, list[str]],
     columns: int | None = None,
+    initial_rf: np.ndarray | None = None,
 ) -> Figure:
-    """The paper's Fig. 4 for Experiment 2 (36 feature units), in two halves.
+    """The paper's Fig. 4 for Experiment 2 (36 feature units), in two halves, and beside
+    them (if ``initial_rf`` is given) the feature units' weights at their random start.
 
     Left, the weights (as in the paper): the action units' receptive fields
     ``sum_j Q_ij W_j`` (L, R, F, B) above the feature units' receptive fields ``W_j`` (6x6).
@@ -424,6 +432,9 @@ def fig4(
       mean_inputs: :func:`docking.analysis.mean_winning_inputs` of the network.
       framed: :func:`docking.analysis.strongest_units` of the network.
       columns: Grid columns; default ``ceil(sqrt(n_features))``.
+      initial_rf: The feature units' receptive fields at the run's random start (the same
+        seed's initial ``W``: what W frozen, eps_W = 0, keeps), drawn as a third block C, so
+        that a reader can see what training changed.
     """
     action_mean, unit_mean, action_counts, unit_counts = mean_inputs
     n_samples = int(np.sum(action_counts))
@@ -431,7 +442,8 @@ def fig4(
     columns = columns or int(np.ceil(np.sqrt(n_feat)))
 
     rows = int(np.ceil(n_feat / columns))
-    fig = _new_figure(15.0, 2.2 + rows * 0.62)
+    blocks = 2 if initial_rf is None else 3
+    fig = _new_figure(7.5 * blocks, 2.2 + rows * 0.62)
     fig.suptitle(
         f"Experiment 2 ({n_feat} feature units, {config.network.rule} rule), seed {seed}, after "
         f"{config.train_trials} training trials\nEach panel scaled 0..its own maximum, strong "
@@ -439,7 +451,8 @@ def fig4(
         "R and F.",
         fontsize=10,
     )
-    left, right = fig.subfigures(1, 2, wspace=0.03)
+    subs = fig.subfigures(1, blocks, wspace=0.03)
+    left, right = subs[0], subs[1]
     _field_block(
         left,
         "A",
@@ -467,6 +480,19 @@ def fig4(
         ],
         world=config.world,
     )
+    if initial_rf is not None:
+        _field_block(
+            subs[2],
+            "C",
+            "feature units $W_j$ at their random start (what W frozen, eps_W = 0, keeps)",
+            None,
+            initial_rf,
+            framed,
+            columns,
+            action_notes="the same seed's W before training;\nframed: the units framed in A and B",
+            unit_notes=[f"unit {j}" for j in range(n_feat)],
+            world=config.world,
+        )
     return fig
 
 
@@ -786,15 +812,45 @@ def fig_learning_curves(curves1: LearningCurves | None, curves2: LearningCurves 
 
 def fig_trial(config: WorldConfig, poses: np.ndarray, title: str, color="green") -> Figure:
     """One trial seen from above (``poses``: rows ``[x, y, yaw]``) on the floor plan, framed
-    to the start region and the sideboard."""
+    to the start region and the sideboard: the path, an arrow at each pose pointing where
+    the robot faces, and a legend of every mark."""
+    from matplotlib.lines import Line2D
+    from matplotlib.patches import Patch
+
+    poses = np.asarray(poses, dtype=float)
     region = StartRegion.of(config)
-    fig = _new_figure(4.0, 6.5)
+    fig = _new_figure(6.4, 6.8)
     ax = fig.add_subplot()
     draw_floor_plan(ax, config, region)
     draw_trajectory(ax, poses, color)
+    length = 0.08  # m: the arrows' length on the plan
+    ax.quiver(
+        poses[:, 1],
+        poses[:, 0],
+        length * np.sin(poses[:, 2]),
+        length * np.cos(poses[:, 2]),
+        angles="xy",
+        scale_units="xy",
+        scale=1.0,
+        color="0.15",
+        width=0.006,
+        headwidth=3.5,
+        zorder=5,
+    )
     ax.set_title(title)
     ax.set_ylim(-region.far - 0.1, _plan_extent(config)[2] + 0.05)
     ax.set_xlim(region.half_width(region.far) + 0.1, -region.half_width(region.far) - 0.1)
+    handles = [
+        Line2D([], [], color=color, marker=".", lw=1.1, label="path (a dot after each step)"),
+        Line2D([], [], ls="none", marker="o", mfc="white", mec=color, label="start pose"),
+        Line2D([], [], ls="none", marker=r"$\uparrow$", color="0.15", ms=9, label="heading"),
+        Patch(facecolor=_DOCK_YELLOW, edgecolor="0.3", label="docking region"),
+        Patch(fill=False, linestyle="--", edgecolor="0.45", label="start region"),
+        Patch(facecolor=_LANDMARK_RED, label="landmark"),
+    ]
+    if "sideboard" in floor_plan(config):
+        handles.append(Patch(facecolor=_SIDEBOARD_GREY, edgecolor="0.4", label="sideboard"))
+    ax.legend(handles=handles, fontsize=7, loc="upper left", bbox_to_anchor=(1.02, 1.0))
     return fig
 
 
@@ -831,69 +887,92 @@ def fig_forest(
     seeds: list[np.ndarray],
     success: np.ndarray,
     difference: np.ndarray,
-    margin: float | None = None,
+    margins=None,
     decided=None,
+    difference_label: str = "its baseline minus the cell (percentage points), 95% interval",
 ) -> Figure:
-    """Every cell of the study as intervals (a forest plot).
+    """Every cell of a study as intervals (a forest plot).
 
     Args:
       labels: One label per cell (top to bottom).
       groups: One group name per cell (e.g. the world and experiment); a new group starts a
-        new block with its name.
+        new block under a title row of its own.
       seeds: Per cell, the held-out success of each seed (drawn as dots).
       success: ``(cells, 3)``: mean, low, high of the held-out success (left panel).
-      difference: ``(cells, 3)``: the cell minus its baseline (the paper's configuration in
-        the same world, or the cell it is a test-only variant of), mean, low, high; NaN rows
-        for the paper's configurations themselves (right panel).
-      margin: If given, the +-margin band of "no effect" shaded in the right panel.
+      difference: ``(cells, 3)``: the comparison of the cell with its baseline, in the sign
+        that ``difference_label`` names (by default the baseline minus the cell: positive
+        where the paper's configuration does better), mean, low, high; NaN rows for the
+        baselines themselves (right panel).
+      margins: Per cell, the +-margin of "no effect" where the rule of its claim uses one
+        (shaded behind that row only), else None or NaN. None: no row has one.
       decided: Per cell, whether the rule of its claim decides its comparison (drawn red;
         grey otherwise). Default: where the difference's interval excludes 0.
+      difference_label: The right panel's axis label.
     """
     n = len(labels)
     if not (len(groups) == len(seeds) == len(success) == len(difference) == n):
         raise ValueError("fig_forest: labels, groups, seeds and intervals differ in length")
-    fig = _new_figure(11.0, 0.32 * n + 1.6)
+    if margins is not None and len(margins) != n:
+        raise ValueError("fig_forest: margins must have one entry per cell")
+    starts = [k for k in range(n) if k == 0 or groups[k] != groups[k - 1]]
+    slots = n + len(starts)  # a title row above each group
+    fig = _new_figure(11.0, 0.32 * slots + 1.6)
     left, right = fig.subplots(1, 2, sharey=True, width_ratios=(1.15, 1))
-    y = np.arange(n)[::-1].astype(float)
+    y, position = np.zeros(n), slots - 1.0
+    for k in range(n):
+        if k in starts:
+            position -= 1.0  # the title's row
+        y[k], position = position, position - 1.0
     for k in range(n):
         color = "0.15" if np.isnan(difference[k, 0]) else "C0"
         left.plot(success[k, 1:] * 100, [y[k]] * 2, color=color, lw=2.2, solid_capstyle="butt")
         left.plot(success[k, 0] * 100, y[k], "o", color=color, markersize=5, zorder=3)
         jitter = np.linspace(-0.18, 0.18, len(seeds[k]))
         left.plot(100 * np.asarray(seeds[k]), y[k] + jitter, ".", color="C1", ms=3, alpha=0.7)
+        margin = None if margins is None else margins[k]
+        if margin is not None and np.isfinite(margin):
+            right.fill_betweenx(
+                [y[k] - 0.45, y[k] + 0.45], -100 * margin, 100 * margin, color="0.88", zorder=0
+            )
         if not np.isnan(difference[k, 0]):
             d = 100 * difference[k]
             red = (d[1] > 0 or d[2] < 0) if decided is None else bool(decided[k])
             c = "C3" if red else "0.45"
             right.plot(d[1:], [y[k]] * 2, color=c, lw=2.2, solid_capstyle="butt")
             right.plot(d[0], y[k], "o", color=c, markersize=5, zorder=3)
-    if margin is not None:
-        right.axvspan(-100 * margin, 100 * margin, color="0.9", zorder=0)
     right.axvline(0, color="0.2", lw=0.8)
-    starts = [k for k in range(n) if k == 0 or groups[k] != groups[k - 1]]
     for k in starts:
+        title_y = y[k] + 1.0
         if k:
             for ax in (left, right):
-                ax.axhline(y[k] + 0.5, color="0.6", lw=0.6)
+                ax.axhline(title_y + 0.5, color="0.6", lw=0.6)
         left.text(
-            0.0,
-            y[k] + 0.42,
+            0.01,
+            title_y,
             groups[k],
             transform=left.get_yaxis_transform(),
-            fontsize=8,
+            fontsize=8.5,
             fontweight="bold",
-            va="bottom",
+            va="center",
             ha="left",
-            color="0.25",
+            color="0.2",
         )
     left.set_yticks(y, labels, fontsize=8)
-    left.set_ylim(-0.7, n - 0.1)
+    left.set_ylim(-0.7, slots - 0.45)
     left.set_xlabel("held-out success (%): mean, 95% interval, seeds (dots)")
-    right.set_xlabel("minus its baseline (percentage points), 95% interval")
+    right.set_xlabel(difference_label)
     left.set_title("A", loc="left", fontweight="bold")
     right.set_title("B", loc="left", fontweight="bold")
     for ax in (left, right):
         ax.grid(axis="x", alpha=0.3, lw=0.5)
+    if margins is not None and any(m is not None and np.isfinite(m) for m in margins):
+        from matplotlib.patches import Patch
+
+        right.legend(
+            handles=[Patch(color="0.88", label="the margin of its rule (rows with one)")],
+            fontsize=7,
+            loc="lower right",
+        )
     return fig
 
 
@@ -951,6 +1030,12 @@ def fig_failures(
     ax.set_ylim(0, 100)
     ax.legend(fontsize=7, loc="upper right")
     ax.grid(axis="y", alpha=0.3, lw=0.5)
+    ax.set_title(
+        "share of each cell's failed held-out trials in each class; a failure can fall in "
+        "several classes, so a cell's bars need not sum to 100%",
+        fontsize=8,
+        loc="left",
+    )
     return fig
 
 
@@ -1007,7 +1092,8 @@ def fig_experiment3(
         success (fractions), drawn as points with 95% interval bars.
       seeds: ``{action set label: (tasks, noises, seeds)}`` per-seed success (dots).
       oracle: ``{action set label: (tasks, noises)}`` the pose-reading oracle's success with
-        that action set (open markers joined by a dashed line: the bound).
+        that action set (open markers, one shape per action set, joined by a dashed line:
+        the bound), drawn beside its learner's points.
     """
     noise = np.asarray(noise, dtype=float)
     for label, values in series.items():
@@ -1036,16 +1122,19 @@ def fig_experiment3(
             for n in range(len(noise)):
                 jitter = np.linspace(-0.06, 0.06, points.shape[1])
                 ax.plot(x[n] + jitter, points[n], ".", color=color, ms=3, alpha=0.5)
+            # Each action set's oracle beside its learner (not at the tick), so that equal
+            # bounds (both at 100%) stay two visible diamonds.
             ax.plot(
-                noise,
+                x + 0.5 * offsets[k],
                 100 * np.asarray(oracle[label])[t],
                 "--",
-                marker="D",
+                marker="D" if k == 0 else "s",
                 mfc="none",
+                mew=1.3,
                 color=color,
                 lw=0.9,
-                ms=5,
-                label=f"{label}: oracle",
+                ms=6,
+                label=f"{label}: oracle (the bound)",
             )
         ax.set_title(task, fontsize=10)
         ax.set_xticks(noise, [f"{v:g}" for v in noise])
@@ -1094,7 +1183,11 @@ def fig_failure_matrix(
         [f"{label} ({n} failures)" for label, n in zip(cell_labels, failures, strict=True)],
         fontsize=8,
     )
-    ax.set_title("share of failed held-out trials in each class (%)", fontsize=9)
+    ax.set_title(
+        "share of failed held-out trials in each class (%); classes overlap (a failure can "
+        "fall in several), so a row need not sum to 100",
+        fontsize=8,
+    )
     return fig
 
 

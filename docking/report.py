@@ -19,7 +19,7 @@ import numpy as np
 from matplotlib.figure import Figure
 
 from docking import analysis, figures
-from docking.experiments import ExperimentConfig, ExperimentResult
+from docking.experiments import ExperimentConfig, ExperimentResult, initial_network
 from docking.presets import HEADLINE_SEED, SEEDS
 from docking.world import DockingEnv
 
@@ -211,11 +211,13 @@ def save_fig3(
 def save_fig4(
     result: ExperimentResult, folder: Path | str | None = None, n_samples: int = 1500
 ) -> Figure:
-    """Fig. 4 (Experiment 2's receptive fields and the mean input of each unit over
-    ``n_samples`` start views) of ``result``, saved as ``fig4_experiment2``."""
+    """Fig. 4 (Experiment 2's receptive fields, the mean input of each unit over
+    ``n_samples`` start views, and the feature units at their random start) of ``result``,
+    saved as ``fig4_experiment2``."""
     net = result.network
     action_rf, feature_rf = analysis.receptive_fields(net, result.config.world.camera.input_shape)
     mean_inputs = analysis.mean_winning_inputs(net, result.config.world, n=n_samples)
+    start = initial_network(result.config, result.seed)
     fig = figures.fig4(
         result.config,
         result.seed,
@@ -223,6 +225,7 @@ def save_fig4(
         feature_rf,
         mean_inputs,
         analysis.strongest_units(net.Q),
+        initial_rf=analysis.receptive_fields(start, result.config.world.camera.input_shape)[1],
     )
     figures.save_figure(fig, _folder(folder) / "fig4_experiment2")
     return fig

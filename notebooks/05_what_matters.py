@@ -133,11 +133,12 @@ display(Image(save_named(fig, "study_floor_world")))
 # %% [markdown]
 # ## All cells
 #
-# Held-out success of every cell (A: mean, interval, one dot per seed) and its difference to
-# its baseline (B): the paper's configuration in the same world and experiment, or for "W
-# frozen, tested with a red cup" W frozen. Red where the rule of the cell's claim decides the
-# comparison (for the rules above 0: where the interval excludes 0); the shaded band is the
-# ±2 pp margin of "does not affect performance".
+# Held-out success of every cell (A: mean, interval, one dot per seed) and its baseline minus
+# the cell (B; the sign of the verdict table: positive where the baseline does better). The
+# baseline is the paper's configuration in the same world and experiment, or for "W frozen,
+# tested with a red cup" W frozen. Red where the rule of the cell's claim decides the
+# comparison (for the rules above 0: where the interval excludes 0); shaded, behind the rows
+# whose rule has one, the ±2 pp margin of "does not affect performance".
 
 # %%
 order = list(cells)
@@ -160,18 +161,21 @@ fig = figures.fig_forest(
     seeds=[results.success(k) for k in order],
     success=np.array([[s.estimate, s.low, s.high] for s in (success[k] for k in order)]),
     difference=np.array(
-        [[(d := diff[k].negated()).estimate, d.low, d.high] if k in diff else nan3 for k in order]
+        [[(d := diff[k]).estimate, d.low, d.high] if k in diff else nan3 for k in order]
     ),
-    margin=study.EQUIVALENCE_MARGIN,
+    margins=[
+        getattr(claims[cells[k].claim].rule, "margin", None) if k in diff else None
+        for k in order
+    ],
     decided=decided,
 )
 display(Image(save_named(fig, "study_forest")))
 display(
     Markdown(
-        "| cell | held-out success | the cell minus its baseline |\n|---|---|---|\n"
+        "| cell | held-out success | its baseline minus the cell |\n|---|---|---|\n"
         + "\n".join(
             f"| {cells[k].label} ({k}) | {pct(success[k])} | "
-            f"{pp(diff[k].negated()) if k in diff else '(baseline)'} |"
+            f"{pp(diff[k]) if k in diff else '(baseline)'} |"
             for k in order
         )
     )

@@ -179,3 +179,47 @@ def test_report_saves_every_figure(result1, result2, tmp_path):
 
 def test_paper_action_order_is_L_R_F_B():
     assert [ACTION_LETTERS[i] for i in figures.PAPER_ACTION_ORDER] == list("LRFB")
+
+
+def test_forest_plot_titles_its_groups_on_rows_of_their_own_and_shades_only_margin_rows():
+    nan3 = [np.nan] * 3
+    fig = _drawn(
+        figures.fig_forest(
+            labels=["base", "variant", "base", "variant"],
+            groups=["world A", "world A", "world B", "world B"],
+            seeds=[np.array([0.9, 1.0])] * 4,
+            success=np.array([[0.95, 0.9, 1.0]] * 4),
+            difference=np.array([nan3, [0.02, 0.01, 0.03], nan3, [-0.01, -0.02, 0.0]]),
+            margins=[None, 0.02, None, None],
+        )
+    )
+    left, right = fig.axes[:2]
+    rows = sorted(left.get_yticks())
+    titles = [t for t in left.texts if t.get_text().startswith("world")]
+    assert len(titles) == 2
+    for title in titles:  # a title sits between rows, on a row of its own
+        y = title.get_position()[1]
+        assert min(abs(y - r) for r in rows) >= 0.99
+    assert len(right.collections) == 1  # one shaded margin: the one row whose rule has one
+    assert "baseline minus the cell" in right.get_xlabel()
+    with pytest.raises(ValueError, match="margins"):
+        figures.fig_forest(["a"], ["g"], [np.ones(2)], np.ones((1, 3)), np.ones((1, 3)), [0.1, 0.1])
+
+
+@pytest.mark.slow
+def test_fig4_draws_the_random_start_beside_the_learned_weights(result2):
+    from docking.experiments import initial_network
+
+    net = result2.network
+    start = initial_network(result2.config, result2.seed)
+    args = (
+        result2.config,
+        result2.seed,
+        *analysis.receptive_fields(net),
+        analysis.mean_winning_inputs(net, result2.config.world, n=40),
+        analysis.strongest_units(net.Q),
+    )
+    two = figures.fig4(*args)
+    three = figures.fig4(*args, initial_rf=analysis.receptive_fields(start)[1])
+    assert len(three.axes) == len(two.axes) + 36
+    assert three.get_figwidth() > two.get_figwidth()
