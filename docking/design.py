@@ -20,6 +20,7 @@ is a new design file, nothing else.
 from __future__ import annotations
 
 import dataclasses
+import time
 from collections.abc import Callable, Mapping, Sequence
 from types import MappingProxyType
 
@@ -30,7 +31,16 @@ from docking.ppo import PPOConfig
 from docking.scene import WorldConfig
 from docking.validate import check_instance, check_name
 
-__all__ = ["MEASURES", "Cell", "Design", "Results", "judge", "run_design", "summary"]
+__all__ = [
+    "MEASURES",
+    "Cell",
+    "Design",
+    "Results",
+    "judge",
+    "run_design",
+    "summary",
+    "tested_in",
+]
 
 #: What a design measures: ``"heldout"`` (each run's held-out trials, or a test-only cell's
 #: trials in its world) or ``"test"`` (each run's main test trials).
@@ -218,22 +228,62 @@ class Results:
         return self.score(key)
 
 
-def judge(design: Design, cells: Sequence[Cell], runs: Mapping[str, list]) -> Results:
+def judge(
+    design: Design, cells: Sequence[Cell], runs: Mapping[str, list], results_dir=None
+) -> Results:
     """The results of ``cells`` from the runs of their trained cells: each trained cell's
     measured logs, and each test-only cell's held-out trials of its baseline's networks in
-    its world."""
+    its world (:func:`tested_in`: stored like runs, computed once)."""
     runs, logs = dict(runs), {}
     for c in cells:
-        if c.trained:
-            logs[c.key] = [
-                r.heldout if design.measure == "heldout" else r.test for r in runs[c.key]
-            ]
-        else:
-            runs[c.key] = runs[c.baseline]
-            logs[c.key] = [
-                heldout_trials(r.config, r.seed, r.network, c.test_world) for r in runs[c.key]
-            ]
+        if not c.trained:
+            runs[c.key] = [tested_in(r, c.test_world, results_dir) for r in runs[c.baseline]]
+        logs[c.key] = [
+            r.heldout if design.measure == "heldout" or not c.trained else r.test
+            for r in runs[c.key]
+        ]
     return Results(design, list(cells), runs, logs)
+
+
+def tested_in(run: ExperimentResult, world: WorldConfig, results_dir=None) -> ExperimentResult:
+    """``run``'s networks tested in ``world``: the run of ``run.config`` with
+    ``heldout_world=world``. Its training and main test are ``run``'s (``heldout_world``
+    changes only where the held-out trials are drawn), so it is derived from ``run`` by
+    computing the held-out trials alone, bit for bit what ``run_experiment`` of that
+    configuration computes (``python -m docking verify`` recomputes it in full). Stored and
+    served like any run (the store, then the ledger); computed in memory, not stored, when
+    ``run`` itself comes from the ledger."""
+    from docking.ledger import load_run, trace
+    from docking.store import load_result, result_path, run_key, save_result
+
+    config = dataclasses.replace(run.config, heldout_world=world)
+    found = load_run(config, run.seed, results_dir)
+    if found is not None:
+        return found
+    source = result_path(run.config, run.seed, results_dir)
+    stored = source.exists()
+    # The untraced stored run: deriving must not count as an analysis reading its arrays.
+    base = load_result(source, run_key(run.config, run.seed)) if stored else run
+    t0 = time.perf_counter()
+    heldout = heldout_trials(config, run.seed, base.network, world)
+    result = ExperimentResult(
+        config=config,
+        seed=run.seed,
+        network=base.network,
+        train=base.train,
+        test=base.test,
+        curve_trials=base.curve_trials,
+        curve_success=base.curve_success,
+        curve_steps=base.curve_steps,
+        curve_rewarded=base.curve_rewarded,
+        wall_time_train=base.wall_time_train,
+        wall_time_test=time.perf_counter() - t0,
+        heldout=heldout,
+    )
+    if not stored:
+        return result
+    path = save_result(result, result_path(config, run.seed, results_dir))
+    return trace(result, run_key(config, run.seed), path)
 
 
 def _sweep(cells, seeds, desc: str, options) -> dict[str, list]:
@@ -271,12 +321,12 @@ def run_design(
         if not c.trained and c.baseline not in {x.key for x in cells}:
             raise ValueError(f"design {design.name!r}: cell {c.key!r} needs its baseline's runs")
     runs = _sweep(cells, seeds, design.name, options)
-    results = judge(design, cells, runs)
+    results = judge(design, cells, runs, results_dir)
     for k, stage in enumerate(design.stages):
         extra = list(stage(results))
         more = _sweep(extra, seeds, f"{design.name} (stage {k + 1})", options)
         cells, runs = cells + extra, {**runs, **more}
-        results = judge(design, cells, runs)
+        results = judge(design, cells, runs, results_dir)
     return results
 
 

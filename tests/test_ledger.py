@@ -333,3 +333,26 @@ def test_an_empty_results_variable_is_refused(monkeypatch):
     monkeypatch.setenv("DOCKING_RESULTS", "")
     with pytest.raises(ValueError, match="DOCKING_RESULTS is set but empty"):
         paths.results_dir()
+
+
+@pytest.mark.slow
+def test_a_test_only_cell_is_stored_as_the_run_it_equals(tmp_path, monkeypatch):
+    """A baseline's networks tested in another world are stored under the key of the run
+    with that held-out world, bit for bit what computing that run gives (so ``verify`` can
+    check them), and loaded, not recomputed, the next time."""
+    from docking.design import tested_in
+
+    monkeypatch.setenv("DOCKING_LEDGER", "off")
+    monkeypatch.delenv("DOCKING_TRACE", raising=False)
+    other = dataclasses.replace(TINY.world, step_noise_yaw_deg=0.0)
+    base = run_or_load(TINY, 0, tmp_path, progress=False)
+    derived = tested_in(base, other, tmp_path)
+    config = dataclasses.replace(TINY, heldout_world=other)
+    assert derived.config == config and result_path(config, 0, tmp_path).exists()
+    full = run_experiment(config, 0, progress=False)
+    save_result(full, tmp_path / "full.npz")
+    with np.load(tmp_path / "full.npz") as a, np.load(result_path(config, 0, tmp_path)) as b:
+        assert content_digest(a) == content_digest(b)
+    monkeypatch.setattr("docking.design.heldout_trials", _refuse)
+    again = tested_in(base, other, tmp_path)
+    np.testing.assert_array_equal(again.heldout.success, derived.heldout.success)

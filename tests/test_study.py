@@ -143,8 +143,8 @@ def test_study_figures_draw_from_arrays():
         ["world"] * 2,
         seeds,
         np.array([[0.95, 0.93, 0.97], [0.85, 0.83, 0.87]]),
-        np.array([[np.nan] * 3, [-0.1, -0.12, -0.08]]),
-        margin=0.02,
+        np.array([[np.nan] * 3, [0.1, 0.08, 0.12]]),
+        margins=[None, 0.02],
     )
     assert isinstance(fig, Figure)
     with pytest.raises(ValueError, match="length"):
