@@ -475,9 +475,11 @@ class Ledger:
         folder = ledger.ledger_dir()
         size = sum(p.stat().st_size for p in folder.rglob("*") if p.is_file())
         names = sorted({r["name"] for r in data["runs"].values()})
+        ppo_runs = data.get("ppo_runs", {})
         print(
-            f"{folder}: {len(data['runs'])} runs of {len(names)} configurations, "
-            f"{size / 2**20:.1f} MiB; source {data['source_fingerprint'][:16]}; rendered by "
+            f"{folder}: {len(data['runs'])} runs of {len(names)} configurations"
+            + (f" and {len(ppo_runs)} PPO runs" if ppo_runs else "")
+            + f", {size / 2**20:.1f} MiB; source {data['source_fingerprint'][:16]}; rendered by "
             f"{data['rendering_stack']}"
         )
         return 0

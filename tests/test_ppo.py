@@ -150,6 +150,10 @@ def test_the_ledger_serves_a_ppo_run_and_refuses_one_of_other_code(tiny_run, tmp
     assert keep[run_key(TINY, 0)]["ppo"]
     data = ledger.update(keep, tmp_path / "ledger")
     assert set(data["ppo_runs"]) == {run_key(TINY, 0)} and not data["runs"]
+    from docking.verify import verify
+
+    (check,) = verify(None, workers=1, progress=False, folder=tmp_path / "ledger")
+    assert check.ok and check.key == run_key(TINY, 0)  # --all recomputes the PPO run too
     monkeypatch.delenv("DOCKING_TRACE")
     monkeypatch.setenv("DOCKING_LEDGER", str(tmp_path / "ledger"))
     served = ledger.load_run(TINY, 0, tmp_path / "empty-store")
