@@ -347,19 +347,24 @@ class Report:
             run_seeds(c, SEEDS[c.name], self.results_dir, processes=self.processes)
             for c in (EXPERIMENT_1, EXPERIMENT_2)
         ]
-        table = results_table(*results)
-        print(table)
         if self.figures:
             from docking.report import save_figures
 
             save_figures(*results)
-        changed = self.readme is not None and update_readme(self.readme, table)
+        heldout, verdicts = None, None
         if self.study:
             from docking.designs.study import run_study, verdict_table
 
-            verdicts = verdict_table(
-                run_study(results_dir=self.results_dir, workers=self.processes)
-            )
+            study = run_study(results_dir=self.results_dir, workers=self.processes)
+            verdicts = verdict_table(study)
+            heldout = {
+                "Exp. 1": study.success("exp1/local"),
+                "Exp. 2": study.success("paper"),
+            }
+        table = results_table(*results, heldout)
+        print(table)
+        changed = self.readme is not None and update_readme(self.readme, table)
+        if verdicts is not None:
             print(verdicts)
             if self.readme is not None:
                 changed |= update_readme(self.readme, verdicts, STUDY_START, STUDY_END)

@@ -90,6 +90,7 @@ def experiment2_rows(results: list[ExperimentResult]) -> list[tuple[str, str, st
             "(one run)",
             f"mean {_pct(rates.mean())}{spread}, min {_pct(rates.min())} ({per_seed})",
         ),
+        _efficiency_row(results),
         (
             "Exp. 2 wall time, 2000 training + 725 test trials",
             PAPER["exp2_wall_time"],
@@ -98,6 +99,46 @@ def experiment2_rows(results: list[ExperimentResult]) -> list[tuple[str, str, st
             f"headline seed)",
         ),
     ]
+
+
+#: The learning-curve success that counts as learned in the results table (the second
+#: edition's sample efficiency: ``docking.designs.second_edition.EFFICIENCY_LEVEL``).
+EFFICIENCY_LEVEL = 0.90
+
+
+def _efficiency_row(results: list[ExperimentResult]) -> tuple[str, str, str]:
+    """Experiment 2's sample efficiency: per seed, the training trials at the first point of
+    its learning curve (greedy trials from the full start region) at or above
+    :data:`EFFICIENCY_LEVEL`."""
+    trials = analysis.trials_to_level(results, EFFICIENCY_LEVEL)
+    reached = trials[~np.isnan(trials)]
+    r = results[0]
+    return (
+        f"Exp. 2 training trials until {r.config.eval_trials} greedy trials every "
+        f"{r.config.eval_every} first reach {EFFICIENCY_LEVEL:.0%}",
+        "(not reported)",
+        "per seed "
+        + ", ".join("never" if np.isnan(t) else f"{t:.0f}" for t in trials)
+        + (f"; median {np.median(reached):.0f}" if len(reached) else ""),
+    )
+
+
+def heldout_rows(study: dict[str, np.ndarray]) -> list[tuple[str, str, str]]:
+    """Rows of held-out success from the study: ``{experiment label: per-seed held-out
+    success of the paper's configuration}`` (each seed's network on its held-out trials,
+    start poses and noise that training never sees)."""
+    rows = []
+    for label, success in study.items():
+        success = np.asarray(success, dtype=float)
+        rows.append(
+            (
+                f"{label} held-out success, {len(success)} seeds (the study)",
+                "(not reported)",
+                f"mean {_pct(success.mean())} ± {_pct(success.std(ddof=1))} (s.d.), "
+                f"min {_pct(success.min())}",
+            )
+        )
+    return rows
 
 
 def configuration_table(config: ExperimentConfig) -> str:
@@ -295,9 +336,15 @@ README_START = "<!-- results:start -->"
 README_END = "<!-- results:end -->"
 
 
-def results_table(results1: list[ExperimentResult], results2: list[ExperimentResult]) -> str:
-    """The results table of both experiments in Markdown."""
-    return markdown_table(experiment1_rows(results1) + experiment2_rows(results2))
+def results_table(
+    results1: list[ExperimentResult],
+    results2: list[ExperimentResult],
+    heldout: dict[str, np.ndarray] | None = None,
+) -> str:
+    """The results table of both experiments in Markdown; with ``heldout`` (see
+    :func:`heldout_rows`), the study's held-out rows after them."""
+    rows = experiment1_rows(results1) + experiment2_rows(results2)
+    return markdown_table(rows + (heldout_rows(heldout) if heldout else []))
 
 
 #: The markers of the README's table of verdicts (notebook 05).

@@ -223,3 +223,14 @@ def test_fig4_draws_the_random_start_beside_the_learned_weights(result2):
     three = figures.fig4(*args, initial_rf=analysis.receptive_fields(start)[1])
     assert len(three.axes) == len(two.axes) + 36
     assert three.get_figwidth() > two.get_figwidth()
+
+
+def test_results_table_rows_of_sample_efficiency_and_held_out_success(result1, result2):
+    r2 = dataclasses.replace(result2, curve_success=np.array([0.5, 0.95, 1.0]))
+    r2.curve_trials = np.array([0, 5, 10])
+    never = dataclasses.replace(r2, seed=1, curve_success=np.array([0.5, 0.6, 0.7]))
+    table = report.results_table([result1], [r2, never], {"Exp. 1": np.array([0.9, 1.0])})
+    row = next(line for line in table.splitlines() if "first reach 90%" in line)
+    assert "per seed 5, never; median 5" in row
+    assert "| Exp. 1 held-out success, 2 seeds (the study) | (not reported) | mean 95.0%" in table
+    assert "held-out" not in report.results_table([result1], [r2])
