@@ -164,8 +164,7 @@ fig = figures.fig_forest(
         [[(d := diff[k]).estimate, d.low, d.high] if k in diff else nan3 for k in order]
     ),
     margins=[
-        getattr(claims[cells[k].claim].rule, "margin", None) if k in diff else None
-        for k in order
+        getattr(claims[cells[k].claim].rule, "margin", None) if k in diff else None for k in order
     ],
     decided=decided,
 )
