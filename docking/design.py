@@ -190,7 +190,8 @@ class Results:
     Attributes:
       design: The design run.
       cells: The cells run, in order (a stage's cells last).
-      runs: ``{cell key: runs in seed order}`` (a test-only cell: its baseline's runs).
+      runs: ``{cell key: runs in seed order}`` (a test-only cell: its baseline's runs
+        tested in its world, :func:`tested_in`; a PPO cell: ``docking.ppo.PPOResult`` s).
       logs: ``{cell key: the measured trial logs in seed order}``.
     """
 

@@ -213,3 +213,20 @@ def test_every_world_of_the_path_has_the_pixel_level_bound():
         cell = se.DESIGN.cell(f"{key}/ppo")
         assert cell.config.world == world and cell.config.steps == se.PPO_STEPS
         assert cell.seeds == se.PPO_SEEDS and len(cell.seeds) >= 5
+
+
+def test_the_world_table_has_a_row_per_world_and_a_column_per_yardstick():
+    from types import SimpleNamespace
+
+    from docking.design import Results
+
+    cells = [c for c in se.DESIGN.cells if c["world"] in ("sideboard", "floor")]
+    logs = {c.key: [SimpleNamespace(success_rate=r) for r in (0.9, 1.0, 0.95)] for c in cells}
+    table = se.world_table(Results(se.DESIGN, cells, {}, logs))
+    lines = table.splitlines()
+    assert len(lines) == 2 + len(se.PATH)
+    assert lines[0].count("|") == 3 + len(se.WORLD_COLUMNS)
+    sideboard = next(line for line in lines if line.startswith("| sideboard |"))
+    assert sideboard.count("95.0% [") == len(se.WORLD_COLUMNS)
+    dock = next(line for line in lines if line.startswith("| dock |"))
+    assert dock.count("| - ") == len(se.WORLD_COLUMNS)  # not run: never a number
