@@ -889,7 +889,7 @@ def fig_forest(
     difference: np.ndarray,
     margins=None,
     decided=None,
-    difference_label: str = "its baseline minus the cell (percentage points), 95% interval",
+    difference_label: str = "its baseline minus the cell\n(percentage points, 95% interval)",
 ) -> Figure:
     """Every cell of a study as intervals (a forest plot).
 
@@ -959,7 +959,7 @@ def fig_forest(
         )
     left.set_yticks(y, labels, fontsize=8)
     left.set_ylim(-0.7, slots - 0.45)
-    left.set_xlabel("held-out success (%): mean, 95% interval, seeds (dots)")
+    left.set_xlabel("held-out success (%)\nmean, 95% interval, seeds (dots)")
     right.set_xlabel(difference_label)
     left.set_title("A", loc="left", fontweight="bold")
     right.set_title("B", loc="left", fontweight="bold")
@@ -971,7 +971,8 @@ def fig_forest(
         right.legend(
             handles=[Patch(color="0.88", label="the margin of its rule (rows with one)")],
             fontsize=7,
-            loc="lower right",
+            loc="upper right",  # in the first group's title row, clear of every interval
+            frameon=False,
         )
     return fig
 
