@@ -484,10 +484,15 @@ def failure_taxonomy(
 
 def rewarded_share(runs: list[ExperimentResult], beyond: float = 0.0) -> np.ndarray:
     """Per run, the share of its training trials that started more than ``beyond`` m from
-    the landmark's front plane and ended in the dock (NaN if none started there)."""
+    the landmark's front plane and ended in the dock (NaN if none started there). Every trial
+    starts at least the world's ``start_near`` (0.45 m or more) from it, so for ``beyond``
+    below half of that it is every trial, and the start poses are not read."""
     out = []
     for r in runs:
-        far = -r.train.starts[:, 0] > beyond
+        if beyond < r.config.world.start_near / 2:
+            far = np.ones(len(r.train.success), dtype=bool)
+        else:
+            far = -r.train.starts[:, 0] > beyond
         out.append(float(np.mean(r.train.success[far])) if far.any() else float("nan"))
     return np.array(out)
 

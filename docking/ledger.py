@@ -298,15 +298,23 @@ def _ppo_entry(path: Path, key: str) -> tuple[dict, bytes]:
 
 class PartialTrialLog(TrialLog):
     """A trial log of a ledger entry: every per-trial array; each per-step array either
-    whole (if an analysis read it whole) or only for the trials in ``kept``. Reading per-step
-    data that is not kept raises :class:`NotInLedger`."""
+    whole (if an analysis read it whole), or only for the trials in ``kept`` (if an analysis
+    read it trial by trial: the fields in ``sliced``), or not at all. Reading per-step data
+    that is not kept raises :class:`NotInLedger`."""
 
     def __init__(
-        self, where: str, per_trial: dict, kept: np.ndarray, steps: dict, whole: set, starts
+        self,
+        where: str,
+        per_trial: dict,
+        kept: np.ndarray,
+        steps: dict,
+        whole: set,
+        starts,
+        sliced: set = frozenset(STEP_FIELDS),
     ):
         self.__dict__.update(per_trial)
         self._where, self._kept, self._steps = where, kept, steps
-        self._whole_fields, self._starts = whole, starts
+        self._whole_fields, self._starts, self._sliced = whole, starts, sliced
         n = np.asarray(per_trial["steps"], dtype=np.int64)
         self._all_offsets = np.concatenate([[0], np.cumsum(n)])
         self._kept_offsets = np.concatenate([[0], np.cumsum(np.where(kept, n, 0))])
@@ -318,7 +326,7 @@ class PartialTrialLog(TrialLog):
         )
 
     def _whole(self, name: str) -> np.ndarray:
-        if name not in self._whole_fields and not self._kept.all():
+        if name not in self._whole_fields and not (self._kept.all() and name in self._sliced):
             raise self._missing(f"{name} of every trial")
         return self._steps[name]
 
@@ -332,7 +340,7 @@ class PartialTrialLog(TrialLog):
         length = int(self.steps[k]) + extra
         if name in self._whole_fields:
             start = int(self._all_offsets[k]) + extra * k
-        elif self._kept[k]:
+        elif self._kept[k] and name in self._sliced:
             before = int(np.count_nonzero(self._kept[:k]))  # kept trials before k
             start = int(self._kept_offsets[k]) + extra * before
         else:
@@ -349,7 +357,7 @@ class PartialTrialLog(TrialLog):
     def starts(self) -> np.ndarray:
         if self._starts is not None:
             return self._starts
-        if "poses" in self._whole_fields or self._kept.all():
+        if "poses" in self._whole_fields or (self._kept.all() and "poses" in self._sliced):
             return TrialLog.starts.fget(self)
         raise self._missing("the start poses")
 
@@ -391,7 +399,10 @@ def _read_entry(path: Path, key: str, record: dict) -> LedgerResult:
         steps = {name: arrays[f"{part}.{name}"] for name in STEP_FIELDS}
         whole = {n for n, w in zip(STEP_FIELDS, arrays[f"{part}.whole"], strict=True) if w}
         starts = arrays.get(f"{part}.starts")
-        logs[part] = PartialTrialLog(f"{where}, {part}", per_trial, kept, steps, whole, starts)
+        sliced = {n for n, w in zip(STEP_FIELDS, arrays[f"{part}.sliced"], strict=True) if w}
+        logs[part] = PartialTrialLog(
+            f"{where}, {part}", per_trial, kept, steps, whole, starts, sliced
+        )
     network = None
     if "W" in arrays:
         network = Network.from_weights(config.network, arrays["W"], arrays["Q"])
@@ -427,11 +438,20 @@ def _entry_arrays(result: ExperimentResult, keep: dict) -> dict[str, np.ndarray]
         n_steps = np.asarray(log.steps)
         masks = {"poses": np.repeat(kept, n_steps + 1)}
         masks.update(dict.fromkeys(("actions", "winners", "deltas"), np.repeat(kept, n_steps)))
+        # Per trial, only the fields an analysis read trial by trial (a failure's poses, say,
+        # not its TD errors).
+        sliced = set(wanted.get("fields", STEP_FIELDS)) if kept.any() else set()
         arrays[f"{part}.kept"] = kept
         arrays[f"{part}.whole"] = np.array([name in whole for name in STEP_FIELDS])
+        arrays[f"{part}.sliced"] = np.array([name in sliced for name in STEP_FIELDS])
         for name in STEP_FIELDS:
             array = getattr(log, name)
-            arrays[f"{part}.{name}"] = array if name in whole else array[masks[name]]
+            if name in whole:
+                arrays[f"{part}.{name}"] = array
+            elif name in sliced:
+                arrays[f"{part}.{name}"] = array[masks[name]]
+            else:
+                arrays[f"{part}.{name}"] = array[:0]
         if wanted.get("starts") and "poses" not in whole and not kept.all():
             arrays[f"{part}.starts"] = log.starts
     return arrays
@@ -462,10 +482,12 @@ class _TracedLog(TrialLog):
 
     def trial_poses(self, k: int) -> np.ndarray:
         self._note("trial", int(k))
+        self._note("field", "poses")
         return TrialLog.trial_poses(self._raw(), k)
 
     def trial_actions(self, k: int) -> np.ndarray:
         self._note("trial", int(k))
+        self._note("field", "actions")
         return TrialLog.trial_actions(self._raw(), k)
 
     @property
@@ -548,9 +570,13 @@ def read_trace(lines: Iterable[str]) -> dict[str, dict]:
         if record["kind"] == "network":
             entry["network"] = True
             continue
-        part = entry["parts"].setdefault(record["part"], {"whole": set(), "trials": set()})
+        part = entry["parts"].setdefault(
+            record["part"], {"whole": set(), "trials": set(), "fields": set()}
+        )
         if record["kind"] == "whole":
             part["whole"].add(record["value"])
+        elif record["kind"] == "field":
+            part["fields"].add(record["value"])
         elif record["kind"] == "starts":
             part["starts"] = True
         else:
@@ -559,6 +585,7 @@ def read_trace(lines: Iterable[str]) -> dict[str, dict]:
         for part in entry["parts"].values():
             part["trials"] = sorted(part["trials"])
             part["whole"] = sorted(part["whole"])
+            part["fields"] = sorted(part["fields"])
     return keep
 
 

@@ -365,8 +365,14 @@ def test_rewarded_share_counts_the_far_training_trials():
         ([(-0.8, 0, 0), (-0.6, 0, 0)], [F], False),
         ([(-0.7, 0, 0), (-0.5, 0, 0)], [F], True),
     ]
-    run = SimpleNamespace(train=_log(trials))
+    run = SimpleNamespace(train=_log(trials), config=SimpleNamespace(world=WorldConfig()))
     np.testing.assert_allclose(analysis.rewarded_share([run]), [2 / 3])
+    # Below half the start region's near edge every trial counts, without reading starts.
+    starts_unread = SimpleNamespace(success=run.train.success)
+    np.testing.assert_allclose(
+        analysis.rewarded_share([SimpleNamespace(train=starts_unread, config=run.config)]),
+        [2 / 3],
+    )
     np.testing.assert_allclose(analysis.rewarded_share([run], beyond=0.75), [0.5])
     assert np.isnan(analysis.rewarded_share([run], beyond=2.0)[0])
 
