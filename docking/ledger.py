@@ -68,7 +68,7 @@ __all__ = [
 ]
 
 #: Version of the ledger's layout.
-LEDGER_FORMAT = 1
+LEDGER_FORMAT = 2  # 2: per-step fields kept per trial only if read so ("sliced"); PPO runs
 
 #: Per-step arrays of a trial log (the others hold one entry per trial).
 STEP_FIELDS = ("poses", "actions", "winners", "deltas")
