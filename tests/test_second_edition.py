@@ -203,7 +203,9 @@ def test_the_path_figure_draws_every_learner_in_every_world():
     fig = figures.fig_path(worlds, learners, bound=0.9)
     assert isinstance(fig, Figure)
     (ax,) = fig.axes
-    assert [t.get_text() for t in ax.get_legend().get_texts()] == ["paper", "linear", "PPO"]
+    texts = [t.get_text() for t in ax.get_legend().get_texts()]
+    assert texts[:3] == ["paper", "linear", "PPO"]
+    assert texts[3].startswith("90%: the pixels suffice")  # the dashed line, named
     with pytest.raises(ValueError, match="one array per world"):
         figures.fig_path(worlds, {"paper": learners["paper"][:2]}, 0.9)
 
