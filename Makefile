@@ -54,12 +54,12 @@ check: setup
 	$(VENV)/bin/ruff format --check .
 	$(VENV)/bin/ruff check .
 	$(VENV)/bin/lint-imports
-	$(PY) -m pytest tests -q -m "not slow and not docs"
+	$(PY) -m pytest tests -q -n 2 -m "not slow and not docs"
 
 # The notebooks run under nbmake with --overwrite: their outputs land in notebooks/*.ipynb,
 # from which `make docs` builds the site, and the site is then checked in Chromium.
 test: check notebooks
-	$(PY) -m pytest tests -q -m slow
+	$(PY) -m pytest tests -q -n 2 -m slow
 	$(PY) -m docking verify --sample 3
 	$(PY) -m pytest --nbmake --nbmake-timeout=1800 --overwrite -n 2 -q $(NOTEBOOKS)
 	$(MAKE) docs
