@@ -376,8 +376,13 @@ def timings_text(measured: dict | None, runs: int, run_seconds: float) -> str:
     if measured is None:
         return f"The tiers have not been timed on this commit's ledger. {reproduce}"
     names = {"setup": " (package downloads)"}
+    top = measured["commit"]
+
+    def where(t: dict) -> str:  # a tier kept from an earlier measurement names its commit
+        return "" if t.get("commit", top) == top else f", on {t['commit'][:7]}"
+
     tiers = "; ".join(
-        f"`make {tier}` {t['wall_s'] / 60:.1f} min{names.get(tier, '')}"
+        f"`make {tier}` {t['wall_s'] / 60:.1f} min{names.get(tier, '')}{where(t)}"
         for tier, t in measured["tiers"].items()
     )
     step = measured["step"]
