@@ -158,7 +158,7 @@ def _index_key(config: dict, seed: int) -> str:
 def _check(folder: Path, data: dict) -> None:
     """:class:`StaleLedger` unless ``data`` was computed by this code; a warning (once) if by
     another rendering stack."""
-    from docking.store import FORMAT_VERSION, module_digests, rendering_stack, source_fingerprint
+    from docking.store import FORMAT_VERSION, rendering_stack, source_fingerprint
 
     if data.get("format") != LEDGER_FORMAT or data.get("store_format") != FORMAT_VERSION:
         raise StaleLedger(
@@ -166,8 +166,7 @@ def _check(folder: Path, data: dict) -> None:
             f", this package reads {LEDGER_FORMAT}/{FORMAT_VERSION}; recompute it: {_RECOMPUTE}"
         )
     if data["source_fingerprint"] != source_fingerprint():
-        ours, theirs = module_digests(), data["modules"]
-        changed = sorted(k for k in set(ours) | set(theirs) if ours.get(k) != theirs.get(k))
+        changed = _changed_modules(data["modules"])
         raise StaleLedger(
             f"the ledger in {folder} was computed by other code (changed: "
             f"{', '.join(changed) or 'the fingerprint'}); it is not used. Recompute it: "
@@ -198,27 +197,50 @@ def lookup(config: ExperimentConfig, seed: int) -> ExperimentResult | None:
     holds the run but was computed by other code: its numbers are never served then."""
     from docking.store import run_key
 
-    folder = ledger_dir()
-    data = _raw_manifest(folder)
-    if data is None:
+    found = _find(config, seed, "index")
+    if found is None:
         return None
-    key = data["index"].get(_index_key(config.to_dict(), seed))
-    if key is None:
-        return None
+    folder, data, key = found
     _check(folder, data)
     if key != run_key(config, seed, render=data["rendering_stack"]):
         raise StaleLedger(f"the ledger's key of {config.name!r} seed {seed} is not this code's")
     return _read_entry(folder / data["runs"][key]["file"], key, data["runs"][key])
 
 
+def _find(config, seed: int, index: str) -> tuple[Path, dict, str] | None:
+    """``(folder, manifest, run key)`` of the ledger's entry for (``config``, ``seed``) in
+    the manifest's ``index`` (``"index"`` or ``"ppo_index"``); None if it holds none."""
+    folder = ledger_dir()
+    data = _raw_manifest(folder)
+    if data is None:
+        return None
+    key = data[index].get(_index_key(config.to_dict(), seed))
+    return None if key is None else (folder, data, key)
+
+
+def _changed_modules(theirs: dict) -> list[str]:
+    """The package modules whose digests differ from ``theirs`` (a manifest's record)."""
+    from docking.store import module_digests
+
+    ours = module_digests()
+    return sorted(k for k in set(ours) | set(theirs) if ours.get(k) != theirs.get(k))
+
+
+def _verified_arrays(path: Path, entry_digest: str) -> dict[str, np.ndarray]:
+    """The arrays of the entry file ``path``, after checking its bytes against
+    ``entry_digest`` (:class:`StaleLedger` if they differ)."""
+    raw = path.read_bytes()
+    if hashlib.sha256(raw).hexdigest() != entry_digest:
+        raise StaleLedger(f"the ledger entry {path} does not match its digest in the manifest")
+    with np.load(io.BytesIO(raw), allow_pickle=False) as data:
+        return {name: data[name] for name in data.files}
+
+
 def _check_ppo(folder: Path, data: dict) -> None:
     """:class:`StaleLedger` unless the ledger's PPO runs were computed by this code
     (:func:`docking.ppo.fingerprint`)."""
-    from docking.store import module_digests
-
     if data.get("ppo_fingerprint") != ppo.fingerprint():
-        ours, theirs = module_digests(), data.get("ppo_modules", {})
-        changed = sorted(k for k in set(ours) | set(theirs) if ours.get(k) != theirs.get(k))
+        changed = _changed_modules(data.get("ppo_modules", {}))
         raise StaleLedger(
             f"the ledger in {folder} holds PPO runs of other code (changed: "
             f"{', '.join(changed) or 'the fingerprint or a library version'}); they are not "
@@ -231,22 +253,15 @@ def lookup_ppo(config: PPOConfig, seed: int) -> ppo.PPOResult | None:
     held-out log keeps every per-trial array and no per-step one (reading one raises
     :class:`NotInLedger`); None if the ledger does not hold it; :class:`StaleLedger` if it
     was computed by other code."""
-    folder = ledger_dir()
-    data = _raw_manifest(folder)
-    if data is None:
+    found = _find(config, seed, "ppo_index")
+    if found is None:
         return None
-    key = data["ppo_index"].get(_index_key(config.to_dict(), seed))
-    if key is None:
-        return None
+    folder, data, key = found
     _check_ppo(folder, data)
     if key != ppo.run_key(config, seed):
         raise StaleLedger(f"the ledger's key of PPO run {config.name!r} seed {seed} is not ours")
     record = data["ppo_runs"][key]
-    raw = (folder / record["file"]).read_bytes()
-    if hashlib.sha256(raw).hexdigest() != record["entry_digest"]:
-        raise StaleLedger(f"the ledger entry {record['file']} does not match its digest")
-    with np.load(io.BytesIO(raw), allow_pickle=False) as entry:
-        arrays = {name: entry[name] for name in entry.files}
+    arrays = _verified_arrays(folder / record["file"], record["entry_digest"])
     where = f"PPO run {config.name!r} seed {seed} (key {key[:16]}), heldout"
     per_trial = {name: arrays[f"heldout.{name}"] for name in TRIAL_FIELDS}
     n = len(per_trial["success"])
@@ -381,11 +396,7 @@ class LedgerResult(ExperimentResult):
 
 
 def _read_entry(path: Path, key: str, record: dict) -> LedgerResult:
-    raw = path.read_bytes()
-    if hashlib.sha256(raw).hexdigest() != record["entry_digest"]:
-        raise StaleLedger(f"the ledger entry {path} does not match its digest in the manifest")
-    with np.load(io.BytesIO(raw), allow_pickle=False) as data:
-        arrays = {name: data[name] for name in data.files}
+    arrays = _verified_arrays(path, record["entry_digest"])
     meta = json.loads(str(arrays.pop("meta")))
     config = ExperimentConfig.from_dict(meta["config"])
     where = f"run {config.name!r} seed {meta['seed']} (key {key[:16]})"
@@ -520,17 +531,22 @@ class TracedResult(ExperimentResult):
         return object.__getattribute__(self, name)
 
     def _note(self, part, kind, value) -> None:
-        fact = (self._key, part, kind, value)
-        if fact in _NOTED:
-            return
-        _NOTED.add(fact)
-        line = json.dumps({"key": self._key, "part": part, "kind": kind, "value": value})
-        with open(self._trace, "a") as f:
-            f.write(line + "\n")
+        _write_fact(self._trace, self._key, part, kind, value)
 
 
 #: The facts this process has written to the trace already.
 _NOTED: set = set()
+
+
+def _write_fact(trace_path: Path, key: str, part, kind: str, value) -> None:
+    """Append one fact about run ``key`` to the trace file, once per process."""
+    fact = (key, part, kind, value)
+    if fact in _NOTED:
+        return
+    _NOTED.add(fact)
+    line = json.dumps({"key": key, "part": part, "kind": kind, "value": value})
+    with open(trace_path, "a") as f:
+        f.write(line + "\n")
 
 
 def trace(result: ExperimentResult, key: str, source: Path) -> ExperimentResult:
@@ -544,13 +560,8 @@ def _trace_ppo(key: str, source: Path) -> None:
     """Record in the trace file (if any) that the PPO run ``key`` was loaded from ``source``
     (its ledger entry keeps what the analyses read of a PPO run: :func:`_ppo_entry`)."""
     path = trace_file()
-    fact = (key, None, "load-ppo", str(Path(source).resolve()))
-    if path is None or fact in _NOTED:
-        return
-    _NOTED.add(fact)
-    line = json.dumps({"key": key, "part": None, "kind": "load-ppo", "value": fact[3]})
-    with open(path, "a") as f:
-        f.write(line + "\n")
+    if path is not None:
+        _write_fact(path, key, None, "load-ppo", str(Path(source).resolve()))
 
 
 def read_trace(lines: Iterable[str]) -> dict[str, dict]:

@@ -59,7 +59,6 @@ __all__ = [
     "apply_override",
     "grid_configs",
     "jobs_for",
-    "load_job",
     "parse_seeds",
     "run_configs",
     "run_jobs",
@@ -98,13 +97,6 @@ def _trials(config) -> int:
     if isinstance(config, PPOConfig):
         return ppo.trials_in_run(config)
     return trials_in_run(config)
-
-
-def load_job(config, seed: int, results_dir: Path | str | None = None):
-    """The stored run of (``config``, ``seed``) from the store or the ledger
-    (:func:`docking.ledger.load_run`): an ``ExperimentResult``, or a ``docking.ppo.PPOResult``
-    for a PPO configuration; None if neither holds it."""
-    return load_run(config, seed, results_dir)
 
 
 def jobs_for(configs: Iterable[ExperimentConfig], seeds: Iterable[int]) -> list[Job]:
@@ -311,25 +303,20 @@ def missing(jobs: Iterable[Job], results_dir: Path | str | None = None) -> list[
 def _stored(job: Job, results_dir: Path) -> bool:
     """Whether ``job``'s run can be loaded: a valid file in the store, or the ledger's
     entry (``StaleLedger`` if the ledger holds it but was made by other code)."""
-    path = _path(job.config, job.seed, results_dir)
-    if isinstance(job.config, PPOConfig):
-        if not path.exists():
-            if ledger.holds(job.config, job.seed):
-                ledger.lookup_ppo(job.config, job.seed)  # StaleLedger: no recomputing behind it
-                return True
-            return False
-        try:
-            ppo.load(path, ppo.run_key(job.config, job.seed))
-        except CorruptResult:
-            return False
-        return True
+    config, seed = job.config, job.seed
+    path = _path(config, seed, results_dir)
+    is_ppo = isinstance(config, PPOConfig)
     if not path.exists():
-        if ledger.holds(job.config, job.seed):
-            ledger.manifest()  # raises StaleLedger: no recomputing behind a stale ledger
+        if ledger.holds(config, seed):
+            # StaleLedger if the ledger was made by other code: no recomputing behind it.
+            ledger.lookup_ppo(config, seed) if is_ppo else ledger.manifest()
             return True
         return False
     try:
-        load_result(path, run_key(job.config, job.seed))
+        if is_ppo:
+            ppo.load(path, ppo.run_key(config, seed))
+        else:
+            load_result(path, run_key(config, seed))
     except CorruptResult:
         return False  # the worker warns and recomputes it
     return True
@@ -530,7 +517,7 @@ def run_configs(
         progress=progress,
         desc=desc,
     )
-    loaded = iter(load_job(j.config, j.seed, results_dir) for j in jobs)
+    loaded = iter(load_run(j.config, j.seed, results_dir) for j in jobs)
     return {key: [next(loaded) for _ in seeds] for key in configs}
 
 
