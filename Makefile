@@ -47,8 +47,8 @@ experiments: setup
 	DOCKING_LEDGER=off $(PY) -m docking run experiment1
 	DOCKING_LEDGER=off $(PY) -m docking run experiment2
 	DOCKING_LEDGER=off $(PY) -m docking design run calibration-experiment1 calibration-experiment2
-	DOCKING_LEDGER=off $(PY) -m docking design run study
-	DOCKING_LEDGER=off $(PY) -m docking design run experiment3
+	DOCKING_LEDGER=off $(PY) -m docking design run study study-yardsticks
+	DOCKING_LEDGER=off $(PY) -m docking design run experiment3 experiment3-oracle
 
 check: setup
 	$(VENV)/bin/ruff format --check .

@@ -373,7 +373,8 @@ class Report:
             from docking.report import EXPERIMENT3_END, EXPERIMENT3_START
 
             found = experiment3.run(results_dir=self.results_dir, workers=self.processes)
-            text = experiment3.table(found, experiment3.oracle_table())
+            oracle = experiment3.ORACLE.run(results_dir=self.results_dir, workers=self.processes)
+            text = experiment3.table(found, experiment3.oracle_table(oracle))
             print(text)
             if self.readme is not None:
                 changed |= update_readme(self.readme, text, EXPERIMENT3_START, EXPERIMENT3_END)

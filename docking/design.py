@@ -40,6 +40,7 @@ __all__ = [
     "run_design",
     "summary",
     "tested_in",
+    "yardstick_config",
 ]
 
 #: What a design measures: ``"heldout"`` (each run's held-out trials, or a test-only cell's
@@ -174,6 +175,23 @@ class Design:
 
     def cell(self, key: str) -> Cell:
         return _find(self.cells, key, self.name)
+
+
+def yardstick_config(base: ExperimentConfig, policy: str, heldout_trials: int) -> ExperimentConfig:
+    """The yardstick run of ``policy`` (``ExperimentConfig.policy``: "oracle", "centroid",
+    "forward", "random") in ``base``'s world: no training and no main test, ``heldout_trials``
+    held-out trials per seed on ``base``'s held-out streams; stored under the name
+    ``yardsticks`` (so that designs asking for the same yardstick share its runs)."""
+    return dataclasses.replace(
+        base,
+        name="yardsticks",
+        policy=policy,
+        train_trials=0,
+        eval_trials=0,
+        test_trials=0,
+        pretrain_trials=0,
+        heldout_trials=heldout_trials,
+    )
 
 
 def _find(cells, key: str, where: str) -> Cell:

@@ -49,7 +49,6 @@ from IPython.display import Image, Markdown, display
 
 from docking import analysis, figures, study
 from docking.experiments import initial_network
-from docking.policies import RandomPolicy, always_forward, centroid_rule, evaluate_policy, oracle
 from docking.presets import EXPERIMENT_2, FLOOR_WORLD
 from docking.report import save_named
 from docking.stats import mean_ci
@@ -89,33 +88,26 @@ display(Markdown("\n".join(f"* **{c.key}**: {c.test}." for c in study.CLAIMS)))
 #
 # Before any learner: the pose-reading oracle (the bound), a one-line pixel rule (step towards
 # the side of the image where the red is, forward when centred), always-forward and random
-# actions, 500 trials each from their own seeds, in both worlds. A world in which
-# always-forward docks often cannot tell learners apart.
+# actions, in both worlds: yardstick runs (`study.YARDSTICKS`, `python -m docking design run
+# study-yardsticks`), 5 seeds × 500 held-out trials on the held-out starts of the learners'
+# first five seeds. A world in which always-forward docks often cannot tell learners apart.
 
 # %%
-yardsticks = {}
-for world_name, world in (("sideboard", EXPERIMENT_2.world), ("floor", FLOOR_WORLD)):
-    for name, policy in (
-        ("oracle", oracle),
-        ("centroid rule", centroid_rule),
-        ("always forward", always_forward),
-        ("random", RandomPolicy(np.random.default_rng(99))),
-    ):
-        episodes = evaluate_policy(DockingEnv(world, seed=1001), policy, 500)
-        yardsticks[world_name, name] = np.mean([e.success for e in episodes])
+found = study.YARDSTICKS.run()
+yardsticks = {(c["world"], c["policy"]): float(np.mean(found.score(c.key))) for c in found.cells}
 display(
     Markdown(
         "| policy | sideboard world | floor world |\n|---|---|---|\n"
         + "\n".join(
             f"| {name} | {100 * yardsticks['sideboard', name]:.1f}% | "
             f"{100 * yardsticks['floor', name]:.1f}% |"
-            for name in ("oracle", "centroid rule", "always forward", "random")
+            for name in study.YARDSTICK_POLICIES
         )
     )
 )
 assert yardsticks["sideboard", "oracle"] >= 0.99 and yardsticks["floor", "oracle"] >= 0.99
-assert yardsticks["floor", "always forward"] <= 0.15  # the floor world's calibration bound
-assert yardsticks["sideboard", "always forward"] > 3 * yardsticks["floor", "always forward"]
+assert yardsticks["floor", "forward"] <= 0.15  # the floor world's calibration bound
+assert yardsticks["sideboard", "forward"] > 3 * yardsticks["floor", "forward"]
 
 # %% [markdown]
 # The floor world (with the red cup of the distractor cells beside the landmark), Fig. 2
@@ -336,7 +328,7 @@ assert diff["two-stage"].low > 0 and diff["linear"].high < 0
 # %%
 print(
     f"floor world, the paper's configuration: {pct(success['floor/paper'])}; "
-    f"centroid rule {100 * yardsticks['floor', 'centroid rule']:.1f}%"
+    f"centroid rule {100 * yardsticks['floor', 'centroid']:.1f}%"
 )
 assert success["floor/paper"].high < 0.95
-assert success["floor/paper"].high < yardsticks["floor", "centroid rule"]
+assert success["floor/paper"].high < yardsticks["floor", "centroid"]

@@ -44,9 +44,9 @@ import itertools
 
 import numpy as np
 
-from docking.design import Cell, Design, Results
+from docking.design import Cell, Design, Results, yardstick_config
 from docking.designs.study import DESIGN as STUDY
-from docking.designs.study import STUDY_SEEDS, share_verdict
+from docking.designs.study import HELDOUT_TRIALS, STUDY_SEEDS, YARDSTICK_SEEDS, share_verdict
 from docking.experiments import ExperimentConfig
 from docking.presets import EXPERIMENT_2
 from docking.scene import ACTION_SETS, WorldConfig
@@ -64,12 +64,11 @@ __all__ = [
     "rotation_verdict",
     "table",
     "NOISE_DEG",
-    "ORACLE_TRIALS",
+    "ORACLE",
     "PRECISION_DEG",
     "TASKS",
     "cell_key",
     "experiment3_cells",
-    "oracle_success",
     "run",
 ]
 
@@ -90,12 +89,6 @@ LONGER = 2
 
 #: Its key.
 LONGER_KEY = "6 actions, paper task, 2 deg, trained twice as long"
-
-#: Oracle trials per configuration (its bound is judged on these; seeded, so repeatable).
-ORACLE_TRIALS = 1000
-
-#: The seed of the oracle's trials (a stream no learner's run uses).
-ORACLE_SEED = 2011
 
 
 def cell_key(actions: str, task: str, noise: float) -> str:
@@ -158,16 +151,6 @@ def experiment3_cells(full: bool = False) -> list[Cell]:
     return found
 
 
-def oracle_success(config: WorldConfig, n: int = ORACLE_TRIALS, seed: int = ORACLE_SEED) -> float:
-    """The pose-reading oracle's success rate over ``n`` trials from the whole start region
-    of ``config`` (:func:`docking.policies.oracle`; it turns only if ``config`` has turns)."""
-    from docking.policies import evaluate_policy, oracle
-    from docking.world import DockingEnv
-
-    episodes = evaluate_policy(DockingEnv(config, seed=seed), oracle, n)
-    return float(np.mean([e.success for e in episodes]))
-
-
 # ------------------------------------------------------------------------------------------
 # What the runs show.
 # ------------------------------------------------------------------------------------------
@@ -219,10 +202,11 @@ def comparisons(results: Results) -> list[Comparison]:
     return found
 
 
-def oracle_table(n: int = ORACLE_TRIALS) -> dict[str, float]:
-    """The oracle's success in the world of every cell (``{cell key: rate}``): it turns in
-    the six-action worlds and cannot in the four-action ones."""
-    return {c.key: oracle_success(c.config.world, n) for c in experiment3_cells()}
+def oracle_table(oracle: Results) -> dict[str, float]:
+    """The pose oracle's held-out success in the world of every cell (``{cell key: rate}``,
+    all seeds' trials pooled) from the results of :data:`ORACLE`: it turns in the six-action
+    worlds and cannot in the four-action ones."""
+    return {c.key: float(np.mean(oracle.score(c.key))) for c in oracle.cells}
 
 
 def table(results: Results, oracle: dict[str, float]) -> str:
@@ -269,6 +253,26 @@ DESIGN = Design(
     seeds=STUDY_SEEDS,
     measure="heldout",
 )
+
+#: The pose oracle (:func:`docking.policies.oracle`, a yardstick run,
+#: :func:`docking.design.yardstick_config`) in the world of every cell of :data:`DESIGN` but
+#: the one trained longer (its world is its six-action cell's), one cell per Experiment 3 cell
+#: under the same key: which cells are solvable. For
+#: :data:`~docking.designs.study.YARDSTICK_SEEDS`, :data:`~docking.designs.study.HELDOUT_TRIALS`
+#: held-out trials each, the held-out starts of the learners' first seeds.
+ORACLE = Design(
+    name="experiment3-oracle",
+    title="the pose oracle in the world of every cell of Experiment 3",
+    cells=tuple(
+        Cell(c.key, yardstick_config(c.config, "oracle", HELDOUT_TRIALS), c.coords, c.label)
+        for c in experiment3_cells()
+    ),
+    seeds=YARDSTICK_SEEDS,
+    measure="heldout",
+)
+
+#: The designs of this file (``python -m docking design run experiment3|experiment3-oracle``).
+DESIGNS = {DESIGN.name: DESIGN, ORACLE.name: ORACLE}
 
 #: Run (or load) Experiment 3: :meth:`Design.run` of :data:`DESIGN` (one sweep; stored runs,
 #: e.g. the study's paper configuration, are loaded; ``full``: also the cell trained longer).

@@ -62,13 +62,15 @@ import dataclasses
 import numpy as np
 
 from docking.claims import Above, Claim, Gap, ShareAbove, Within
-from docking.design import Cell, Design, Results
+from docking.design import Cell, Design, Results, yardstick_config
 from docking.designs import experiment3 as e3
 from docking.designs.study import (
     EQUIVALENCE_MARGIN,
     HELDOUT_TRIALS,
     ROTATION_SHARE,
     STUDY_SEEDS,
+    YARDSTICK_POLICIES,
+    YARDSTICK_SEEDS,
     net,
     variant,
     with_cup,
@@ -80,11 +82,8 @@ from docking.presets import EXPERIMENT_2, FLOOR_WORLD
 #: The family-wise error rate of the verdicts (Holm).
 ALPHA = 0.05
 
-#: Seeds of the yardstick runs (no learning: seeds only resample start poses and noise).
-YARDSTICK_SEEDS = tuple(range(5))
-
-#: The yardsticks (``ExperimentConfig.policy``).
-YARDSTICKS = ("oracle", "centroid", "forward", "random")
+#: The yardsticks (``ExperimentConfig.policy``) and their seeds: the study's.
+YARDSTICKS = YARDSTICK_POLICIES
 
 #: Environment steps of the pixel-level bound's training: 2000 trials x 25 actions.
 PPO_STEPS = 2000 * 25
@@ -172,19 +171,6 @@ def _cell(world: str, variant_key: str, config, label: str, **kw) -> Cell:
     return Cell(f"{world}/{variant_key}", config, coords, label, **kw)
 
 
-def _yardstick(base: ExperimentConfig, policy: str) -> ExperimentConfig:
-    return dataclasses.replace(
-        base,
-        name="yardsticks",
-        policy=policy,
-        train_trials=0,
-        eval_trials=0,
-        test_trials=0,
-        pretrain_trials=0,
-        heldout_trials=HELDOUT_TRIALS,
-    )
-
-
 def _path_cells() -> list[Cell]:
     """Per world of the path: the paper's configuration and linear SARSA (with learning
     curves), the pixel-level bound (PPO, :mod:`docking.ppo`, with its settings there) and
@@ -215,7 +201,7 @@ def _path_cells() -> list[Cell]:
                 _cell(
                     key,
                     policy,
-                    _yardstick(base, policy),
+                    yardstick_config(base, policy, HELDOUT_TRIALS),
                     f"{policy} ({what})",
                     seeds=YARDSTICK_SEEDS,
                 )

@@ -34,7 +34,7 @@ import numpy as np
 
 from docking.claims import Above, Claim, ShareAbove, Within, claim_of
 from docking.claims import verdict_table as _table
-from docking.design import Cell, Design, Results, run_design
+from docking.design import Cell, Design, Results, run_design, yardstick_config
 from docking.experiments import Curriculum, ExperimentConfig, ExperimentResult, TrialLog
 from docking.network import NetworkConfig
 from docking.presets import EXPERIMENT_1, EXPERIMENT_2, FLOOR_WORLD
@@ -313,6 +313,36 @@ DESIGN = Design(
     claims=CLAIMS,
     stages=(_control,),
 )
+
+#: Seeds of the yardstick runs (no learning: seeds only resample start poses and noise; the
+#: first of the learners' seeds, so the yardsticks face the same held-out starts).
+YARDSTICK_SEEDS = tuple(range(5))
+
+#: The yardsticks (``ExperimentConfig.policy``): the pose oracle, the one-line centroid rule,
+#: always-forward, random actions.
+YARDSTICK_POLICIES = ("oracle", "centroid", "forward", "random")
+
+#: What the two worlds give away, before any learner (notebook 05): every yardstick in the
+#: sideboard and the floor world, :data:`HELDOUT_TRIALS` held-out trials per seed.
+YARDSTICKS = Design(
+    name="study-yardsticks",
+    title="the yardsticks of the study's two worlds (pose oracle, centroid rule, forward, random)",
+    cells=tuple(
+        Cell(
+            f"{world}/{policy}",
+            yardstick_config(base, policy, HELDOUT_TRIALS),
+            {"world": world, "policy": policy},
+            f"{policy} ({world} world)",
+        )
+        for world, base in (("sideboard", EXPERIMENT_2), ("floor", FLOOR_EXPERIMENT_2))
+        for policy in YARDSTICK_POLICIES
+    ),
+    seeds=YARDSTICK_SEEDS,
+    measure="heldout",
+)
+
+#: The designs of this file (``python -m docking design run study|study-yardsticks``).
+DESIGNS = {DESIGN.name: DESIGN, YARDSTICKS.name: YARDSTICKS}
 
 #: The results of the study (the design layer's one shape).
 StudyResults = Results
