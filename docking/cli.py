@@ -394,7 +394,9 @@ def _write_timings(readme: Path) -> bool:
     data = ledger.manifest()
     if data is None:
         return False
-    text = timings_text(ledger.timings(), *ledger.computing_seconds(data))
+    text = timings_text(
+        ledger.timings(), *ledger.computing_seconds(data), ledger_bytes=ledger.size_bytes()
+    )
     return update_readme(readme, text, TIMINGS_START, TIMINGS_END)
 
 
@@ -479,7 +481,7 @@ class Ledger:
             if data is None:
                 raise ValueError(f"no ledger in {ledger.ledger_dir()}")
         folder = ledger.ledger_dir()
-        size = sum(p.stat().st_size for p in folder.rglob("*") if p.is_file())
+        size = ledger.size_bytes(folder)
         names = sorted({r["name"] for r in data["runs"].values()})
         ppo_runs = data.get("ppo_runs", {})
         print(

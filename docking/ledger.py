@@ -129,6 +129,12 @@ def timings(folder: Path | None = None) -> dict | None:
     return json.loads((folder / TIMINGS_FILE).read_text())
 
 
+def size_bytes(folder: Path | None = None) -> int:
+    """The bytes of every file of the ledger in ``folder`` (default :func:`ledger_dir`)."""
+    folder = ledger_dir() if folder is None else Path(folder)
+    return sum(p.stat().st_size for p in folder.rglob("*") if p.is_file())
+
+
 def computing_seconds(data: dict) -> tuple[int, float]:
     """The number of runs in a manifest (the learner's, the yardsticks' and PPO's) and the
     sum of their recorded wall times (seconds of one process each, training and testing)."""

@@ -361,17 +361,27 @@ TIMINGS_START = "<!-- timings:start -->"
 TIMINGS_END = "<!-- timings:end -->"
 
 
-def timings_text(measured: dict | None, runs: int, run_seconds: float) -> str:
+def timings_text(
+    measured: dict | None, runs: int, run_seconds: float, ledger_bytes: int | None = None
+) -> str:
     """The README's paragraph of times: ``measured`` is ``tools/time_tiers.py``'s record (None
     if the tiers were not timed), ``runs`` and ``run_seconds`` the ledger's runs and the sum
-    of their wall times (:func:`docking.ledger.computing_seconds`)."""
+    of their wall times (:func:`docking.ledger.computing_seconds`), ``ledger_bytes`` its size
+    (:func:`docking.ledger.size_bytes`; None: not said)."""
     per_run = run_seconds / max(runs, 1)
+    size = ""
+    if ledger_bytes is not None:
+        size = (
+            f" ({ledger_bytes / 2**20:.1f} MiB; its entries are compressed already, and a "
+            "full recompute under changed code rewrites every one of them, so it adds about "
+            "that much to the repository's history)"
+        )
     reproduce = (
         f"`make reproduce` computes the ledger's {runs} runs, whose recorded wall times add "
         f"up to {run_seconds / 3600:.1f} h of one process ({per_run:.0f} s per run on "
         "average; the embedded cluster runs one per core), then executes the notebooks and "
-        "writes the ledger. A Dask cluster divides the computing by its number of cores "
-        "(`--scheduler` on `design run`, `sweep`)."
+        f"writes the ledger{size}. A Dask cluster divides the computing by its number of "
+        "cores (`--scheduler` on `design run`, `sweep`)."
     )
     if measured is None:
         return f"The tiers have not been timed on this commit's ledger. {reproduce}"

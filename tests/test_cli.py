@@ -226,6 +226,7 @@ def test_timings_paragraph_says_what_was_measured():
     assert "`make setup` 8.0 min (package downloads); `make test` 15.0 min." in text
     assert "300 runs" in text and "2.0 h of one process (24 s per run" in text
     assert "have not been timed" in timings_text(None, 300, 7200.0)
+    assert "the ledger (3.0 MiB;" in timings_text(None, 300, 7200.0, ledger_bytes=3 * 2**20)
     record["tiers"]["setup"]["commit"] = "0123456789"  # kept from an earlier measurement
     assert "`make setup` 8.0 min (package downloads), on 0123456;" in timings_text(record, 1, 1.0)
 

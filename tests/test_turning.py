@@ -159,14 +159,12 @@ def test_the_oracle_turns_only_with_turns():
     assert oracle_action([-0.48, 0.0, np.radians(15)], wide) == TURN_RIGHT
 
 
-@pytest.mark.slow
-def test_the_six_action_oracle_solves_every_turning_configuration():
-    # The committed evidence (the ledger; `verify` recomputes runs of it): the oracle's
-    # yardstick runs in every six-action world.
-    rates = experiment3.oracle_table(experiment3.ORACLE.run(progress=False))
-    six = {k: v for k, v in rates.items() if experiment3.ORACLE.cell(k)["actions"] == "turning"}
-    assert len(six) == len(experiment3.TASKS) * len(experiment3.NOISE_DEG)
-    assert min(six.values()) >= 0.99, six
+def test_the_six_action_oracle_docks_in_the_hardest_cell():
+    # The bound itself (every six-action cell >= 99% over 2500 held-out trials) is asserted
+    # by notebook 06 on the oracle's runs; here one seed's 200 trials of the hardest cell.
+    cell = experiment3.ORACLE.cell("6 actions, precision, 6 deg")
+    result = run_experiment(dataclasses.replace(cell.config, heldout_trials=200), 0)
+    assert len(result.heldout) == 200 and result.heldout.success_rate >= 0.98
 
 
 def test_the_oracle_design_has_one_yardstick_cell_per_cell_of_the_grid():
