@@ -1,9 +1,10 @@
 # Tiers, quickest first (each creates or reuses the virtual environment .venv):
 #   make check       ruff, the layers contract + the unit tests (no notebooks, no slow
 #                    tests): a few minutes
-#   make test        check + the slow tests + `verify --sample` (recomputes Experiments 1 and
-#                    2 and a few ledger runs, fails unless their digests equal the ledger's) +
-#                    every notebook under nbmake, reading the committed ledger (what CI runs)
+#   make test        check + every notebook under nbmake, reading the committed ledger + the
+#                    slow tests and the docs site's + `verify --sample` (recomputes Experiments
+#                    1 and 2 and a few ledger runs, fails unless their digests equal the
+#                    ledger's) (what CI runs)
 #   make paper       Experiments 1 and 2 from scratch, Figs. 2-5 and the results table
 #   make reproduce   recompute every run (resumable), execute every notebook, write the
 #                    ledger, every figure and the README tables
@@ -57,13 +58,13 @@ check: setup
 	$(PY) -m pytest tests -q -n 2 -m "not slow and not docs"
 
 # The notebooks run under nbmake with --overwrite: their outputs land in notebooks/*.ipynb,
-# from which `make docs` builds the site, and the site is then checked in Chromium.
+# from which `make docs` builds the site, which the docs tests check in Chromium, on the same
+# two processes as the slow tests (so that neither waits for the other's last test).
 test: check notebooks
-	$(PY) -m pytest tests -q -n 2 -m slow
-	$(PY) -m docking verify --sample 3
 	$(PY) -m pytest --nbmake --nbmake-timeout=1800 --overwrite -n 2 -q $(NOTEBOOKS)
 	$(MAKE) docs
-	$(PY) -m pytest tests -q -m docs
+	$(PY) -m pytest tests -q -n 2 -m "slow or docs"
+	$(PY) -m docking verify --sample 3
 
 # The documentation site in build/site (open build/site/index.html): the README, the
 # executed notebooks (make test writes their outputs), CONTRIBUTING, the API reference.

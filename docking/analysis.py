@@ -415,6 +415,68 @@ def _distance_to_rectangle(x, y, rect) -> np.ndarray:
     return np.hypot(dx, dy)
 
 
+class _CropCheck:
+    """``DockingEnv.landmark_in_crop(pose, margin=0)`` for many poses: the same arithmetic on
+    the same arrays (so the same bits), with the landmark's geoms and the robot's camera
+    looked up once by index instead of by name at every pose (MuJoCo's accessors by name
+    were most of its cost); the robot is put back where it stood."""
+
+    _SIGNS = np.array([[sx, sy, sz] for sx in (-1, 1) for sy in (-1, 1) for sz in (-1, 1)])
+
+    def __init__(self, env: DockingEnv):
+        self.physics, self.camera = env.physics, env.config.camera
+        model = self.physics.model
+        self.geoms = [model.geom(name).id for name in ("landmark_slab", "landmark_post")]
+        self.eye = model.camera("eye").id
+
+    def uv(self, pose) -> np.ndarray:
+        """The landmark's 16 corners in pixels from ``pose`` (the robot is left there)."""
+        physics, cam = self.physics, self.camera
+        model, data = physics.model, physics.data
+        physics.place(pose)
+        # docking.world.Physics.landmark_corners
+        corners = []
+        for g in self.geoms:
+            centre, rot = data.geom_xpos[g], data.geom_xmat[g].reshape(3, 3)
+            corners.append(centre + (self._SIGNS * model.geom_size[g]) @ rot.T)
+        points = np.concatenate(corners)
+        # docking.world.Physics.project
+        rot = data.cam_xmat[self.eye].reshape(3, 3)
+        local = (np.asarray(points) - data.cam_xpos[self.eye]) @ rot
+        depth = -local[:, 2]
+        with np.errstate(divide="ignore", invalid="ignore"):
+            u = cam.width / 2 + cam.focal_px * local[:, 0] / depth
+            v = cam.height / 2 - cam.focal_px * local[:, 1] / depth
+        uv = np.stack([u, v], axis=1)
+        uv[depth <= 1e-6] = np.nan
+        return uv
+
+    def __call__(self, pose) -> bool:
+        """``DockingEnv.landmark_in_crop(pose, margin=0)`` (the robot is left at ``pose``)."""
+        uv = self.uv(pose)
+        # docking.world.DockingEnv.landmark_in_crop, margin 0
+        x0, y0, x1, y1 = self.camera.crop
+        return bool(
+            np.all(np.isfinite(uv))
+            and uv[:, 0].min() >= x0
+            and uv[:, 0].max() <= x1
+            and uv[:, 1].min() >= y0
+            and uv[:, 1].max() <= y1
+        )
+
+
+def landmark_lost(env: DockingEnv, poses) -> bool:
+    """Whether from some pose of ``poses`` (rows ``[x, y, yaw]``) the landmark is not wholly
+    inside the crop rectangle: ``not env.landmark_in_crop(pose, margin=0)`` for some pose,
+    bit for bit (:class:`_CropCheck`), stopping at the first."""
+    check = _CropCheck(env)
+    saved = check.physics.pose()
+    try:
+        return any(not check(pose) for pose in poses)
+    finally:
+        check.physics.place(saved)
+
+
 def failure_taxonomy(
     log: TrialLog,
     env: DockingEnv,
@@ -458,9 +520,7 @@ def failure_taxonomy(
         poses, actions = log.trial_poses(k), log.trial_actions(k)
         start, end = poses[0], poses[-1]
         flags["heading_drift"][k] = bool(np.any(np.abs(poses[:, 2]) > limit))
-        flags["landmark_lost"][k] = any(
-            not env.landmark_in_crop(pose, margin=0) for pose in poses[1:]
-        )
+        flags["landmark_lost"][k] = landmark_lost(env, poses[1:])
         flags["ended_farther"][k] = bool(
             np.linalg.norm(end[:2] - dock_centre) > np.linalg.norm(start[:2] - dock_centre)
         )

@@ -392,3 +392,34 @@ def test_the_failure_taxonomy_of_chosen_trials_reads_only_their_poses():
         assert not some[name][[0, 2, 3, 5]].any()
     with pytest.raises(ValueError, match="must index the log's 6 trials"):
         analysis.failure_taxonomy(log, env, trials=[6])
+
+
+@pytest.mark.parametrize("scene", ["sideboard", "floor"])
+def test_the_taxonomys_crop_check_is_landmark_in_crop_bit_for_bit(scene):
+    # failure_taxonomy's landmark_lost looks the geoms and the camera up once; it must give
+    # what DockingEnv.landmark_in_crop(pose, margin=0) gives, to the bit, from any pose
+    # (near the crop's edges too), and leave the robot where it stood.
+    from docking.presets import FLOOR_WORLD
+
+    world = WorldConfig() if scene == "sideboard" else FLOOR_WORLD
+    env = DockingEnv(world, seed=0)
+    rng = np.random.default_rng(5)
+    n = 600
+    poses = np.column_stack(
+        [rng.uniform(-2.0, -0.3, n), rng.uniform(-0.8, 0.8, n), rng.uniform(-0.9, 0.9, n)]
+    )
+    before = env.pose
+    check = analysis._CropCheck(env)
+    inside = []
+    for pose in poses:
+        ours = check.uv(pose)
+        env.physics.place(pose)
+        theirs = env.physics.project(env.physics.landmark_corners(), "eye", world.camera)
+        assert ours.tobytes() == theirs.tobytes()
+        inside.append(env.landmark_in_crop(pose, margin=0))
+        assert check(pose) == inside[-1]
+    assert 0.1 < np.mean(inside) < 0.9  # both outcomes are tried
+    env.physics.place(before)
+    assert analysis.landmark_lost(env, poses) == (not all(inside))
+    assert analysis.landmark_lost(env, poses[np.array(inside)]) is False
+    np.testing.assert_array_equal(env.pose, before)
