@@ -419,7 +419,10 @@ class _CropCheck:
     """``DockingEnv.landmark_in_crop(pose, margin=0)`` for many poses: the same arithmetic on
     the same arrays (so the same bits), with the landmark's geoms and the robot's camera
     looked up once by index instead of by name at every pose (MuJoCo's accessors by name
-    were most of its cost); the robot is put back where it stood."""
+    were most of its cost). A copy of ``Physics.landmark_corners`` and ``Physics.project``
+    (a test holds them equal to the bit): ``docking/world.py`` is fingerprinted, and moving
+    the lookup there would re-key every stored run; when that module next changes for its own
+    reasons, it should take the lookup and this copy go."""
 
     _SIGNS = np.array([[sx, sy, sz] for sx in (-1, 1) for sy in (-1, 1) for sz in (-1, 1)])
 
