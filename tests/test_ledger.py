@@ -140,6 +140,27 @@ def test_a_tampered_entry_is_refused(built, monkeypatch, tmp_path):
         _served(monkeypatch, copy, 0)
 
 
+def test_a_ledger_of_another_layout_is_refused(built, monkeypatch, tmp_path):
+    folder, *_ = built
+    copy = tmp_path / "ledger"
+    shutil.copytree(folder, copy)
+    manifest = json.loads((copy / "manifest.json").read_text())
+    manifest["format"] = ledger.LEDGER_FORMAT - 1
+    (copy / "manifest.json").write_text(json.dumps(manifest))
+    with pytest.raises(ledger.StaleLedger, match="has format .* recompute it: make reproduce"):
+        _served(monkeypatch, copy, 0)
+
+
+def test_the_manifest_holds_each_configuration_once(built):
+    folder, *_ = built
+    raw = json.loads((folder / "manifest.json").read_text())
+    assert len(raw["configs"]) == 1  # two seeds of one configuration
+    (ref,) = raw["configs"]
+    assert all(record["config"] == ref for record in raw["runs"].values())
+    served = ledger.manifest(folder)  # reading puts the configuration back into each record
+    assert all(record["config"] == TINY.to_dict() for record in served["runs"].values())
+
+
 @pytest.mark.slow
 def test_verify_passes_on_the_ledger_and_fails_on_a_wrong_digest(built, tmp_path):
     folder, *_ = built
