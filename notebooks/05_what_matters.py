@@ -99,9 +99,9 @@ display(
     Markdown(
         "| policy | sideboard world | floor world |\n|---|---|---|\n"
         + "\n".join(
-            f"| {name} | {100 * yardsticks['sideboard', name]:.1f}% | "
+            f"| {label} | {100 * yardsticks['sideboard', name]:.1f}% | "
             f"{100 * yardsticks['floor', name]:.1f}% |"
-            for name in study.YARDSTICK_POLICIES
+            for name, label in study.YARDSTICK_LABELS.items()
         )
     )
 )

@@ -69,6 +69,7 @@ from docking.designs.study import (
     HELDOUT_TRIALS,
     ROTATION_SHARE,
     STUDY_SEEDS,
+    YARDSTICK_LABELS,
     YARDSTICK_POLICIES,
     YARDSTICK_SEEDS,
     net,
@@ -533,13 +534,11 @@ def cells() -> list[Cell]:
 #: The columns of :func:`world_table`, left to right: the bounds, the learners, the
 #: one-line rules.
 WORLD_COLUMNS = (
-    ("oracle", "pose oracle"),
+    ("oracle", YARDSTICK_LABELS["oracle"]),
     ("ppo", "PPO on the pixels"),
     ("linear", "linear SARSA"),
     ("paper", "the paper's learner"),
-    ("centroid", "centroid rule"),
-    ("forward", "always forward"),
-    ("random", "random"),
+    *((name, YARDSTICK_LABELS[name]) for name in ("centroid", "forward", "random")),
 )
 
 

@@ -318,9 +318,17 @@ DESIGN = Design(
 #: first of the learners' seeds, so the yardsticks face the same held-out starts).
 YARDSTICK_SEEDS = tuple(range(5))
 
+#: The yardsticks (``ExperimentConfig.policy``) and what tables call them.
+YARDSTICK_LABELS = {
+    "oracle": "pose oracle",
+    "centroid": "centroid rule",
+    "forward": "always forward",
+    "random": "random",
+}
+
 #: The yardsticks (``ExperimentConfig.policy``): the pose oracle, the one-line centroid rule,
 #: always-forward, random actions.
-YARDSTICK_POLICIES = ("oracle", "centroid", "forward", "random")
+YARDSTICK_POLICIES = tuple(YARDSTICK_LABELS)
 
 #: What the two worlds give away, before any learner (notebook 05): every yardstick in the
 #: sideboard and the floor world, :data:`HELDOUT_TRIALS` held-out trials per seed.
@@ -332,7 +340,7 @@ YARDSTICKS = Design(
             f"{world}/{policy}",
             yardstick_config(base, policy, HELDOUT_TRIALS),
             {"world": world, "policy": policy},
-            f"{policy} ({world} world)",
+            f"{YARDSTICK_LABELS[policy]} ({world} world)",
         )
         for world, base in (("sideboard", EXPERIMENT_2), ("floor", FLOOR_EXPERIMENT_2))
         for policy in YARDSTICK_POLICIES
