@@ -50,6 +50,7 @@ experiments: setup
 	DOCKING_LEDGER=off $(PY) -m docking design run calibration-experiment1 calibration-experiment2
 	DOCKING_LEDGER=off $(PY) -m docking design run study study-yardsticks
 	DOCKING_LEDGER=off $(PY) -m docking design run experiment3 experiment3-oracle
+	DOCKING_LEDGER=off $(PY) -m docking design run second-edition
 
 check: setup
 	$(VENV)/bin/ruff format --check .

@@ -53,6 +53,7 @@ __all__ = [
     "Rule",
     "ShareAbove",
     "Within",
+    "family_table",
     "overall",
 ]
 
@@ -266,12 +267,20 @@ class Claim:
         :attr:`cells`) in ``results``."""
         return self.rule.interval(results, pair_of(results, entry), self.measure, seed=seed)
 
+    def format(self, ci: Interval) -> str:
+        """An interval of this claim's statistic as text: percentage points of success, a
+        per cent share of failures, or (for a measure other than success) the raw
+        difference to three decimals."""
+        if self.measure is not success:
+            return ci.format(scale=1.0, digits=3)
+        return ci.format(unit="%" if isinstance(self.rule, ShareAbove) else " pp")
+
     def evidence(self, results, entry) -> str:
         """The comparison's number with its interval, as text."""
         ci = self.interval(results, entry)
         if isinstance(self.rule, ShareAbove):
-            return f"{ci.format(unit='%')} of the failures go"
-        return f"{ci.format(unit=' pp')} vs {pair_of(results, entry)[0]}"
+            return f"{self.format(ci)} of the failures go"
+        return f"{self.format(ci)} vs {pair_of(results, entry)[0]}"
 
     def verdict(self, results) -> tuple[str, dict[str, str], list[str]]:
         """The overall verdict, the verdict per world, and the evidence (per comparison)."""
@@ -305,15 +314,19 @@ def pair_of(results, entry) -> tuple[str, ...]:
 
 
 def overall(verdicts: dict[str, str]) -> str:
-    """One verdict from the per-world verdicts ``{world: verdict}``: the common one, or
-    "supported only in the ... world" when they differ."""
+    """One verdict from the per-world verdicts ``{world: verdict}``: the common one;
+    "supported only in the ... world" when the others are not supported; else each verdict
+    with its worlds ("contradicted in floor; not supported in sideboard")."""
     values = set(verdicts.values())
     if len(values) == 1:
         return values.pop()
-    where = [w for w, v in verdicts.items() if v == SUPPORTED]
-    if where:
+    if values == {SUPPORTED, NOT_SUPPORTED}:
+        where = [w for w, v in verdicts.items() if v == SUPPORTED]
         return f"supported only in the {' and '.join(where)} world"
-    return "; ".join(f"{v} ({w} world)" for w, v in verdicts.items())
+    groups: dict[str, list[str]] = {}
+    for world, verdict in verdicts.items():
+        groups.setdefault(verdict, []).append(world)
+    return "; ".join(f"{v} in {' / '.join(ws)}" for v, ws in groups.items())
 
 
 def verdict_table(claims, results) -> str:
@@ -390,3 +403,31 @@ def family_verdicts(claims, decisions: list[Decision]) -> dict[str, tuple[str, d
                 per_world[world] = NOT_SUPPORTED
         out[claim.key] = (overall(per_world), per_world)
     return out
+
+
+def family_table(claims, decisions: list[Decision]) -> str:
+    """The Markdown table of a judged family: per judged claim, the paper's words, the
+    overall verdict (:func:`family_verdicts`), what is compared and by which rule, and per
+    comparison its world, interval (95%, unadjusted), p-value, Holm-adjusted p-value and
+    decision."""
+    verdicts = family_verdicts(claims, decisions)
+    lines = [
+        "| claim, in the paper's words | verdict | test | per comparison: interval; p, Holm p "
+        "-> decision |",
+        "|---|---|---|---|",
+    ]
+    for claim in claims:
+        if not claim.judged:
+            continue
+        found = [
+            f"{d.world}: {claim.format(d.interval)}; p {d.p:.2g}, Holm {d.p_adjusted:.2g} -> "
+            f"{d.verdict}"
+            for d in decisions
+            if d.claim == claim.key
+        ]
+        lines.append(
+            f"| {claim.words} ({claim.source}) | {verdicts[claim.key][0]} | {claim.test} | "
+            + "<br>".join(found)
+            + " |"
+        )
+    return "\n".join(lines)

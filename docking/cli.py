@@ -327,6 +327,10 @@ class Report:
     """Also the table of Experiment 3 (notebook 06; runs it if it is not stored, and the
     oracle in every cell), into the README between <!-- experiment3:start --> and
     <!-- experiment3:end -->."""
+    second_edition: bool = True
+    """Also the study's second edition (notebook 07): the table of its worlds, its path and
+    its verdict table, into the README between <!-- second-edition:start --> and
+    <!-- second-edition:end -->; and the 8 cm rows of the results table."""
     figures: bool = False
     """Also save Figs. 2-5 and the learning curves of Experiments 1 and 2 into figures/
     (or DOCKING_FIGURES)."""
@@ -339,7 +343,7 @@ class Report:
         from docking.presets import EXPERIMENT_1, EXPERIMENT_2
 
         if not self.compute:
-            _refuse_to_compute(self.study, self.experiment3, self.results_dir)
+            _refuse_to_compute(self.study, self.experiment3, self.second_edition, self.results_dir)
         from docking.report import STUDY_END, STUDY_START, results_table, update_readme
         from docking.sweep import run_seeds
 
@@ -361,7 +365,14 @@ class Report:
                 "Exp. 1": study.success("exp1/local"),
                 "Exp. 2": study.success("paper"),
             }
-        table = results_table(*results, heldout)
+        step8, second = None, None
+        if self.second_edition:
+            from docking.designs import second_edition as se
+
+            edition = se.DESIGN.run(results_dir=self.results_dir, workers=self.processes)
+            step8 = {"Exp. 2 with 8 cm forward steps": edition.score("sideboard-step8/paper")}
+            second = se.report_text(edition)
+        table = results_table(*results, heldout, step8)
         print(table)
         changed = self.readme is not None and update_readme(self.readme, table)
         if verdicts is not None:
@@ -378,6 +389,14 @@ class Report:
             print(text)
             if self.readme is not None:
                 changed |= update_readme(self.readme, text, EXPERIMENT3_START, EXPERIMENT3_END)
+        if second is not None:
+            from docking.report import SECOND_EDITION_END, SECOND_EDITION_START
+
+            print(second)
+            if self.readme is not None:
+                changed |= update_readme(
+                    self.readme, second, SECOND_EDITION_START, SECOND_EDITION_END
+                )
         if self.readme is not None:
             changed |= _write_timings(self.readme)
         if self.readme is not None:
@@ -400,12 +419,13 @@ def _write_timings(readme: Path) -> bool:
     return update_readme(readme, text, TIMINGS_START, TIMINGS_END)
 
 
-def _refuse_to_compute(study: bool, experiment3: bool, results_dir) -> None:
+def _refuse_to_compute(study: bool, experiment3: bool, second: bool, results_dir) -> None:
     """``ValueError`` if the report would compute runs: it names how many and the option."""
     from docking.designs import design
     from docking.sweep import jobs_for, missing
 
-    names = ["paper"] + ["study"] * study + ["experiment3"] * experiment3
+    names = ["paper"] + ["study"] * study + ["experiment3", "experiment3-oracle"] * experiment3
+    names += ["second-edition"] * second
     jobs = []
     for name in names:
         d = design(name)

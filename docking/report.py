@@ -123,16 +123,18 @@ def _efficiency_row(results: list[ExperimentResult]) -> tuple[str, str, str]:
     )
 
 
-def heldout_rows(study: dict[str, np.ndarray]) -> list[tuple[str, str, str]]:
-    """Rows of held-out success from the study: ``{experiment label: per-seed held-out
-    success of the paper's configuration}`` (each seed's network on its held-out trials,
-    start poses and noise that training never sees)."""
+def heldout_rows(
+    study: dict[str, np.ndarray], source: str = "the study"
+) -> list[tuple[str, str, str]]:
+    """Rows of held-out success from a design (``source``): ``{experiment label: per-seed
+    held-out success of the paper's configuration}`` (each seed's network on its held-out
+    trials, start poses and noise that training never sees)."""
     rows = []
     for label, success in study.items():
         success = np.asarray(success, dtype=float)
         rows.append(
             (
-                f"{label} held-out success, {len(success)} seeds (the study)",
+                f"{label} held-out success, {len(success)} seeds ({source})",
                 "(not reported)",
                 f"mean {_pct(success.mean())} ± {_pct(success.std(ddof=1))} (s.d.), "
                 f"min {_pct(success.min())}",
@@ -340,12 +342,20 @@ def results_table(
     results1: list[ExperimentResult],
     results2: list[ExperimentResult],
     heldout: dict[str, np.ndarray] | None = None,
+    step8: dict[str, np.ndarray] | None = None,
 ) -> str:
     """The results table of both experiments in Markdown; with ``heldout`` (see
-    :func:`heldout_rows`), the study's held-out rows after them."""
+    :func:`heldout_rows`), the study's held-out rows after them, and with ``step8`` the
+    second edition's held-out rows of the same learner with Nao-like 8 cm steps."""
     rows = experiment1_rows(results1) + experiment2_rows(results2)
-    return markdown_table(rows + (heldout_rows(heldout) if heldout else []))
+    rows += heldout_rows(heldout) if heldout else []
+    rows += heldout_rows(step8, "the study's second edition") if step8 else []
+    return markdown_table(rows)
 
+
+#: The markers of the README's second edition (notebook 07): its worlds, path and verdicts.
+SECOND_EDITION_START = "<!-- second-edition:start -->"
+SECOND_EDITION_END = "<!-- second-edition:end -->"
 
 #: The markers of the README's table of verdicts (notebook 05).
 STUDY_START = "<!-- study:start -->"

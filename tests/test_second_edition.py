@@ -232,3 +232,75 @@ def test_the_world_table_has_a_row_per_world_and_a_column_per_yardstick():
     assert sideboard.count("95.0% [") == len(se.WORLD_COLUMNS)
     dock = next(line for line in lines if line.startswith("| dock |"))
     assert dock.count("| - ") == len(se.WORLD_COLUMNS)  # not run: never a number
+
+
+def _path_results(paper: dict[str, float], ppo: float):
+    """Results of the path's paper and PPO cells with fixed per-world means (10 seeds)."""
+    from types import SimpleNamespace
+
+    from docking.design import Results
+
+    spread = np.linspace(-0.01, 0.01, 10)
+    cells = [c for c in se.DESIGN.cells if c["variant"] in ("paper", "ppo") and c["world"] in paper]
+    logs = {
+        c.key: [
+            SimpleNamespace(
+                success_rate=(paper[c["world"]] if c["variant"] == "paper" else ppo) + e
+            )
+            for e in spread
+        ]
+        for c in cells
+    }
+    return Results(se.DESIGN, cells, {}, logs)
+
+
+def test_a_factor_breaks_the_learner_only_past_the_drop_and_after_holm():
+    worlds = dict(zip(se.MAIN_PATH, (0.95, 0.93, 0.80, 0.79, 0.60), strict=True))
+    worlds.update({"sideboard-step8": 0.70, "floor-step8": 0.58})
+    steps = se.path_steps(_path_results(worlds, ppo=0.95))
+    assert [(s.before, s.after) for s in steps] == list(
+        zip(se.MAIN_PATH[:-1], se.MAIN_PATH[1:], strict=True)
+    )
+    # 2 pp: significant (tiny spread) but not past BREAK_DROP; 13 pp and 19 pp break it
+    assert [s.breaks for s in steps] == [False, True, False, True]
+    assert all(s.pixels_suffice for s in steps)
+    np.testing.assert_allclose(
+        [s.p_adjusted for s in steps], stats.holm([s.drop.p_value(0.0) for s in steps])
+    )
+    branches = se.path_steps(_path_results(worlds, ppo=0.5), se.BRANCHES)
+    assert [s.breaks for s in branches] == [True, False]
+    assert not any(s.pixels_suffice for s in branches)
+    table = se.path_table(steps + branches).splitlines()
+    assert len(table) == 2 + 6 and table[3].count("| yes |") == 2  # dock: breaks, suffices
+
+
+def test_the_family_table_has_a_row_per_judged_claim_with_every_comparison():
+    rng = np.random.default_rng(5)
+    values = {k: 0.9 + 0.01 * rng.standard_normal(10) for k in ("paper", "a", "b")}
+    values["a"] = values["a"] - 0.2
+    base = {"a": "paper", "b": "paper"}
+    judged = claims.Claim(
+        "x",
+        "words x",
+        "Sec. I",
+        "paper minus",
+        claims.Above(0.0, method="t"),
+        {"w1": ("a",), "w2": ("b",)},
+    )
+    finding = claims.Claim(
+        "y",
+        "words y",
+        "Sec. II",
+        "paper minus",
+        claims.Above(0.0, method="t"),
+        {"w1": ("b",)},
+        judged=False,
+    )
+    fake = _Fake(values, base)
+    decisions = claims.judge_family([judged, finding], fake)
+    table = claims.family_table([judged, finding], decisions).splitlines()
+    assert len(table) == 3 and "words y" not in "\n".join(table)
+    row = table[2]
+    assert row.startswith("| words x (Sec. I) | supported only in the w1 world |")
+    assert "w1: 20." in row and "-> supported" in row and "w2: " in row
+    assert f"Holm {decisions[0].p_adjusted:.2g}" in row

@@ -130,6 +130,9 @@ def test_verdict_rules_on_synthetic_results():
     assert overall({"sideboard": "supported", "floor": "not supported"}) == (
         "supported only in the sideboard world"
     )
+    assert overall({"a, 2 deg": "not supported", "b": "contradicted", "c": "not supported"}) == (
+        "not supported in a, 2 deg / c; contradicted in b"
+    )
 
 
 def test_study_figures_draw_from_arrays():

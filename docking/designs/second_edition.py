@@ -79,6 +79,7 @@ from docking.designs.study import (
 from docking.experiments import Curriculum, ExperimentConfig
 from docking.ppo import PPOConfig
 from docking.presets import EXPERIMENT_2, FLOOR_WORLD
+from docking.stats import Interval
 
 #: The family-wise error rate of the verdicts (Holm).
 ALPHA = 0.05
@@ -562,6 +563,118 @@ def world_table(results: Results) -> str:
         ]
         lines.append(f"| {key} | {what} | " + " | ".join(values) + " |")
     return "\n".join(lines)
+
+
+#: The path proper (the rule of :func:`path_steps`): its first five worlds; the last two of
+#: :data:`PATH` are branches, each judged from the world it branches off.
+MAIN_PATH = tuple(key for key, *_ in PATH[:5])
+BRANCHES = (("sideboard", "sideboard-step8"), ("floor", "floor-step8"))
+
+
+@dataclasses.dataclass(frozen=True)
+class PathStep:
+    """One step of the path: from world ``before`` to ``after``, the paper's learner's drop
+    (``before - after``, Welch's t), its Holm-adjusted p-value, whether the factor *breaks*
+    the learner, and the pixel-level bound's per-seed success in ``after``."""
+
+    before: str
+    after: str
+    what: str
+    drop: Interval
+    p_adjusted: float
+    breaks: bool
+    pixels: np.ndarray
+
+    @property
+    def pixels_suffice(self) -> bool:
+        """Whether the pixel-level bound's mean success in ``after`` reaches the rule's level."""
+        return bool(np.mean(self.pixels) >= PIXELS_SUFFICE)
+
+
+def path_steps(results: Results, steps=None) -> list[PathStep]:
+    """The path's steps judged by this edition's rule: the paper's learner's drop from each
+    world to the next (Welch's t), Holm's adjustment over ``steps`` (default: the consecutive
+    worlds of :data:`MAIN_PATH`, the rule as committed before the runs); a factor breaks the
+    learner if the adjusted p-value is below :data:`ALPHA` and the drop exceeds
+    :data:`BREAK_DROP`. :data:`BRANCHES` as ``steps`` judges the two branches as a family of
+    their own."""
+    from docking.analysis import path_drops
+    from docking.stats import holm
+
+    if steps is None:
+        steps = list(zip(MAIN_PATH[:-1], MAIN_PATH[1:], strict=True))
+    what = {key: text for key, text, *_ in PATH}
+    drops = [
+        path_drops([results.score(f"{a}/paper"), results.score(f"{b}/paper")])[0] for a, b in steps
+    ]
+    adjusted = holm([d.p_value(0.0) for d in drops])
+    return [
+        PathStep(
+            a,
+            b,
+            what[b],
+            d,
+            float(p),
+            bool(p < ALPHA and d.estimate > BREAK_DROP),
+            results.score(f"{b}/ppo"),
+        )
+        for (a, b), d, p in zip(steps, drops, adjusted, strict=True)
+    ]
+
+
+def path_table(steps: list[PathStep]) -> str:
+    """The Markdown table of :func:`path_steps`."""
+    lines = [
+        "| step | what changes | drop of the paper's learner (95% interval) | Holm p | breaks it "
+        "| PPO after the step | the pixels suffice |",
+        "|---|---|---|---|---|---|---|",
+    ]
+    for s in steps:
+        lines.append(
+            f"| {s.before} -> {s.after} | {s.what} | {s.drop.format(unit=' pp')} | "
+            f"{s.p_adjusted:.2g} | {'yes' if s.breaks else 'no'} | "
+            f"{100 * np.mean(s.pixels):.1f}% | {'yes' if s.pixels_suffice else 'no'} |"
+        )
+    return "\n".join(lines)
+
+
+def verdict_table(results: Results) -> str:
+    """The family's verdict table (Markdown, :func:`docking.claims.family_table`)."""
+    from docking.claims import family_table, judge_family
+
+    return family_table(CLAIMS, judge_family(CLAIMS, results, alpha=ALPHA))
+
+
+def findings_table(results: Results) -> str:
+    """The findings (claims not judged), each comparison's number (Markdown)."""
+    lines = ["| finding | compares | the number (95% interval) |", "|---|---|---|"]
+    for c in CLAIMS:
+        if not c.judged:
+            found = [
+                f"{w}: {c.format(c.interval(results, e))}"
+                for w, entries in c.cells.items()
+                for e in entries
+            ]
+            lines.append(f"| {c.words} | {c.compares} | {'; '.join(found)} |")
+    return "\n".join(lines)
+
+
+def report_text(results: Results) -> str:
+    """The README's block of this edition (Markdown): how hard each world is
+    (:func:`world_table`), the path (:func:`path_steps`, the path proper and the branches)
+    and the family's verdicts (:func:`verdict_table`)."""
+    return "\n\n".join(
+        [
+            "**How hard is each world** (held-out success, mean and 95% Student-t interval "
+            "over seeds):",
+            world_table(results),
+            "**The path, one factor at a time** (the paper's learner; Holm over the path's "
+            "four steps, then over the two branches):",
+            path_table(path_steps(results) + path_steps(results, BRANCHES)),
+            f"**The verdicts, one family** (Holm over every comparison at {ALPHA:g}):",
+            verdict_table(results),
+        ]
+    )
 
 
 DESIGN = Design(
