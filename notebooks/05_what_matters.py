@@ -41,6 +41,12 @@
 # calibrated on the yardsticks only (oracle ≥ 99%, always-forward ≤ 15%), never on a learner.
 #
 # The verdicts come first; the evidence follows.
+#
+# **A second edition** (notebook 07) re-states these verdicts by rules committed before its
+# runs: yardsticks and a pixel-level bound (PPO) in every world, the path from the sideboard
+# world to the floor world one factor at a time, rules that test the paper's words rather
+# than a narrower question, Student-t intervals and Holm's correction over the family. This
+# notebook stays the first edition, its rules unchanged.
 
 # %%
 

@@ -304,3 +304,26 @@ def test_the_family_table_has_a_row_per_judged_claim_with_every_comparison():
     assert row.startswith("| words x (Sec. I) | supported only in the w1 world |")
     assert "w1: 20." in row and "-> supported" in row and "w2: " in row
     assert f"Holm {decisions[0].p_adjusted:.2g}" in row
+
+
+def test_episodes_to_level_finds_the_first_window_at_the_level():
+    from docking.analysis import episodes_to_level
+
+    success = np.r_[np.zeros(30), np.ones(60)]
+    assert episodes_to_level(success, 0.9, window=50) == 30 + 45  # 45 of 50 succeed
+    assert episodes_to_level(success, 1.0, window=50) == 80
+    assert np.isnan(episodes_to_level(np.zeros(200), 0.9))
+    assert np.isnan(episodes_to_level(np.ones(10), 0.9, window=50))  # too short to judge
+    with pytest.raises(ValueError, match="window"):
+        episodes_to_level(success, 0.9, window=0)
+
+
+def test_the_efficiency_table_counts_seeds_that_never_reach_the_level():
+    found = {
+        (k, n): np.array([100.0, np.nan, 300.0])
+        for k, *_ in se.PATH
+        for n in ("paper", "linear", "ppo")
+    }
+    lines = se.efficiency_table(found).splitlines()
+    assert len(lines) == 2 + len(se.PATH)
+    assert lines[2].count("2/3 seeds, median 200") == 3

@@ -659,10 +659,58 @@ def findings_table(results: Results) -> str:
     return "\n".join(lines)
 
 
+#: The learners of :func:`efficiency`, with the measure of each.
+EFFICIENCY_LEARNERS = ("paper", "linear", "ppo")
+
+
+def efficiency(results: Results) -> dict[tuple[str, str], np.ndarray]:
+    """Per world of :data:`PATH` and learner of :data:`EFFICIENCY_LEARNERS`, per seed: the
+    training trials to :data:`EFFICIENCY_LEVEL` greedy success on the learning curve
+    (:func:`docking.analysis.trials_to_level`; the paper's learner and linear SARSA), or for
+    PPO, which has no greedy curve, the training episodes until 50 consecutive ones succeed
+    at that level (:func:`docking.analysis.episodes_to_level`, its exploring policy). NaN:
+    never."""
+    from docking.analysis import episodes_to_level, trials_to_level
+
+    out = {}
+    for key, *_ in PATH:
+        for name in EFFICIENCY_LEARNERS:
+            runs = results.runs[f"{key}/{name}"]
+            if name == "ppo":
+                out[key, name] = np.array(
+                    [episodes_to_level(r.train_success, EFFICIENCY_LEVEL) for r in runs]
+                )
+            else:
+                out[key, name] = trials_to_level(runs, EFFICIENCY_LEVEL)
+    return out
+
+
+def efficiency_table(found: dict[tuple[str, str], np.ndarray]) -> str:
+    """The Markdown table of :func:`efficiency`: per world and learner, the seeds that reach
+    the level and their median."""
+
+    def text(values: np.ndarray) -> str:
+        reached = values[~np.isnan(values)]
+        median = f", median {np.median(reached):.0f}" if len(reached) else ""
+        return f"{len(reached)}/{len(values)} seeds{median}"
+
+    lines = [
+        f"| world | the paper's learner: training trials to {EFFICIENCY_LEVEL:.0%} greedy | "
+        f"linear SARSA: the same | PPO: training episodes to {EFFICIENCY_LEVEL:.0%} over 50 |",
+        "|---|---|---|---|",
+    ]
+    for key, *_ in PATH:
+        lines.append(
+            f"| {key} | " + " | ".join(text(found[key, n]) for n in EFFICIENCY_LEARNERS) + " |"
+        )
+    return "\n".join(lines)
+
+
 def report_text(results: Results) -> str:
     """The README's block of this edition (Markdown): how hard each world is
-    (:func:`world_table`), the path (:func:`path_steps`, the path proper and the branches)
-    and the family's verdicts (:func:`verdict_table`)."""
+    (:func:`world_table`), the path (:func:`path_steps`, the path proper and the branches),
+    the family's verdicts (:func:`verdict_table`) and the learners' sample efficiency
+    (:func:`efficiency`)."""
     return "\n\n".join(
         [
             "**How hard is each world** (held-out success, mean and 95% Student-t interval "
@@ -673,6 +721,9 @@ def report_text(results: Results) -> str:
             path_table(path_steps(results) + path_steps(results, BRANCHES)),
             f"**The verdicts, one family** (Holm over every comparison at {ALPHA:g}):",
             verdict_table(results),
+            "**Sample efficiency** (per seed; the learning curve: 50 greedy trials from the "
+            "full region every 100 training trials):",
+            efficiency_table(efficiency(results)),
         ]
     )
 
