@@ -18,9 +18,14 @@ checkout's ``ledger/`` folder, is what of those runs is committed:
   trials an analysis reads (for instance the failed held-out trials that the failure taxonomy
   classifies), or whole where an analysis reads them whole. Kept arrays keep their dtype and
   every bit, so an analysis computes from an entry exactly what it computes from the stored
-  run. An entry is an xz-compressed zip of ``.npy`` members whose data bytes are *shuffled*
-  (byte 0 of every element, then byte 1, ...; :func:`_encode_entry`), which compresses
-  this ledger's arrays about 15% smaller than ``np.savez_compressed`` does; lossless.
+  run. An entry is an xz stream of a small JSON index and the arrays' data bytes, each
+  *shuffled* (byte 0 of every element, then byte 1, ...; :func:`_encode_entry`), which
+  compresses this ledger's arrays about 15% smaller than ``np.savez_compressed`` does, and
+  without a zip's and ``.npy``'s headers per array; lossless. ``W``
+  is kept as the bitwise XOR of its float64 bits with those of the run's random start
+  (:func:`docking.experiments.initial_network` of its configuration and seed), which the
+  reader recomputes: a frozen W (eps_W = 0) is all zero bits, a learned W shares its sign,
+  exponent and leading mantissa bits with its start; lossless too.
 
 What the analyses read is not written down by hand: ``make reproduce`` executes the
 notebooks and the README report with ``DOCKING_TRACE`` naming a file, and every stored run
@@ -42,7 +47,6 @@ from __future__ import annotations
 import dataclasses
 import functools
 import hashlib
-import io
 import json
 import os
 import warnings
@@ -71,11 +75,20 @@ __all__ = [
 ]
 
 #: Version of the ledger's layout.
-LEDGER_FORMAT = 3  # 3: xz entries of byte-shuffled arrays, per-trial fields kept only if read
+LEDGER_FORMAT = 4  # 4: W as its XOR with the run's random start, empty per-step arrays and
+# the configuration left out of entries, a JSON index instead of a zip; 3: xz entries of
+# byte-shuffled arrays, per-trial fields kept only if read
 # (2: per-step fields kept per trial only if read so, "sliced"; PPO runs)
 
 #: Per-step arrays of a trial log (the others hold one entry per trial).
 STEP_FIELDS = ("poses", "actions", "winners", "deltas")
+#: A per-step array that an entry keeps empty is left out of it; the reader puts this back.
+_EMPTY_STEPS = {
+    "poses": np.zeros((0, 3)),
+    "actions": np.zeros(0, dtype=np.int64),
+    "winners": np.zeros(0, dtype=np.int64),
+    "deltas": np.zeros(0),
+}
 TRIAL_FIELDS = ("success", "steps", "start_far")
 PARTS = ("train", "test", "heldout")
 
@@ -421,7 +434,7 @@ class LedgerResult(ExperimentResult):
 def _read_entry(path: Path, key: str, record: dict) -> LedgerResult:
     arrays = _verified_arrays(path, record["entry_digest"])
     meta = json.loads(str(arrays.pop("meta")))
-    config = ExperimentConfig.from_dict(meta["config"])
+    config = ExperimentConfig.from_dict(record["config"])  # the manifest's: it names the key
     where = f"run {config.name!r} seed {meta['seed']} (key {key[:16]})"
     logs = {}
     for part in PARTS:
@@ -430,7 +443,7 @@ def _read_entry(path: Path, key: str, record: dict) -> LedgerResult:
             continue
         per_trial = {n: arrays[f"{part}.{n}"] for n in TRIAL_FIELDS if f"{part}.{n}" in arrays}
         kept = arrays[f"{part}.kept"]
-        steps = {name: arrays[f"{part}.{name}"] for name in STEP_FIELDS}
+        steps = {n: arrays.get(f"{part}.{n}", _EMPTY_STEPS[n]) for n in STEP_FIELDS}
         whole = {n for n, w in zip(STEP_FIELDS, arrays[f"{part}.whole"], strict=True) if w}
         starts = arrays.get(f"{part}.starts")
         sliced = {n for n, w in zip(STEP_FIELDS, arrays[f"{part}.sliced"], strict=True) if w}
@@ -438,8 +451,9 @@ def _read_entry(path: Path, key: str, record: dict) -> LedgerResult:
             f"{where}, {part}", per_trial, kept, steps, whole, starts, sliced
         )
     network = None
-    if "W" in arrays:
-        network = Network.from_weights(config.network, arrays["W"], arrays["Q"])
+    if "W.xor" in arrays:
+        W = _xor_start(arrays["W.xor"], config, int(meta["seed"]))
+        network = Network.from_weights(config.network, W, arrays["Q"])
     fields = {
         "config": config,
         "seed": int(meta["seed"]),
@@ -458,7 +472,8 @@ def _entry_arrays(result: ExperimentResult, keep: dict) -> dict[str, np.ndarray]
         for name in ("curve_trials", "curve_success", "curve_steps", "curve_rewarded")
     }
     if keep.get("network"):
-        arrays["W"], arrays["Q"] = result.network.W, result.network.Q
+        arrays["W.xor"] = _xor_start(result.network.W, result.config, result.seed)
+        arrays["Q"] = result.network.Q
     for part in PARTS:
         log = getattr(result, part)
         if log is None:
@@ -484,14 +499,12 @@ def _entry_arrays(result: ExperimentResult, keep: dict) -> dict[str, np.ndarray]
         arrays[f"{part}.kept"] = kept
         arrays[f"{part}.whole"] = np.array([name in whole for name in STEP_FIELDS])
         arrays[f"{part}.sliced"] = np.array([name in sliced for name in STEP_FIELDS])
-        for name in STEP_FIELDS:
+        for name in STEP_FIELDS:  # an empty one is left out (the reader puts it back)
             array = getattr(log, name)
-            if name in whole:
+            if name in whole and len(array):
                 arrays[f"{part}.{name}"] = array
-            elif name in sliced:
+            elif name in sliced and masks[name].any():
                 arrays[f"{part}.{name}"] = array[masks[name]]
-            else:
-                arrays[f"{part}.{name}"] = array[:0]
         if wanted.get("starts") and "poses" not in whole and not kept.all():
             arrays[f"{part}.starts"] = log.starts
     return arrays
@@ -671,9 +684,7 @@ def update(keep: dict[str, dict], folder: Path | str | None = None) -> dict:
             digest = content_digest(data)
         config, seed = result.config, result.seed
         arrays = _entry_arrays(result, wanted)
-        meta = {
-            "key": key,
-            "config": config.to_dict(),
+        meta = {  # the configuration and the key are the manifest's record's
             "seed": seed,
             "wall_time_train": result.wall_time_train,
             "wall_time_test": result.wall_time_test,
@@ -723,6 +734,22 @@ def update(keep: dict[str, dict], folder: Path | str | None = None) -> dict:
     return _raw_manifest(folder)
 
 
+def _xor_start(W: np.ndarray, config: ExperimentConfig, seed: int) -> np.ndarray:
+    """Between a run's ``W`` (float64) and its entry's ``W.xor`` (uint64): the bitwise XOR
+    with the run's random start W. Given ``W``, the XOR; given the XOR, ``W`` (every bit)."""
+    from docking.experiments import initial_network
+
+    start = np.ascontiguousarray(initial_network(config, seed).W, dtype=np.float64)
+    W = np.ascontiguousarray(W)
+    if W.dtype not in (np.float64, np.uint64) or W.shape != start.shape:
+        raise ValueError(
+            f"W of dtype {W.dtype} and shape {W.shape} does not match the run's start "
+            f"(float64, {start.shape})"
+        )
+    bits = W.view(np.uint64) ^ start.view(np.uint64)
+    return bits.view(np.float64) if W.dtype == np.uint64 else bits
+
+
 def _shuffle_unit(dtype: np.dtype, size: int) -> int:
     """The bytes shuffled as one: an element's (its alignment: 8 for float64, 4 for a
     character of a str array), or 1 if the data does not divide into them."""
@@ -731,53 +758,53 @@ def _shuffle_unit(dtype: np.dtype, size: int) -> int:
 
 
 def _encode_entry(arrays: dict) -> bytes:
-    """The bytes of an entry file: an xz stream (preset 9) of a zip without compression and
-    with fixed timestamps (so that the bytes, and the entry's digest, depend on the arrays
-    alone) holding one ``<name>.npy`` per array, whose data bytes are shuffled by
-    :func:`_shuffle_unit` (byte 0 of every element, then byte 1, ...): the sign-and-exponent
-    bytes of floating-point numbers, nearly constant, then end up together. Lossless;
-    :func:`_decode_entry` reads it back."""
+    """The bytes of an entry file: an xz stream (preset 9) of a JSON index (each array's
+    name, dtype, shape and memory order, by name; its length first, 8 bytes little-endian)
+    followed by the arrays' data bytes, each shuffled by :func:`_shuffle_unit` (byte 0 of
+    every element, then byte 1, ...: the sign-and-exponent bytes of floating-point numbers,
+    nearly constant, end up together). Two-dimensional arrays are written column by column
+    (a pose's x, y and yaw each together). The bytes, and so the entry's digest, depend on
+    the arrays alone. Lossless; :func:`_decode_entry` reads it back."""
     import lzma
-    import zipfile
 
-    buffer = io.BytesIO()
-    with zipfile.ZipFile(buffer, "w", compression=zipfile.ZIP_STORED) as zf:
-        for name in sorted(arrays):
-            array = np.asanyarray(arrays[name])
-            member = io.BytesIO()
-            np.lib.format.write_array(member, array, allow_pickle=False)
-            raw = member.getvalue()
-            head = len(raw) - array.nbytes
-            unit = _shuffle_unit(array.dtype, array.nbytes)
-            data = np.frombuffer(raw, np.uint8, offset=head).reshape(-1, unit).T.tobytes()
-            info = zipfile.ZipInfo(f"{name}.npy", date_time=(1980, 1, 1, 0, 0, 0))
-            zf.writestr(info, raw[:head] + data)
-    return lzma.compress(buffer.getvalue(), preset=9)
+    index, chunks = [], []
+    for name in sorted(arrays):
+        array = np.asanyarray(arrays[name])
+        fortran = array.ndim == 2
+        data = np.frombuffer(
+            (np.asfortranarray(array) if fortran else np.ascontiguousarray(array)).tobytes(
+                order="F" if fortran else "C"
+            ),
+            np.uint8,
+        )
+        unit = _shuffle_unit(array.dtype, array.nbytes)
+        chunks.append(data.reshape(-1, unit).T.tobytes())
+        index.append([name, array.dtype.str, list(array.shape), fortran])
+    head = json.dumps(index, separators=(",", ":")).encode()
+    return lzma.compress(len(head).to_bytes(8, "little") + head + b"".join(chunks), preset=9)
 
 
 def _decode_entry(raw: bytes) -> dict[str, np.ndarray]:
     """The arrays of an entry file's bytes (:func:`_encode_entry`), writable, each with the
     dtype, shape and every bit it was written with."""
     import lzma
-    import zipfile
 
+    plain = lzma.decompress(raw)
+    size = int.from_bytes(plain[:8], "little")
+    offset = 8 + size
     arrays = {}
-    with zipfile.ZipFile(io.BytesIO(lzma.decompress(raw))) as zf:
-        for info in zf.infolist():
-            member = zf.read(info)
-            f = io.BytesIO(member)
-            version = np.lib.format.read_magic(f)
-            read_header = (
-                np.lib.format.read_array_header_1_0
-                if version == (1, 0)
-                else np.lib.format.read_array_header_2_0
-            )
-            shape, fortran, dtype = read_header(f)
-            data = np.frombuffer(member, np.uint8, offset=f.tell())
-            unit = _shuffle_unit(dtype, data.size)
-            plain = bytearray(data.reshape(unit, -1).T.tobytes())
-            array = np.frombuffer(plain, dtype=dtype).reshape(shape, order="F" if fortran else "C")
-            arrays[info.filename.removesuffix(".npy")] = array
+    for name, dtype, shape, fortran in json.loads(plain[8:offset]):
+        dtype = np.dtype(dtype)
+        nbytes = int(np.prod(shape, dtype=np.int64)) * dtype.itemsize
+        data = np.frombuffer(plain, np.uint8, count=nbytes, offset=offset)
+        offset += nbytes
+        unit = _shuffle_unit(dtype, nbytes)
+        flat = bytearray(data.reshape(unit, -1).T.tobytes())
+        arrays[name] = np.frombuffer(flat, dtype=dtype).reshape(
+            shape, order="F" if fortran else "C"
+        )
+    if offset != len(plain):
+        raise ValueError(f"a ledger entry of {len(plain)} bytes holds {offset} bytes of arrays")
     return arrays
 
 

@@ -151,6 +151,24 @@ def test_a_ledger_of_another_layout_is_refused(built, monkeypatch, tmp_path):
         _served(monkeypatch, copy, 0)
 
 
+def test_W_is_kept_as_its_xor_with_the_runs_random_start(built):
+    """A frozen W costs nothing but its zeros; a learned one comes back to the bit."""
+    from docking.experiments import initial_network
+
+    folder, *_ = built
+    (entry,) = [p for p in folder.rglob("*.xz") if "W.xor" in ledger._decode_entry(p.read_bytes())]
+    arrays = ledger._decode_entry(entry.read_bytes())
+    assert "W" not in arrays and arrays["W.xor"].dtype == np.uint64
+    start = initial_network(TINY, 0).W
+    assert not np.any(ledger._xor_start(start, TINY, 0))  # W at its start: all zero bits
+    rng = np.random.default_rng(0)
+    learned = start + 1e-3 * rng.standard_normal(start.shape)
+    back = ledger._xor_start(ledger._xor_start(learned, TINY, 0), TINY, 0)
+    assert back.dtype == np.float64 and back.tobytes() == learned.tobytes()
+    with pytest.raises(ValueError, match="does not match"):
+        ledger._xor_start(learned[:, :3], TINY, 0)
+
+
 def test_the_manifest_holds_each_configuration_once(built):
     folder, *_ = built
     raw = json.loads((folder / "manifest.json").read_text())
@@ -386,3 +404,22 @@ def test_a_test_only_cell_is_stored_as_the_run_it_equals(tmp_path, monkeypatch):
     monkeypatch.setattr("docking.design.heldout_trials", _refuse)
     again = tested_in(base, other, tmp_path)
     np.testing.assert_array_equal(again.heldout.success, derived.heldout.success)
+
+
+def test_an_entry_gives_back_every_array_to_the_bit():
+    rng = np.random.default_rng(0)
+    arrays = {
+        "meta": np.array('{"seed": 3}'),
+        "poses": rng.standard_normal((17, 3)),
+        "success": rng.random(9) > 0.5,
+        "actions": np.arange(5),
+        "empty": np.zeros((0, 3)),
+        "bits": rng.integers(0, 2**63, (4, 5), dtype=np.uint64),
+    }
+    raw = ledger._encode_entry(arrays)
+    assert raw == ledger._encode_entry(dict(reversed(arrays.items())))  # order-free bytes
+    back = ledger._decode_entry(raw)
+    assert sorted(back) == sorted(arrays)
+    for name, array in arrays.items():
+        assert back[name].dtype == array.dtype and back[name].shape == array.shape
+        assert back[name].tobytes() == array.tobytes() and back[name].flags.writeable
