@@ -370,7 +370,7 @@ class Report:
             from docking.designs import second_edition as se
 
             edition = se.DESIGN.run(results_dir=self.results_dir, workers=self.processes)
-            step8 = {"Exp. 2 with 8 cm forward steps": edition.score("sideboard-step8/paper")}
+            step8 = {"Exp. 2 (8 cm forward steps)": edition.score("sideboard-step8/paper")}
             second = se.report_text(edition)
         table = results_table(*results, heldout, step8)
         print(table)

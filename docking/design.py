@@ -136,6 +136,9 @@ class Design:
         (run after the cells above, in order).
       report: A function ``results -> str`` (Markdown) that :func:`summary` prints after the
         cells' numbers (e.g. a table of the design's own); None: nothing more.
+      alpha: None: each claim is decided on its own (:meth:`docking.claims.Claim.verdict`).
+        A level: the judged claims are one family (:func:`docking.claims.judge_family`,
+        Holm's adjustment at this level), as :func:`summary` reports them.
     """
 
     name: str
@@ -146,9 +149,12 @@ class Design:
     claims: tuple = ()
     stages: tuple[Callable[[Results], Sequence[Cell]], ...] = ()
     report: Callable[[Results], str] | None = None
+    alpha: float | None = None
 
     def __post_init__(self):
         check_name("Design", "name", self.name)
+        if self.alpha is not None and not 0 < self.alpha < 1:
+            raise ValueError(f"Design.alpha must be in (0, 1) or None, got {self.alpha!r}")
         if self.measure not in MEASURES:
             raise ValueError(f"Design.measure must be one of {MEASURES}, got {self.measure!r}")
         keys = [c.key for c in self.cells]
@@ -351,8 +357,9 @@ def run_design(
 
 def summary(results: Results) -> str:
     """What a design's run shows, as Markdown: every cell's measured success (mean, 95%
-    interval over seeds), the design's own report, and its claims' verdict table."""
-    from docking.claims import verdict_table
+    interval over seeds), the design's own report, and its claims' verdict table (the
+    family's, with Holm's adjustment, if the design has an ``alpha``)."""
+    from docking.claims import family_table, judge_family, verdict_table
     from docking.stats import mean_ci
 
     design = results.design
@@ -362,6 +369,9 @@ def summary(results: Results) -> str:
     parts = ["\n".join(lines)]
     if design.report is not None:
         parts.append(design.report(results))
-    if design.claims:
+    if design.claims and design.alpha is not None:
+        decisions = judge_family(design.claims, results, alpha=design.alpha)
+        parts.append(family_table(design.claims, decisions))
+    elif design.claims:
         parts.append(verdict_table(design.claims, results))
     return "\n\n".join(parts)

@@ -445,7 +445,8 @@ def fig4(
     blocks = 2 if initial_rf is None else 3
     fig = _new_figure(7.5 * blocks, 2.2 + rows * 0.62)
     fig.suptitle(
-        f"Experiment 2 ({n_feat} feature units, {config.network.rule} rule), seed {seed}, after "
+        f"Experiment 2 ({n_feat} feature units, {config.network.rule} rule, "
+        f"$\\epsilon_W$ = {config.network.eps_w:g}), seed {seed}, after "
         f"{config.train_trials} training trials\nEach panel scaled 0..its own maximum, strong "
         "dark; framed red: the unit with the largest action weight (argmax$_j$ Q$_{ij}$) for L, "
         "R and F.",

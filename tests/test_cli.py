@@ -204,6 +204,7 @@ def test_project_readme_has_the_markers():
         (README_START, README_END),
         (report.STUDY_START, report.STUDY_END),
         (report.EXPERIMENT3_START, report.EXPERIMENT3_END),
+        (report.SECOND_EDITION_START, report.SECOND_EDITION_END),
         (report.TIMINGS_START, report.TIMINGS_END),
     ):
         assert text.count(start) == 1 and text.count(end) == 1

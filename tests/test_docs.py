@@ -55,6 +55,7 @@ def test_every_notebook_is_on_the_site():
         "04_experiment2.html",
         "05_what_matters.html",
         "06_turning.html",
+        "07_second_edition.html",
     ]
 
 

@@ -327,3 +327,30 @@ def test_the_efficiency_table_counts_seeds_that_never_reach_the_level():
     lines = se.efficiency_table(found).splitlines()
     assert len(lines) == 2 + len(se.PATH)
     assert lines[2].count("2/3 seeds, median 200") == 3
+
+
+def test_a_design_with_alpha_is_summarised_as_one_family():
+    import dataclasses
+
+    from docking.design import Design, Results, summary
+
+    with pytest.raises(ValueError, match="alpha"):
+        dataclasses.replace(se.DESIGN, alpha=1.5)
+    found = _path_results({"sideboard": 0.95, "floor": 0.60}, ppo=0.95)
+    claim = claims.Claim(
+        "drop",
+        "the floor is harder",
+        "here",
+        "sideboard minus floor",
+        claims.Above(0.0, method="t"),
+        {"path": (("floor/paper", "sideboard/paper"),)},
+    )
+    cells = list(found.cells)
+    for alpha, marker in ((0.05, "Holm"), (None, "the number (95% interval)")):
+        design = Design("d", "t", tuple(cells), (0,), claims=(claim,), alpha=alpha)
+        text = summary(Results(design, cells, {}, found.logs))
+        assert marker in text and "the floor is harder" in text
+
+
+def test_every_world_of_the_path_has_a_short_label():
+    assert list(se.PATH_LABELS) == [key for key, *_ in se.PATH]

@@ -164,6 +164,18 @@ PATH = (
     ),
 )
 
+#: Short names of the worlds of :data:`PATH` for a figure's axis: what each adds to the world
+#: before it (the branches: what they change in the world they branch off).
+PATH_LABELS = {
+    "sideboard": "sideboard world",
+    "floor-view": "+ landmark on the floor, camera 30° down",
+    "dock": "+ dock 8 cm across",
+    "sidestep": "+ 5 cm sidesteps",
+    "floor": "+ ±20° start wedge (= floor world)",
+    "floor-step8": "floor world, 8 cm steps",
+    "sideboard-step8": "sideboard world, 8 cm steps",
+}
+
 #: The worlds of the verdicts.
 VERDICT_WORLDS = ("sideboard", "floor")
 
@@ -736,6 +748,7 @@ DESIGN = Design(
     measure="heldout",
     claims=CLAIMS,
     report=world_table,
+    alpha=ALPHA,
 )
 
 
