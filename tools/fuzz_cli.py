@@ -43,7 +43,14 @@ CASES = [
     ["ledger", "frobnicate"],
     ["figures", "fig9"],
     ["benchmark", "--steps", "0"],
-    ["report", "--readme", "/nonexistent/README.md", "--no-study", "--no-experiment3"],
+    [
+        "report",
+        "--readme",
+        "/nonexistent/README.md",
+        "--no-study",
+        "--no-experiment3",
+        "--no-second-edition",
+    ],
     ["nope"],
 ]
 
