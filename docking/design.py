@@ -223,9 +223,21 @@ class Results:
     cells: list[Cell]
     runs: dict[str, list[ExperimentResult]]
     logs: dict[str, list[TrialLog]]
+    _measured: dict = dataclasses.field(default_factory=dict, repr=False, compare=False)
 
     def cell(self, key: str) -> Cell:
         return _find(self.cells, key, f"the results of {self.design.name!r}")
+
+    def measured(self, measure: Callable, key: str) -> np.ndarray:
+        """``measure(self, key)`` (per-seed values of cell ``key``), computed once for these
+        results and then served read-only: for a measure that costs seconds per cell (one
+        that renders views), which several claims, tables and figures ask for."""
+        found = self._measured.get((measure, key))
+        if found is None:
+            found = np.array(measure(self, key))
+            found.flags.writeable = False
+            self._measured[measure, key] = found
+        return found
 
     def score(self, key: str) -> np.ndarray:
         """Per seed, the measured success rate of cell ``key``."""
@@ -357,9 +369,8 @@ def run_design(
 
 def summary(results: Results) -> str:
     """What a design's run shows, as Markdown: every cell's measured success (mean, 95%
-    interval over seeds), the design's own report, and its claims' verdict table (the
-    family's, with Holm's adjustment, if the design has an ``alpha``)."""
-    from docking.claims import family_table, judge_family, verdict_table
+    interval over seeds), the design's own report, and its claims' table
+    (:func:`verdicts_text`)."""
     from docking.stats import mean_ci
 
     design = results.design
@@ -369,9 +380,18 @@ def summary(results: Results) -> str:
     parts = ["\n".join(lines)]
     if design.report is not None:
         parts.append(design.report(results))
-    if design.claims and design.alpha is not None:
-        decisions = judge_family(design.claims, results, alpha=design.alpha)
-        parts.append(family_table(design.claims, decisions))
-    elif design.claims:
-        parts.append(verdict_table(design.claims, results))
+    if design.claims:
+        parts.append(verdicts_text(results))
     return "\n\n".join(parts)
+
+
+def verdicts_text(results: Results) -> str:
+    """The Markdown table of the design's claims: the family's (every comparison with its
+    Holm-adjusted p-value, :func:`docking.claims.family_table`) if the design has an
+    ``alpha``, else each claim's own verdict (:func:`docking.claims.verdict_table`)."""
+    from docking.claims import family_table, judge_family, verdict_table
+
+    design = results.design
+    if design.alpha is None:
+        return verdict_table(design.claims, results)
+    return family_table(design.claims, judge_family(design.claims, results, alpha=design.alpha))

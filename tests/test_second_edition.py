@@ -113,6 +113,13 @@ class _Fake:
         return type("C", (), {"baseline": self._baselines.get(key)})()
 
 
+def _above(key, words, cells, judged=True):
+    """A claim "the baseline minus the cell lies above 0" (Student-t) over ``cells``."""
+    return claims.Claim(
+        key, words, "Sec. I", "baseline minus", claims.Above(0.0, method="t"), cells, judged=judged
+    )
+
+
 def test_a_family_is_judged_with_holm_and_near_bounds_are_not_decided():
     rng = np.random.default_rng(3)
     values = {
@@ -122,14 +129,7 @@ def test_a_family_is_judged_with_holm_and_near_bounds_are_not_decided():
         "same": 0.90 + 0.01 * rng.standard_normal(10),  # no difference
     }
     base = {k: "paper" for k in values if k != "paper"}
-    claim = claims.Claim(
-        "x",
-        "words",
-        "src",
-        "paper minus",
-        claims.Above(0.0, method="t"),
-        {"w1": ("clear",), "w2": ("edge",), "w3": ("same",)},
-    )
+    claim = _above("x", "words", {"w1": ("clear",), "w2": ("edge",), "w3": ("same",)})
     decisions = {d.key: d for d in claims.judge_family([claim], _Fake(values, base))}
     assert decisions["clear"].verdict == claims.SUPPORTED
     assert decisions["edge"].p_adjusted < 0.05  # decided by the test ...
@@ -279,23 +279,8 @@ def test_the_family_table_has_a_row_per_judged_claim_with_every_comparison():
     values = {k: 0.9 + 0.01 * rng.standard_normal(10) for k in ("paper", "a", "b")}
     values["a"] = values["a"] - 0.2
     base = {"a": "paper", "b": "paper"}
-    judged = claims.Claim(
-        "x",
-        "words x",
-        "Sec. I",
-        "paper minus",
-        claims.Above(0.0, method="t"),
-        {"w1": ("a",), "w2": ("b",)},
-    )
-    finding = claims.Claim(
-        "y",
-        "words y",
-        "Sec. II",
-        "paper minus",
-        claims.Above(0.0, method="t"),
-        {"w1": ("b",)},
-        judged=False,
-    )
+    judged = _above("x", "words x", {"w1": ("a",), "w2": ("b",)})
+    finding = _above("y", "words y", {"w1": ("b",)}, judged=False)
     fake = _Fake(values, base)
     decisions = claims.judge_family([judged, finding], fake)
     table = claims.family_table([judged, finding], decisions).splitlines()
@@ -337,14 +322,7 @@ def test_a_design_with_alpha_is_summarised_as_one_family():
     with pytest.raises(ValueError, match="alpha"):
         dataclasses.replace(se.DESIGN, alpha=1.5)
     found = _path_results({"sideboard": 0.95, "floor": 0.60}, ppo=0.95)
-    claim = claims.Claim(
-        "drop",
-        "the floor is harder",
-        "here",
-        "sideboard minus floor",
-        claims.Above(0.0, method="t"),
-        {"path": (("floor/paper", "sideboard/paper"),)},
-    )
+    claim = _above("drop", "the floor is harder", {"path": (("floor/paper", "sideboard/paper"),)})
     cells = list(found.cells)
     for alpha, marker in ((0.05, "Holm"), (None, "the number (95% interval)")):
         design = Design("d", "t", tuple(cells), (0,), claims=(claim,), alpha=alpha)
@@ -354,3 +332,21 @@ def test_a_design_with_alpha_is_summarised_as_one_family():
 
 def test_every_world_of_the_path_has_a_short_label():
     assert list(se.PATH_LABELS) == [key for key, *_ in se.PATH]
+
+
+def test_a_costly_measure_is_computed_once_per_results_and_served_read_only():
+    found = _path_results({"sideboard": 0.95, "floor": 0.60}, ppo=0.95)
+    calls = []
+
+    def measure(results, key):
+        calls.append(key)
+        return results.score(key)
+
+    first = found.measured(measure, "floor/paper")
+    again = found.measured(measure, "floor/paper")
+    assert calls == ["floor/paper"] and again is first
+    np.testing.assert_array_equal(first, found.score("floor/paper"))
+    with pytest.raises(ValueError, match="read-only"):
+        first[0] = 1.0
+    found.measured(measure, "sideboard/paper")
+    assert calls == ["floor/paper", "sideboard/paper"]

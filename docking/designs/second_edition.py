@@ -62,7 +62,7 @@ import dataclasses
 import numpy as np
 
 from docking.claims import Above, Claim, Gap, ShareAbove, Within
-from docking.design import Cell, Design, Results, yardstick_config
+from docking.design import Cell, Design, Results, verdicts_text, yardstick_config
 from docking.designs import experiment3 as e3
 from docking.designs.study import (
     EQUIVALENCE_MARGIN,
@@ -359,7 +359,12 @@ def _rotation_cells() -> list[Cell]:
 def fidelity(results: Results, key: str) -> np.ndarray:
     """Per seed, the interpretability of cell ``key``'s networks
     (:func:`docking.analysis.feature_fidelity` over the views of their first
-    :data:`FIDELITY_TRIALS` held-out trials)."""
+    :data:`FIDELITY_TRIALS` held-out trials); rendered once per results
+    (:meth:`docking.design.Results.measured`)."""
+    return results.measured(_fidelity, key)
+
+
+def _fidelity(results: Results, key: str) -> np.ndarray:
     from docking.analysis import feature_fidelity, first_trials_poses, mean_winning_inputs
 
     cell = results.cell(key)
@@ -650,13 +655,6 @@ def path_table(steps: list[PathStep]) -> str:
     return "\n".join(lines)
 
 
-def verdict_table(results: Results) -> str:
-    """The family's verdict table (Markdown, :func:`docking.claims.family_table`)."""
-    from docking.claims import family_table, judge_family
-
-    return family_table(CLAIMS, judge_family(CLAIMS, results, alpha=ALPHA))
-
-
 def findings_table(results: Results) -> str:
     """The findings (claims not judged), each comparison's number (Markdown)."""
     lines = ["| finding | compares | the number (95% interval) |", "|---|---|---|"]
@@ -721,8 +719,8 @@ def efficiency_table(found: dict[tuple[str, str], np.ndarray]) -> str:
 def report_text(results: Results) -> str:
     """The README's block of this edition (Markdown): how hard each world is
     (:func:`world_table`), the path (:func:`path_steps`, the path proper and the branches),
-    the family's verdicts (:func:`verdict_table`) and the learners' sample efficiency
-    (:func:`efficiency`)."""
+    the family's verdicts (:func:`docking.design.verdicts_text`) and the learners' sample
+    efficiency (:func:`efficiency`)."""
     return "\n\n".join(
         [
             "**How hard is each world** (held-out success, mean and 95% Student-t interval "
@@ -732,7 +730,7 @@ def report_text(results: Results) -> str:
             "four steps, then over the two branches):",
             path_table(path_steps(results) + path_steps(results, BRANCHES)),
             f"**The verdicts, one family** (Holm over every comparison at {ALPHA:g}):",
-            verdict_table(results),
+            verdicts_text(results),
             "**Sample efficiency** (per seed; the learning curve: 50 greedy trials from the "
             "full region every 100 training trials):",
             efficiency_table(efficiency(results)),
