@@ -25,6 +25,7 @@ Choices the paper leaves open (all fields of :class:`CameraConfig`):
 from __future__ import annotations
 
 import dataclasses
+import math
 
 import cv2
 import numpy as np
@@ -95,13 +96,13 @@ class CameraConfig:
     @property
     def fovx_deg(self) -> float:
         """Horizontal field of view implied by ``fovy_deg`` and the frame's aspect ratio."""
-        half = np.tan(np.radians(self.fovy_deg) / 2) * self.width / self.height
-        return float(np.degrees(2 * np.arctan(half)))
+        half = math.tan(np.radians(self.fovy_deg) / 2) * self.width / self.height
+        return float(np.degrees(2 * math.atan(half)))
 
     @property
     def focal_px(self) -> float:
         """Focal length in pixels (square pixels)."""
-        return float(self.height / 2 / np.tan(np.radians(self.fovy_deg) / 2))
+        return float(self.height / 2 / math.tan(np.radians(self.fovy_deg) / 2))
 
 
 def red_mask(frame: np.ndarray, config: CameraConfig) -> np.ndarray:

@@ -37,6 +37,7 @@ from pathlib import Path
 
 import numpy as np
 
+from docking import arith
 from docking.fileio import atomic_write
 from docking.validate import (
     FieldTypeError,
@@ -184,7 +185,7 @@ def _softmax(z: np.ndarray) -> np.ndarray:
     # Python-level max/sum: on arrays of a few dozen entries they are faster than numpy's.
     zmax = max(z.tolist())
     if math.isfinite(zmax):
-        e = np.exp(z - zmax)
+        e = arith.exp(z - zmax)
         # math.fsum: exactly rounded, so the same on every Python (the builtin sum() of
         # floats is compensated from 3.12 on and naive before).
         total = math.fsum(e.tolist())  # >= 1: the max entry contributes exp(0)
@@ -221,7 +222,7 @@ class Network:
             W = rng.random((config.n_features, config.n_inputs))
             # A row of zeros has probability 0 but would be a dead unit: guard anyway.
             W[np.all(W == 0, axis=1)] = 1.0
-            self.W = W / np.linalg.norm(W, axis=1, keepdims=True)
+            self.W = W / np.sqrt(arith.rowdot(W, W))[:, None]
         self.Q = rng.uniform(0.0, config.q_init, (config.n_actions, config.n_features))
 
     # ------------------------------------------------------------------ construction
@@ -270,13 +271,13 @@ class Network:
                 f"observation must have {self.config.n_inputs} elements, got "
                 f"{I.size} (shape {np.shape(observation)})"
             )
-        sq = I @ I
+        sq = arith.dot(I, I)
         if not math.isfinite(sq):  # NaN/inf in the input, or squares overflowing
             if not np.isfinite(I).all():
                 raise ValueError("observation contains NaN or infinite values")
             if self.config.normalize_input:
                 I /= np.abs(I).max()
-                sq = I @ I
+                sq = arith.dot(I, I)
         if self.config.normalize_input and sq > 0:
             I /= np.sqrt(sq)
         return I
@@ -292,7 +293,7 @@ class Network:
             return I  # no feature layer: linear SARSA on the pixels
         # Eq. (1): h_j = sum_n W_jn I_n
         # Eq. (2): s_j = exp(beta_s h_j) / sum_k exp(beta_s h_k)
-        return _softmax(self.config.beta_s * (self.W @ I))
+        return _softmax(self.config.beta_s * arith.matvec(self.W, I))
 
     def action_probabilities(self, s: np.ndarray, beta_a: float) -> np.ndarray:
         """The policy: the probability of each action for the feature state ``s``, Eq. (3)-(4).
@@ -303,7 +304,7 @@ class Network:
         self._check_vector(s, self.config.n_features, "s")
         # Eq. (3): h_i = sum_j Q_ij s_j
         # Eq. (4): P(a_i = 1) = exp(beta_a h_i) / sum_k exp(beta_a h_k)
-        return _softmax(beta_a * (self.Q @ s))
+        return _softmax(beta_a * arith.matvec(self.Q, s))
 
     def select_action(self, s: np.ndarray, rng: np.random.Generator, beta_a: float) -> int:
         """Sample an action index from Eq. (4), using one ``rng.random()`` draw."""
@@ -322,7 +323,7 @@ class Network:
     def value(self, I: np.ndarray, a: int) -> float:
         """The value of action ``a`` for the prepared input ``I``, Eq. (5)."""
         self._check_action(a)
-        return float(self.Q[a] @ self.features(I))  # Eq. (5): v = sum_kl Q_kl a_k s_l, a one-hot
+        return arith.dot(self.Q[a], self.features(I))  # Eq. (5): v = sum_kl Q_kl a_k s_l, a one-hot
 
     def value_gradient(self, I: np.ndarray, a: int) -> tuple[np.ndarray, np.ndarray]:
         """Exact gradient of ``v(I, a)`` (Eq. 5) w.r.t. ``Q`` and ``W``.
@@ -340,7 +341,7 @@ class Network:
             return dQ, np.zeros_like(self.W)
         q = self.Q[a]
         # Eq. (16), times beta_s: dv/dW_jn = beta_s s_j I_n (Q_ij - sum_k Q_ik s_k), i = a
-        dW = np.multiply.outer(self.config.beta_s * s * (q - q @ s), I)
+        dW = np.multiply.outer(self.config.beta_s * s * (q - arith.dot(q, s)), I)
         return dQ, dW
 
     # ------------------------------------------------------------------ learning
@@ -350,7 +351,7 @@ class Network:
         current, i.e. pre-update, Q)."""
         if self.config.rule == "nonlocal":
             q = self.Q[a]
-            return s * (q - q @ s)  # s_j times the bracket of Eq. (8)
+            return s * (q - arith.dot(q, s))  # s_j times the bracket of Eq. (8)
         return s  # the local rule: Eq. (8) without the bracket
 
     def increments(
@@ -407,7 +408,7 @@ class Network:
         Wn = np.multiply.outer(coef, I)
         Wn += self.W
         np.maximum(Wn, 0.0, out=Wn)
-        norms = np.sqrt(np.einsum("ij,ij->i", Wn, Wn))
+        norms = np.sqrt(arith.rowdot(Wn, Wn))
         nl = norms.tolist()
         if not (np.isfinite(norms).all() and min(nl) > _DEAD_NORM):  # rare: fix rows one by one
             for j, norm in enumerate(nl):
@@ -442,14 +443,14 @@ class Network:
         sigma = check_real("Network", "sigma", sigma, lo=0, lo_open=True, hi=MAX_RATE)
         if self.config.feature_layer == "none" or not I.any():
             return -1
-        j = int(np.argmax(self.W @ I))  # Eq. (1), the winner of Eq. (2)'s softmax
+        j = int(np.argmax(arith.matvec(self.W, I)))  # Eq. (1), the winner of Eq. (2)'s softmax
         rows, cols = self.som_grid(self.config.n_features)
         k = np.arange(self.config.n_features)
         d2 = (k // cols - j // cols) ** 2 + (k % cols - j % cols) ** 2
-        g = np.exp(-d2 / (2.0 * sigma * sigma))
+        g = arith.exp(-d2 / (2.0 * sigma * sigma))
         Wn = np.maximum(self.W + (rate * g)[:, None] * (I - self.W), 0.0)
         for u in range(self.config.n_features):
-            norm = float(np.sqrt(Wn[u] @ Wn[u]))
+            norm = math.sqrt(arith.dot(Wn[u], Wn[u]))
             if norm > _DEAD_NORM:
                 self.W[u] = Wn[u] / norm
         return j
@@ -471,9 +472,9 @@ class Network:
         rate = check_real("Network", "rate", rate, lo=0, hi=1)
         if self.config.feature_layer == "none" or not I.any():
             return -1
-        j = int(np.argmax(self.W @ I))  # Eq. (1), the winner of Eq. (2)'s softmax
+        j = int(np.argmax(arith.matvec(self.W, I)))  # Eq. (1), the winner of Eq. (2)'s softmax
         row = np.maximum(self.W[j] + rate * (I - self.W[j]), 0.0)
-        norm = float(np.sqrt(row @ row))
+        norm = math.sqrt(arith.dot(row, row))
         if norm > _DEAD_NORM:
             self.W[j] = row / norm
         return j
@@ -491,9 +492,9 @@ class Network:
             m = row.max()
             if m > _DEAD_NORM:  # finite entries whose squares overflowed: rescale first
                 row /= m
-                return float(np.sqrt(row @ row))
+                return math.sqrt(arith.dot(row, row))
         row[:] = self.W[j]  # keep the previous row (unit length, non-negative)
-        return float(np.sqrt(row @ row))
+        return math.sqrt(arith.dot(row, row))
 
     def _check_action(self, a) -> None:
         if (

@@ -16,6 +16,7 @@ pose is ``[x, y, yaw]`` and its distance from the landmark's front plane is ``-x
 from __future__ import annotations
 
 import dataclasses
+import math
 
 import numpy as np
 
@@ -69,7 +70,7 @@ class StartRegion:
     @property
     def tan(self) -> float:
         """The tangent of ``half_angle_deg``: the half-width per metre of distance."""
-        return np.tan(np.radians(self.half_angle_deg))  # the trapezoid's one tangent
+        return math.tan(np.radians(self.half_angle_deg))  # the trapezoid's one tangent
 
     def half_width(self, distance):
         """The lateral half-width of the wedge at ``distance`` (m) from the landmark's front

@@ -37,6 +37,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from docking import arith
+
 from .network import Network
 from .validate import FieldTypeError, check_bool, check_instance, check_real
 
@@ -139,7 +141,7 @@ def run_trial(
     winner = int(s.argmax())  # the state the decision was based on
     success = False
     while True:
-        v = float(net.Q[a] @ s)  # Eq. (5), with the current weights
+        v = arith.dot(net.Q[a], s)  # Eq. (5), with the current weights
         winners.append(winner)
         actions.append(a)
         ts = env.step(a)
@@ -156,7 +158,7 @@ def run_trial(
             s_next = net.features(I_next)
             a_next = net.select_action(s_next, rng, beta_a)
             winner = int(s_next.argmax())
-            v_next = float(net.Q[a_next] @ s_next)
+            v_next = arith.dot(net.Q[a_next], s_next)
         delta = r + gamma * discount * v_next - v  # Eq. (6)
         rewards.append(r)
         deltas.append(delta)

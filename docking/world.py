@@ -52,6 +52,7 @@ from dm_control import mjcf  # noqa: E402
 from dm_control import mujoco as dm_mujoco  # noqa: E402
 from dm_env import specs  # noqa: E402
 
+from docking import arith  # noqa: E402
 from docking.camera import CameraConfig, preprocess_band  # noqa: E402
 from docking.region import StartRegion  # noqa: E402
 from docking.render import SceneRenderer  # noqa: E402
@@ -307,7 +308,7 @@ class Physics(dm_mujoco.Physics):
             geom = self.model.geom(name)
             centre = self.data.geom(name).xpos
             rot = self.data.geom(name).xmat.reshape(3, 3)
-            corners.append(centre + (signs * geom.size) @ rot.T)
+            corners.append(centre + arith.matmul(signs * geom.size, rot.T))
         return np.concatenate(corners)
 
     def project(self, points: np.ndarray, camera: str, config: CameraConfig) -> np.ndarray:
@@ -315,7 +316,7 @@ class Physics(dm_mujoco.Physics):
         ``config.width x config.height`` frame of ``camera``; rows of NaN behind the camera."""
         cam = self.data.camera(camera)
         rot = cam.xmat.reshape(3, 3)  # columns: the camera's x (right), y (up), z (backwards)
-        local = (np.asarray(points) - cam.xpos) @ rot
+        local = arith.matmul(np.asarray(points) - cam.xpos, rot)
         depth = -local[:, 2]
         with np.errstate(divide="ignore", invalid="ignore"):
             u = config.width / 2 + config.focal_px * local[:, 0] / depth
