@@ -246,11 +246,15 @@ def _find(config, seed: int, index: str) -> tuple[Path, dict, str] | None:
     return None if key is None else (folder, data, key)
 
 
-def _changed_modules(theirs: dict) -> list[str]:
-    """The package modules whose digests differ from ``theirs`` (a manifest's record)."""
+def _changed_modules(theirs: dict, ppo_runs: bool = False) -> list[str]:
+    """The package modules (and libraries) whose digests differ from ``theirs`` (a
+    manifest's record): of the learner's computation, or of PPO's (``ppo_runs``)."""
     from docking.store import module_digests
 
-    ours = module_digests()
+    if ppo_runs:
+        ours = module_digests(root=ppo.__name__, libraries=ppo.LIBRARIES)
+    else:
+        ours = module_digests()
     return sorted(k for k in set(ours) | set(theirs) if ours.get(k) != theirs.get(k))
 
 
@@ -267,7 +271,7 @@ def _check_ppo(folder: Path, data: dict) -> None:
     """:class:`StaleLedger` unless the ledger's PPO runs were computed by this code
     (:func:`docking.ppo.fingerprint`)."""
     if data.get("ppo_fingerprint") != ppo.fingerprint():
-        changed = _changed_modules(data.get("ppo_modules", {}))
+        changed = _changed_modules(data.get("ppo_modules", {}), ppo_runs=True)
         raise StaleLedger(
             f"the ledger in {folder} holds PPO runs of other code (changed: "
             f"{', '.join(changed) or 'the fingerprint or a library version'}); they are not "
@@ -710,7 +714,10 @@ def update(keep: dict[str, dict], folder: Path | str | None = None) -> dict:
         "runs": runs,
     }
     if ppo_runs:
-        data.update(ppo_fingerprint=ppo.fingerprint(), ppo_modules=module_digests())
+        data.update(
+            ppo_fingerprint=ppo.fingerprint(),
+            ppo_modules=module_digests(root=ppo.__name__, libraries=ppo.LIBRARIES),
+        )
         data["ppo_runs"] = ppo_runs
     # Each configuration once, in a table; a run names its entry (the seeds of a cell share
     # one). Reading the manifest puts the configurations back into the runs' records.

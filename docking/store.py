@@ -5,9 +5,11 @@ its seed and the code that computes it. Its key is the SHA-256 of
 
 * the configuration, every field, as canonical JSON (:meth:`ExperimentConfig.to_dict`);
 * the *source fingerprint*: the code of ``docking.experiments`` and of every ``docking``
-  module it imports, directly or indirectly (world, camera, network, trial, ...), read as
-  Python syntax trees without docstrings and comments (so prose edits do not invalidate
-  results, any code change does), plus every file under ``docking/assets/``, plus the
+  module its code imports, directly or indirectly (world, camera, network, trial, ...), read
+  by :mod:`docking.fingerprint` as Python tokens without comments, docstrings, error
+  messages and the validation, parsing and serialisation it names (so a reworded message or
+  docstring re-keys nothing, a change to what computes a run does; the same on every Python),
+  plus every file under ``docking/assets/``, plus the
   versions of the libraries whose arithmetic the runs depend on (MuJoCo, dm-control, NumPy,
   OpenCV). It is taken of the code this process *loaded*: if a fingerprinted file has changed
   on disk since ``docking`` was imported, keying a run raises :class:`StaleCode` (the run
@@ -35,7 +37,6 @@ run starts.
 
 from __future__ import annotations
 
-import ast
 import dataclasses
 import functools
 import hashlib
@@ -50,7 +51,7 @@ from pathlib import Path
 
 import numpy as np
 
-from docking import paths
+from docking import fingerprint, paths
 from docking.experiments import ExperimentConfig, ExperimentResult, TrialLog, run_experiment
 from docking.fileio import atomic_write, remove_stale_temporaries
 from docking.network import Network
@@ -97,49 +98,6 @@ class StaleCode(RuntimeError):
 # ------------------------------------------------------------------------------------------
 
 
-def _code_of(source: str) -> str:
-    """The syntax tree of Python ``source`` without docstrings, as a string."""
-    tree = ast.parse(source)
-    for node in ast.walk(tree):
-        if isinstance(node, (ast.Module, ast.ClassDef, ast.FunctionDef, ast.AsyncFunctionDef)):
-            body = node.body
-            if (
-                body
-                and isinstance(body[0], ast.Expr)
-                and isinstance(body[0].value, ast.Constant)
-                and isinstance(body[0].value.value, str)
-            ):
-                node.body = body[1:] or [ast.Pass()]
-    return ast.dump(tree, annotate_fields=False)
-
-
-def _imported_package_modules(tree: ast.AST, module: str) -> set[str]:
-    """Names of the ``docking`` modules that ``module``'s syntax tree imports."""
-    found = set()
-    package = module.rpartition(".")[0]
-    for node in ast.walk(tree):
-        if isinstance(node, ast.Import):
-            names = [alias.name for alias in node.names]
-        elif isinstance(node, ast.ImportFrom):
-            base = node.module or ""
-            if node.level:  # relative import
-                parts = package.split(".")
-                base = ".".join(parts[: len(parts) - node.level + 1] + ([base] if base else []))
-            names = [base] + [f"{base}.{alias.name}" for alias in node.names]
-        else:
-            continue
-        found.update(name for name in names if name.startswith("docking."))
-    return found  # names that are not modules (``docking.world.DockingEnv``) find no file
-
-
-def _module_file(name: str, package_dir: Path) -> Path | None:
-    relative = Path(*name.split(".")[1:])
-    for candidate in (package_dir / f"{relative}.py", package_dir / relative / "__init__.py"):
-        if candidate.is_file():
-            return candidate
-    return None
-
-
 def source_fingerprint(
     package_dir: Path | str | None = None,
     root: str = _ROOT_MODULE,
@@ -170,12 +128,18 @@ def source_fingerprint(
     return fingerprint
 
 
-def module_digests(package_dir: Path | str | None = None) -> dict[str, str]:
-    """``{module: SHA-256 of its code}`` for every fingerprinted module (the code as the
-    fingerprint reads it), plus ``assets/...`` and ``library ...`` entries: what a ledger
-    records, so that a mismatch can name what changed."""
+def module_digests(
+    package_dir: Path | str | None = None,
+    root: str = _ROOT_MODULE,
+    libraries: tuple[str, ...] = _LIBRARIES,
+) -> dict[str, str]:
+    """``{module: SHA-256 of its code}`` for every fingerprinted module of ``root``'s
+    computation (the code as the fingerprint reads it), plus ``assets/...`` and
+    ``library ...`` entries: what a ledger records, so that a mismatch can name what
+    changed."""
     package_dir = (Path(package_dir) if package_dir else Path(__file__).parent).resolve()
-    return dict(_fingerprint_parts(package_dir, _stamp(package_dir))[1])
+    parts = _fingerprint_parts(package_dir, _stamp(package_dir), root, tuple(libraries))
+    return dict(parts[1])
 
 
 def _stamp(package_dir: Path) -> tuple:
@@ -192,25 +156,8 @@ def _fingerprint_parts(
     package_dir: Path, stamp: tuple, root: str = _ROOT_MODULE, libraries: tuple = _LIBRARIES
 ) -> tuple[str, tuple, dict]:
     """(fingerprint, ((part, digest), ...), {file: SHA-256 of its bytes})."""
-    digest = hashlib.sha256()
-    parts, files = [], {}
-    seen, queue = set(), [root]
-    while queue:
-        name = queue.pop()
-        if name in seen:
-            continue
-        seen.add(name)
-        path = _module_file(name, package_dir)
-        if path is None:
-            continue
-        raw = path.read_bytes()
-        files[path.relative_to(package_dir).as_posix()] = hashlib.sha256(raw).hexdigest()
-        source = raw.decode("utf-8")
-        # Sorted: a set's order changes with PYTHONHASHSEED, i.e. from process to process.
-        queue.extend(sorted(_imported_package_modules(ast.parse(source), name)))
-        code = f"module {name}\n{_code_of(source)}\n".encode()
-        digest.update(code)
-        parts.append((name, hashlib.sha256(code).hexdigest()))
+    code, parts, files = fingerprint.walk(package_dir, root)
+    digest = hashlib.sha256(f"code {code}\n".encode())
     assets = package_dir / "assets"
     if assets.is_dir():
         for path in sorted(p for p in assets.rglob("*") if p.is_file()):

@@ -1,0 +1,239 @@
+"""The source fingerprint: the code that computes a run's arrays, read so that its digest
+moves when that code's arithmetic can, and only then.
+
+A module is read as Python *tokens* (:mod:`tokenize`), not as a syntax tree: ``ast.dump``
+differs between Python versions, the tokens of one source do not (3.12's split f-string tokens
+are joined back into one). Left out of the tokens:
+
+* comments, blank lines and indentation widths (indentation is kept as its structure);
+* docstrings;
+* what a ``raise`` statement says: it is kept as ``raise`` and the exception's name, so a
+  reworded error message re-keys nothing (a raise ends a run; it computes no array);
+* the definitions named in :data:`UNKEYED`: validation, parsing, serialisation and display,
+  which decide whether a configuration is accepted and how it is written, never what a run
+  computes (the configuration's every field enters the key as canonical JSON anyway);
+* the modules named in :data:`UNKEYED_MODULES` (the field checks every configuration shares,
+  the atomic file writer), which are not followed either.
+
+The walk starts at a root module (``docking.experiments`` for the learner's runs) and follows
+the ``docking`` imports of the code it keeps. This module uses the standard library only, so
+that tests can compute a fingerprint under every installed interpreter without the package's
+dependencies (tests/test_fingerprint.py).
+"""
+
+from __future__ import annotations
+
+import ast
+import bisect
+import hashlib
+import io
+import tokenize
+from pathlib import Path
+
+__all__ = ["UNKEYED", "UNKEYED_MODULES", "code_tokens", "module_code", "walk"]
+
+#: Modules that compute nothing a run stores: never fingerprinted, never followed. Their
+#: functions return the values they are given (``docking.validate``'s checks raise or pass the
+#: value on; tests/test_validation.py holds them to it) or write files.
+UNKEYED_MODULES = frozenset({"docking.validate", "docking.fileio"})
+
+#: Definitions (``function`` or ``Class.method``) per module that compute nothing a run stores.
+UNKEYED: dict[str, frozenset[str]] = {
+    "docking.experiments": frozenset(
+        {
+            # validation (values enter the key through the configuration's JSON)
+            "Curriculum.__post_init__",
+            "ExperimentConfig.__post_init__",
+            # the configuration as JSON and back
+            "ExperimentConfig.to_dict",
+            "ExperimentConfig.from_dict",
+            "_fields",
+            "_tuples",
+            "_world_from_dict",
+        }
+    ),
+    "docking.network": frozenset(
+        {
+            "NetworkConfig.__post_init__",
+            "Network.save",
+            "Network.load",
+            "Network.__repr__",
+            "Network._check_action",
+            "Network._check_vector",
+            "Network._check_step",
+        }
+    ),
+    "docking.scene": frozenset({"Distractor.__post_init__", "WorldConfig.__post_init__"}),
+    "docking.camera": frozenset({"CameraConfig.__post_init__"}),
+}
+
+
+def _char_col(lines: list[str], lineno: int, byte_col: int) -> int:
+    """ast's UTF-8 byte offset on line ``lineno`` as tokenize's character offset."""
+    return len(lines[lineno - 1].encode("utf-8")[:byte_col].decode("utf-8", "replace"))
+
+
+def _spans(source: str, module: str) -> tuple[list, set[str]]:
+    """``([(start, end, replacement)], {docking modules imported by the kept code})``:
+    the regions of ``source`` the fingerprint leaves out (see the module docstring)."""
+    tree = ast.parse(source)
+    lines = source.splitlines(keepends=True) or [""]
+    unkeyed = UNKEYED.get(module, frozenset())
+    spans = []
+
+    def span(node, first=None, replacement=""):
+        first = first or node
+        start = (first.lineno, _char_col(lines, first.lineno, first.col_offset))
+        end = (node.end_lineno, _char_col(lines, node.end_lineno, node.end_col_offset))
+        spans.append((start, end, replacement))
+
+    imports: set[str] = set()
+    package = module.rpartition(".")[0]
+
+    def visit(node, prefix: str) -> None:
+        body = getattr(node, "body", None)
+        if (
+            isinstance(node, (ast.Module, ast.ClassDef, ast.FunctionDef, ast.AsyncFunctionDef))
+            and body
+            and isinstance(body[0], ast.Expr)
+            and isinstance(body[0].value, ast.Constant)
+            and isinstance(body[0].value.value, str)
+        ):
+            span(body[0])  # the docstring
+        for child in ast.iter_child_nodes(node):
+            if isinstance(child, (ast.FunctionDef, ast.AsyncFunctionDef, ast.ClassDef)):
+                name = f"{prefix}{child.name}"
+                if name in unkeyed:
+                    first = child.decorator_list[0] if child.decorator_list else child
+                    span(child, first)
+                    continue
+                visit(child, f"{name}.")
+            elif isinstance(child, ast.Raise):
+                exc = child.exc.func if isinstance(child.exc, ast.Call) else child.exc
+                span(child, replacement=f"raise {ast.unparse(exc) if exc else ''}")
+            else:
+                if isinstance(child, ast.Import):
+                    imports.update(alias.name for alias in child.names)
+                elif isinstance(child, ast.ImportFrom):
+                    base = child.module or ""
+                    if child.level:  # relative import
+                        parts = package.split(".")[: len(package.split(".")) - child.level + 1]
+                        base = ".".join(parts + ([base] if base else []))
+                    imports.add(base)
+                    imports.update(f"{base}.{alias.name}" for alias in child.names)
+                visit(child, prefix)
+
+    visit(tree, "")
+    # names that are not modules (``docking.world.DockingEnv``) find no file and are dropped
+    return spans, {name for name in imports if name.startswith("docking.")}
+
+
+def code_tokens(source: str, module: str = "") -> tuple[str, set[str]]:
+    """The tokens of ``source`` the fingerprint reads, one string, and the ``docking``
+    modules the kept code imports."""
+    spans, imports = _spans(source, module)
+    spans.sort()
+    starts = [s[0] for s in spans]
+    out: list[str] = []
+    tokens = list(tokenize.generate_tokens(io.StringIO(source).readline))
+    lines = source.splitlines(keepends=True)
+    k = 0
+    while k < len(tokens):
+        tok = tokens[k]
+        at = bisect.bisect_right(starts, tok.start) - 1
+        inside = spans[at] if at >= 0 and tok.start < spans[at][1] else None
+        if inside is not None and tok.type == tokenize.DEDENT and tok.start == inside[0]:
+            inside = None  # the dedent before a left-out definition belongs to the code above
+        if inside is not None:
+            start, end, replacement = inside
+            if replacement:
+                out.append(replacement)
+            while k < len(tokens) and tokens[k].start < end:
+                k += 1
+            continue
+        kind = tok.type
+        if kind in (tokenize.COMMENT, tokenize.NL, tokenize.ENCODING, tokenize.ENDMARKER):
+            pass
+        elif kind == tokenize.INDENT:
+            out.append("<indent>")
+        elif kind == tokenize.DEDENT:
+            out.append("<dedent>")
+        elif kind == tokenize.NEWLINE:
+            out.append("\n")
+        elif tokenize.tok_name.get(kind) == "FSTRING_START":  # Python >= 3.12
+            depth, j = 0, k
+            while True:
+                name = tokenize.tok_name.get(tokens[j].type)
+                depth += (name == "FSTRING_START") - (name == "FSTRING_END")
+                if depth == 0:
+                    break
+                j += 1
+            out.append(_text(lines, tok.start, tokens[j].end))
+            k = j
+        else:
+            out.append(tok.string)
+        k += 1
+    return " ".join(out), imports
+
+
+def _text(lines: list[str], start: tuple[int, int], end: tuple[int, int]) -> str:
+    """The source between two tokenize positions."""
+    if start[0] == end[0]:
+        return lines[start[0] - 1][start[1] : end[1]]
+    middle = lines[start[0] : end[0] - 1]
+    return lines[start[0] - 1][start[1] :] + "".join(middle) + lines[end[0] - 1][: end[1]]
+
+
+def _module_file(name: str, package_dir: Path) -> Path | None:
+    relative = Path(*name.split(".")[1:])
+    for candidate in (package_dir / f"{relative}.py", package_dir / relative / "__init__.py"):
+        if candidate.is_file():
+            return candidate
+    return None
+
+
+def module_code(package_dir: Path, name: str) -> tuple[str, set[str], bytes] | None:
+    """``(tokens, imported docking modules, the file's bytes)`` of module ``name``, or None
+    for a name that is no module of the package or is unkeyed."""
+    if name in UNKEYED_MODULES:
+        return None
+    path = _module_file(name, package_dir)
+    if path is None:
+        return None
+    raw = path.read_bytes()
+    tokens, imports = code_tokens(raw.decode("utf-8"), name)
+    return tokens, imports, raw
+
+
+def walk(package_dir: Path, root: str) -> tuple[str, list[tuple[str, str]], dict[str, str]]:
+    """``(SHA-256 of the code, [(module, its digest)], {file: SHA-256 of its bytes})`` of
+    ``root`` and every module its kept code imports, in a fixed order."""
+    digest = hashlib.sha256()
+    parts, files = [], {}
+    seen, queue = set(), [root]
+    while queue:
+        name = queue.pop()
+        if name in seen:
+            continue
+        seen.add(name)
+        found = module_code(package_dir, name)
+        if found is None:
+            continue
+        tokens, imports, raw = found
+        path = _module_file(name, package_dir)
+        files[path.relative_to(package_dir).as_posix()] = hashlib.sha256(raw).hexdigest()
+        # sorted: a set's order changes with PYTHONHASHSEED, i.e. from process to process
+        queue.extend(sorted(imports))
+        code = f"module {name}\n{tokens}\n".encode()
+        digest.update(code)
+        parts.append((name, hashlib.sha256(code).hexdigest()))
+    return digest.hexdigest(), parts, files
+
+
+if __name__ == "__main__":  # python -I docking/fingerprint.py: the code's digests, as JSON
+    import json
+    import sys
+
+    here = Path(__file__).resolve().parent
+    code, parts, _ = walk(here, sys.argv[1] if len(sys.argv) > 1 else "docking.experiments")
+    print(json.dumps({"code": code, "modules": dict(parts)}, sort_keys=True))
