@@ -10,7 +10,7 @@
 #                    ledger, every figure and the README tables
 #   make lab         JupyterLab on the project; the notebooks' .py files open as notebooks
 #   make benchmark   environment steps per second
-# Another interpreter: make test PYTHON=python3.10 VENV=.venv310
+# Another interpreter: make test PYTHON=python3.12 VENV=.venv312 (3.11 and 3.12 are supported)
 
 PYTHON  ?= python3
 VENV    ?= .venv
@@ -48,9 +48,7 @@ experiments: setup
 	DOCKING_LEDGER=off $(PY) -m docking run experiment1
 	DOCKING_LEDGER=off $(PY) -m docking run experiment2
 	DOCKING_LEDGER=off $(PY) -m docking design run calibration-experiment1 calibration-experiment2
-	DOCKING_LEDGER=off $(PY) -m docking design run study study-yardsticks
 	DOCKING_LEDGER=off $(PY) -m docking design run experiment3 experiment3-oracle
-	DOCKING_LEDGER=off $(PY) -m docking design run second-edition
 
 check: setup
 	$(VENV)/bin/ruff format --check .
@@ -75,7 +73,7 @@ docs: setup
 # The paper's two experiments from an empty store, Figs. 2-5, the learning curves and the
 # results table (printed; `make reproduce` writes it into the README).
 paper: setup
-	DOCKING_LEDGER=off $(PY) -m docking report --compute --figures --no-study --no-experiment3 --no-second-edition
+	DOCKING_LEDGER=off $(PY) -m docking report --compute --figures
 
 lab: setup notebooks
 	$(VENV)/bin/jupyter lab $$([ "$$(id -u)" = 0 ] && echo --allow-root)
@@ -98,10 +96,12 @@ system-deps:
 	    $$SUDO apt-get update -qq && $$SUDO apt-get install -y -qq $$missing; \
 	fi
 
-$(STAMP): pyproject.toml
+# constraints.txt is the lock: the exact versions of every library (those of numpy, MuJoCo,
+# dm-control and OpenCV enter every run's key).
+$(STAMP): pyproject.toml constraints.txt
 	test -x $(PY) || $(PYTHON) -m venv $(VENV)
 	$(PY) -m pip install -q --upgrade pip
-	$(PY) -m pip install -q -e '.[dev]'
+	$(PY) -m pip install -q -c constraints.txt -e '.[dev]'
 	touch $@
 
 $(LAB_OVERRIDES): jupyterlab/overrides.json $(STAMP)

@@ -71,6 +71,31 @@ def chosen(data: dict, sample: int | None, commit: str) -> list[str]:
     return paper + others[:sample]
 
 
+def platform_lines(mismatch: bool, folder: Path | str | None = None) -> list[str]:
+    """The ledger's numeric platform beside this machine's (:mod:`docking.platform_info`),
+    and, where they differ, what each difference means for a run's bits."""
+    from docking.platform_info import compare, numeric_platform
+
+    data = manifest(Path(folder) if folder is not None else ledger_dir()) or {}
+    theirs, ours = data.get("platform", {}), numeric_platform()
+    lines = ["numeric platform (the ledger's | this machine's):"]
+    lines += [f"  {k}: {theirs.get(k, '?')} | {ours.get(k, '?')}" for k in sorted(ours)]
+    differences = compare(theirs, ours)
+    if not differences:
+        lines.append("the platforms are the same.")
+    else:
+        lines.append("where they differ, and what that means:")
+        lines += [f"  {d}" for d in differences]
+    if mismatch:
+        lines.append(
+            "a mismatch on the same code and libraries on x86-64-v3 or newer is a defect: "
+            "please report it with these lines"
+            if ours.get("architecture") == theirs.get("architecture") == "x86_64"
+            else "runs on another architecture are not expected to equal the ledger's bits"
+        )
+    return lines
+
+
 def _digest(job, scratch) -> str:
     """The content digest of ``job``'s recomputed run in the store ``scratch``."""
     import json

@@ -53,7 +53,7 @@ def _executed(path: Path) -> bool:
 
 def _markdown(text: str) -> str:
     """README/CONTRIBUTING links made site links: notebooks' .py sources to their pages."""
-    text = re.sub(r"\((notebooks/\d\d_\w+)\.py\)", r"(\1.ipynb)", text)
+    text = re.sub(r"\(((?:notebooks|archive)/\d\d_\w+)\.py\)", r"(\1.ipynb)", text)
     return text.replace("(CONTRIBUTING.md)", "(contributing.md)")
 
 
@@ -71,6 +71,9 @@ def prepare() -> Path:
         if not _executed(nb):
             raise SystemExit(f"{nb} has no outputs: run make test (nbmake --overwrite) first")
         shutil.copy(nb, SOURCE / "notebooks" / nb.name)
+    # The archived notebooks (archive/README.md): executed at an earlier commit, copied as
+    # they are.
+    shutil.copytree(ROOT / "archive", SOURCE / "archive", ignore=shutil.ignore_patterns("*.py"))
     api = ["# API reference", ""]
     for module in API_MODULES:
         api += [

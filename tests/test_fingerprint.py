@@ -1,0 +1,122 @@
+"""The source fingerprint (docking.fingerprint): the same on every Python; moved by a change to
+what computes a run, never by a reworded message, docstring or comment."""
+
+import ast
+import glob
+import json
+import shutil
+import subprocess
+from pathlib import Path
+
+import pytest
+
+import docking
+from docking import fingerprint
+from docking.store import source_fingerprint
+
+PACKAGE = Path(docking.__file__).resolve().parent
+
+
+def _copy_package(tmp_path: Path) -> Path:
+    target = tmp_path / "docking"
+    shutil.copytree(PACKAGE, target, ignore=shutil.ignore_patterns("__pycache__"))
+    return target
+
+
+def _edit(path: Path, old: str, new: str) -> None:
+    source = path.read_text()
+    assert source.count(old) >= 1, f"{old!r} is not in {path.name}"
+    path.write_text(source.replace(old, new, 1))
+
+
+def _interpreters() -> list[str]:
+    """Every CPython 3.10+ this machine has (pyenv's and the PATH's), by version."""
+    found = {}
+    candidates = glob.glob("/root/.pyenv/versions/3.*/bin/python3") + [
+        shutil.which(f"python3.{minor}") or "" for minor in range(10, 15)
+    ]
+    for exe in filter(None, candidates):
+        try:
+            out = subprocess.run(
+                [exe, "-c", "import sys; print(sys.version_info[:2] >= (3, 10), sys.version)"],
+                capture_output=True,
+                text=True,
+                timeout=30,
+            )
+        except (OSError, subprocess.SubprocessError):
+            continue
+        ok, _, version = out.stdout.partition(" ")
+        if out.returncode == 0 and ok == "True":
+            found.setdefault(version.split()[0][:4].rstrip("."), exe)
+    return sorted(found.values())
+
+
+def test_the_fingerprint_is_the_same_under_every_installed_python():
+    interpreters = _interpreters()
+    assert interpreters, "no Python 3.10+ interpreter found"
+    ours = fingerprint.walk(PACKAGE, "docking.experiments")
+    for exe in interpreters:
+        out = subprocess.run(
+            [exe, "-I", str(PACKAGE / "fingerprint.py")],
+            capture_output=True,
+            text=True,
+            timeout=120,
+            check=True,
+        )
+        theirs = json.loads(out.stdout)
+        assert theirs == {"code": ours[0], "modules": dict(ours[1])}, exe
+
+
+def test_messages_docstrings_comments_validation_and_parsing_leave_the_key_alone(tmp_path):
+    package = _copy_package(tmp_path)
+    before = source_fingerprint(package)
+    assert before == source_fingerprint()  # the copy is the same code
+    # an error message in a computation
+    _edit(package / "network.py", "softmax input contains NaN", "softmax input holds NaN")
+    # a validation message, and the field checks' module as a whole
+    _edit(package / "experiments.py", "must equal the camera's", "has to equal the camera's")
+    (package / "validate.py").write_text((package / "validate.py").read_text() + "\nX = 1\n")
+    # the configuration's parsing, a docstring, a comment
+    _edit(package / "experiments.py", "fields = _fields(", "fields = dict(d) and _fields(")
+    _edit(package / "trial.py", '"""', '""" Reworded. ')
+    _edit(package / "trial.py", "# Eq. (6)", "# Eq. (6), the TD error")
+    assert source_fingerprint(package) == before
+
+
+@pytest.mark.parametrize(
+    "module, old, new",
+    [
+        ("trial.py", "delta = r + gamma * discount * v_next - v", "delta = r + gamma * v_next - v"),
+        ("arith.py", 'np.einsum("ij,j->i", A, x)', "A @ x"),
+        ("network.py", "e *= 1.0 / total", "e /= total"),
+        ("world.py", "import numpy as np  # noqa: E402", "import numpy as np  # noqa: E402\nX = 1"),
+    ],
+)
+def test_an_arithmetic_change_moves_the_key(tmp_path, module, old, new):
+    package = _copy_package(tmp_path)
+    before = source_fingerprint(package)
+    _edit(package / module, old, new)
+    assert source_fingerprint(package) != before
+
+
+def test_every_left_out_definition_exists():
+    """A renamed definition would silently be fingerprinted again; a typo here would leave
+    nothing out. Every name of UNKEYED is a definition of its module."""
+    for module, names in fingerprint.UNKEYED.items():
+        tree = ast.parse((PACKAGE / f"{module.split('.', 1)[1]}.py").read_text())
+        defined = set()
+        for node in tree.body:
+            if isinstance(node, (ast.FunctionDef, ast.ClassDef)):
+                defined.add(node.name)
+            if isinstance(node, ast.ClassDef):
+                defined.update(
+                    f"{node.name}.{m.name}" for m in node.body if isinstance(m, ast.FunctionDef)
+                )
+        assert names <= defined, (module, names - defined)
+
+
+def test_a_raise_is_kept_as_its_exception():
+    tokens, _ = fingerprint.code_tokens("def f(x):\n    if x:\n        raise ValueError(f'{x}')\n")
+    assert "raise ValueError" in tokens and "{x}" not in tokens
+    other, _ = fingerprint.code_tokens("def f(x):\n    if x:\n        raise TypeError('no')\n")
+    assert other != tokens

@@ -1,0 +1,133 @@
+"""The same run on every supported Python and x86-64 CPU, bit for bit.
+
+``tests/data/platform_digest.json`` holds the content digest of one short Experiment 2 run and
+the library versions it was computed with (the lock's). This test computes that run again in
+subprocesses, one per row:
+
+* each numpy dispatch level this CPU has (``NPY_DISABLE_CPU_FEATURES`` switching AVX-512 off,
+  then AVX2 too): numpy's own ``exp`` differs under AVX-512;
+* each OpenBLAS core type this CPU can run (``OPENBLAS_CORETYPE``): its kernels sum products
+  in other orders;
+* OpenCV's optimised code off (``cv2.setUseOptimized(False)``);
+
+and every row must equal the recording. A row this machine cannot run (no AVX-512 here, say)
+is skipped and says "not available on this machine", never passed. The interpreter running
+the suite computes the in-process row: ``make test PYTHON=python3.12 VENV=.venv312`` checks
+3.12 against the recording (made on another Python).
+"""
+
+import dataclasses
+import json
+import os
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+from docking import platform_info
+from docking.experiments import run_experiment
+from docking.presets import EXPERIMENT_2
+from docking.store import content_digest, module_digests, result_arrays
+
+RECORDING = Path(__file__).parent / "data" / "platform_digest.json"
+CONFIG = dataclasses.replace(
+    EXPERIMENT_2,
+    name="platform",
+    train_trials=60,
+    test_trials=20,
+    eval_trials=0,
+    heldout_trials=10,
+)
+
+#: numpy's dispatch levels above its x86-64 baseline, the features that switch each one off.
+NUMPY_LEVELS = {
+    "numpy without AVX-512": ("X86_V4", "AVX512_ICL", "AVX512_SPR"),
+    "numpy without AVX-512 and AVX2": ("X86_V4", "AVX512_ICL", "AVX512_SPR", "X86_V3"),
+}
+#: OpenBLAS core types and the CPU feature (numpy's name) each one's kernels need.
+OPENBLAS_CORES = {
+    "Prescott": None,
+    "Nehalem": None,
+    "Sandybridge": "AVX",
+    "Haswell": "AVX2",
+    "Zen": "AVX2",
+    "SkylakeX": "AVX512F",
+    "Cooperlake": "AVX512_CPX",
+    "SapphireRapids": "AVX512_SPR",
+}
+
+
+def _libraries() -> dict:
+    return {k: v for k, v in module_digests().items() if k.startswith("library ")}
+
+
+def digest() -> str:
+    return content_digest(result_arrays(run_experiment(CONFIG, 5, progress=False)))
+
+
+def _recorded() -> dict:
+    recorded = json.loads(RECORDING.read_text())
+    assert recorded["libraries"] == _libraries(), (
+        f"the libraries differ from the recording's {recorded['libraries']}: install the lock "
+        "(make setup) to run this check"
+    )
+    return recorded
+
+
+def _digest_in_subprocess(env: dict, *args: str) -> str:
+    out = subprocess.run(
+        [sys.executable, __file__, "--digest", *args],
+        env={**os.environ, **env},
+        capture_output=True,
+        text=True,
+        timeout=600,
+    )
+    assert out.returncode == 0, out.stderr[-2000:]
+    return out.stdout.strip().splitlines()[-1]
+
+
+@pytest.mark.slow
+def test_a_run_is_the_same_on_this_python():
+    recorded = _recorded()
+    assert digest() == recorded["digest"], (
+        f"Python {sys.version.split()[0]} computes another run than Python {recorded['python']} did"
+    )
+
+
+@pytest.mark.parametrize("level", sorted(NUMPY_LEVELS))
+def test_a_run_is_the_same_at_every_numpy_dispatch_level(level):
+    recorded = _recorded()
+    features = platform_info.cpu_features()
+    found = [f for f in NUMPY_LEVELS[level] if features.get(f)]
+    if not found:
+        pytest.skip(f"not available on this machine: its CPU has none of {NUMPY_LEVELS[level]}")
+    got = _digest_in_subprocess({"NPY_DISABLE_CPU_FEATURES": " ".join(found)})
+    assert got == recorded["digest"], f"{level}: another run than the recording"
+
+
+@pytest.mark.parametrize("core", sorted(OPENBLAS_CORES))
+def test_a_run_is_the_same_under_every_openblas_core_type(core):
+    recorded = _recorded()
+    needs = OPENBLAS_CORES[core]
+    if needs is not None and not platform_info.cpu_features().get(needs):
+        pytest.skip(f"not available on this machine: {core}'s kernels need {needs}")
+    got = _digest_in_subprocess({"OPENBLAS_CORETYPE": core})
+    assert got == recorded["digest"], f"OpenBLAS {core}: another run than the recording"
+
+
+def test_a_run_is_the_same_without_opencvs_optimised_code():
+    recorded = _recorded()
+    assert _digest_in_subprocess({}, "--no-opencv-optimisations") == recorded["digest"]
+
+
+if __name__ == "__main__":
+    if "--digest" in sys.argv:  # one row: print the run's digest
+        if "--no-opencv-optimisations" in sys.argv:
+            import cv2
+
+            cv2.setUseOptimized(False)
+        print(digest())
+    else:  # python tests/test_platform.py: write the recording
+        text = {"python": sys.version.split()[0], "libraries": _libraries(), "digest": digest()}
+        RECORDING.write_text(json.dumps(text, indent=1, sort_keys=True) + "\n")
