@@ -20,6 +20,7 @@ command and of each subcommand) prints usage and starts nothing.
 from __future__ import annotations
 
 import dataclasses
+import os
 import signal
 import sys
 from pathlib import Path
@@ -320,16 +321,16 @@ class Report:
     """Worker processes for missing runs."""
     results_dir: _ResultsDir = None
     """The results store."""
-    study: bool = True
-    """Also the table of the study's verdicts (notebook 05; runs the study if it is not
+    study: bool = False
+    """Also the table of the study's first edition (archived, notebook 05; runs it if it is not
     stored), into the README between <!-- study:start --> and <!-- study:end -->."""
-    experiment3: bool = True
+    experiment3: bool = False
     """Also the table of Experiment 3 (notebook 06; runs it if it is not stored, and the
     oracle in every cell), into the README between <!-- experiment3:start --> and
     <!-- experiment3:end -->."""
-    second_edition: bool = True
-    """Also the study's second edition (notebook 07): the table of its worlds, its path and
-    its verdict table, into the README between <!-- second-edition:start --> and
+    second_edition: bool = False
+    """Also the study's second edition (archived, notebook 07): the table of its worlds, its path
+    and its verdict table, into the README between <!-- second-edition:start --> and
     <!-- second-edition:end -->; and the 8 cm rows of the results table."""
     figures: bool = False
     """Also save Figs. 2-5 and the learning curves of Experiments 1 and 2 into figures/
@@ -488,19 +489,26 @@ class Ledger:
     def execute(self) -> int:
         from docking import ledger
 
+        folder = ledger.ledger_dir()  # ValueError if DOCKING_LEDGER is not off or a folder
+        if folder is None:
+            raise ValueError(
+                "the ledger is switched off by DOCKING_LEDGER="
+                f"{os.environ['DOCKING_LEDGER']}; unset it, or set it to a ledger folder"
+                if ledger.ledger_off()
+                else "this installed package has no ledger folder; set DOCKING_LEDGER to one"
+            )
         if self.action == "update":
             if not self.trace.is_file():
                 raise ValueError(
                     f"no trace file {self.trace}: make reproduce writes it while it executes "
                     "the notebooks with DOCKING_TRACE set"
                 )
-            keep = ledger.read_trace(self.trace.read_text().splitlines())
+            keep = ledger.read_trace(self.trace.read_text().splitlines(), source=str(self.trace))
             data = ledger.update(keep)
         else:
-            data = ledger.manifest()
+            data = ledger.manifest(folder)
             if data is None:
-                raise ValueError(f"no ledger in {ledger.ledger_dir()}")
-        folder = ledger.ledger_dir()
+                raise ValueError(f"no ledger in {folder} (it has no manifest.json)")
         size = ledger.size_bytes(folder)
         names = sorted({r["name"] for r in data["runs"].values()})
         ppo_runs = data.get("ppo_runs", {})
@@ -540,6 +548,8 @@ class Verify:
         for c in checks:
             print(f"{'ok' if c.ok else 'MISMATCH':8s} {c.name} seed {c.seed} ({c.key[:16]})")
         print(f"{len(checks) - len(bad)} of {len(checks)} recomputed runs equal the ledger")
+        for line in verify.platform_lines(bool(bad)):
+            print(line)
         return 1 if bad else 0
 
 
@@ -588,9 +598,34 @@ def _exit_on_sigterm(signum, frame):
     raise SystemExit(128 + signum)
 
 
+#: The folder options whose empty value tyro would read as the current folder.
+_FOLDER_OPTIONS = ("--results-dir", "--results_dir", "--folder")
+
+
+def _empty_folder_option(argv: list[str]) -> str | None:
+    """The first folder option of ``argv`` given an empty value (``--results-dir ''`` or
+    ``--results-dir=``), which ``Path`` would turn into the current folder; else None."""
+    for k, arg in enumerate(argv):
+        name, equals, value = arg.partition("=")
+        if name not in _FOLDER_OPTIONS:
+            continue
+        if not equals:
+            value = argv[k + 1] if k + 1 < len(argv) else None
+        if value is not None and not value.strip():
+            return name
+    return None
+
+
 def main(argv=None) -> int:
     """Parse ``argv`` (default ``sys.argv[1:]``) and run the subcommand; its exit status."""
     argv = sys.argv[1:] if argv is None else list(argv)
+    empty = _empty_folder_option(argv)
+    if empty is not None:  # as DOCKING_RESULTS / DOCKING_FIGURES set but empty are refused
+        print(
+            f"{PROG}: error: {empty} is empty; name a folder, or leave the option out",
+            file=sys.stderr,
+        )
+        return 2
     command = tyro.cli(
         Command,
         args=argv,

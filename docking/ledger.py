@@ -63,6 +63,7 @@ from docking.ppo import PPOConfig
 
 __all__ = [
     "LEDGER_FORMAT",
+    "CorruptLedger",
     "NotInLedger",
     "StaleLedger",
     "TracedResult",
@@ -103,19 +104,52 @@ class NotInLedger(LookupError):
     """An analysis read a part of a run that its ledger entry does not keep."""
 
 
+class CorruptLedger(StaleLedger):
+    """A file of the ledger is not what the ledger's writer wrote: a manifest that is not one,
+    a record that names another run's entry or a file outside the ledger, an entry that is
+    not an entry, a wall time that is no time."""
+
+
+#: What an error about a damaged ledger suggests.
+_RESTORE = "check out the committed ledger again (git checkout -- ledger)"
+
+
 # ------------------------------------------------------------------------------------------
 # Where, and the manifest.
 # ------------------------------------------------------------------------------------------
 
 
+#: The values of ``DOCKING_LEDGER`` that turn the ledger off (in any case).
+LEDGER_OFF = ("off", "0", "none", "false")
+
+
+def ledger_off() -> bool:
+    """Whether ``DOCKING_LEDGER`` turns the ledger off."""
+    value = os.environ.get("DOCKING_LEDGER")
+    return value is not None and value.strip().lower() in LEDGER_OFF
+
+
 def ledger_dir() -> Path | None:
-    """The ledger's folder: ``DOCKING_LEDGER`` if set (``off``, ``0`` or ``none``: no ledger),
-    else the checkout's ``ledger/`` (None for an installed package without one)."""
+    """The ledger's folder: ``DOCKING_LEDGER`` if set (``off``, ``0``, ``none`` or ``false``:
+    no ledger; otherwise the absolute path of an existing folder), else the checkout's
+    ``ledger/`` (None for an installed package without one). Any other value of
+    ``DOCKING_LEDGER`` (empty, a typo of ``off``, a relative path, a missing folder) is a
+    ``ValueError`` naming it, never a silent "no ledger"."""
     value = os.environ.get("DOCKING_LEDGER")
     if value is not None:
-        if value.strip().lower() in ("off", "0", "none", "false", ""):
+        if ledger_off():
             return None
-        return Path(value).expanduser()
+        usage = "set it to off or to the absolute path of a ledger folder, or unset it"
+        if not value.strip():
+            raise ValueError(f"DOCKING_LEDGER is set but empty; {usage}")
+        path = Path(value).expanduser()
+        if not path.is_absolute():
+            raise ValueError(
+                f"DOCKING_LEDGER={value!r} is neither off nor an absolute path; {usage}"
+            )
+        if not path.is_dir():
+            raise ValueError(f"DOCKING_LEDGER={value!r} names no folder; {usage}")
+        return path
     root = paths.checkout_root()
     return root / "ledger" if root is not None else None
 
@@ -165,18 +199,105 @@ def _raw_manifest(folder: Path | None) -> dict | None:
 
 @functools.lru_cache(maxsize=4)
 def _read_manifest(path: Path, _mtime: int) -> dict:
-    data = json.loads(path.read_text())
-    configs = data.get("configs", {})
+    """The manifest at ``path``, each run's configuration put back into its record and the
+    indexes by (configuration, seed) added; :class:`CorruptLedger` naming the file and what
+    is wrong if it is not a manifest of this ledger format (one of another format is read as
+    far as it can be: :func:`_check` refuses it, naming its format)."""
+    from docking.store import FORMAT_VERSION
+
+    try:
+        data = json.loads(path.read_text())
+    except (ValueError, UnicodeDecodeError) as exc:
+        raise _not_a_manifest(path, f"not JSON ({exc})") from None
+    if not isinstance(data, dict):
+        raise _not_a_manifest(path, f"it holds a JSON {type(data).__name__}, not an object")
+    if "format" not in data:
+        raise _not_a_manifest(path, "it has no 'format'")
+    ours = data.get("format") == LEDGER_FORMAT and data.get("store_format") == FORMAT_VERSION
+    if ours:
+        _check_manifest(path, data)
+    configs = data.get("configs", {}) if isinstance(data.get("configs"), dict) else {}
     for runs in ("runs", "ppo_runs"):  # a run names its configuration in the table
-        for record in data.get(runs, {}).values():
+        for record in _records(data, runs):
             if isinstance(record.get("config"), str) and record["config"] in configs:
                 record["config"] = configs[record["config"]]
     for runs, index in (("runs", "index"), ("ppo_runs", "ppo_index")):
         data[index] = {
             _index_key(record["config"], record["seed"]): key
-            for key, record in data.get(runs, {}).items()
+            for key, record in _records(data, runs, keyed=True)
+            if isinstance(record.get("config"), dict) and isinstance(record.get("seed"), int)
         }
     return data
+
+
+def _records(data: dict, runs: str, keyed: bool = False) -> list:
+    """The records of ``data[runs]`` that are dicts (with their keys if ``keyed``)."""
+    table = data.get(runs, {})
+    items = table.items() if isinstance(table, dict) else ()
+    return [(k, r) if keyed else r for k, r in items if isinstance(r, dict)]
+
+
+def _not_a_manifest(path: Path, what: str) -> CorruptLedger:
+    return CorruptLedger(f"{path} is not a ledger manifest: {what}; {_RESTORE}")
+
+
+def _check_manifest(path: Path, data: dict) -> None:
+    """:class:`CorruptLedger` unless ``data`` has every field of a manifest of this format,
+    of its type, and every run record its name, seed, entry, digests and configuration."""
+    for name, kind in (
+        ("source_fingerprint", str),
+        ("modules", dict),
+        ("rendering_stack", str),
+        ("runs", dict),
+    ):
+        if name not in data:
+            raise _not_a_manifest(path, f"it has no {name!r}")
+        if not isinstance(data[name], kind):
+            raise _not_a_manifest(path, f"its {name!r} is not a {_TYPE_NAMES[kind]}")
+    configs = data.get("configs", {})
+    if not isinstance(configs, dict):
+        raise _not_a_manifest(path, "its 'configs' is not an object")
+    for runs in ("runs", "ppo_runs"):
+        table = data.get(runs, {})
+        if not isinstance(table, dict):
+            raise _not_a_manifest(path, f"its {runs!r} is not an object")
+        for key, record in table.items():
+            problem = _record_problem(record, configs, ppo=runs == "ppo_runs")
+            if problem:
+                raise _not_a_manifest(path, f"the record of run {key[:24]!r} {problem}")
+
+
+_TYPE_NAMES = {str: "string", dict: "JSON object", int: "integer"}
+
+
+def _record_problem(record, configs: dict, ppo: bool) -> str | None:
+    """What is wrong with a manifest's run record (None if nothing)."""
+    if not isinstance(record, dict):
+        return "is not a JSON object"
+    for name in ("name", "file", "entry_digest", "digest"):
+        if not isinstance(record.get(name), str):
+            return f"has no {name!r} string"
+    seed = record.get("seed")
+    if isinstance(seed, bool) or not isinstance(seed, int) or seed < 0:
+        return f"has the seed {seed!r}, not an integer >= 0"
+    config = record.get("config")
+    if not (isinstance(config, dict) or (isinstance(config, str) and config in configs)):
+        return f"names the configuration {config!r:.40}, which the manifest does not hold"
+    times = ("wall_time_train", "wall_time_test", "wall_seconds") if ppo else ("wall_seconds",)
+    for name in times:
+        if (ppo or name in record) and _seconds_problem(record.get(name)):
+            return f"has {name} {record.get(name)!r}, not a time in seconds (finite, >= 0)"
+    return None
+
+
+def _seconds_problem(value) -> bool:
+    """Whether ``value`` is not a wall time: a finite number >= 0."""
+    return (
+        isinstance(value, bool)
+        or not isinstance(value, (int, float))
+        or not np.isfinite(value)
+        or value < 0
+    )
 
 
 def _index_key(config: dict, seed: int) -> str:
@@ -232,7 +353,36 @@ def lookup(config: ExperimentConfig, seed: int) -> ExperimentResult | None:
     _check(folder, data)
     if key != run_key(config, seed, render=data["rendering_stack"]):
         raise StaleLedger(f"the ledger's key of {config.name!r} seed {seed} is not this code's")
-    return _read_entry(folder / data["runs"][key]["file"], key, data["runs"][key])
+    record = data["runs"][key]
+    path = _entry_path(folder, "runs", record, key, config.name, seed)
+    return _read_entry(path, key, record, seed)
+
+
+def _entry_path(folder: Path, kind: str, record: dict, key: str, name: str, seed: int) -> Path:
+    """The entry file of the manifest's ``record`` of run ``key`` (``name``, ``seed``; in
+    ``kind``, ``"runs"`` or ``"ppo"``): :class:`CorruptLedger` naming the record unless it is
+    the run's own entry, ``kind/<name>/<key[:16]>/seed<k>.xz`` in the ledger's folder (an
+    entry does not hold its key: where it lies names it; the reader checks its seed too)."""
+    where = f"the ledger's record of run {name!r} seed {seed} (key {key[:16]})"
+    root = Path(folder).resolve()
+    try:
+        path = (root / record["file"]).resolve()
+    except (OSError, RuntimeError, ValueError) as exc:
+        raise CorruptLedger(
+            f"{where} names the entry {record['file']!r} ({exc}); {_RESTORE}"
+        ) from None
+    if not path.is_relative_to(root):
+        raise CorruptLedger(
+            f"{where} names the entry {record['file']!r}, outside the ledger folder {root}; "
+            f"{_RESTORE}"
+        )
+    own = f"{kind}/{name}/{key[:16]}/seed{seed}.xz"
+    if record["file"] != own or record["seed"] != seed or record["name"] != name:
+        raise CorruptLedger(
+            f"{where} names the entry {record['file']!r} of seed {record['seed']}, not the "
+            f"run's own {own!r}; {_RESTORE}"
+        )
+    return path
 
 
 def _find(config, seed: int, index: str) -> tuple[Path, dict, str] | None:
@@ -261,10 +411,23 @@ def _changed_modules(theirs: dict, ppo_runs: bool = False) -> list[str]:
 def _verified_arrays(path: Path, entry_digest: str) -> dict[str, np.ndarray]:
     """The arrays of the entry file ``path``, after checking its bytes against
     ``entry_digest`` (:class:`StaleLedger` if they differ)."""
-    raw = path.read_bytes()
+    import lzma
+
+    try:
+        raw = path.read_bytes()
+    except FileNotFoundError:
+        raise CorruptLedger(f"the ledger entry {path} is missing; {_RESTORE}") from None
+    except OSError as exc:
+        raise CorruptLedger(f"the ledger entry {path} cannot be read ({exc}); {_RESTORE}") from None
     if hashlib.sha256(raw).hexdigest() != entry_digest:
         raise StaleLedger(f"the ledger entry {path} does not match its digest in the manifest")
-    return _decode_entry(raw)
+    try:
+        return _decode_entry(raw)
+    except (lzma.LZMAError, EOFError, ValueError, TypeError, KeyError, OverflowError) as exc:
+        raise CorruptLedger(
+            f"the ledger entry {path} matches its digest but is not a ledger entry "
+            f"({type(exc).__name__}: {exc}); {_RESTORE}"
+        ) from None
 
 
 def _check_ppo(folder: Path, data: dict) -> None:
@@ -292,8 +455,13 @@ def lookup_ppo(config: PPOConfig, seed: int) -> ppo.PPOResult | None:
     if key != ppo.run_key(config, seed):
         raise StaleLedger(f"the ledger's key of PPO run {config.name!r} seed {seed} is not ours")
     record = data["ppo_runs"][key]
-    arrays = _verified_arrays(folder / record["file"], record["entry_digest"])
+    path = _entry_path(folder, "ppo", record, key, config.name, seed)
+    arrays = _verified_arrays(path, record["entry_digest"])
     where = f"PPO run {config.name!r} seed {seed} (key {key[:16]}), heldout"
+    names = [f"heldout.{name}" for name in TRIAL_FIELDS] + ["train.success", "train.steps"]
+    if any(name not in arrays for name in names):
+        absent = [name for name in names if name not in arrays]
+        raise CorruptLedger(f"the ledger entry {path} lacks {', '.join(absent)}; {_RESTORE}")
     per_trial = {name: arrays[f"heldout.{name}"] for name in TRIAL_FIELDS}
     n = len(per_trial["success"])
     empty = {name: np.zeros(0, dtype=np.float32) for name in STEP_FIELDS}
@@ -304,9 +472,21 @@ def lookup_ppo(config: PPOConfig, seed: int) -> ppo.PPOResult | None:
         train_success=arrays["train.success"],
         train_steps=arrays["train.steps"],
         heldout=heldout,
-        wall_time_train=float(record["wall_time_train"]),
-        wall_time_test=float(record["wall_time_test"]),
+        wall_time_train=_seconds(record, "wall_time_train", path),
+        wall_time_test=_seconds(record, "wall_time_test", path),
     )
+
+
+def _seconds(meta: dict, name: str, path: Path) -> float:
+    """The wall time ``meta[name]`` (of the entry ``path`` or its record): a finite number
+    of seconds >= 0, else :class:`CorruptLedger` (wall times are outside the digests)."""
+    value = meta.get(name)
+    if _seconds_problem(value):
+        raise CorruptLedger(
+            f"the ledger entry {path} (or its record) has {name} {value!r}, not a time in "
+            f"seconds (finite, >= 0); {_RESTORE}"
+        )
+    return float(value)
 
 
 def _ppo_entry(path: Path, key: str) -> tuple[dict, bytes]:
@@ -435,11 +615,29 @@ class LedgerResult(ExperimentResult):
         return self._network
 
 
-def _read_entry(path: Path, key: str, record: dict) -> LedgerResult:
+def _read_entry(path: Path, key: str, record: dict, seed: int) -> LedgerResult:
+    """The run of the entry ``path`` of the manifest's ``record`` (run ``key``, ``seed``):
+    :class:`CorruptLedger` if the entry holds another seed, lacks an array or has a wall
+    time that is not one."""
     arrays = _verified_arrays(path, record["entry_digest"])
-    meta = json.loads(str(arrays.pop("meta")))
     config = ExperimentConfig.from_dict(record["config"])  # the manifest's: it names the key
-    where = f"run {config.name!r} seed {meta['seed']} (key {key[:16]})"
+    try:
+        return _entry_result(arrays, config, key, seed, path)
+    except (KeyError, ValueError, TypeError, IndexError) as exc:
+        what = f"lacks {exc}" if isinstance(exc, KeyError) else f"is damaged ({exc})"
+        raise CorruptLedger(f"the ledger entry {path} {what}; {_RESTORE}") from None
+
+
+def _entry_result(arrays: dict, config, key: str, seed: int, path: Path) -> LedgerResult:
+    meta = json.loads(str(arrays.pop("meta")))
+    if not isinstance(meta, dict) or meta.get("seed") != seed:
+        found = meta.get("seed") if isinstance(meta, dict) else meta
+        raise CorruptLedger(
+            f"the ledger entry {path} holds the run of seed {found!r}, not of seed {seed} "
+            f"that its record names; {_RESTORE}"
+        )
+    walls = {name: _seconds(meta, name, path) for name in ("wall_time_train", "wall_time_test")}
+    where = f"run {config.name!r} seed {seed} (key {key[:16]})"
     logs = {}
     for part in PARTS:
         if f"{part}.success" not in arrays:
@@ -456,15 +654,14 @@ def _read_entry(path: Path, key: str, record: dict) -> LedgerResult:
         )
     network = None
     if "W.xor" in arrays:
-        W = _xor_start(arrays["W.xor"], config, int(meta["seed"]))
+        W = _xor_start(arrays["W.xor"], config, seed)
         network = Network.from_weights(config.network, W, arrays["Q"])
     fields = {
         "config": config,
-        "seed": int(meta["seed"]),
+        "seed": seed,
         **logs,
         **{name: arrays[name] for name in arrays if name.startswith("curve_")},
-        "wall_time_train": float(meta["wall_time_train"]),
-        "wall_time_test": float(meta["wall_time_test"]),
+        **walls,
     }
     return LedgerResult(fields, network, where)
 
@@ -613,14 +810,33 @@ def _trace_ppo(key: str, source: Path) -> None:
         _write_fact(path, key, None, "load-ppo", str(Path(source).resolve()))
 
 
-def read_trace(lines: Iterable[str]) -> dict[str, dict]:
+#: The kinds of a trace file's facts, and what each one's value is.
+_TRACE_VALUES = {
+    "load": str,
+    "load-ppo": str,
+    "network": type(None),
+    "whole": STEP_FIELDS,
+    "field": STEP_FIELDS,
+    "per-trial": TRIAL_FIELDS,
+    "starts": type(None),
+    "trial": int,
+}
+
+
+def read_trace(lines: Iterable[str], source: str = "the trace") -> dict[str, dict]:
     """``{run key: what to keep}`` from the lines of trace files (a PPO run's record has
-    ``"ppo": True``)."""
+    ``"ppo": True``). A line that is not a fact of :func:`_write_fact` is a ``ValueError``
+    naming ``source`` (the trace file) and its line number."""
     keep: dict[str, dict] = {}
-    for line in lines:
+    for number, line in enumerate(lines, 1):
         if not line.strip():
             continue
-        record = json.loads(line)
+        try:
+            record = _trace_fact(line)
+        except ValueError as exc:
+            raise ValueError(
+                f"{source}, line {number}, is not a trace record ({exc}): {line.strip()[:80]!r}"
+            ) from None
         entry = keep.setdefault(record["key"], {"network": False, "parts": {}})
         if record["kind"] in ("load", "load-ppo"):
             entry["path"] = record["value"]
@@ -653,6 +869,37 @@ def read_trace(lines: Iterable[str]) -> dict[str, dict]:
     return keep
 
 
+def _trace_fact(line: str) -> dict:
+    """One fact of a trace file (a JSON object of key, part, kind and value); ``ValueError``
+    saying what is wrong with it."""
+    try:
+        record = json.loads(line)
+    except ValueError as exc:
+        raise ValueError(f"not JSON: {exc}") from None
+    if not isinstance(record, dict):
+        raise ValueError(f"a JSON {type(record).__name__}, not an object")
+    absent = [name for name in ("key", "part", "kind", "value") if name not in record]
+    if absent:
+        raise ValueError(f"no {', '.join(map(repr, absent))}")
+    kind, value = record["kind"], record["value"]
+    if not isinstance(record["key"], str) or not record["key"]:
+        raise ValueError(f"the key {record['key']!r} is not a run key")
+    if kind not in _TRACE_VALUES:
+        raise ValueError(f"the kind {kind!r} is not one of {', '.join(_TRACE_VALUES)}")
+    if kind not in ("load", "load-ppo", "network") and record["part"] not in PARTS:
+        raise ValueError(f"the part {record['part']!r} is not one of {', '.join(PARTS)}")
+    wanted = _TRACE_VALUES[kind]
+    if isinstance(wanted, tuple):
+        ok = value in wanted
+    elif wanted is int:
+        ok = isinstance(value, int) and not isinstance(value, bool) and value >= 0
+    else:
+        ok = isinstance(value, wanted)
+    if not ok:
+        raise ValueError(f"the value {value!r:.60} does not fit the kind {kind!r}")
+    return record
+
+
 # ------------------------------------------------------------------------------------------
 # Writing the ledger.
 # ------------------------------------------------------------------------------------------
@@ -662,6 +909,7 @@ def update(keep: dict[str, dict], folder: Path | str | None = None) -> dict:
     """Write the ledger of the runs in ``keep`` (from :func:`read_trace`: run key -> where it
     is stored and what the analyses read of it) from their stored files, keeping of each what
     ``keep`` names; replaces the ledger's entries. Returns the manifest."""
+    from docking.platform_info import numeric_platform
     from docking.store import (
         FORMAT_VERSION,
         content_digest,
@@ -711,6 +959,7 @@ def update(keep: dict[str, dict], folder: Path | str | None = None) -> dict:
         "source_fingerprint": source_fingerprint(),
         "modules": module_digests(),
         "rendering_stack": rendering_stack(),
+        "platform": numeric_platform(),
         "runs": runs,
     }
     if ppo_runs:

@@ -115,27 +115,37 @@ MAX_SEEDS = 10_000
 
 
 def parse_seeds(text: str) -> list[int]:
-    """Seeds from ``"0-19"``, ``"0,3,5"`` or ``"0-4,10-12"`` (ranges include both ends), at
-    most :data:`MAX_SEEDS` of them, each at most :data:`docking.validate.MAX_SEED`."""
+    """Seeds from ``"0-19"``, ``"0,3,5"``, ``"0 3 5"`` or ``"0-4,10-12"`` (ranges include both
+    ends; commas and/or whitespace separate the items, spaces around a range's ``-`` are
+    allowed), at most :data:`MAX_SEEDS` of them, each at most
+    :data:`docking.validate.MAX_SEED`."""
+    import re
+
+    usage = (
+        "seeds must be integers >= 0 or ranges like 0-19, separated by commas or spaces; got "
+        f"{text!r}"
+    )
     seeds: list[int] = []
-    for part in str(text).replace(" ", "").split(","):
-        bounds = part.split("-")
-        try:
-            if len(bounds) > 2:
-                raise ValueError
-            lo, hi = int(bounds[0]), int(bounds[-1])
-            if lo < 0 or hi < lo:
-                raise ValueError
-        except ValueError:
-            raise ValueError(
-                f"seeds must be integers >= 0 or ranges like 0-19, separated by commas; got "
-                f"{text!r}"
-            ) from None
-        if hi > MAX_SEED:
-            raise ValueError(f"seeds must be at most {MAX_SEED}; got {text!r}")
-        if len(seeds) + hi - lo + 1 > MAX_SEEDS:
-            raise ValueError(f"at most {MAX_SEEDS} seeds in one command; got more in {text!r}")
-        seeds.extend(range(lo, hi + 1))
+    # "0 - 4" is the range 0-4; "1 2" the seeds 1 and 2 (never 12).
+    for chunk in re.sub(r"\s*-\s*", "-", str(text)).split(","):
+        items = chunk.split()
+        if not items:  # "", "1,,2", "1,"
+            raise ValueError(usage)
+        for part in items:
+            bounds = part.split("-")
+            try:
+                if len(bounds) > 2:
+                    raise ValueError
+                lo, hi = int(bounds[0]), int(bounds[-1])
+                if lo < 0 or hi < lo:
+                    raise ValueError
+            except ValueError:
+                raise ValueError(usage) from None
+            if hi > MAX_SEED:
+                raise ValueError(f"seeds must be at most {MAX_SEED}; got {text!r}")
+            if len(seeds) + hi - lo + 1 > MAX_SEEDS:
+                raise ValueError(f"at most {MAX_SEEDS} seeds in one command; got more in {text!r}")
+            seeds.extend(range(lo, hi + 1))
     if len(set(seeds)) != len(seeds):
         raise ValueError(f"seeds must not repeat; got {text!r}")
     return seeds
@@ -238,11 +248,29 @@ def _die_with_parent(parent: int) -> None:
     threading.Thread(target=watch, name="docking-parent-watchdog", daemon=True).start()
 
 
+class _QuietFailures(logging.Filter):
+    """Drops what an embedded worker reports of a failed job: "Compute Failed" (the job's
+    exception and its traceback; the client re-raises the exception and the command prints
+    it once, in one line) and the jobs cancelled when the failed sweep closes the cluster."""
+
+    def filter(self, record: logging.LogRecord) -> bool:
+        if str(record.msg).startswith("Compute Failed"):
+            return False
+        return not (
+            record.name.startswith("distributed.worker") and "CancelledError" in record.getMessage()
+        )
+
+
 def dask_setup(worker=None) -> None:
     """Dask preload hook (``dask worker --preload docking.sweep``): a worker of the embedded
-    cluster ends with the process that started it. Does nothing in other workers."""
+    cluster ends with the process that started it, and leaves reporting a failed job to the
+    client (:class:`_QuietFailures`). Does nothing in other workers."""
     parent = os.environ.get(_PARENT_VARIABLE)
     if parent:
+        quiet = _QuietFailures()  # on the handlers: it sees the records of every logger
+        for handler in logging.getLogger("distributed").handlers + logging.getLogger().handlers:
+            handler.addFilter(quiet)
+        logging.getLogger("distributed.worker").addFilter(quiet)
         _die_with_parent(int(parent))
 
 
@@ -521,31 +549,105 @@ def run_configs(
     return {key: [next(loaded) for _ in seeds] for key in configs}
 
 
+#: How long connecting to a scheduler (TCP, and Dask's handshake) may take, in seconds.
+CONNECT_SECONDS = 10.0
+
+_HOST = r"\[[0-9A-Fa-f:.]+\]|[A-Za-z0-9_.-]+"  # [IPv6], an IPv4 address or a host name
+
+
 def _check_scheduler(scheduler) -> None:
+    """``ValueError`` unless ``scheduler`` is ``tcp://HOST:PORT`` (PORT 1-65535), or
+    ``tls://HOST:PORT`` with a TLS configuration in Dask's config to connect with."""
     import re
 
-    if not isinstance(scheduler, str) or not re.fullmatch(r"(tcp|tls)://[^/\s]+:\d+", scheduler):
+    found = (
+        re.fullmatch(rf"(tcp|tls)://({_HOST}):(\d+)", scheduler)
+        if isinstance(scheduler, str)
+        else None
+    )
+    if found is None:
         raise ValueError(
-            f"the scheduler address must be tcp://HOST:PORT or tls://HOST:PORT, got {scheduler!r}"
+            f"the scheduler address must be tcp://HOST:PORT or tls://HOST:PORT, got "
+            f"{scheduler!r:.120}"
         )
+    protocol, host, port = found.groups()
+    if len(port) > 5 or not 1 <= int(port) <= 65535:
+        raise ValueError(f"the scheduler's port must be 1-65535, got {port:.30} in {scheduler:.80}")
+    if len(host) > 253 or any(len(label) > 63 for label in host.split(".")):
+        raise ValueError(f"the scheduler's host {host:.80}... is too long to be a host name")
+    if protocol == "tls":
+        from distributed.security import Security
+
+        tls = Security().get_tls_config_for_role("client")
+        if not (tls["ca_file"] and tls["cert"]):
+            raise ValueError(
+                f"tls:// schedulers need a security configuration ({scheduler}): Dask's "
+                "distributed.comm.tls.ca-file and distributed.comm.tls.client.cert (and .key), "
+                "e.g. DASK_DISTRIBUTED__COMM__TLS__CA_FILE=...; or use tcp://HOST:PORT"
+            )
 
 
 def _connect(scheduler: str):
     """A client of the Dask scheduler at ``scheduler`` (``tcp://HOST:PORT`` or
-    ``tls://HOST:PORT``); ``OSError`` naming it if it does not answer as one within 10 s."""
+    ``tls://HOST:PORT``); ``OSError`` naming it if it does not answer as one within
+    :data:`CONNECT_SECONDS` (a server that accepts and never answers included:
+    :func:`_handshake`)."""
 
     from distributed import Client
 
     _check_scheduler(scheduler)
+    _handshake(scheduler, CONNECT_SECONDS)
     try:
-        return Client(scheduler, timeout="10s")
+        return Client(scheduler, timeout=f"{CONNECT_SECONDS}s")
     except MemoryError:  # e.g. an HTTP server: its reply read as a frame length
         raise OSError(f"{scheduler} does not answer as a Dask scheduler") from None
-    except (OSError, TimeoutError, asyncio.TimeoutError) as exc:
+    except (OSError, TimeoutError) as exc:
         raise OSError(
-            f"cannot reach a Dask scheduler at {scheduler} within 10 s "
+            f"cannot reach a Dask scheduler at {scheduler} within {CONNECT_SECONDS:g} s "
             f"({type(exc).__name__}: {exc})"
         ) from None
+
+
+def _handshake(scheduler: str, seconds: float) -> None:
+    """Connect to ``scheduler`` and exchange Dask's handshake, within ``seconds``; ``OSError``
+    naming it otherwise. ``Client(address, timeout=...)`` bounds the TCP connection but waits
+    for the scheduler's handshake forever (a server that accepts and never answers hangs it);
+    this attempt runs in a thread of its own, with its own event loop, and is abandoned at
+    the deadline."""
+    from distributed.comm import connect
+    from distributed.security import Security
+
+    args = Security().get_connection_args("client")
+    outcome: dict = {}
+
+    async def attempt() -> None:
+        comm = await asyncio.wait_for(connect(scheduler, timeout=seconds, **args), seconds)
+        await comm.close()
+
+    def run() -> None:
+        try:
+            asyncio.run(attempt())
+        except BaseException as exc:  # reported by the caller's thread
+            outcome["error"] = exc
+        else:
+            outcome["ok"] = True
+
+    thread = threading.Thread(target=run, name="docking-scheduler-handshake", daemon=True)
+    thread.start()
+    thread.join(seconds + 5.0)
+    if outcome.get("ok"):
+        return
+    error = outcome.get("error")
+    if error is None or isinstance(error, (OSError, TimeoutError)):
+        detail = "no answer" if error is None else f"{type(error).__name__}: {error}"
+        if error is not None and not str(error):
+            detail = f"{type(error).__name__}: no handshake"
+        raise OSError(
+            f"cannot reach a Dask scheduler at {scheduler} within {seconds:g} s ({detail})"
+        )
+    raise OSError(
+        f"{scheduler} does not answer as a Dask scheduler ({type(error).__name__}: {error})"
+    )
 
 
 def _run_on_dask(
@@ -604,7 +706,7 @@ def _run_on_dask(
                 # Wake every second: trials reported since, and the bar's clock.
                 try:
                     done, pending = wait(pending, timeout=1.0, return_when="FIRST_COMPLETED")
-                except (TimeoutError, asyncio.TimeoutError):  # distinct before 3.11
+                except TimeoutError:
                     apply_news()
                     bar.refresh()
                     continue
