@@ -379,8 +379,7 @@ def _entry_path(folder: Path, kind: str, record: dict, key: str, name: str, seed
     own = f"{kind}/{name}/{key[:16]}/seed{seed}.xz"
     if record["file"] != own or record["seed"] != seed or record["name"] != name:
         raise CorruptLedger(
-            f"{where} names the entry {record['file']!r} of seed {record['seed']}, not the "
-            f"run's own {own!r}; {_RESTORE}"
+            f"{where} names the entry {record['file']!r}, not the run's own {own!r}; {_RESTORE}"
         )
     return path
 
