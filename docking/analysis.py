@@ -24,6 +24,7 @@ from typing import TYPE_CHECKING, NamedTuple
 
 import numpy as np
 
+from docking import arith
 from docking.camera import CameraConfig
 from docking.experiments import ExperimentConfig, ExperimentResult, TrialLog, initial_network
 from docking.network import Network
@@ -112,7 +113,7 @@ def receptive_fields(net: Network, shape=None) -> tuple[np.ndarray, np.ndarray]:
     shape = tuple(CameraConfig().input_shape if shape is None else shape)
     if int(np.prod(shape)) != net.W.shape[1]:
         raise ValueError(f"shape {shape} does not hold the network's {net.W.shape[1]} inputs")
-    action_rf = (net.Q @ net.W).reshape(-1, *shape)
+    action_rf = arith.matmul(net.Q, net.W).reshape(-1, *shape)
     feature_rf = net.W.reshape(-1, *shape)
     return action_rf, feature_rf
 
@@ -165,7 +166,7 @@ def decide(net: Network, observation: np.ndarray) -> tuple[int, float, int]:
     Eq. 3) for one ``observation``."""
     s = net.features(net.prepare(observation))
     winner = int(np.argmax(s))
-    return winner, float(s[winner]), int(np.argmax(net.Q @ s))
+    return winner, float(s[winner]), int(np.argmax(arith.matvec(net.Q, s)))
 
 
 def decisions(net: Network, observations) -> Decisions:
@@ -290,7 +291,7 @@ def mean_winning_inputs(
     for k in range(n if poses is None else len(poses)):
         obs = (env.reset() if poses is None else env.reset_to(poses[k])).observation
         s = net.features(net.prepare(obs))
-        j, i = int(np.argmax(s)), int(np.argmax(net.Q @ s))
+        j, i = int(np.argmax(s)), int(np.argmax(arith.matvec(net.Q, s)))
         unit_sum[j] += obs
         unit_counts[j] += 1
         action_sum[i] += obs
@@ -441,11 +442,11 @@ class _CropCheck:
         corners = []
         for g in self.geoms:
             centre, rot = data.geom_xpos[g], data.geom_xmat[g].reshape(3, 3)
-            corners.append(centre + (self._SIGNS * model.geom_size[g]) @ rot.T)
+            corners.append(centre + arith.matmul(self._SIGNS * model.geom_size[g], rot.T))
         points = np.concatenate(corners)
         # docking.world.Physics.project
         rot = data.cam_xmat[self.eye].reshape(3, 3)
-        local = (np.asarray(points) - data.cam_xpos[self.eye]) @ rot
+        local = arith.matmul(np.asarray(points) - data.cam_xpos[self.eye], rot)
         depth = -local[:, 2]
         with np.errstate(divide="ignore", invalid="ignore"):
             u = cam.width / 2 + cam.focal_px * local[:, 0] / depth

@@ -121,6 +121,75 @@ def test_a_run_is_the_same_without_opencvs_optimised_code():
     assert _digest_in_subprocess({}, "--no-opencv-optimisations") == recorded["digest"]
 
 
+#: numpy functions whose kernels numpy or OpenBLAS pick by the CPU: only docking.arith (and
+#: code off a run's path, which is not fingerprinted) may call them.
+DISPATCHED = {
+    "exp",
+    "log",
+    "tan",
+    "arctan",
+    "tanh",
+    "power",
+    "dot",
+    "matmul",
+    "inner",
+    "vdot",
+    "tensordot",
+    "linalg",
+}
+
+
+def _dispatched_calls(path: Path) -> list[str]:
+    """``np.<name>`` uses of :data:`DISPATCHED` and ``@`` products in ``path`` (a decorator's
+    ``@`` opens a line, a product's does not), as ``"line: what"``."""
+    import tokenize
+
+    found = []
+    with path.open("rb") as f:
+        tokens = [t for t in tokenize.tokenize(f.readline) if t.type != tokenize.COMMENT]
+    for i, tok in enumerate(tokens):
+        if tok.type == tokenize.OP and tok.string in ("@", "@="):
+            before = tokens[i - 1].type if i else tokenize.NEWLINE
+            if before not in (tokenize.NEWLINE, tokenize.NL, tokenize.INDENT, tokenize.DEDENT):
+                found.append(f"{tok.start[0]}: {tok.string}")
+        if (
+            tok.type == tokenize.NAME
+            and tok.string in DISPATCHED
+            and i >= 2
+            and tokens[i - 1].string == "."
+            and tokens[i - 2].string in ("np", "numpy")
+        ):
+            found.append(f"{tok.start[0]}: np.{tok.string}")
+    return found
+
+
+def test_fingerprinted_modules_compute_products_and_exp_only_through_arith():
+    # The digest rows above prove one short run; this holds every module a run can execute
+    # (the fingerprinted ones) to the rule that keeps them so: no numpy call whose kernel is
+    # chosen by the CPU, no `@` (OpenBLAS), except in docking.arith.
+    import docking
+    from docking import fingerprint, store
+
+    package_dir = Path(docking.__file__).parent.parent
+    keyed = sorted(name for name, _ in fingerprint.walk(package_dir, store._ROOT_MODULE)[1])
+    assert "docking.arith" in keyed and "docking.network" in keyed, keyed
+    offences = {
+        name: calls
+        for name in keyed
+        if name != "docking.arith"
+        and (calls := _dispatched_calls(package_dir / (name.replace(".", "/") + ".py")))
+    }
+    assert offences == {}, f"CPU-dispatched arithmetic outside docking.arith: {offences}"
+
+
+def test_the_dispatch_check_finds_what_it_looks_for(tmp_path):
+    source = tmp_path / "m.py"
+    source.write_text(
+        "import numpy as np\n@property\ndef f(a, b):\n    return a @ b + np.exp(a)  # np.dot\n"
+    )
+    assert _dispatched_calls(source) == ["4: @", "4: np.exp"]
+
+
 if __name__ == "__main__":
     if "--digest" in sys.argv:  # one row: print the run's digest
         if "--no-opencv-optimisations" in sys.argv:
