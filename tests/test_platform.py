@@ -170,14 +170,14 @@ def test_fingerprinted_modules_compute_products_and_exp_only_through_arith():
     import docking
     from docking import fingerprint, store
 
-    package_dir = Path(docking.__file__).parent.parent
+    package_dir = Path(docking.__file__).parent
     keyed = sorted(name for name, _ in fingerprint.walk(package_dir, store._ROOT_MODULE)[1])
     assert "docking.arith" in keyed and "docking.network" in keyed, keyed
     offences = {
         name: calls
         for name in keyed
         if name != "docking.arith"
-        and (calls := _dispatched_calls(package_dir / (name.replace(".", "/") + ".py")))
+        and (calls := _dispatched_calls(fingerprint._module_file(name, package_dir)))
     }
     assert offences == {}, f"CPU-dispatched arithmetic outside docking.arith: {offences}"
 

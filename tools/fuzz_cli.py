@@ -1,17 +1,26 @@
-"""Bad input to ``python -m docking``, counted: a clear error, a traceback, or silence.
+"""Bad input to ``python -m docking``, counted: a clear error, a traceback, silence or a hang.
 
 Run from the checkout (``python3 tools/fuzz_cli.py``). Each case is a command line a user
-could mistype; a *clear error* exits non-zero with a message and no Python traceback, a
-*traceback* shows one, *silent* exits 0 (the bad input was accepted). Nothing is computed:
-every case fails (or should fail) before a run starts. Prints one line per case and the
-counts; exits 1 unless every case is a clear error.
+could mistype, an environment variable set wrongly, a scheduler that never answers, or a
+copy of the committed ledger damaged as an attacker or a bad merge would; a *clear error*
+exits non-zero with a message and no Python traceback, a *traceback* shows one, *silent*
+exits 0 (the bad input was accepted, or a damaged ledger served), a *hang* has not exited
+after :data:`TIMEOUT` seconds. Nothing is computed: every case fails (or should fail) before
+a run starts. Prints one line per case and the counts; exits 1 unless every case is a clear
+error.
 """
 
 from __future__ import annotations
 
+import hashlib
+import json
 import os
+import shutil
+import socket
 import subprocess
 import sys
+import tempfile
+import threading
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parent.parent
@@ -52,19 +61,94 @@ CASES = [
         "--no-second-edition",
     ],
     ["nope"],
+    ["run", "experiment1", "--seeds", "9999", "--scheduler", "tls://127.0.0.1:1"],
+    ["run", "experiment1", "--seeds", "9999", "--scheduler", "tcp://127.0.0.1:" + "9" * 30],
+    ["run", "experiment1", "--seeds", "1 x"],
+    ["run", "experiment1", "--seeds", "0", "--results-dir", ""],
 ]
 
+#: Seconds after which a case counts as a hang.
+TIMEOUT = 120
 
-def classify(args: list[str]) -> tuple[str, str]:
-    env = {**os.environ, "MUJOCO_GL": "egl", "PYOPENGL_PLATFORM": "egl"}
-    done = subprocess.run(
-        [PYTHON, "-m", "docking", *args],
-        cwd=ROOT,
-        capture_output=True,
-        text=True,
-        timeout=300,
-        env=env,
-    )
+
+def _silent_server() -> int:
+    """A TCP server on 127.0.0.1 that accepts connections and never answers; its port."""
+    server = socket.create_server(("127.0.0.1", 0))
+    held = []
+
+    def serve():
+        while True:
+            held.append(server.accept()[0])
+
+    threading.Thread(target=serve, daemon=True).start()
+    return server.getsockname()[1]
+
+
+def _damaged_ledgers(tmp: Path) -> list[tuple[str, dict]]:
+    """``(what, environment)`` cases: copies of the committed ledger, each damaged once."""
+    source = ROOT / "ledger"
+    manifest = json.loads((source / "manifest.json").read_text())
+    runs = manifest["runs"]
+    by_seed = {(r["name"], r["seed"]): (k, r) for k, r in runs.items()}
+    k0, r0 = by_seed[("experiment1", 0)]
+    _, r1 = by_seed[("experiment1", 1)]
+
+    def copy(name: str, edit) -> Path:
+        folder = tmp / name
+        shutil.copytree(source, folder)
+        data = json.loads(json.dumps(manifest))
+        text = edit(data, folder)
+        (folder / "manifest.json").write_text(text if text is not None else json.dumps(data))
+        return folder
+
+    def other_seeds_entry(data, folder):
+        data["runs"][k0].update(file=r1["file"], entry_digest=r1["entry_digest"])
+
+    def outside(data, folder):
+        data["runs"][k0]["file"] = "../../../../../tmp/x.xz"
+
+    def wall_time(data, folder):
+        data["runs"][k0]["wall_seconds"] = -12345
+
+    def not_xz(data, folder):
+        (folder / r0["file"]).write_bytes(b"not an xz stream")
+
+    def not_xz_digest_matching(data, folder):
+        (folder / r0["file"]).write_bytes(b"not an xz stream")
+        data["runs"][k0]["entry_digest"] = hashlib.sha256(b"not an xz stream").hexdigest()
+
+    def missing_fingerprint(data, folder):
+        del data["source_fingerprint"]
+
+    cases = {
+        "seed 0's record points at seed 1's entry": other_seeds_entry,
+        "a record's file outside the ledger": outside,
+        "a negative wall time": wall_time,
+        "an entry that is not an xz stream": not_xz,
+        "an entry that is not an xz stream, its digest matching": not_xz_digest_matching,
+        "no source_fingerprint": missing_fingerprint,
+        "a manifest holding []": lambda data, folder: "[]",
+        "a manifest that is not JSON": lambda data, folder: "{nope",
+    }
+    return [
+        (what, {"DOCKING_LEDGER": str(copy(f"l{i}", edit))})
+        for i, (what, edit) in enumerate(cases.items())
+    ]
+
+
+def classify(args: list[str], extra_env: dict | None = None) -> tuple[str, str]:
+    env = {**os.environ, "MUJOCO_GL": "egl", "PYOPENGL_PLATFORM": "egl", **(extra_env or {})}
+    try:
+        done = subprocess.run(
+            [PYTHON, "-m", "docking", *args],
+            cwd=ROOT,
+            capture_output=True,
+            text=True,
+            timeout=TIMEOUT,
+            env=env,
+        )
+    except subprocess.TimeoutExpired:
+        return "hang", f"no exit after {TIMEOUT} s"
     text = (done.stderr or done.stdout).strip().splitlines()
     last = text[-1] if text else ""
     if "Traceback (most recent call last)" in done.stderr:
@@ -76,10 +160,34 @@ def classify(args: list[str]) -> tuple[str, str]:
 
 def main() -> int:
     counts: dict[str, int] = {}
-    for args in CASES:
-        kind, last = classify(args)
-        counts[kind] = counts.get(kind, 0) + 1
-        print(f"{kind:12s} {' '.join(args)}\n             {last[:150]}")
+    port = _silent_server()
+    with tempfile.TemporaryDirectory() as tmp:
+        results = str(Path(tmp) / "results")  # a damaged ledger must not fall back to computing
+        cases = [(args, {}) for args in CASES]
+        cases += [
+            (
+                ["run", "experiment1", "--seeds", "9999", "--scheduler", f"tcp://127.0.0.1:{port}"],
+                {},
+            ),
+            (["ledger", "show"], {"DOCKING_LEDGER": "off"}),
+            (["ledger", "show"], {"DOCKING_LEDGER": "ledgr"}),
+            (["ledger", "show"], {"DOCKING_LEDGER": "/nonexistent/ledger"}),
+            (["run", "experiment1", "--seeds", "0"], {"DOCKING_RESULTS": ""}),
+        ]
+        cases += [
+            (
+                ["run", "experiment1", "--seeds", "0", "--processes", "1"],
+                {**env, "DOCKING_RESULTS": results, "what": what},
+            )
+            for what, env in _damaged_ledgers(Path(tmp))
+        ]
+        for args, env in cases:
+            what = env.pop("what", "")
+            kind, last = classify(args, env)
+            counts[kind] = counts.get(kind, 0) + 1
+            shown = " ".join(f"{k}={v!r}" for k, v in env.items() if k != "DOCKING_RESULTS")
+            print(f"{kind:12s} {what + ': ' if what else ''}{shown} {' '.join(args)}")
+            print(f"             {last[:150]}")
     print(", ".join(f"{k}: {v}" for k, v in sorted(counts.items())))
     return 0 if set(counts) == {"clear error"} else 1
 
