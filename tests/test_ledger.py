@@ -12,11 +12,11 @@ import zipfile
 
 import numpy as np
 import pytest
+from helpers import SEEDS, TINY
 
 from docking import ledger, store, verify
 from docking.experiments import run_experiment
 from docking.ledger import load_run
-from docking.presets import EXPERIMENT_1
 from docking.store import (
     CorruptResult,
     StaleCode,
@@ -28,16 +28,6 @@ from docking.store import (
     save_result,
 )
 
-TINY = dataclasses.replace(
-    EXPERIMENT_1,
-    name="tiny",
-    train_trials=4,
-    test_trials=6,
-    eval_every=4,
-    eval_trials=1,
-    heldout_trials=5,
-)
-SEEDS = (0, 1)
 ROOT = os.path.dirname(os.path.dirname(store.__file__))
 
 
