@@ -19,6 +19,7 @@ command and of each subcommand) prints usage and starts nothing.
 
 from __future__ import annotations
 
+import collections
 import dataclasses
 import os
 import signal
@@ -511,11 +512,12 @@ class Ledger:
                 raise ValueError(f"no ledger in {folder} (it has no manifest.json)")
         size = ledger.size_bytes(folder)
         names = sorted({r["name"] for r in data["runs"].values()})
-        ppo_runs = data.get("ppo_runs", {})
+        kinds = collections.Counter(r["runner"] for r in data["runs"].values())
+        sources = ", ".join(f"{k} {v[:16]}" for k, v in sorted(data["fingerprints"].items()))
         print(
-            f"{folder}: {len(data['runs'])} runs of {len(names)} configurations"
-            + (f" and {len(ppo_runs)} PPO runs" if ppo_runs else "")
-            + f", {size / 2**20:.1f} MiB; source {data['source_fingerprint'][:16]}; rendered by "
+            f"{folder}: {len(data['runs'])} runs of {len(names)} configurations ("
+            + ", ".join(f"{n} {k}" for k, n in sorted(kinds.items()))
+            + f"), {size / 2**20:.1f} MiB; source {sources}; rendered by "
             f"{data['rendering_stack']}"
         )
         return 0

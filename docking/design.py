@@ -27,8 +27,8 @@ from types import MappingProxyType
 import numpy as np
 
 from docking.experiments import ExperimentConfig, ExperimentResult, TrialLog, heldout_trials
-from docking.ppo import PPOConfig
 from docking.scene import WorldConfig
+from docking.store import runner_for
 from docking.validate import check_instance, check_name
 
 __all__ = [
@@ -82,13 +82,15 @@ class Cell:
     def __post_init__(self):
         if not isinstance(self.key, str) or not self.key:
             raise ValueError(f"Cell.key must be a non-empty string, got {self.key!r}")
-        if not isinstance(self.config, (ExperimentConfig, PPOConfig)):
+        try:
+            runner = runner_for(self.config)
+        except TypeError:
             raise TypeError(
                 f"Cell {self.key!r}: config must be an ExperimentConfig or a PPOConfig, got "
                 f"{self.config!r:.80}"
-            )
-        if isinstance(self.config, PPOConfig) and self.test_world is not None:
-            raise ValueError(f"Cell {self.key!r}: a PPO cell cannot be test-only")
+            ) from None
+        if not runner.test_elsewhere and self.test_world is not None:
+            raise ValueError(f"Cell {self.key!r}: a {runner.name.upper()} cell cannot be test-only")
         if self.test_world is not None:
             check_instance(f"Cell {self.key!r}", "test_world", self.test_world, WorldConfig)
             if self.baseline is None:

@@ -4,25 +4,29 @@ Every run that a notebook, figure or README table uses is computed once (``make 
 and stored in the results store (:mod:`docking.store`, not committed). The ledger, in the
 checkout's ``ledger/`` folder, is what of those runs is committed:
 
-* ``ledger/manifest.json``: the source fingerprint of the code that computed the runs, the
-  digest of every fingerprinted module (so that a stale ledger can name what changed), the
-  rendering stack, and per run its key (:func:`docking.store.run_key`), its name and seed,
+* ``ledger/manifest.json``: per kind of run (:class:`docking.store.Runner`: the learner's,
+  PPO's) the source fingerprint of the code that computed its runs and the digest of every
+  module of that code (so that a stale ledger can name what changed), the rendering stack,
+  and one table of runs: per run its key (:func:`docking.store.run_key`), its runner, its
+  name and seed,
   the SHA-256 *content digest* of the stored run's arrays (:func:`docking.store.content_digest`,
   the value ``python -m docking verify`` recomputes and compares) and the digest of its entry
   file.
 * ``ledger/runs/<name>/<config key[:16]>/seed<k>.xz``: one *entry* per run, the parts of the
-  run the analyses read and nothing else: per trial log its success of every trial, and the
-  other per-trial arrays (steps, the far edge in force) if an analysis reads them; the
-  learning curve, the wall times; the weights ``W`` and ``Q`` only for the runs whose network
-  an analysis reads; per-step arrays (poses, actions, winning units, TD errors) only for the
-  trials an analysis reads (for instance the failed held-out trials that the failure taxonomy
-  classifies), or whole where an analysis reads them whole. Kept arrays keep their dtype and
-  every bit, so an analysis computes from an entry exactly what it computes from the stored
-  run. An entry is an xz stream of a small JSON index and the arrays' data bytes, each
-  *shuffled* (byte 0 of every element, then byte 1, ...; :func:`_encode_entry`), which
-  compresses this ledger's arrays about 15% smaller than ``np.savez_compressed`` does, and
-  without a zip's and ``.npy``'s headers per array; lossless. ``W``
-  is kept as the bitwise XOR of its float64 bits with those of the run's random start
+  run the analyses read and nothing else (of a PPO run: its training episodes and the
+  per-trial arrays of its held-out trials); of a learner's run: per trial log its success of
+  every trial, and the other per-trial arrays (steps, the far edge in force) if an analysis
+  reads them; the learning curve, the wall times; the weights ``W`` and ``Q`` only for the
+  runs whose network an analysis reads; per-step arrays (poses, actions, winning units, TD
+  errors) only for the trials an analysis reads (for instance the failed held-out trials that
+  the failure taxonomy classifies), or whole where an analysis reads them whole. Kept arrays
+  keep their dtype and every bit, so an analysis computes from an entry exactly what it
+  computes from the stored run. An entry is an xz stream of a small JSON index and the
+  arrays' data bytes, each *shuffled* (byte 0 of every element, then byte 1, ...;
+  :func:`_encode_entry`), which compresses this ledger's arrays about 15% smaller than
+  ``np.savez_compressed`` does, and without a zip's and ``.npy``'s headers per array;
+  lossless. ``W`` is kept as the bitwise XOR of its float64 bits with those of the run's
+  random start
   (:func:`docking.experiments.initial_network` of its configuration and seed), which the
   reader recomputes: a frozen W (eps_W = 0) is all zero bits, a learned W shares its sign,
   exponent and leading mantissa bits with its start; lossless too.
@@ -34,12 +38,12 @@ they load records there what is read of it (:class:`TracedResult`);
 analysis reads raises :class:`NotInLedger`, naming the run, the array and the command that
 recomputes; it never serves a substitute.
 
-Loading (:func:`lookup`, used by :func:`load_run` when the store lacks a run)
-refuses a ledger made by other code: if its source fingerprint is not this code's, every
-access raises :class:`StaleLedger` naming the changed modules. A ledger rendered by another
-OpenGL stack is served with a warning naming both stacks (``verify`` then shows whether the
-runs still agree on this machine). ``DOCKING_LEDGER=off`` turns the ledger off (every run is
-computed); ``DOCKING_LEDGER=/path`` reads another one.
+Loading (:func:`lookup`, used by :func:`load_run` when the store lacks a run) refuses a run
+made by other code: if the source fingerprint of its runner is not this code's, every access
+raises :class:`StaleLedger` naming the changed modules of that runner. A ledger rendered by
+another OpenGL stack is served with a warning naming both stacks (``verify`` then shows
+whether the runs still agree on this machine). ``DOCKING_LEDGER=off`` turns the ledger off
+(every run is computed); ``DOCKING_LEDGER=/path`` reads another one.
 """
 
 from __future__ import annotations
@@ -60,6 +64,7 @@ from docking.experiments import ExperimentConfig, ExperimentResult, TrialLog
 from docking.fileio import atomic_write
 from docking.network import Network
 from docking.ppo import PPOConfig
+from docking.store import Runner, runner_for, runner_named
 
 __all__ = [
     "LEDGER_FORMAT",
@@ -76,8 +81,10 @@ __all__ = [
 ]
 
 #: Version of the ledger's layout.
-LEDGER_FORMAT = 4  # 4: W as its XOR with the run's random start, empty per-step arrays and
-# the configuration left out of entries, a JSON index instead of a zip; 3: xz entries of
+LEDGER_FORMAT = 5
+# 5: one table of runs, each naming its runner, a fingerprint and module digests per runner,
+# every entry under runs/; 4: W as its XOR with the run's random start, empty per-step arrays
+# and the configuration left out of entries, a JSON index instead of a zip; 3: xz entries of
 # byte-shuffled arrays, per-trial fields kept only if read
 # (2: per-step fields kept per trial only if read so, "sliced"; PPO runs)
 
@@ -185,7 +192,7 @@ def size_bytes(folder: Path | None = None) -> int:
 def computing_seconds(data: dict) -> tuple[int, float]:
     """The number of runs in a manifest (the learner's, the yardsticks' and PPO's) and the
     sum of their recorded wall times (seconds of one process each, training and testing)."""
-    records = [*data["runs"].values(), *data.get("ppo_runs", {}).values()]
+    records = list(data["runs"].values())
     walls = [record.get("wall_seconds", float("nan")) for record in records]
     return len(walls), float(sum(walls))
 
@@ -217,22 +224,20 @@ def _read_manifest(path: Path, _mtime: int) -> dict:
     if ours:
         _check_manifest(path, data)
     configs = data.get("configs", {}) if isinstance(data.get("configs"), dict) else {}
-    for runs in ("runs", "ppo_runs"):  # a run names its configuration in the table
-        for record in _records(data, runs):
-            if isinstance(record.get("config"), str) and record["config"] in configs:
-                record["config"] = configs[record["config"]]
-    for runs, index in (("runs", "index"), ("ppo_runs", "ppo_index")):
-        data[index] = {
-            _index_key(record["config"], record["seed"]): key
-            for key, record in _records(data, runs, keyed=True)
-            if isinstance(record.get("config"), dict) and isinstance(record.get("seed"), int)
-        }
+    for record in _records(data):  # a run names its configuration in the table
+        if isinstance(record.get("config"), str) and record["config"] in configs:
+            record["config"] = configs[record["config"]]
+    data["index"] = {
+        _index_key(record["config"], record["seed"]): key
+        for key, record in _records(data, keyed=True)
+        if isinstance(record.get("config"), dict) and isinstance(record.get("seed"), int)
+    }
     return data
 
 
-def _records(data: dict, runs: str, keyed: bool = False) -> list:
-    """The records of ``data[runs]`` that are dicts (with their keys if ``keyed``)."""
-    table = data.get(runs, {})
+def _records(data: dict, keyed: bool = False) -> list:
+    """The records of ``data["runs"]`` that are dicts (with their keys if ``keyed``)."""
+    table = data.get("runs", {})
     items = table.items() if isinstance(table, dict) else ()
     return [(k, r) if keyed else r for k, r in items if isinstance(r, dict)]
 
@@ -245,7 +250,7 @@ def _check_manifest(path: Path, data: dict) -> None:
     """:class:`CorruptLedger` unless ``data`` has every field of a manifest of this format,
     of its type, and every run record its name, seed, entry, digests and configuration."""
     for name, kind in (
-        ("source_fingerprint", str),
+        ("fingerprints", dict),
         ("modules", dict),
         ("rendering_stack", str),
         ("runs", dict),
@@ -257,23 +262,28 @@ def _check_manifest(path: Path, data: dict) -> None:
     configs = data.get("configs", {})
     if not isinstance(configs, dict):
         raise _not_a_manifest(path, "its 'configs' is not an object")
-    for runs in ("runs", "ppo_runs"):
-        table = data.get(runs, {})
-        if not isinstance(table, dict):
-            raise _not_a_manifest(path, f"its {runs!r} is not an object")
-        for key, record in table.items():
-            problem = _record_problem(record, configs, ppo=runs == "ppo_runs")
-            if problem:
-                raise _not_a_manifest(path, f"the record of run {key[:24]!r} {problem}")
+    for name, fingerprint in data["fingerprints"].items():
+        if not isinstance(fingerprint, str) or not isinstance(data["modules"].get(name), dict):
+            raise _not_a_manifest(path, f"its runner {name!r:.40} has no fingerprint or modules")
+    for key, record in data["runs"].items():
+        problem = _record_problem(record, configs, data["fingerprints"])
+        if problem:
+            raise _not_a_manifest(path, f"the record of run {key[:24]!r} {problem}")
 
 
 _TYPE_NAMES = {str: "string", dict: "JSON object", int: "integer"}
 
 
-def _record_problem(record, configs: dict, ppo: bool) -> str | None:
+#: The wall times a record of each runner must have (others are checked where present).
+_RECORD_TIMES = {"ppo": ("wall_time_train", "wall_time_test", "wall_seconds")}
+
+
+def _record_problem(record, configs: dict, fingerprints: dict) -> str | None:
     """What is wrong with a manifest's run record (None if nothing)."""
     if not isinstance(record, dict):
         return "is not a JSON object"
+    if record.get("runner") not in fingerprints:
+        return f"names the runner {record.get('runner')!r:.40}, of no fingerprint in the manifest"
     for name in ("name", "file", "entry_digest", "digest"):
         if not isinstance(record.get(name), str):
             return f"has no {name!r} string"
@@ -283,9 +293,9 @@ def _record_problem(record, configs: dict, ppo: bool) -> str | None:
     config = record.get("config")
     if not (isinstance(config, dict) or (isinstance(config, str) and config in configs)):
         return f"names the configuration {config!r:.40}, which the manifest does not hold"
-    times = ("wall_time_train", "wall_time_test", "wall_seconds") if ppo else ("wall_seconds",)
-    for name in times:
-        if (ppo or name in record) and _seconds_problem(record.get(name)):
+    required = _RECORD_TIMES.get(record["runner"], ())
+    for name in ("wall_time_train", "wall_time_test", "wall_seconds"):
+        if (name in required or name in record) and _seconds_problem(record.get(name)):
             return f"has {name} {record.get(name)!r}, not a time in seconds (finite, >= 0)"
     return None
 
@@ -304,23 +314,27 @@ def _index_key(config: dict, seed: int) -> str:
     return f"{json.dumps(config, sort_keys=True, separators=(',', ':'))}:seed{seed}"
 
 
-def _check(folder: Path, data: dict) -> None:
-    """:class:`StaleLedger` unless ``data`` was computed by this code; a warning (once) if by
-    another rendering stack."""
-    from docking.store import FORMAT_VERSION, rendering_stack, source_fingerprint
+def _check(folder: Path, data: dict, runners: Iterable[Runner] | None = None) -> None:
+    """:class:`StaleLedger` unless ``data``'s runs of ``runners`` (default: of every runner
+    the ledger holds runs of) were computed by this code; a warning (once) if by another
+    rendering stack."""
+    from docking.store import FORMAT_VERSION, rendering_stack
 
     if data.get("format") != LEDGER_FORMAT or data.get("store_format") != FORMAT_VERSION:
         raise StaleLedger(
             f"the ledger in {folder} has format {data.get('format')}/{data.get('store_format')}"
             f", this package reads {LEDGER_FORMAT}/{FORMAT_VERSION}; recompute it: {_RECOMPUTE}"
         )
-    if data["source_fingerprint"] != source_fingerprint():
-        changed = _changed_modules(data["modules"])
-        raise StaleLedger(
-            f"the ledger in {folder} was computed by other code (changed: "
-            f"{', '.join(changed) or 'the fingerprint'}); it is not used. Recompute it: "
-            f"{_RECOMPUTE}"
-        )
+    if runners is None:
+        runners = [runner_named(name) for name in sorted(data["fingerprints"])]
+    for runner in runners:
+        if data["fingerprints"].get(runner.name) != runner.fingerprint():
+            changed = _changed_modules(data["modules"].get(runner.name, {}), runner)
+            raise StaleLedger(
+                f"the ledger in {folder} holds {runner.name} runs computed by other code "
+                f"(changed: {', '.join(changed) or 'the fingerprint'}); they are not used. "
+                f"Recompute them: {_RECOMPUTE}"
+            )
     stack = rendering_stack()
     if data["rendering_stack"] != stack and not data.get("warned"):
         data["warned"] = True
@@ -333,36 +347,52 @@ def _check(folder: Path, data: dict) -> None:
         )
 
 
-def holds(config: ExperimentConfig | PPOConfig, seed: int) -> bool:
-    """Whether the ledger holds the run of (``config``, ``seed``) (computed by any code)."""
-    data = _raw_manifest(ledger_dir())
-    index = "ppo_index" if isinstance(config, PPOConfig) else "index"
-    return data is not None and _index_key(config.to_dict(), seed) in data[index]
+def holds(config: ExperimentConfig | PPOConfig, seed: int, check: bool = False) -> bool:
+    """Whether the ledger holds the run of (``config``, ``seed``) (computed by any code; with
+    ``check``, :class:`StaleLedger` if it holds it but its runner's code is not this code)."""
+    found = _find(config, seed)
+    if found is not None and check:
+        folder, data, _ = found
+        _check(folder, data, [runner_for(config)])
+    return found is not None
 
 
-def lookup(config: ExperimentConfig, seed: int) -> ExperimentResult | None:
-    """The ledger's entry for (``config``, ``seed``) as a :class:`LedgerResult`, or None if
+def lookup(config: ExperimentConfig | PPOConfig, seed: int) -> ExperimentResult | None:
+    """The ledger's entry for (``config``, ``seed``), of any runner: a :class:`LedgerResult`
+    for the learner's, a ``docking.ppo.PPOResult`` for PPO's (whose held-out log keeps every
+    per-trial array and no per-step one: reading one raises :class:`NotInLedger`); None if
     the ledger does not hold the run (or there is no ledger). :class:`StaleLedger` if it
-    holds the run but was computed by other code: its numbers are never served then."""
+    holds the run but its runner's code is not this code: its numbers are never served then."""
     from docking.store import run_key
 
-    found = _find(config, seed, "index")
+    runner = runner_for(config)
+    found = _find(config, seed)
     if found is None:
         return None
     folder, data, key = found
-    _check(folder, data)
+    _check(folder, data, [runner])
     if key != run_key(config, seed, render=data["rendering_stack"]):
         raise StaleLedger(f"the ledger's key of {config.name!r} seed {seed} is not this code's")
     record = data["runs"][key]
-    path = _entry_path(folder, "runs", record, key, config.name, seed)
-    return _read_entry(path, key, record, seed)
+    path = _entry_path(folder, record, key, config.name, seed)
+    if record["runner"] != runner.name:
+        raise CorruptLedger(
+            f"the ledger's record of run {config.name!r} seed {seed} names the runner "
+            f"{record['runner']!r}, not {runner.name!r}; {_RESTORE}"
+        )
+    arrays = _verified_arrays(path, record["entry_digest"])
+    try:
+        return _READERS[runner.name](arrays, config, key, seed, record, path)
+    except (KeyError, ValueError, TypeError, IndexError) as exc:
+        what = f"lacks {exc}" if isinstance(exc, KeyError) else f"is damaged ({exc})"
+        raise CorruptLedger(f"the ledger entry {path} {what}; {_RESTORE}") from None
 
 
-def _entry_path(folder: Path, kind: str, record: dict, key: str, name: str, seed: int) -> Path:
-    """The entry file of the manifest's ``record`` of run ``key`` (``name``, ``seed``; in
-    ``kind``, ``"runs"`` or ``"ppo"``): :class:`CorruptLedger` naming the record unless it is
-    the run's own entry, ``kind/<name>/<key[:16]>/seed<k>.xz`` in the ledger's folder (an
-    entry does not hold its key: where it lies names it; the reader checks its seed too)."""
+def _entry_path(folder: Path, record: dict, key: str, name: str, seed: int) -> Path:
+    """The entry file of the manifest's ``record`` of run ``key`` (``name``, ``seed``):
+    :class:`CorruptLedger` naming the record unless it is the run's own entry,
+    ``runs/<name>/<key[:16]>/seed<k>.xz`` in the ledger's folder (an entry does not hold its
+    key: where it lies names it; the reader checks its seed too)."""
     where = f"the ledger's record of run {name!r} seed {seed} (key {key[:16]})"
     root = Path(folder).resolve()
     try:
@@ -376,7 +406,7 @@ def _entry_path(folder: Path, kind: str, record: dict, key: str, name: str, seed
             f"{where} names the entry {record['file']!r}, outside the ledger folder {root}; "
             f"{_RESTORE}"
         )
-    own = f"{kind}/{name}/{key[:16]}/seed{seed}.xz"
+    own = _entry_file(name, key, seed)
     if record["file"] != own or record["seed"] != seed or record["name"] != name:
         raise CorruptLedger(
             f"{where} names the entry {record['file']!r}, not the run's own {own!r}; {_RESTORE}"
@@ -384,26 +414,27 @@ def _entry_path(folder: Path, kind: str, record: dict, key: str, name: str, seed
     return path
 
 
-def _find(config, seed: int, index: str) -> tuple[Path, dict, str] | None:
-    """``(folder, manifest, run key)`` of the ledger's entry for (``config``, ``seed``) in
-    the manifest's ``index`` (``"index"`` or ``"ppo_index"``); None if it holds none."""
+def _entry_file(name: str, key: str, seed: int) -> str:
+    """Where in the ledger's folder the entry of run ``key`` (``name``, ``seed``) lies."""
+    return f"runs/{name}/{key[:16]}/seed{seed}.xz"
+
+
+def _find(config, seed: int) -> tuple[Path, dict, str] | None:
+    """``(folder, manifest, run key)`` of the ledger's entry for (``config``, ``seed``);
+    None if it holds none."""
+    runner_for(config)  # TypeError for what is no run's configuration
     folder = ledger_dir()
     data = _raw_manifest(folder)
     if data is None:
         return None
-    key = data[index].get(_index_key(config.to_dict(), seed))
+    key = data["index"].get(_index_key(config.to_dict(), seed))
     return None if key is None else (folder, data, key)
 
 
-def _changed_modules(theirs: dict, ppo_runs: bool = False) -> list[str]:
-    """The package modules (and libraries) whose digests differ from ``theirs`` (a
-    manifest's record): of the learner's computation, or of PPO's (``ppo_runs``)."""
-    from docking.store import module_digests
-
-    if ppo_runs:
-        ours = module_digests(root=ppo.__name__, libraries=ppo.LIBRARIES)
-    else:
-        ours = module_digests()
+def _changed_modules(theirs: dict, runner: Runner) -> list[str]:
+    """The package modules (and libraries) of ``runner``'s computation whose digests differ
+    from ``theirs`` (a manifest's record of that runner's modules)."""
+    ours = runner.module_digests()
     return sorted(k for k in set(ours) | set(theirs) if ours.get(k) != theirs.get(k))
 
 
@@ -429,33 +460,35 @@ def _verified_arrays(path: Path, entry_digest: str) -> dict[str, np.ndarray]:
         ) from None
 
 
-def _check_ppo(folder: Path, data: dict) -> None:
-    """:class:`StaleLedger` unless the ledger's PPO runs were computed by this code
-    (:func:`docking.ppo.fingerprint`)."""
-    if data.get("ppo_fingerprint") != ppo.fingerprint():
-        changed = _changed_modules(data.get("ppo_modules", {}), ppo_runs=True)
-        raise StaleLedger(
-            f"the ledger in {folder} holds PPO runs of other code (changed: "
-            f"{', '.join(changed) or 'the fingerprint or a library version'}); they are not "
-            f"used. Recompute them: {_RECOMPUTE}"
+def _seconds(meta: dict, name: str, path: Path) -> float:
+    """The wall time ``meta[name]`` (of the entry ``path`` or its record): a finite number
+    of seconds >= 0, else :class:`CorruptLedger` (wall times are outside the digests)."""
+    value = meta.get(name)
+    if _seconds_problem(value):
+        raise CorruptLedger(
+            f"the ledger entry {path} (or its record) has {name} {value!r}, not a time in "
+            f"seconds (finite, >= 0); {_RESTORE}"
         )
+    return float(value)
 
 
-def lookup_ppo(config: PPOConfig, seed: int) -> ppo.PPOResult | None:
-    """The ledger's entry for the PPO run (``config``, ``seed``): a ``PPOResult`` whose
-    held-out log keeps every per-trial array and no per-step one (reading one raises
-    :class:`NotInLedger`); None if the ledger does not hold it; :class:`StaleLedger` if it
-    was computed by other code."""
-    found = _find(config, seed, "ppo_index")
-    if found is None:
-        return None
-    folder, data, key = found
-    _check_ppo(folder, data)
-    if key != ppo.run_key(config, seed):
-        raise StaleLedger(f"the ledger's key of PPO run {config.name!r} seed {seed} is not ours")
-    record = data["ppo_runs"][key]
-    path = _entry_path(folder, "ppo", record, key, config.name, seed)
-    arrays = _verified_arrays(path, record["entry_digest"])
+def _ppo_entry(result: ppo.PPOResult, keep: dict) -> tuple[dict[str, np.ndarray], dict]:
+    """The arrays of a PPO run's entry (its training episodes and its held-out per-trial
+    arrays: what the analyses read of a PPO run) and what its record adds (its wall times)."""
+    arrays = {"train.success": result.train_success, "train.steps": result.train_steps}
+    for name in TRIAL_FIELDS:
+        arrays[f"heldout.{name}"] = getattr(result.heldout, name)
+    walls = {
+        "wall_time_train": round(result.wall_time_train, 1),
+        "wall_time_test": round(result.wall_time_test, 1),
+    }
+    return arrays, walls
+
+
+def _read_ppo_entry(
+    arrays: dict, config: PPOConfig, key: str, seed: int, record: dict, path: Path
+) -> ppo.PPOResult:
+    """The PPO run of the entry ``path`` (its ``arrays``) of the manifest's ``record``."""
     where = f"PPO run {config.name!r} seed {seed} (key {key[:16]}), heldout"
     names = [f"heldout.{name}" for name in TRIAL_FIELDS] + ["train.success", "train.steps"]
     if any(name not in arrays for name in names):
@@ -474,44 +507,6 @@ def lookup_ppo(config: PPOConfig, seed: int) -> ppo.PPOResult | None:
         wall_time_train=_seconds(record, "wall_time_train", path),
         wall_time_test=_seconds(record, "wall_time_test", path),
     )
-
-
-def _seconds(meta: dict, name: str, path: Path) -> float:
-    """The wall time ``meta[name]`` (of the entry ``path`` or its record): a finite number
-    of seconds >= 0, else :class:`CorruptLedger` (wall times are outside the digests)."""
-    value = meta.get(name)
-    if _seconds_problem(value):
-        raise CorruptLedger(
-            f"the ledger entry {path} (or its record) has {name} {value!r}, not a time in "
-            f"seconds (finite, >= 0); {_RESTORE}"
-        )
-    return float(value)
-
-
-def _ppo_entry(path: Path, key: str) -> tuple[dict, bytes]:
-    """The manifest record and the entry file of the stored PPO run at ``path``: its
-    training episodes and its held-out per-trial arrays (what the analyses read of a PPO
-    run)."""
-    result = ppo.load(path, key)  # checks the file against the key and its digest
-    with np.load(path, allow_pickle=False) as stored:
-        digest = json.loads(str(stored["meta"]))["digest"]
-    arrays = {"train.success": result.train_success, "train.steps": result.train_steps}
-    for name in TRIAL_FIELDS:
-        arrays[f"heldout.{name}"] = getattr(result.heldout, name)
-    raw = _encode_entry(arrays)
-    config, seed = result.config, result.seed
-    record = {
-        "name": config.name,
-        "seed": seed,
-        "digest": digest,
-        "file": f"ppo/{config.name}/{key[:16]}/seed{seed}.xz",
-        "entry_digest": hashlib.sha256(raw).hexdigest(),
-        "config": config.to_dict(),
-        "wall_time_train": round(result.wall_time_train, 1),
-        "wall_time_test": round(result.wall_time_test, 1),
-        "wall_seconds": round(result.wall_time_train + result.wall_time_test, 1),
-    }
-    return record, raw
 
 
 # ------------------------------------------------------------------------------------------
@@ -614,20 +609,12 @@ class LedgerResult(ExperimentResult):
         return self._network
 
 
-def _read_entry(path: Path, key: str, record: dict, seed: int) -> LedgerResult:
-    """The run of the entry ``path`` of the manifest's ``record`` (run ``key``, ``seed``):
-    :class:`CorruptLedger` if the entry holds another seed, lacks an array or has a wall
-    time that is not one."""
-    arrays = _verified_arrays(path, record["entry_digest"])
-    config = ExperimentConfig.from_dict(record["config"])  # the manifest's: it names the key
-    try:
-        return _entry_result(arrays, config, key, seed, path)
-    except (KeyError, ValueError, TypeError, IndexError) as exc:
-        what = f"lacks {exc}" if isinstance(exc, KeyError) else f"is damaged ({exc})"
-        raise CorruptLedger(f"the ledger entry {path} {what}; {_RESTORE}") from None
-
-
-def _entry_result(arrays: dict, config, key: str, seed: int, path: Path) -> LedgerResult:
+def _read_learner_entry(
+    arrays: dict, config: ExperimentConfig, key: str, seed: int, record: dict, path: Path
+) -> LedgerResult:
+    """The learner's run of the entry ``path`` (its ``arrays``) of the manifest's ``record``
+    (run ``key``, ``seed``): :class:`CorruptLedger` if the entry holds another seed, lacks an
+    array or has a wall time that is not one."""
     meta = json.loads(str(arrays.pop("meta")))
     if not isinstance(meta, dict) or meta.get("seed") != seed:
         found = meta.get("seed") if isinstance(meta, dict) else meta
@@ -665,8 +652,26 @@ def _entry_result(arrays: dict, config, key: str, seed: int, path: Path) -> Ledg
     return LedgerResult(fields, network, where)
 
 
+def _learner_entry(result: ExperimentResult, keep: dict) -> tuple[dict[str, np.ndarray], dict]:
+    """The arrays of the learner's ``result``'s entry (what ``keep``, a trace record, names;
+    its seed and wall times in a ``meta`` record) and what its record adds (nothing)."""
+    arrays = _entry_arrays(result, keep)
+    meta = {  # the configuration and the key are the manifest's record's
+        "seed": result.seed,
+        "wall_time_train": result.wall_time_train,
+        "wall_time_test": result.wall_time_test,
+    }
+    arrays["meta"] = np.array(json.dumps(meta, sort_keys=True))
+    return arrays, {}
+
+
+#: Per runner: what its entry keeps of a run, and the run an entry gives back.
+_WRITERS = {"learner": _learner_entry, "ppo": _ppo_entry}
+_READERS = {"learner": _read_learner_entry, "ppo": _read_ppo_entry}
+
+
 def _entry_arrays(result: ExperimentResult, keep: dict) -> dict[str, np.ndarray]:
-    """The arrays of ``result``'s entry: what ``keep`` (a trace record) names."""
+    """The arrays of the learner's ``result``'s entry: what ``keep`` (a trace record) names."""
     arrays = {
         name: getattr(result, name)
         for name in ("curve_trials", "curve_success", "curve_steps", "curve_rewarded")
@@ -801,12 +806,18 @@ def trace(result: ExperimentResult, key: str, source: Path) -> ExperimentResult:
     return result if path is None else TracedResult(result, key, path, source)
 
 
-def _trace_ppo(key: str, source: Path) -> None:
+def _trace_ppo(result: ppo.PPOResult, key: str, source: Path) -> ppo.PPOResult:
     """Record in the trace file (if any) that the PPO run ``key`` was loaded from ``source``
-    (its ledger entry keeps what the analyses read of a PPO run: :func:`_ppo_entry`)."""
+    (its ledger entry keeps what the analyses read of a PPO run: :func:`_ppo_entry`);
+    ``result``."""
     path = trace_file()
     if path is not None:
         _write_fact(path, key, None, "load-ppo", str(Path(source).resolve()))
+    return result
+
+
+#: Per runner: how a run loaded from the store is traced.
+_TRACERS = {"learner": trace, "ppo": _trace_ppo}
 
 
 #: The kinds of a trace file's facts, and what each one's value is.
@@ -909,72 +920,53 @@ def update(keep: dict[str, dict], folder: Path | str | None = None) -> dict:
     is stored and what the analyses read of it) from their stored files, keeping of each what
     ``keep`` names; replaces the ledger's entries. Returns the manifest."""
     from docking.platform_info import numeric_platform
-    from docking.store import (
-        FORMAT_VERSION,
-        content_digest,
-        load_result,
-        module_digests,
-        rendering_stack,
-        source_fingerprint,
-    )
+    from docking.store import FORMAT_VERSION, content_digest, load_result, rendering_stack
 
     folder = Path(folder) if folder is not None else ledger_dir()
     if folder is None:
         raise ValueError("no ledger folder: DOCKING_LEDGER is off and no folder was given")
-    runs, ppo_runs, files = {}, {}, {}
+    runs, files, runners = {}, {}, {}
     for key, wanted in sorted(keep.items()):
         if "path" not in wanted:
             raise ValueError(f"the trace names run {key[:16]} but not where it is stored")
         path = Path(wanted["path"])
-        if wanted.get("ppo"):
-            record, files_raw = _ppo_entry(path, key)
-            ppo_runs[key], files[record["file"]] = record, files_raw
-            continue
         result = load_result(path, key)  # checks the file against the key and its digest
         with np.load(path, allow_pickle=False) as data:
             digest = content_digest(data)
         config, seed = result.config, result.seed
-        arrays = _entry_arrays(result, wanted)
-        meta = {  # the configuration and the key are the manifest's record's
-            "seed": seed,
-            "wall_time_train": result.wall_time_train,
-            "wall_time_test": result.wall_time_test,
-        }
-        arrays["meta"] = np.array(json.dumps(meta, sort_keys=True))
-        relative = f"runs/{config.name}/{key[:16]}/seed{seed}.xz"
+        runner = runners.setdefault(runner_for(config).name, runner_for(config))
+        arrays, extra = _WRITERS[runner.name](result, wanted)
+        relative = _entry_file(config.name, key, seed)
         files[relative] = _encode_entry(arrays)
         runs[key] = {
+            "runner": runner.name,
             "name": config.name,
             "seed": seed,
             "digest": digest,
             "file": relative,
             "entry_digest": hashlib.sha256(files[relative]).hexdigest(),
             "config": config.to_dict(),
+            **extra,
             "wall_seconds": round(result.wall_time_train + result.wall_time_test, 1),
         }
     data = {
         "format": LEDGER_FORMAT,
         "store_format": FORMAT_VERSION,
-        "source_fingerprint": source_fingerprint(),
-        "modules": module_digests(),
+        "fingerprints": {name: runner.fingerprint() for name, runner in runners.items()},
+        "modules": {name: runner.module_digests() for name, runner in runners.items()},
         "rendering_stack": rendering_stack(),
         "platform": numeric_platform(),
         "runs": runs,
     }
-    if ppo_runs:
-        data.update(
-            ppo_fingerprint=ppo.fingerprint(),
-            ppo_modules=module_digests(root=ppo.__name__, libraries=ppo.LIBRARIES),
-        )
-        data["ppo_runs"] = ppo_runs
     # Each configuration once, in a table; a run names its entry (the seeds of a cell share
     # one). Reading the manifest puts the configurations back into the runs' records.
     data["configs"] = {}
-    for record in [*runs.values(), *ppo_runs.values()]:
+    for record in runs.values():
         text = json.dumps(record["config"], sort_keys=True, separators=(",", ":"))
         ref = hashlib.sha256(text.encode()).hexdigest()[:16]
         data["configs"][ref], record["config"] = record["config"], ref
     folder.mkdir(parents=True, exist_ok=True)
+    # (ppo/: where ledgers of format 4 kept PPO's entries)
     old = {p for kind in ("runs", "ppo") for p in folder.glob(f"{kind}/**/*") if p.is_file()}
     for relative, raw in files.items():
         target = folder / relative
@@ -1071,19 +1063,12 @@ def load_run(
     committed ledger (:func:`lookup`; ``StaleLedger`` if the ledger holds the
     run but was computed by other code); None if neither holds it. Runs from the store are
     traced when ``DOCKING_TRACE`` is set (:func:`trace`). A ``docking.ppo.PPOConfig`` gives
-    its ``PPOResult`` the same way (:func:`lookup_ppo`)."""
+    its ``PPOResult`` the same way."""
     from docking.store import load_result, result_path, run_key
 
-    if isinstance(config, PPOConfig):
-        path = ppo.result_path(config, seed, results_dir)
-        if path.exists():
-            key = ppo.run_key(config, seed)
-            result = ppo.load(path, key)
-            _trace_ppo(key, path)
-            return result
-        return lookup_ppo(config, seed)
+    runner = runner_for(config)
     path = result_path(config, seed, results_dir)
     if path.exists():
         key = run_key(config, seed)
-        return trace(load_result(path, key), key, path)
+        return _TRACERS[runner.name](load_result(path, key), key, path)
     return lookup(config, seed)

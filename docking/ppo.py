@@ -23,29 +23,24 @@ from a global seed (``skrl.utils.set_seed``: Python's, NumPy's and JAX's), which
 from ``SeedSequence([PPO_STREAM, seed])``, as is the training env's seed; the held-out
 streams are children of ``SeedSequence(seed)``, so training never sees them.
 
-Runs are stored like the learner's (:mod:`docking.store`): under
-``<results>/<config.name>/<key[:16]>/seed<k>.npz``, keyed by the configuration, the code
-of this module and everything it imports (:func:`fingerprint`, which also covers the
-versions of skrl, JAX, Flax, Optax and Gymnasium), the rendering stack and the seed, with a
-content digest checked on load against the key asked for.
+Runs are stored by the one results store (:mod:`docking.store`, whose runner ``"ppo"`` is
+this module's): under ``<results>/<config.name>/<key[:16]>/seed<k>.npz``, keyed by the
+configuration, the code of this module and everything it imports, the versions of
+:data:`LIBRARIES` (skrl, JAX, Flax, Optax and Gymnasium beside the learner's), the rendering
+stack and the seed, with a content digest checked on load against the key asked for.
 """
 
 from __future__ import annotations
 
 import dataclasses
-import hashlib
-import io
 import json
 import os
 import time
-from pathlib import Path
 
 import gymnasium
 import numpy as np
 
-from docking import paths
 from docking.experiments import TrialLog, _streams, policy_trial
-from docking.fileio import atomic_write, remove_stale_temporaries
 from docking.scene import WorldConfig
 from docking.validate import (
     MAX_COUNT,
@@ -61,15 +56,12 @@ from docking.validate import (
 __all__ = [
     "PPOConfig",
     "PPOResult",
-    "fingerprint",
-    "load",
-    "run_or_load",
+    "result_arrays",
     "run_ppo",
-    "save",
     "trials_in_run",
 ]
 
-#: Version of the stored file's layout.
+#: Version of the stored file's layout (:func:`result_arrays`; read by :mod:`docking.store`).
 FORMAT_VERSION = 1
 
 #: The first word of the training seeds' SeedSequence (disjoint from every learner stream).
@@ -207,39 +199,6 @@ class PPOResult:
     @property
     def heldout_success(self) -> float:
         return float(np.mean(self.heldout.success)) if len(self.heldout) else float("nan")
-
-
-# ------------------------------------------------------------------------------------------
-# Keys.
-# ------------------------------------------------------------------------------------------
-
-
-def fingerprint() -> str:
-    """The source fingerprint of PPO runs: this module's code and everything it imports from
-    the package, the assets and :data:`LIBRARIES`' versions."""
-    from docking.store import source_fingerprint
-
-    return source_fingerprint(root=__name__, libraries=LIBRARIES)
-
-
-def run_key(config: PPOConfig, seed: int) -> str:
-    """The key of the PPO run of (``config``, ``seed``)."""
-    from docking.store import rendering_stack
-
-    check_instance("run_key", "config", config, PPOConfig)
-    seed = check_int("run_key", "seed", seed, lo=0, hi=MAX_SEED)
-    canonical = json.dumps(config.to_dict(), sort_keys=True, separators=(",", ":"))
-    text = (
-        f"ppo format {FORMAT_VERSION}\nconfig {canonical}\nsource {fingerprint()}"
-        f"\nrender {rendering_stack()}"
-    )
-    return f"{hashlib.sha256(text.encode()).hexdigest()}:seed{seed}"
-
-
-def result_path(config: PPOConfig, seed: int, results_dir: Path | str | None = None) -> Path:
-    """Where the PPO run of (``config``, ``seed``) is stored."""
-    root = Path(results_dir) if results_dir is not None else paths.results_dir()
-    return root / config.name / run_key(config, seed)[:16] / f"seed{seed}.npz"
 
 
 # ------------------------------------------------------------------------------------------
@@ -488,81 +447,9 @@ def _world_kwargs(world: WorldConfig) -> dict:
 # ------------------------------------------------------------------------------------------
 
 
-def _arrays(result: PPOResult) -> dict[str, np.ndarray]:
+def result_arrays(result: PPOResult) -> dict[str, np.ndarray]:
+    """The arrays a stored PPO run holds (all but its ``meta`` record), by name."""
     arrays = {"train.success": result.train_success, "train.steps": result.train_steps}
     for field in dataclasses.fields(TrialLog):
         arrays[f"heldout.{field.name}"] = getattr(result.heldout, field.name)
     return arrays
-
-
-def save(result: PPOResult, path: Path | str) -> Path:
-    """Write ``result`` to ``path`` atomically (compressed .npz with its key and digest)."""
-    from docking.store import content_digest
-
-    path = Path(path)
-    arrays = _arrays(result)
-    meta = {
-        "format": FORMAT_VERSION,
-        "key": run_key(result.config, result.seed),
-        "digest": content_digest(arrays),
-        "config": result.config.to_dict(),
-        "seed": result.seed,
-        "wall_time_train": float(result.wall_time_train),
-        "wall_time_test": float(result.wall_time_test),
-    }
-    arrays["meta"] = np.array(json.dumps(meta))
-    buffer = io.BytesIO()
-    np.savez_compressed(buffer, **arrays)
-    remove_stale_temporaries(path)
-    atomic_write(path, lambda f: f.write(buffer.getvalue()))
-    return path
-
-
-def load(path: Path | str, key: str) -> PPOResult:
-    """The PPO run stored at ``path``, checked against ``key`` (the run asked for) and its
-    content digest (``docking.store.CorruptResult`` if either differs or it is unreadable)."""
-    from docking.store import CorruptResult, content_digest
-
-    try:
-        with np.load(path, allow_pickle=False) as data:
-            arrays = {name: data[name] for name in data.files}
-        meta = json.loads(str(arrays.pop("meta")))
-        if meta.get("format") != FORMAT_VERSION or meta.get("key") != key:
-            raise CorruptResult(f"{path}: holds run {meta.get('key')!r:.30}, not {key[:30]!r}")
-        if content_digest(arrays) != meta["digest"]:
-            raise CorruptResult(f"{path}: its arrays do not match their digest")
-        config = PPOConfig.from_dict(meta["config"])
-        heldout = TrialLog(
-            **{f.name: arrays[f"heldout.{f.name}"] for f in dataclasses.fields(TrialLog)}
-        )
-        return PPOResult(
-            config=config,
-            seed=int(meta["seed"]),
-            train_success=arrays["train.success"],
-            train_steps=arrays["train.steps"],
-            heldout=heldout,
-            wall_time_train=float(meta["wall_time_train"]),
-            wall_time_test=float(meta["wall_time_test"]),
-        )
-    except CorruptResult:
-        raise
-    except (OSError, ValueError, KeyError, TypeError) as exc:
-        raise CorruptResult(f"{path}: unreadable PPO run ({exc})") from exc
-
-
-def run_or_load(
-    config: PPOConfig,
-    seed: int,
-    results_dir: Path | str | None = None,
-    force: bool = False,
-    progress: bool | None = None,
-    on_trials=None,
-) -> PPOResult:
-    """The stored PPO run of (``config``, ``seed``), or run and store it (``progress`` and
-    ``on_trials`` as in :func:`run_ppo`)."""
-    path = result_path(config, seed, results_dir)
-    if path.exists() and not force:
-        return load(path, run_key(config, seed))
-    result = run_ppo(config, seed, progress=progress, on_trials=on_trials)
-    save(result, path)
-    return result

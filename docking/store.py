@@ -1,19 +1,29 @@
 """The results store: every run saved under a key of what produced it.
 
-A run of :func:`docking.experiments.run_experiment` is fully determined by its configuration,
-its seed and the code that computes it. Its key is the SHA-256 of
+There are kinds of run, one :class:`Runner` each, looked up by the type of the configuration
+(:func:`runner_for`): the paper's learner and its yardsticks (``"learner"``:
+:class:`docking.experiments.ExperimentConfig`, :func:`docking.experiments.run_experiment`)
+and the pixel-level bound (``"ppo"``: :class:`docking.ppo.PPOConfig`,
+:func:`docking.ppo.run_ppo`). A runner names the module whose code computes its runs, the
+libraries whose versions enter its keys, how a run is computed, which arrays it stores and
+how they are read back; everything else here (keys, paths, saving, loading, the checks) is one
+implementation for every kind.
 
-* the configuration, every field, as canonical JSON (:meth:`ExperimentConfig.to_dict`);
-* the *source fingerprint*: the code of ``docking.experiments`` and of every ``docking``
-  module its code imports, directly or indirectly (world, camera, network, trial, ...), read
-  by :mod:`docking.fingerprint` as Python tokens without comments, docstrings, error
-  messages and the validation, parsing and serialisation it names (so a reworded message or
-  docstring re-keys nothing, a change to what computes a run does; the same on every Python),
-  plus every file under ``docking/assets/``, plus the
-  versions of the libraries whose arithmetic the runs depend on (MuJoCo, dm-control, NumPy,
-  OpenCV). It is taken of the code this process *loaded*: if a fingerprinted file has changed
-  on disk since ``docking`` was imported, keying a run raises :class:`StaleCode` (the run
-  would be computed by the old code and stored under the new code's key);
+A run is fully determined by its configuration, its seed and the code that computes it. Its
+key is the SHA-256 of
+
+* the configuration, every field, as canonical JSON (``config.to_dict()``);
+* the *source fingerprint*: the code of the runner's root module (``docking.experiments`` for
+  the learner, ``docking.ppo`` for PPO) and of every ``docking`` module its code imports,
+  directly or indirectly (world, camera, network, trial, ...), read by
+  :mod:`docking.fingerprint` as Python tokens without comments, docstrings, error messages
+  and the validation, parsing and serialisation it names (so a reworded message or docstring
+  re-keys nothing, a change to what computes a run does; the same on every Python), plus
+  every file under ``docking/assets/``, plus the versions of the libraries whose arithmetic
+  the runs depend on (MuJoCo, dm-control, NumPy, OpenCV; for PPO also skrl, JAX, Flax, Optax
+  and Gymnasium). It is taken of the code this process *loaded*: if a fingerprinted file has
+  changed on disk since ``docking`` was imported, keying a run raises :class:`StaleCode` (the
+  run would be computed by the old code and stored under the new code's key);
 * the *rendering stack* (:func:`docking.render.gl_stack`: the OpenGL version, renderer and
   vendor strings, e.g. Mesa's version and llvmpipe's), which draws every observation;
 
@@ -47,19 +57,28 @@ import os
 import shutil
 import tempfile
 import warnings
+from collections.abc import Callable
 from pathlib import Path
 
 import numpy as np
 
-from docking import fingerprint, paths
-from docking.experiments import ExperimentConfig, ExperimentResult, TrialLog, run_experiment
+from docking import fingerprint, paths, ppo
+from docking.experiments import (
+    ExperimentConfig,
+    ExperimentResult,
+    TrialLog,
+    run_experiment,
+    trials_in_run,
+)
 from docking.fileio import atomic_write, remove_stale_temporaries
 from docking.network import Network
-from docking.validate import MAX_SEED, check_instance, check_int
+from docking.validate import MAX_SEED, check_int
 
 __all__ = [
     "CorruptResult",
     "FORMAT_VERSION",
+    "RUNNERS",
+    "Runner",
     "StaleCode",
     "content_digest",
     "module_digests",
@@ -70,11 +89,14 @@ __all__ = [
     "result_path",
     "run_key",
     "run_or_load",
+    "runner_for",
+    "runner_named",
     "save_result",
     "source_fingerprint",
 ]
 
-#: Version of the file layout written by :func:`save_result` (3: the content digest).
+#: Version of the file layout of the learner's runs written by :func:`save_result` (3: the
+#: content digest); a PPO run's is :data:`docking.ppo.FORMAT_VERSION`.
 FORMAT_VERSION = 3
 
 #: The module whose code, with everything it imports from the package, computes results.
@@ -183,28 +205,30 @@ def rendering_stack() -> str:
     return gl_stack()
 
 
-def _canonical(config: ExperimentConfig) -> str:
+def _canonical(config) -> str:
     return json.dumps(config.to_dict(), sort_keys=True, separators=(",", ":"))
 
 
-def config_key(config: ExperimentConfig, render: str | None = None) -> str:
-    """SHA-256 of the canonical configuration, the source fingerprint and the rendering stack
-    (the folder key); ``render`` names another stack than this process's (for the ledger)."""
-    check_instance("config_key", "config", config, ExperimentConfig)
+def config_key(config, render: str | None = None) -> str:
+    """SHA-256 of the canonical configuration, the source fingerprint of its runner's code and
+    the rendering stack (the folder key); ``render`` names another stack than this process's
+    (for the ledger)."""
+    runner = runner_for(config)
     text = (
-        f"format {FORMAT_VERSION}\nconfig {_canonical(config)}\nsource {source_fingerprint()}"
+        f"{runner.key_prefix}format {runner.format}\nconfig {_canonical(config)}"
+        f"\nsource {runner.fingerprint()}"
         f"\nrender {rendering_stack() if render is None else render}"
     )
     return hashlib.sha256(text.encode()).hexdigest()
 
 
-def run_key(config: ExperimentConfig, seed: int, render: str | None = None) -> str:
+def run_key(config, seed: int, render: str | None = None) -> str:
     """The key of the run of (``config``, ``seed``): the configuration key and the seed."""
     seed = check_int("run_key", "seed", seed, lo=0, hi=MAX_SEED)
     return f"{config_key(config, render)}:seed{seed}"
 
 
-def result_path(config: ExperimentConfig, seed: int, results_dir: Path | str | None = None) -> Path:
+def result_path(config, seed: int, results_dir: Path | str | None = None) -> Path:
     """Where the run of (``config``, ``seed``) is stored (see the module docstring)."""
     seed = check_int("result_path", "seed", seed, lo=0, hi=MAX_SEED)
     root = Path(results_dir) if results_dir is not None else paths.results_dir()
@@ -230,13 +254,16 @@ def content_digest(arrays) -> str:
     return digest.hexdigest()
 
 
-def save_result(result: ExperimentResult, path: Path | str) -> Path:
-    """Write ``result`` to ``path`` (compressed .npz) atomically; also ``config.json`` beside
-    it (the configuration, readable). Returns ``path``."""
+def save_result(result, path: Path | str) -> Path:
+    """Write ``result`` (a run of any :class:`Runner`) to ``path`` (compressed .npz)
+    atomically; also ``config.json`` beside it (the configuration, readable). Returns
+    ``path``."""
     path = Path(path)
-    arrays = result_arrays(result)
+    runner = runner_for(result.config)
+    arrays = runner.arrays(result)
     meta = {
-        "format": FORMAT_VERSION,
+        "runner": runner.name,
+        "format": runner.format,
         "key": run_key(result.config, result.seed),
         "digest": content_digest(arrays),
         "config": result.config.to_dict(),
@@ -263,7 +290,7 @@ def save_result(result: ExperimentResult, path: Path | str) -> Path:
 
 
 def result_arrays(result: ExperimentResult) -> dict[str, np.ndarray]:
-    """The arrays a stored run holds (all but its ``meta`` record), by name."""
+    """The arrays a stored run of the learner holds (all but its ``meta`` record), by name."""
     arrays = {
         "W": result.network.W,
         "Q": result.network.Q,
@@ -355,8 +382,9 @@ def _trial_log(data, part: str, expected_trials: int, max_steps: int) -> TrialLo
     return log
 
 
-def load_result(path: Path | str, key: str | None = None) -> ExperimentResult:
-    """Read and validate a result written by :func:`save_result` (see the module docstring);
+def load_result(path: Path | str, key: str | None = None):
+    """Read and validate a result written by :func:`save_result`, of any runner (the file's
+    meta record names it; a file without one is the learner's) (see the module docstring);
     ``key``, if given, is the run key asked for (:func:`run_key`): a file holding another run
     is refused. ``CorruptResult`` (naming the reason) if the file cannot be used."""
     path = Path(path)
@@ -369,21 +397,24 @@ def load_result(path: Path | str, key: str | None = None) -> ExperimentResult:
         raise CorruptResult(f"{type(exc).__name__}: {exc}") from exc
 
 
-def _parse(data, asked: str | None) -> ExperimentResult:
+def _parse(data, asked: str | None):
     if "meta" not in data.files:
         raise CorruptResult("no 'meta' record")
     if _member_size(data, "meta") > _META_LIMIT:
         raise CorruptResult(f"the meta record is larger than {_META_LIMIT} bytes")
     try:
         meta = json.loads(str(data["meta"]))
-        config = ExperimentConfig.from_dict(meta["config"])
+        runner = runner_named(meta.get("runner", LEARNER.name))
+        config = runner.from_dict(meta["config"])
         seed = check_int("meta", "seed", meta["seed"], lo=0, hi=MAX_SEED)
         fmt, key, digest = meta["format"], meta["key"], meta["digest"]
         walls = float(meta["wall_time_train"]), float(meta["wall_time_test"])
     except (ValueError, TypeError, KeyError, AttributeError) as exc:
         raise CorruptResult(f"bad meta record: {type(exc).__name__}: {exc}") from exc
-    if fmt != FORMAT_VERSION:
-        raise CorruptResult(f"file format {fmt}, this package reads {FORMAT_VERSION}")
+    if fmt != runner.format:
+        raise CorruptResult(
+            f"file format {fmt}, this package reads {runner.format} ({runner.name} runs)"
+        )
     if config.to_dict() != meta["config"]:
         raise CorruptResult("the configuration does not round-trip")
     if key != run_key(config, seed):
@@ -393,12 +424,26 @@ def _parse(data, asked: str | None) -> ExperimentResult:
             f"holds the run {key[:16]}...:seed{seed} of {config.name!r}, not the run asked for "
             f"({asked[:16]}...:{asked.rpartition(':')[2]})"
         )
-    parts = ("train", "test") + (("heldout",) if config.heldout_trials else ())
-    expected = {"meta", "W", "Q", *_CURVE_LAYOUT}
-    expected |= {f"{part}.{name}" for part in parts for name in _TRIAL_LOG_LAYOUT}
+    result = runner.parse(data, config, seed, walls)
+    # Every member has been size-checked and read: the digest covers them all (an extra
+    # member changes it too).
+    if content_digest(data) != digest:
+        raise CorruptResult("the arrays do not match the file's content digest")
+    return result
+
+
+def _expect_members(data, expected: set[str]) -> None:
     if set(data.files) != expected:
         odd = sorted(set(data.files) ^ expected)
         raise CorruptResult(f"unexpected or missing arrays: {', '.join(odd)}")
+
+
+def _parse_learner(data, config: ExperimentConfig, seed: int, walls) -> ExperimentResult:
+    """The learner's run of the file ``data`` (its meta record checked already)."""
+    parts = ("train", "test") + (("heldout",) if config.heldout_trials else ())
+    expected = {"meta", "W", "Q", *_CURVE_LAYOUT}
+    expected |= {f"{part}.{name}" for part in parts for name in _TRIAL_LOG_LAYOUT}
+    _expect_members(data, expected)
     net = config.network
     W = _array(data, "W", "f", 2, 8 * net.n_features * net.n_inputs)
     Q = _array(data, "Q", "f", 2, 8 * net.n_actions * net.n_features)
@@ -425,16 +470,36 @@ def _parse(data, asked: str | None) -> ExperimentResult:
             else None
         ),
     }
-    # Every member has been size-checked and read: the digest covers them all (an extra
-    # member changes it too).
-    if content_digest(data) != digest:
-        raise CorruptResult("the arrays do not match the file's content digest")
     return ExperimentResult(
         config=config,
         seed=seed,
         network=network,
         **logs,
         **curve,
+        wall_time_train=walls[0],
+        wall_time_test=walls[1],
+    )
+
+
+def _parse_ppo(data, config: ppo.PPOConfig, seed: int, walls) -> ppo.PPOResult:
+    """PPO's run of the file ``data`` (its meta record checked already): its training
+    episodes (at most one per environment step) and its held-out trial log."""
+    expected = {"meta", "train.success", "train.steps"}
+    expected |= {f"heldout.{name}" for name in _TRIAL_LOG_LAYOUT}
+    _expect_members(data, expected)
+    success = _array(data, "train.success", "b", 1, 8 * config.steps)
+    steps = _array(data, "train.steps", "i", 1, 8 * config.steps)
+    if len(success) != len(steps):
+        raise CorruptResult("train.success and train.steps hold different numbers of episodes")
+    if np.any(steps < 1) or int(np.sum(steps)) > config.steps:
+        raise CorruptResult(f"training episodes of more steps than the budget ({config.steps})")
+    heldout = _trial_log(data, "heldout", config.heldout_trials, config.world.max_steps)
+    return ppo.PPOResult(
+        config=config,
+        seed=seed,
+        train_success=success,
+        train_steps=steps,
+        heldout=heldout,
         wall_time_train=walls[0],
         wall_time_test=walls[1],
     )
@@ -465,15 +530,16 @@ def check_writable(results_dir: Path | str | None = None) -> Path:
 
 
 def run_or_load(
-    config: ExperimentConfig,
+    config,
     seed: int,
     results_dir: Path | str | None = None,
     force: bool = False,
     progress: bool = True,
     on_trials=None,
-) -> ExperimentResult:
-    """The run of (``config``, ``seed``): loaded from the store if a valid file with its key
-    is there, otherwise computed and saved (a bad file is a warning, then replaced).
+):
+    """The run of (``config``, ``seed``), of any runner: loaded from the store if a valid
+    file with its key is there, otherwise computed by its runner and saved (a bad file is a
+    warning, then replaced).
     ``on_trials(n)``: called as the computed run's trials finish (its progress).
     ``force`` recomputes and replaces whatever is stored. The ledger is not consulted (its
     entries keep parts of runs): :func:`docking.ledger.load_run` reads the store, then the
@@ -490,6 +556,111 @@ def run_or_load(
                 stacklevel=2,
             )
     check_writable(path.parent)
-    result = run_experiment(config, seed, progress=progress, on_trials=on_trials)
+    result = runner_for(config).run(config, seed, progress=progress, on_trials=on_trials)
     save_result(result, path)
     return result
+
+
+# ------------------------------------------------------------------------------------------
+# The kinds of run.
+# ------------------------------------------------------------------------------------------
+
+
+@dataclasses.dataclass(frozen=True)
+class Runner:
+    """One kind of run: what computes it and what its key depends on.
+
+    Attributes:
+      name: The kind's name, recorded in every stored file and ledger record.
+      config_type: The type of its configurations (:func:`runner_for` looks it up).
+      root: The module whose code, with every ``docking`` module it imports, computes its
+        runs (its source fingerprint's root).
+      libraries: The libraries whose versions enter its keys.
+      format: The version of its stored files' layout.
+      key_prefix: What its keys' text starts with (keeps the keys of every kind apart).
+      run: ``run(config, seed, progress=..., on_trials=...)`` computes a run.
+      arrays: ``arrays(result)``: the arrays a stored run holds, by name (not ``meta``).
+      parse: ``parse(data, config, seed, (wall_time_train, wall_time_test))``: the run of an
+        open stored file whose meta record is checked; :class:`CorruptResult` if its arrays
+        are not a run of ``config``.
+      trials_in_run: ``trials_in_run(config)``: the trials a run reports to ``on_trials``.
+      test_elsewhere: Whether a design cell may test its trained runs in another world.
+    """
+
+    name: str
+    config_type: type
+    root: str
+    libraries: tuple[str, ...]
+    format: int
+    key_prefix: str
+    run: Callable
+    arrays: Callable
+    parse: Callable
+    trials_in_run: Callable
+    test_elsewhere: bool
+
+    def from_dict(self, d: dict):
+        """The configuration of the JSON-ready ``d`` (``config_type.from_dict``)."""
+        return self.config_type.from_dict(d)
+
+    def fingerprint(self) -> str:
+        """The source fingerprint of this kind's runs (:func:`source_fingerprint`)."""
+        return source_fingerprint(root=self.root, libraries=self.libraries)
+
+    def module_digests(self, package_dir: Path | str | None = None) -> dict[str, str]:
+        """:func:`module_digests` of this kind's computation."""
+        return module_digests(package_dir, root=self.root, libraries=self.libraries)
+
+
+#: The paper's learner and its yardsticks.
+LEARNER = Runner(
+    name="learner",
+    config_type=ExperimentConfig,
+    root=_ROOT_MODULE,
+    libraries=_LIBRARIES,
+    format=FORMAT_VERSION,
+    key_prefix="",
+    # looked up when called, so that a patched run_experiment is the one run
+    run=lambda config, seed, **kwargs: run_experiment(config, seed, **kwargs),
+    arrays=result_arrays,
+    parse=_parse_learner,
+    trials_in_run=trials_in_run,
+    test_elsewhere=True,
+)
+
+#: The pixel-level bound: PPO on the same pixels.
+PPO = Runner(
+    name="ppo",
+    config_type=ppo.PPOConfig,
+    root=ppo.__name__,
+    libraries=ppo.LIBRARIES,
+    format=ppo.FORMAT_VERSION,
+    key_prefix="ppo ",
+    run=lambda config, seed, **kwargs: ppo.run_ppo(config, seed, **kwargs),
+    arrays=ppo.result_arrays,
+    parse=_parse_ppo,
+    trials_in_run=ppo.trials_in_run,
+    test_elsewhere=False,
+)
+
+#: Every kind of run, by its configuration's type.
+RUNNERS: dict[type, Runner] = {runner.config_type: runner for runner in (LEARNER, PPO)}
+_BY_NAME: dict[str, Runner] = {runner.name: runner for runner in RUNNERS.values()}
+
+
+def runner_for(config) -> Runner:
+    """The :class:`Runner` of ``config``'s kind (by its exact type); ``TypeError`` naming
+    the known configuration types for anything else."""
+    runner = RUNNERS.get(type(config))
+    if runner is None:
+        known = " or ".join(t.__name__ for t in RUNNERS)
+        raise TypeError(f"a run's configuration must be a {known}, got {config!r:.80}")
+    return runner
+
+
+def runner_named(name: str) -> Runner:
+    """The :class:`Runner` called ``name``; ``ValueError`` naming the known ones otherwise."""
+    runner = _BY_NAME.get(name) if isinstance(name, str) else None
+    if runner is None:
+        raise ValueError(f"no kind of run is called {name!r:.40}; known: {', '.join(_BY_NAME)}")
+    return runner

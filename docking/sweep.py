@@ -39,17 +39,19 @@ import uuid
 from collections.abc import Iterable, Mapping, Sequence
 from pathlib import Path
 
-from docking import ledger, paths, ppo
+from docking import ledger, paths
 from docking.experiments import ExperimentConfig, ExperimentResult
 from docking.ledger import load_run
 from docking.ppo import PPOConfig
 from docking.store import (
+    RUNNERS,
     CorruptResult,
     check_writable,
     load_result,
     result_path,
     run_key,
     run_or_load,
+    runner_for,
 )
 from docking.validate import MAX_SEED, check_instance, check_int
 
@@ -65,9 +67,10 @@ __all__ = [
 ]
 
 
-#: What a job may run: the paper's learner or a yardstick (``ExperimentConfig``), or the
-#: pixel-level bound (``docking.ppo.PPOConfig``).
-CONFIG_TYPES = (ExperimentConfig, PPOConfig)
+#: What a job may run: the configuration types of :data:`docking.store.RUNNERS`, the paper's
+#: learner or a yardstick (``ExperimentConfig``), or the pixel-level bound
+#: (``docking.ppo.PPOConfig``).
+CONFIG_TYPES = tuple(RUNNERS)
 
 
 @dataclasses.dataclass(frozen=True)
@@ -78,25 +81,17 @@ class Job:
     seed: int
 
     def __post_init__(self):
-        if not isinstance(self.config, CONFIG_TYPES):
+        try:
+            runner_for(self.config)
+        except TypeError:
             raise TypeError(
                 f"Job.config must be an ExperimentConfig or a PPOConfig, got {self.config!r:.80}"
-            )
+            ) from None
         object.__setattr__(self, "seed", check_int("Job", "seed", self.seed, lo=0))
 
 
-def _path(config, seed: int, results_dir) -> Path:
-    if isinstance(config, PPOConfig):
-        return ppo.result_path(config, seed, results_dir)
-    return result_path(config, seed, results_dir)
-
-
 def _trials(config) -> int:
-    from docking.experiments import trials_in_run
-
-    if isinstance(config, PPOConfig):
-        return ppo.trials_in_run(config)
-    return trials_in_run(config)
+    return runner_for(config).trials_in_run(config)
 
 
 def jobs_for(configs: Iterable[ExperimentConfig], seeds: Iterable[int]) -> list[Job]:
@@ -292,13 +287,12 @@ def _run_job(
     :data:`_PROGRESS_TOPIC` (in a worker)."""
     if report is not None:
         on_trials = _Reporter(report)
-    run = ppo.run_or_load if isinstance(config, PPOConfig) else run_or_load
     try:
-        run(config, seed, results_dir, force=force, progress=False, on_trials=on_trials)
+        run_or_load(config, seed, results_dir, force=force, progress=False, on_trials=on_trials)
     finally:
         if report is not None:
             on_trials.flush()
-    return str(_path(config, seed, results_dir))
+    return str(result_path(config, seed, results_dir))
 
 
 class _Reporter:
@@ -332,19 +326,13 @@ def _stored(job: Job, results_dir: Path) -> bool:
     """Whether ``job``'s run can be loaded: a valid file in the store, or the ledger's
     entry (``StaleLedger`` if the ledger holds it but was made by other code)."""
     config, seed = job.config, job.seed
-    path = _path(config, seed, results_dir)
-    is_ppo = isinstance(config, PPOConfig)
+    path = result_path(config, seed, results_dir)
     if not path.exists():
-        if ledger.holds(config, seed):
-            # StaleLedger if the ledger was made by other code: no recomputing behind it.
-            ledger.lookup_ppo(config, seed) if is_ppo else ledger.manifest()
-            return True
-        return False
+        # StaleLedger if the ledger holds it but was made by other code: no recomputing
+        # behind it.
+        return ledger.holds(config, seed, check=True)
     try:
-        if is_ppo:
-            ppo.load(path, ppo.run_key(config, seed))
-        else:
-            load_result(path, run_key(config, seed))
+        load_result(path, run_key(config, seed))
     except CorruptResult:
         return False  # the worker warns and recomputes it
     return True
@@ -477,7 +465,7 @@ def run_jobs(
     if scheduler is not None:
         _check_scheduler(scheduler)
     root = Path(results_dir if results_dir is not None else paths.results_dir()).resolve()
-    paths_ = [_path(j.config, j.seed, root) for j in jobs]
+    paths_ = [result_path(j.config, j.seed, root) for j in jobs]
     todo = [k for k, j in enumerate(jobs) if force or not _stored(j, root)]
     if todo:  # a read-only store that holds every run can still be read
         check_writable(root)

@@ -12,7 +12,6 @@ from pathlib import Path
 import numpy as np
 
 from docking import paths
-from docking.experiments import ExperimentConfig
 from docking.ledger import ledger_dir, manifest
 
 #: The paper's experiments: every run of theirs is recomputed by every ``verify``.
@@ -53,16 +52,21 @@ def _commit() -> str:
     return source_fingerprint()
 
 
+#: The kinds of run (:attr:`docking.store.Runner.name`) whose runs a sample may draw.
+SAMPLED_RUNNERS = ("learner",)
+
+
 def chosen(data: dict, sample: int | None, commit: str) -> list[str]:
     """The run keys ``verify`` recomputes: every run of :data:`PAPER_RUNS`, plus ``sample``
     others ordered by SHA-256 of the commit and the key (so each commit draws other runs);
-    ``sample=None``: every run. The learner's and the yardsticks' runs only: the pixel-level
+    ``sample=None``: every run. The runs of :data:`SAMPLED_RUNNERS` only: the pixel-level
     bound's (PPO) are recomputed by ``--all`` (:func:`verify`), as JAX's compiled CPU code may
     round differently on another CPU family, which a sample on every CI run should not
     hinge on."""
     keys = sorted(data["runs"])
     if sample is None:
         return keys
+    keys = [k for k in keys if data["runs"][k]["runner"] in SAMPLED_RUNNERS]
     paper = [k for k in keys if data["runs"][k]["name"] in PAPER_RUNS]
     others = sorted(
         (k for k in keys if k not in paper),
@@ -98,14 +102,8 @@ def platform_lines(mismatch: bool, folder: Path | str | None = None) -> list[str
 
 def _digest(job, scratch) -> str:
     """The content digest of ``job``'s recomputed run in the store ``scratch``."""
-    import json
-
-    from docking import ppo
     from docking.store import content_digest, result_path
 
-    if isinstance(job.config, ppo.PPOConfig):
-        with np.load(ppo.result_path(job.config, job.seed, scratch), allow_pickle=False) as f:
-            return json.loads(str(f["meta"]))["digest"]  # checked against its arrays on load
     with np.load(result_path(job.config, job.seed, scratch), allow_pickle=False) as f:
         return content_digest(f)
 
@@ -122,28 +120,19 @@ def verify(
     the caller decides what a mismatch means (the CLI fails)."""
     import tempfile
 
+    from docking.store import runner_named
     from docking.sweep import Job, run_jobs
 
     folder = Path(folder) if folder is not None else ledger_dir()
     data = manifest(folder)
     if data is None:
         raise FileNotFoundError(f"no ledger to verify in {folder}")
-    keys = chosen(data, sample, _commit())
-    jobs = [
-        Job(ExperimentConfig.from_dict(data["runs"][k]["config"]), data["runs"][k]["seed"])
-        for k in keys
-    ]
+    keys = chosen(data, sample, _commit())  # sample=None (--all): every runner's runs
     records = [data["runs"][k] for k in keys]
-    if sample is None:  # --all: the pixel-level bound's runs too
-        from docking.ppo import PPOConfig
-
-        ppo_runs = data.get("ppo_runs", {})
-        keys += sorted(ppo_runs)
-        records += [ppo_runs[k] for k in sorted(ppo_runs)]
-        jobs += [
-            Job(PPOConfig.from_dict(ppo_runs[k]["config"]), ppo_runs[k]["seed"])
-            for k in sorted(ppo_runs)
-        ]
+    jobs = [
+        Job(runner_named(record["runner"]).from_dict(record["config"]), record["seed"])
+        for record in records
+    ]
     with tempfile.TemporaryDirectory(prefix="docking-verify-") as scratch:
         run_jobs(
             jobs,

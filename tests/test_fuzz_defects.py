@@ -4,7 +4,6 @@ silent wrong result or a hang. Each test builds its own tiny store and ledger.""
 
 from __future__ import annotations
 
-import dataclasses
 import hashlib
 import json
 import os
@@ -19,24 +18,14 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from helpers import SEEDS, TINY
 
 from docking import ledger
 from docking.cli import main
 from docking.ledger import load_run
-from docking.presets import EXPERIMENT_1
 from docking.store import run_key, run_or_load
 from docking.sweep import jobs_for, parse_seeds, run_jobs
 
-TINY = dataclasses.replace(
-    EXPERIMENT_1,
-    name="tiny",
-    train_trials=4,
-    test_trials=6,
-    eval_every=4,
-    eval_trials=1,
-    heldout_trials=5,
-)
-SEEDS = (0, 1)
 REPO = Path(__file__).resolve().parent.parent
 TINY_ARGS = ["--train-trials", "4", "--test-trials", "3", "--eval-every", "2", "--eval-trials", "2"]
 
@@ -233,7 +222,8 @@ def test_a_tls_scheduler_without_security_is_a_clear_cli_error(
         ("[]", "holds a JSON list, not an object"),
         ("{not json", "not JSON"),
         ("", "not JSON"),
-        (lambda d: d.pop("source_fingerprint"), "no 'source_fingerprint'"),
+        (lambda d: d.pop("fingerprints"), "no 'fingerprints'"),
+        (lambda d: _record(d, 1).update(runner="nope"), "names the runner 'nope'"),
         (lambda d: d["runs"].update(k=3), "the record of run 'k' is not a JSON object"),
         (lambda d: _record(d, 1).update(seed=-1), "has the seed -1"),
         (lambda d: _record(d, 1).pop("file"), "has no 'file' string"),

@@ -12,11 +12,11 @@ import zipfile
 
 import numpy as np
 import pytest
+from helpers import SEEDS, TINY
 
 from docking import ledger, store, verify
 from docking.experiments import run_experiment
 from docking.ledger import load_run
-from docking.presets import EXPERIMENT_1
 from docking.store import (
     CorruptResult,
     StaleCode,
@@ -28,16 +28,6 @@ from docking.store import (
     save_result,
 )
 
-TINY = dataclasses.replace(
-    EXPERIMENT_1,
-    name="tiny",
-    train_trials=4,
-    test_trials=6,
-    eval_every=4,
-    eval_trials=1,
-    heldout_trials=5,
-)
-SEEDS = (0, 1)
 ROOT = os.path.dirname(os.path.dirname(store.__file__))
 
 
@@ -194,13 +184,15 @@ def test_verify_passes_on_the_ledger_and_fails_on_a_wrong_digest(built, tmp_path
 
 
 def test_verify_draws_its_sample_from_the_commit():
-    runs = {f"k{i}": {"name": "x", "seed": i} for i in range(20)}
-    runs.update({"p": {"name": "experiment2", "seed": 0}})
+    runs = {f"k{i}": {"runner": "learner", "name": "x", "seed": i} for i in range(20)}
+    runs.update({"p": {"runner": "learner", "name": "experiment2", "seed": 0}})
+    runs.update({"q": {"runner": "ppo", "name": "ppo", "seed": 0}})  # only in --all
     data = {"runs": runs}
     a, b = verify.chosen(data, 3, "commit-a"), verify.chosen(data, 3, "commit-b")
     assert a[0] == b[0] == "p" and len(a) == len(b) == 4
     assert a != b and a == verify.chosen(data, 3, "commit-a")
-    assert len(verify.chosen(data, None, "c")) == 21
+    assert "q" not in verify.chosen(data, 30, "c")
+    assert len(verify.chosen(data, None, "c")) == 22
 
 
 def _copied_package(tmp_path):

@@ -1,4 +1,5 @@
-"""The pixel-level bound (docking.ppo): its configuration, key, storage and streams."""
+"""The pixel-level bound (docking.ppo): its configuration, key, storage (the one store,
+docking.store, through its runner "ppo") and streams."""
 
 from __future__ import annotations
 
@@ -7,18 +8,18 @@ import dataclasses
 import numpy as np
 import pytest
 
-from docking.ppo import (
-    PPOConfig,
-    fingerprint,
-    load,
+from docking.ppo import PPOConfig, trials_in_run
+from docking.presets import EXPERIMENT_2
+from docking.store import (
+    PPO,
+    CorruptResult,
     result_path,
     run_key,
     run_or_load,
-    save,
-    trials_in_run,
+    source_fingerprint,
 )
-from docking.presets import EXPERIMENT_2
-from docking.store import CorruptResult, source_fingerprint
+from docking.store import load_result as load
+from docking.store import save_result as save
 
 TINY = PPOConfig(name="ppo-test", world=EXPERIMENT_2.world, steps=64, envs=2, heldout_trials=3)
 
@@ -49,7 +50,7 @@ def test_configuration_round_trips_and_refuses_unknown_fields():
 
 
 def test_key_covers_its_own_code_and_libraries():
-    assert fingerprint() != source_fingerprint()
+    assert PPO.fingerprint() != source_fingerprint()
     assert run_key(TINY, 0) != run_key(TINY, 1)
     assert run_key(TINY, 0) != run_key(dataclasses.replace(TINY, steps=66), 0)
 
@@ -149,7 +150,10 @@ def test_the_ledger_serves_a_ppo_run_and_refuses_one_of_other_code(tiny_run, tmp
     keep = ledger.read_trace(trace.read_text().splitlines())
     assert keep[run_key(TINY, 0)]["ppo"]
     data = ledger.update(keep, tmp_path / "ledger")
-    assert set(data["ppo_runs"]) == {run_key(TINY, 0)} and not data["runs"]
+    assert set(data["runs"]) == {run_key(TINY, 0)}
+    assert data["runs"][run_key(TINY, 0)]["runner"] == "ppo" and set(data["fingerprints"]) == {
+        "ppo"
+    }
     from docking.verify import verify
 
     (check,) = verify(None, workers=1, progress=False, folder=tmp_path / "ledger")
@@ -167,7 +171,7 @@ def test_the_ledger_serves_a_ppo_run_and_refuses_one_of_other_code(tiny_run, tmp
     assert again.heldout_success == stored.heldout_success
     manifest = tmp_path / "ledger" / "manifest.json"
     raw = json.loads(manifest.read_text())
-    raw["ppo_fingerprint"] = "0" * 64  # as if docking.ppo had changed since
+    raw["fingerprints"]["ppo"] = "0" * 64  # as if docking.ppo had changed since
     manifest.write_text(json.dumps(raw))
-    with pytest.raises(ledger.StaleLedger, match="PPO runs of other code"):
+    with pytest.raises(ledger.StaleLedger, match="ppo runs computed by other code"):
         ledger.load_run(TINY, 0, tmp_path / "empty-store")

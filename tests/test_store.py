@@ -173,7 +173,7 @@ def test_a_code_change_in_trial_py_changes_the_fingerprint(tmp_path):
 def test_a_code_change_invalidates_the_cache(stored, reference, monkeypatch):
     results_dir, path = stored
     assert run_or_load(TINY, SEED, results_dir=results_dir, progress=False)  # loads
-    monkeypatch.setattr(store, "source_fingerprint", lambda package_dir=None: "other code")
+    monkeypatch.setattr(store, "source_fingerprint", lambda package_dir=None, **_: "other code")
     new_path = result_path(TINY, SEED, results_dir)
     assert new_path != path  # another key: the old file is never returned for the new code
     calls = []

@@ -1,0 +1,175 @@
+"""One kind of run (issue point 4): every run, the learner's or PPO's, goes through one
+registry of runners (docking.store.runner_for), one store and one ledger."""
+
+from __future__ import annotations
+
+import json
+import re
+from pathlib import Path
+
+import numpy as np
+import pytest
+from helpers import TINY
+
+from docking import ledger, store
+from docking.experiments import TrialLog, run_experiment
+from docking.ledger import load_run
+from docking.ppo import PPOConfig, PPOResult
+from docking.presets import EXPERIMENT_2
+
+PPO_TINY = PPOConfig(name="ppo-tiny", world=EXPERIMENT_2.world, steps=64, envs=2, heldout_trials=2)
+PACKAGE = Path(store.__file__).resolve().parent
+
+
+def _ppo_result(seed: int = 0) -> PPOResult:
+    """A PPO run built by hand (a real one needs JAX and minutes): two training episodes and
+    two held-out trials of 2 and 1 actions."""
+    heldout = TrialLog(
+        success=np.array([True, False]),
+        steps=np.array([2, 1], dtype=np.int64),
+        start_far=np.array([1.5, 1.5]),
+        poses=np.arange(15, dtype=np.float64).reshape(5, 3) / 10,
+        actions=np.array([0, 1, 2], dtype=np.int64),
+        winners=np.full(3, -1, dtype=np.int64),
+        deltas=np.zeros(3),
+    )
+    return PPOResult(
+        config=PPO_TINY,
+        seed=seed,
+        train_success=np.array([False, True]),
+        train_steps=np.array([25, 7], dtype=np.int64),
+        heldout=heldout,
+        wall_time_train=1.5,
+        wall_time_test=0.5,
+    )
+
+
+def test_an_unknown_configuration_type_is_a_clear_type_error():
+    with pytest.raises(TypeError, match="ExperimentConfig or PPOConfig, got"):
+        store.runner_for({"name": "not a config"})
+    with pytest.raises(TypeError, match="ExperimentConfig or PPOConfig"):
+        store.run_key(TINY.to_dict(), 0)
+    assert store.runner_for(TINY) is store.LEARNER and store.runner_for(PPO_TINY) is store.PPO
+    with pytest.raises(ValueError, match="no kind of run is called 'nope'"):
+        store.runner_named("nope")
+
+
+def test_no_code_path_is_chosen_by_isinstance_on_the_kind_of_run():
+    """The kind of run is looked up (runner_for), never tested with isinstance."""
+    kinds = re.compile(r"isinstance\(.*(PPOConfig|ExperimentConfig|CONFIG_TYPES|PPOResult)")
+    found = [
+        f"{path.name}:{number}: {line.strip()}"
+        for path in sorted(PACKAGE.glob("*.py"))
+        for number, line in enumerate(path.read_text().splitlines(), 1)
+        if "isinstance" in line and kinds.search(line)
+    ]
+    assert found == []
+
+
+def _assert_same(a, b):
+    for name, array in store.runner_for(a.config).arrays(a).items():
+        np.testing.assert_array_equal(array, store.runner_for(b.config).arrays(b)[name])
+        assert array.dtype == store.runner_for(b.config).arrays(b)[name].dtype
+
+
+def test_both_kinds_round_trip_through_the_one_store(tmp_path):
+    learner = run_experiment(TINY, 0, progress=False)
+    for result in (learner, _ppo_result()):
+        config = result.config
+        path = store.result_path(config, 0, tmp_path)
+        assert path == tmp_path / config.name / store.run_key(config, 0)[:16] / "seed0.npz"
+        store.save_result(result, path)
+        loaded = store.load_result(path, store.run_key(config, 0))
+        assert type(loaded) is type(result) and loaded.config == config
+        _assert_same(loaded, result)
+        assert (path.parent / "config.json").exists()
+        with np.load(path) as data:
+            meta = json.loads(str(data["meta"]))
+            assert meta["runner"] == store.runner_for(config).name
+            assert meta["digest"] == store.content_digest(data)
+        with pytest.raises(store.CorruptResult, match="not the run asked for"):
+            store.load_result(path, store.run_key(config, 1))  # the key check
+        raw = dict(np.load(path))
+        name = next(n for n in raw if n != "meta" and raw[n].size and raw[n].dtype.kind == "i")
+        raw[name] = raw[name] + 1  # arrays edited behind the meta record's back
+        np.savez(tmp_path / "t.npz", **raw)
+        with pytest.raises(store.CorruptResult):
+            store.load_result(tmp_path / "t.npz", store.run_key(config, 0))
+    # the keys of the two kinds never meet
+    assert store.run_key(TINY, 0) != store.run_key(PPO_TINY, 0)
+
+
+def test_a_stored_ppo_run_is_loaded_not_recomputed(tmp_path, monkeypatch):
+    result = _ppo_result(3)
+    store.save_result(result, store.result_path(PPO_TINY, 3, tmp_path))
+    monkeypatch.setattr("docking.ppo.run_ppo", lambda *a, **k: pytest.fail("recomputed"))
+    _assert_same(store.run_or_load(PPO_TINY, 3, tmp_path, progress=False), result)
+
+
+@pytest.fixture(scope="module")
+def both(tmp_path_factory):
+    """A store of a learner's run and a PPO run, both read under tracing, and the ledger
+    written from that trace."""
+    base = tmp_path_factory.mktemp("both")
+    results, trace, folder = base / "results", base / "trace.jsonl", base / "ledger"
+    with pytest.MonkeyPatch.context() as mp:
+        mp.setenv("DOCKING_TRACE", str(trace))
+        mp.setenv("DOCKING_LEDGER", "off")
+        ledger._NOTED.clear()
+        learner = store.run_or_load(TINY, 0, results, progress=False)
+        ppo_run = _ppo_result()
+        store.save_result(ppo_run, store.result_path(PPO_TINY, 0, results))
+        load_run(TINY, 0, results).test.success  # noqa: B018 (traced: read)
+        load_run(PPO_TINY, 0, results)
+    keep = ledger.read_trace(trace.read_text().splitlines())
+    data = ledger.update(keep, folder)
+    return folder, data, learner, ppo_run
+
+
+def test_the_ledger_holds_both_kinds_in_one_table(both, monkeypatch, tmp_path):
+    folder, data, learner, ppo_run = both
+    keys = {"learner": store.run_key(TINY, 0), "ppo": store.run_key(PPO_TINY, 0)}
+    assert set(data["runs"]) == set(keys.values()) and "ppo_runs" not in data
+    assert {data["runs"][k]["runner"] for k in keys.values()} == set(keys)
+    assert data["fingerprints"] == {n: store.runner_named(n).fingerprint() for n in keys}
+    assert (
+        "docking.ppo" in data["modules"]["ppo"] and "docking.ppo" not in data["modules"]["learner"]
+    )
+    monkeypatch.setenv("DOCKING_LEDGER", str(folder))
+    empty = tmp_path / "empty-store"
+    served = load_run(TINY, 0, empty)
+    np.testing.assert_array_equal(served.test.success, learner.test.success)
+    served = load_run(PPO_TINY, 0, empty)
+    assert isinstance(served, PPOResult) and served.wall_time_train == 1.5
+    np.testing.assert_array_equal(served.train_steps, ppo_run.train_steps)
+    np.testing.assert_array_equal(served.heldout.success, ppo_run.heldout.success)
+    with pytest.raises(ledger.NotInLedger, match="poses"):
+        served.heldout.trial_poses(0)
+    assert ledger.holds(PPO_TINY, 0, check=True) and not ledger.holds(PPO_TINY, 1)
+
+
+@pytest.mark.parametrize(
+    ("stale", "module", "config", "fresh"),
+    [("ppo", "docking.ppo", PPO_TINY, TINY), ("learner", "docking.network", TINY, PPO_TINY)],
+)
+def test_a_stale_run_names_the_changed_modules_of_its_runner(
+    both, monkeypatch, tmp_path, stale, module, config, fresh
+):
+    folder, *_ = both
+    copy = tmp_path / "ledger"
+    import shutil
+
+    shutil.copytree(folder, copy)
+    data = json.loads((copy / "manifest.json").read_text())
+    data["fingerprints"][stale] = "0" * 64  # as if that runner's code had changed since
+    data["modules"][stale][module] = "0" * 64
+    (copy / "manifest.json").write_text(json.dumps(data))
+    ledger._read_manifest.cache_clear()
+    monkeypatch.setenv("DOCKING_LEDGER", str(copy))
+    with pytest.raises(ledger.StaleLedger, match=rf"{stale} runs computed by other code.*{module}"):
+        load_run(config, 0, tmp_path / "empty-store")
+    with pytest.raises(ledger.StaleLedger, match=module):
+        ledger.holds(config, 0, check=True)
+    assert load_run(fresh, 0, tmp_path / "empty-store").seed == 0  # the other runner's: served
+    with pytest.raises(ledger.StaleLedger, match=module):
+        ledger.manifest(copy)  # the ledger as a whole holds a stale run
