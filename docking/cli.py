@@ -323,8 +323,8 @@ class Report:
     results_dir: _ResultsDir = None
     """The results store."""
     study: bool = False
-    """Also the table of the study's first edition (archived, notebook 05; runs it if it is not
-    stored), into the README between <!-- study:start --> and <!-- study:end -->."""
+    """Also print the table of the study's first edition (archived, notebook 05; runs it if it
+    is not stored). Superseded by the second edition, it is not written into the README."""
     experiment3: bool = False
     """Also the table of Experiment 3 (notebook 06; runs it if it is not stored, and the
     oracle in every cell), into the README between <!-- experiment3:start --> and
@@ -346,7 +346,7 @@ class Report:
 
         if not self.compute:
             _refuse_to_compute(self.study, self.experiment3, self.second_edition, self.results_dir)
-        from docking.report import STUDY_END, STUDY_START, results_table, update_readme
+        from docking.report import results_table, update_readme
         from docking.sweep import run_seeds
 
         results = [
@@ -377,10 +377,8 @@ class Report:
         table = results_table(*results, heldout, step8)
         print(table)
         changed = self.readme is not None and update_readme(self.readme, table)
-        if verdicts is not None:
+        if verdicts is not None:  # superseded by the second edition: printed, not in the README
             print(verdicts)
-            if self.readme is not None:
-                changed |= update_readme(self.readme, verdicts, STUDY_START, STUDY_END)
         if self.experiment3:
             from docking.designs import experiment3
             from docking.report import EXPERIMENT3_END, EXPERIMENT3_START

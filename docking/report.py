@@ -357,9 +357,6 @@ def results_table(
 SECOND_EDITION_START = "<!-- second-edition:start -->"
 SECOND_EDITION_END = "<!-- second-edition:end -->"
 
-#: The markers of the README's table of verdicts (notebook 05).
-STUDY_START = "<!-- study:start -->"
-STUDY_END = "<!-- study:end -->"
 
 #: The markers of the README's table of Experiment 3 (notebook 06).
 EXPERIMENT3_START = "<!-- experiment3:start -->"
