@@ -145,12 +145,14 @@ class Run:
 
     def execute(self) -> int:
         from docking.ledger import load_run
-        from docking.sweep import jobs_for, run_jobs
+        from docking.sweep import jobs_for, run_jobs, source
 
         config = self.experiment
         seeds = _seeds_of(config, self.seeds)
+        jobs = jobs_for([config], seeds)
+        sources = ["computed" if self.force else source(j, self.results_dir) for j in jobs]
         paths = run_jobs(
-            jobs_for([config], seeds),
+            jobs,
             self.results_dir,
             scheduler=self.scheduler,
             workers=self.processes,
@@ -159,8 +161,39 @@ class Run:
         )
         results = [load_run(config, s, self.results_dir) for s in seeds]
         print(f"{config.name}: {_summary(results)}")
-        print(f"stored in {paths[0].parent}")
+        print(_sources_text(seeds, sources, paths[0].parent))
         return 0
+
+
+def _sources_text(seeds, sources, folder) -> str:
+    """Where each seed's run came from, in one or two lines (the store's folder named only
+    where a run is in it)."""
+    from docking.ledger import ledger_dir
+
+    where = {
+        "computed": f"computed now and stored in {folder}",
+        "store": f"loaded from the results store, {folder}",
+        "ledger": f"read from the committed ledger, {ledger_dir()} (checked against its "
+        "digest; nothing computed)",
+    }
+    lines = []
+    for kind in ("ledger", "store", "computed"):
+        mine = [s for s, k in zip(seeds, sources, strict=True) if k == kind]
+        if mine:
+            lines.append(f"seeds {_seed_text(mine)}: {where[kind]}")
+    return "\n".join(lines)
+
+
+def _seed_text(seeds) -> str:
+    """``0-4, 7`` for ``[0, 1, 2, 3, 4, 7]``."""
+    parts, start = [], None
+    for i, s in enumerate(seeds):
+        if start is None:
+            start = s
+        if i + 1 == len(seeds) or seeds[i + 1] != s + 1:
+            parts.append(str(start) if start == s else f"{start}-{s}")
+            start = None
+    return ", ".join(parts)
 
 
 @dataclasses.dataclass

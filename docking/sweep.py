@@ -322,6 +322,15 @@ def missing(jobs: Iterable[Job], results_dir: Path | str | None = None) -> list[
     return [j for j in jobs if not _stored(j, root)]
 
 
+def source(job: Job, results_dir: Path | str | None = None) -> str:
+    """Where a sweep would take ``job``'s run from: ``"store"`` (a valid file in the results
+    store), ``"ledger"`` (the committed ledger's entry) or ``"computed"`` (neither holds it)."""
+    root = Path(results_dir) if results_dir is not None else paths.results_dir()
+    if result_path(job.config, job.seed, root).exists() and _stored(job, root):
+        return "store"
+    return "ledger" if _stored(job, root) else "computed"
+
+
 def _stored(job: Job, results_dir: Path) -> bool:
     """Whether ``job``'s run can be loaded: a valid file in the store, or the ledger's
     entry (``StaleLedger`` if the ledger holds it but was made by other code)."""

@@ -155,9 +155,13 @@ def test_run_stores_runs_and_loads_them_again(tmp_path):
     files = sorted((tmp_path / "results").rglob("seed*.npz"))
     assert [f.name for f in files] == ["seed0.npz", "seed1.npz"]
     assert "experiment1, 2 seeds" not in out.stderr  # no bar when stderr is not a terminal
+    store = files[0].parent
+    assert out.stdout.splitlines()[-1] == f"seeds 0-1: computed now and stored in {store}"
     mtimes = [f.stat().st_mtime_ns for f in files]
     again = _cli([*args, "--network.eps-w", "0"], tmp_path)
-    assert again.returncode == 0 and again.stdout == out.stdout
+    assert again.returncode == 0
+    assert again.stdout.splitlines()[0] == out.stdout.splitlines()[0]  # the same runs
+    assert again.stdout.splitlines()[-1] == f"seeds 0-1: loaded from the results store, {store}"
     assert [f.stat().st_mtime_ns for f in files] == mtimes  # loaded, not recomputed
     # On a terminal the bar counts trials: a new seed shows its trials as they finish.
     status, stdout, terminal = _cli_on_a_terminal(
@@ -165,6 +169,19 @@ def test_run_stores_runs_and_loads_them_again(tmp_path):
     )
     assert status == 0, terminal
     assert "experiment1, 1 seeds" in terminal and "trial" in terminal and "runs 1/1" in terminal
+
+
+def test_run_says_a_run_came_from_the_ledger(tmp_path, monkeypatch):
+    # The committed ledger holds the paper's Experiment 1: nothing is computed or stored, and
+    # the output says where the runs came from (it named an empty store folder before).
+    monkeypatch.setenv("DOCKING_LEDGER", str(REPO / "ledger"))
+    out = _cli(["run", "experiment1", "--seeds", "0,1,3"], tmp_path)
+    assert out.returncode == 0, out.stderr
+    assert out.stdout.splitlines()[-1] == (
+        f"seeds 0-1, 3: read from the committed ledger, {REPO / 'ledger'} (checked against its "
+        "digest; nothing computed)"
+    )
+    assert not list((tmp_path / "results").rglob("*.npz"))
 
 
 @pytest.mark.slow
