@@ -38,7 +38,8 @@ class CameraConfig:
     """Intrinsics of the robot's head camera and the observation pipeline.
 
     Attributes:
-      width, height: Rendered frame size in pixels (4:3 like Nao's camera).
+      width: Rendered frame width in pixels (160 x 120 is 4:3, like Nao's camera).
+      height: Rendered frame height in pixels.
       fovy_deg: Vertical field of view; Nao's top camera has 47.6 deg (horizontal 60.9 deg
         follows from the aspect ratio).
       tilt_deg: Downward pitch of the optical axis.
@@ -46,7 +47,8 @@ class CameraConfig:
         rectangle of Fig. 2B.
       input_shape: (rows, cols) of the network input: 32x10 pixels (Sec. II-A).
       hue_tol: Half-width of the accepted hue band around red, in OpenCV hue units (0..180).
-      min_saturation, min_value: Lower bounds of saturation and value (0..255) for a red pixel.
+      min_saturation: Lower bound of a red pixel's saturation (0..255).
+      min_value: Lower bound of a red pixel's value, its brightness (0..255).
     """
 
     width: int = 160

@@ -6,7 +6,10 @@ differs between Python versions, the tokens of one source do not (3.12's split f
 are joined back into one). Left out of the tokens:
 
 * comments, blank lines and indentation widths (indentation is kept as its structure);
-* docstrings;
+* docstrings, and every other statement that is only a string (a field's docstring,
+  which the command line shows as the option's help), each with its line, so that adding
+  one moves nothing either;
+* type annotations (of fields, arguments and returns) and what an ``assert`` says;
 * what a ``raise`` statement says: it is kept as ``raise`` and the exception's name, so a
   reworded error message re-keys nothing (a raise ends a run; it computes no array);
 * the definitions named in :data:`UNKEYED`: validation, parsing, serialisation and display,
@@ -73,6 +76,13 @@ def _char_col(lines: list[str], lineno: int, byte_col: int) -> int:
     return len(lines[lineno - 1].encode("utf-8")[:byte_col].decode("utf-8", "replace"))
 
 
+#: The replacement of a left-out statement that goes with its whole line.
+_WHOLE_LINE = "<whole line>"
+#: The replacement of an argument's or a return's type hint, which goes with its ":" or "->"
+#: (a field's annotation keeps its ":": without one, a dataclass has no field).
+_HINT = "<hint>"
+
+
 def _spans(source: str, module: str) -> tuple[list, set[str]]:
     """``([(start, end, replacement)], {docking modules imported by the kept code})``:
     the regions of ``source`` the fingerprint leaves out (see the module docstring)."""
@@ -91,22 +101,31 @@ def _spans(source: str, module: str) -> tuple[list, set[str]]:
     package = module.rpartition(".")[0]
 
     def visit(node, prefix: str) -> None:
-        body = getattr(node, "body", None)
-        if (
-            isinstance(node, (ast.Module, ast.ClassDef, ast.FunctionDef, ast.AsyncFunctionDef))
-            and body
-            and isinstance(body[0], ast.Expr)
-            and isinstance(body[0].value, ast.Constant)
-            and isinstance(body[0].value.value, str)
-        ):
-            span(body[0])  # the docstring
         for child in ast.iter_child_nodes(node):
-            if isinstance(child, (ast.FunctionDef, ast.AsyncFunctionDef, ast.ClassDef)):
+            if (
+                isinstance(child, ast.Expr)
+                and isinstance(child.value, ast.Constant)
+                and isinstance(child.value.value, str)
+            ):
+                # a docstring, or a field's: a statement that is only a string computes
+                # nothing; it goes with its line, so that adding one moves nothing either
+                span(child, replacement=_WHOLE_LINE)
+            elif isinstance(child, ast.AnnAssign):  # a field: its name and value, not its type
+                span(child.annotation)
+                visit(child, prefix)
+            elif isinstance(child, ast.arg) and child.annotation is not None:
+                span(child.annotation, replacement=_HINT)  # with its ":"
+            elif isinstance(child, ast.Assert) and child.msg is not None:
+                span(child.msg)  # what an assert says, like what a raise says
+                visit(child.test, prefix)
+            elif isinstance(child, (ast.FunctionDef, ast.AsyncFunctionDef, ast.ClassDef)):
                 name = f"{prefix}{child.name}"
                 if name in unkeyed:
                     first = child.decorator_list[0] if child.decorator_list else child
                     span(child, first)
                     continue
+                if getattr(child, "returns", None) is not None:
+                    span(child.returns, replacement=_HINT)  # the return type, with its "->"
                 visit(child, f"{name}.")
             elif isinstance(child, ast.Raise):
                 exc = child.exc.func if isinstance(child.exc, ast.Call) else child.exc
@@ -146,10 +165,18 @@ def code_tokens(source: str, module: str = "") -> tuple[str, set[str]]:
             inside = None  # the dedent before a left-out definition belongs to the code above
         if inside is not None:
             start, end, replacement = inside
-            if replacement:
+            if replacement is _HINT:
+                if out and out[-1] in (":", "->"):
+                    out.pop()
+            elif replacement and replacement is not _WHOLE_LINE:
                 out.append(replacement)
             while k < len(tokens) and tokens[k].start < end:
                 k += 1
+            if replacement is _WHOLE_LINE:  # and the rest of its line, up to its NEWLINE
+                while k < len(tokens) and tokens[k].type in (tokenize.COMMENT, tokenize.NL):
+                    k += 1
+                if k < len(tokens) and tokens[k].type == tokenize.NEWLINE:
+                    k += 1
             continue
         kind = tok.type
         if kind in (tokenize.COMMENT, tokenize.NL, tokenize.ENCODING, tokenize.ENDMARKER):

@@ -133,8 +133,9 @@ class WorldConfig:
       step_noise_yaw_deg: Std. of the heading error of each step (deg). The paper names
         uncorrected rotation from Webots' movement noise as its main cause of failure.
       max_steps: At most this many actions per trial (paper: 25).
-      start_near, start_far: The start trapezoid spans these distances of the robot's
-        reference point from the landmark's front plane (m). Experiment 2 ends at 1.5 m.
+      start_near: The start trapezoid's nearest distance of the robot's reference point from
+        the landmark's front plane (m).
+      start_far: The start trapezoid's farthest such distance (m); Experiment 2 ends at 1.5 m.
       start_half_angle_deg: Half the opening angle of the start trapezoid, a wedge with its
         apex at the landmark, cut at start_near and start_far
         (StartRegion, which DockingEnv samples from).

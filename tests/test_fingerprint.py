@@ -80,6 +80,10 @@ def test_messages_docstrings_comments_validation_and_parsing_leave_the_key_alone
     _edit(package / "experiments.py", "fields = _fields(", "fields = dict(d) and _fields(")
     _edit(package / "trial.py", '"""', '""" Reworded. ')
     _edit(package / "trial.py", "# Eq. (6)", "# Eq. (6), the TD error")
+    # a field's docstring (the command line's help for its option), added where none was
+    _edit(
+        package / "camera.py", "    width: int = 160\n", '    width: int = 160\n    """Pixels."""\n'
+    )
     assert source_fingerprint(package) == before
 
 
@@ -120,3 +124,27 @@ def test_a_raise_is_kept_as_its_exception():
     assert "raise ValueError" in tokens and "{x}" not in tokens
     other, _ = fingerprint.code_tokens("def f(x):\n    if x:\n        raise TypeError('no')\n")
     assert other != tokens
+
+
+def test_added_docstrings_type_hints_and_assert_messages_leave_the_key_alone(tmp_path):
+    package = _copy_package(tmp_path)
+    before = source_fingerprint(package)
+    # a field's docstring (the command line's help for its option), added where none was
+    _edit(
+        package / "camera.py", "    width: int = 160\n", '    width: int = 160\n    """Pixels."""\n'
+    )
+    # a function's type hints dropped
+    _edit(package / "arith.py", "def exp(x: np.ndarray) -> np.ndarray:", "def exp(x):")
+    assert source_fingerprint(package) == before
+    # a new function is code; its docstring, hints and assert message are not
+    code = "\n\ndef _f(a: int) -> int:\n    assert a == a, 'a message'\n    return a\n"
+    (package / "trial.py").write_text((package / "trial.py").read_text() + code)
+    with_function = source_fingerprint(package)
+    assert with_function != before
+    _edit(
+        package / "trial.py",
+        "def _f(a: int) -> int:",
+        'def _f(a: "float") -> float:\n    """Added."""',
+    )
+    _edit(package / "trial.py", "'a message'", "'reworded'")
+    assert source_fingerprint(package) == with_function
