@@ -101,13 +101,38 @@ def _cli_on_a_terminal(args, tmp_path, timeout=300):
 )
 def test_help_prints_usage_and_starts_nothing(args, tmp_path):
     start = time.monotonic()
-    out = _cli([*args, "--help"], tmp_path, timeout=60)
+    out = _cli([*args, "--help"], tmp_path, timeout=60, columns=90)  # one column of options
     elapsed = time.monotonic() - start
     assert out.returncode == 0, out.stderr
     assert "usage:" in out.stdout
     assert not (tmp_path / "results").exists() and not (tmp_path / "figures").exists()
     assert list(tmp_path.iterdir()) == []
     assert elapsed < 20, f"--help took {elapsed:.1f} s"
+    assert _options_without_help(out.stdout) == []
+
+
+def _options_without_help(text: str) -> list[str]:
+    """The options of a tyro help text whose description (after the option on its line, or
+    on the next line) is missing: another option, the panel's end, or only the default."""
+    # an option starts one space inside the panel, its wrapped description further in
+    raw = [line.removeprefix("│").rstrip("│ ") for line in text.splitlines()]
+    lines = [line.strip() for line in raw]
+    missing = []
+    for k, (line, after) in enumerate(zip(lines, lines[1:] + [""], strict=True)):
+        if not (line.startswith("-") and raw[k].startswith(" -")):
+            continue
+        signature, _, same_line = line.partition("  ")
+        described = same_line.strip() or after
+        is_option = not same_line.strip() and k + 1 < len(raw) and raw[k + 1].startswith(" -")
+        if not described or is_option or described.startswith(("╰", "╭", "(default")):
+            missing.append(signature.split()[0].rstrip(","))
+    return missing
+
+
+def test_the_help_check_finds_an_option_without_help():
+    text = "╭─ options ─╮\n│ --a INT │\n│   Says. (default: 1) │\n│ --b INT │\n│   (default: 2) │\n"
+    text += "│ -h, --help    show this │\n│ --d INT       (default: 3) │\n"
+    assert _options_without_help(text + "│ --c INT │\n╰──╯\n") == ["--b", "--d", "--c"]
 
 
 @pytest.mark.slow
