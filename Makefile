@@ -66,7 +66,8 @@ test: check notebooks
 	$(PY) -m docking verify --sample 3
 
 # The documentation site in build/site (open build/site/index.html): the README, the
-# executed notebooks (make test writes their outputs), CONTRIBUTING, the API reference.
+# executed notebooks (make test writes their outputs; docs/build.py executes, from the ledger,
+# any that has none or is older than its source), CONTRIBUTING, the API reference.
 docs: setup
 	NO_MKDOCS_2_WARNING=1 $(PY) docs/build.py
 
