@@ -119,7 +119,11 @@ def prepare() -> Path:
     (SOURCE / "mathjax-config.js").write_text(
         "window.MathJax = {tex2jax: {inlineMath: [['$', '$'], ['\\\\(', '\\\\)']],"
         " displayMath: [['$$', '$$'], ['\\\\[', '\\\\]']], processEscapes: true},"
-        " 'HTML-CSS': {availableFonts: ['TeX']}};\n"
+        # the bundle (jupyter_server_mathjax) carries STIX-Web's font data only: with TeX's
+        # asked for, a glyph such as v' fetched TeX's fontdata.js, which is not there, and
+        # showed "[Math Processing Error]"
+        " 'HTML-CSS': {availableFonts: ['STIX-Web'], preferredFont: 'STIX-Web',"
+        " webFont: 'STIX-Web', imageFont: null}};\n"
     )
     return SOURCE
 

@@ -6,6 +6,7 @@ resolves. Run by ``make test`` after ``make docs`` (``pytest -m docs``)."""
 from __future__ import annotations
 
 import shutil
+from collections import Counter
 from pathlib import Path
 from urllib.parse import unquote, urlparse
 
@@ -38,6 +39,27 @@ def _has_tex(name: str) -> bool:
     source = SITE.parent / "site-src" / "notebooks" / name.replace(".html", ".ipynb")
     cells = json.loads(source.read_text())["cells"]
     return any("$" in "".join(c["source"]) for c in cells if c["cell_type"] == "markdown")
+
+
+def _equations(name: str) -> Counter:
+    """The equations (``$$...$$`` and ``$...$``, their TeX stripped) of the notebook's
+    markdown cells and markdown outputs, outside code spans and fences."""
+    import json
+    import re
+
+    source = SITE.parent / "site-src" / "notebooks" / name.replace(".html", ".ipynb")
+    cells = json.loads(source.read_text())["cells"]
+    parts = ["".join(c["source"]) for c in cells if c["cell_type"] == "markdown"]
+    for cell in cells:
+        for output in cell.get("outputs", []):
+            parts.append("".join(output.get("data", {}).get("text/markdown", "")))
+    text = "\n".join(parts)
+    text = re.sub(r"```.*?```", "", text, flags=re.S)
+    text = re.sub(r"`[^`]*`", "", text).replace(r"\$", "")
+    found = re.findall(r"\$\$(.+?)\$\$", text, flags=re.S)
+    text = re.sub(r"\$\$.+?\$\$", "", text, flags=re.S)
+    found += re.findall(r"\$([^$]+?)\$", text)
+    return Counter(tex.strip() for tex in found)
 
 
 def _open(browser, page_path: Path):
@@ -82,8 +104,22 @@ def test_a_notebook_page_shows_its_figures_and_renders_its_equations(browser, na
             ".map(e => e.innerText).join('\\n')"
         )
         math = page.locator(".MathJax, .MathJax_Display").count()
+        typeset = Counter(
+            tex.strip()
+            for tex in page.evaluate(
+                "Array.from(document.querySelectorAll('script[type^=\"math/tex\"]'))"
+                ".map(s => s.textContent)"
+            )
+        )
+        errors = page.evaluate(
+            "document.body.innerText.split('Math Processing Error').length - 1"
+            " + document.querySelectorAll('.merror, .MathJax_Error').length"
+        )
     finally:
         page.close()
+    assert errors == 0, f"{name}: {errors} equations MathJax could not render"
+    untypeset = _equations(name) - typeset  # each equation of the text is a typeset element
+    assert not untypeset, f"{name}: equations not typeset: {list(untypeset)[:5]}"
     assert "$$" not in prose, "an equation left as raw TeX"
     if _has_tex(name):
         assert math > 0, "equations in the notebook's text, none rendered"
