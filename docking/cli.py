@@ -358,7 +358,7 @@ class Report:
     study: bool = False
     """Also print the table of the study's first edition (archived, notebook 05; runs it if it
     is not stored). Superseded by the second edition, it is not written into the README."""
-    experiment3: bool = False
+    experiment3: bool = True
     """Also the table of Experiment 3 (notebook 06; runs it if it is not stored, and the
     oracle in every cell), into the README between <!-- experiment3:start --> and
     <!-- experiment3:end -->."""
