@@ -59,8 +59,8 @@ from pathlib import Path
 
 import numpy as np
 
-from docking import paths, ppo
-from docking.experiments import ExperimentConfig, ExperimentResult, TrialLog
+from docking import paths, ppo, store
+from docking.experiments import ExperimentConfig, ExperimentResult, TrialLog, initial_network
 from docking.fileio import atomic_write
 from docking.network import Network
 from docking.ppo import PPOConfig
@@ -210,8 +210,6 @@ def _read_manifest(path: Path, _mtime: int) -> dict:
     indexes by (configuration, seed) added; :class:`CorruptLedger` naming the file and what
     is wrong if it is not a manifest of this ledger format (one of another format is read as
     far as it can be: :func:`_check` refuses it, naming its format)."""
-    from docking.store import FORMAT_VERSION
-
     try:
         data = json.loads(path.read_text())
     except (ValueError, UnicodeDecodeError) as exc:
@@ -220,7 +218,7 @@ def _read_manifest(path: Path, _mtime: int) -> dict:
         raise _not_a_manifest(path, f"it holds a JSON {type(data).__name__}, not an object")
     if "format" not in data:
         raise _not_a_manifest(path, "it has no 'format'")
-    ours = data.get("format") == LEDGER_FORMAT and data.get("store_format") == FORMAT_VERSION
+    ours = data.get("format") == LEDGER_FORMAT and data.get("store_format") == store.FORMAT_VERSION
     if ours:
         _check_manifest(path, data)
     configs = data.get("configs", {}) if isinstance(data.get("configs"), dict) else {}
@@ -318,12 +316,11 @@ def _check(folder: Path, data: dict, runners: Iterable[Runner] | None = None) ->
     """:class:`StaleLedger` unless ``data``'s runs of ``runners`` (default: of every runner
     the ledger holds runs of) were computed by this code; a warning (once) if by another
     rendering stack."""
-    from docking.store import FORMAT_VERSION, rendering_stack
-
-    if data.get("format") != LEDGER_FORMAT or data.get("store_format") != FORMAT_VERSION:
+    if data.get("format") != LEDGER_FORMAT or data.get("store_format") != store.FORMAT_VERSION:
         raise StaleLedger(
             f"the ledger in {folder} has format {data.get('format')}/{data.get('store_format')}"
-            f", this package reads {LEDGER_FORMAT}/{FORMAT_VERSION}; recompute it: {_RECOMPUTE}"
+            f", this package reads {LEDGER_FORMAT}/{store.FORMAT_VERSION}; recompute it: "
+            f"{_RECOMPUTE}"
         )
     if runners is None:
         runners = [runner_named(name) for name in sorted(data["fingerprints"])]
@@ -335,7 +332,7 @@ def _check(folder: Path, data: dict, runners: Iterable[Runner] | None = None) ->
                 f"(changed: {', '.join(changed) or 'the fingerprint'}); they are not used. "
                 f"Recompute them: {_RECOMPUTE}"
             )
-    stack = rendering_stack()
+    stack = store.rendering_stack()
     if data["rendering_stack"] != stack and not data.get("warned"):
         data["warned"] = True
         warnings.warn(
@@ -363,15 +360,13 @@ def lookup(config: ExperimentConfig | PPOConfig, seed: int) -> ExperimentResult 
     per-trial array and no per-step one: reading one raises :class:`NotInLedger`); None if
     the ledger does not hold the run (or there is no ledger). :class:`StaleLedger` if it
     holds the run but its runner's code is not this code: its numbers are never served then."""
-    from docking.store import run_key
-
     runner = runner_for(config)
     found = _find(config, seed)
     if found is None:
         return None
     folder, data, key = found
     _check(folder, data, [runner])
-    if key != run_key(config, seed, render=data["rendering_stack"]):
+    if key != store.run_key(config, seed, render=data["rendering_stack"]):
         raise StaleLedger(f"the ledger's key of {config.name!r} seed {seed} is not this code's")
     record = data["runs"][key]
     path = _entry_path(folder, record, key, config.name, seed)
@@ -920,7 +915,6 @@ def update(keep: dict[str, dict], folder: Path | str | None = None) -> dict:
     is stored and what the analyses read of it) from their stored files, keeping of each what
     ``keep`` names; replaces the ledger's entries. Returns the manifest."""
     from docking.platform_info import numeric_platform
-    from docking.store import FORMAT_VERSION, content_digest, load_result, rendering_stack
 
     folder = Path(folder) if folder is not None else ledger_dir()
     if folder is None:
@@ -930,11 +924,12 @@ def update(keep: dict[str, dict], folder: Path | str | None = None) -> dict:
         if "path" not in wanted:
             raise ValueError(f"the trace names run {key[:16]} but not where it is stored")
         path = Path(wanted["path"])
-        result = load_result(path, key)  # checks the file against the key and its digest
+        result = store.load_result(path, key)  # checks the file against the key and its digest
         with np.load(path, allow_pickle=False) as data:
-            digest = content_digest(data)
+            digest = store.content_digest(data)
         config, seed = result.config, result.seed
-        runner = runners.setdefault(runner_for(config).name, runner_for(config))
+        runner = runner_for(config)
+        runners[runner.name] = runner
         arrays, extra = _WRITERS[runner.name](result, wanted)
         relative = _entry_file(config.name, key, seed)
         files[relative] = _encode_entry(arrays)
@@ -951,10 +946,10 @@ def update(keep: dict[str, dict], folder: Path | str | None = None) -> dict:
         }
     data = {
         "format": LEDGER_FORMAT,
-        "store_format": FORMAT_VERSION,
+        "store_format": store.FORMAT_VERSION,
         "fingerprints": {name: runner.fingerprint() for name, runner in runners.items()},
         "modules": {name: runner.module_digests() for name, runner in runners.items()},
-        "rendering_stack": rendering_stack(),
+        "rendering_stack": store.rendering_stack(),
         "platform": numeric_platform(),
         "runs": runs,
     }
@@ -984,8 +979,6 @@ def update(keep: dict[str, dict], folder: Path | str | None = None) -> dict:
 def _xor_start(W: np.ndarray, config: ExperimentConfig, seed: int) -> np.ndarray:
     """Between a run's ``W`` (float64) and its entry's ``W.xor`` (uint64): the bitwise XOR
     with the run's random start W. Given ``W``, the XOR; given the XOR, ``W`` (every bit)."""
-    from docking.experiments import initial_network
-
     start = np.ascontiguousarray(initial_network(config, seed).W, dtype=np.float64)
     W = np.ascontiguousarray(W)
     if W.dtype not in (np.float64, np.uint64) or W.shape != start.shape:
@@ -1064,11 +1057,9 @@ def load_run(
     run but was computed by other code); None if neither holds it. Runs from the store are
     traced when ``DOCKING_TRACE`` is set (:func:`trace`). A ``docking.ppo.PPOConfig`` gives
     its ``PPOResult`` the same way."""
-    from docking.store import load_result, result_path, run_key
-
     runner = runner_for(config)
-    path = result_path(config, seed, results_dir)
+    path = store.result_path(config, seed, results_dir)
     if path.exists():
-        key = run_key(config, seed)
-        return _TRACERS[runner.name](load_result(path, key), key, path)
+        key = store.run_key(config, seed)
+        return _TRACERS[runner.name](store.load_result(path, key), key, path)
     return lookup(config, seed)

@@ -326,9 +326,10 @@ def source(job: Job, results_dir: Path | str | None = None) -> str:
     """Where a sweep would take ``job``'s run from: ``"store"`` (a valid file in the results
     store), ``"ledger"`` (the committed ledger's entry) or ``"computed"`` (neither holds it)."""
     root = Path(results_dir) if results_dir is not None else paths.results_dir()
-    if result_path(job.config, job.seed, root).exists() and _stored(job, root):
-        return "store"
-    return "ledger" if _stored(job, root) else "computed"
+    if not _stored(job, root):
+        return "computed"
+    # a stored file is read if it is valid (_stored checked it), the ledger only without one
+    return "store" if result_path(job.config, job.seed, root).exists() else "ledger"
 
 
 def _stored(job: Job, results_dir: Path) -> bool:
