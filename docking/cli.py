@@ -7,7 +7,7 @@ Built by tyro from the configuration dataclasses and their docstrings, so every 
     python -m docking sweep experiment2 --seeds 0-9 --grid network.eps_w=0,0.05 \\
         --scheduler tcp://127.0.0.1:8786
     python -m docking design list
-    python -m docking design run study [--full]     (old name: python -m docking study)
+    python -m docking design run experiment3 [--full]
     python -m docking report --readme README.md
     python -m docking benchmark --steps 2000
 
@@ -355,17 +355,10 @@ class Report:
     """Worker processes for missing runs."""
     results_dir: _ResultsDir = None
     """The results store."""
-    study: bool = False
-    """Also print the table of the study's first edition (archived, notebook 05; runs it if it
-    is not stored). Superseded by the second edition, it is not written into the README."""
     experiment3: bool = True
     """Also the table of Experiment 3 (notebook 06; runs it if it is not stored, and the
     oracle in every cell), into the README between <!-- experiment3:start --> and
     <!-- experiment3:end -->."""
-    second_edition: bool = False
-    """Also the study's second edition (archived, notebook 07): the table of its worlds, its path
-    and its verdict table, into the README between <!-- second-edition:start --> and
-    <!-- second-edition:end -->; and the 8 cm rows of the results table."""
     figures: bool = False
     """Also save Figs. 2-5 and the learning curves of Experiments 1 and 2 into figures/
     (or DOCKING_FIGURES)."""
@@ -378,7 +371,7 @@ class Report:
         from docking.presets import EXPERIMENT_1, EXPERIMENT_2
 
         if not self.compute:
-            _refuse_to_compute(self.study, self.experiment3, self.second_edition, self.results_dir)
+            _refuse_to_compute(self.experiment3, self.results_dir)
         from docking.report import results_table, update_readme
         from docking.sweep import run_seeds
 
@@ -390,28 +383,9 @@ class Report:
             from docking.report import save_figures
 
             save_figures(*results)
-        heldout, verdicts = None, None
-        if self.study:
-            from docking.designs.study import run_study, verdict_table
-
-            study = run_study(results_dir=self.results_dir, workers=self.processes)
-            verdicts = verdict_table(study)
-            heldout = {
-                "Exp. 1": study.success("exp1/local"),
-                "Exp. 2": study.success("paper"),
-            }
-        step8, second = None, None
-        if self.second_edition:
-            from docking.designs import second_edition as se
-
-            edition = se.DESIGN.run(results_dir=self.results_dir, workers=self.processes)
-            step8 = {"Exp. 2 (8 cm forward steps)": edition.score("sideboard-step8/paper")}
-            second = se.report_text(edition)
-        table = results_table(*results, heldout, step8)
+        table = results_table(*results)
         print(table)
         changed = self.readme is not None and update_readme(self.readme, table)
-        if verdicts is not None:  # superseded by the second edition: printed, not in the README
-            print(verdicts)
         if self.experiment3:
             from docking.designs import experiment3
             from docking.report import EXPERIMENT3_END, EXPERIMENT3_START
@@ -422,14 +396,6 @@ class Report:
             print(text)
             if self.readme is not None:
                 changed |= update_readme(self.readme, text, EXPERIMENT3_START, EXPERIMENT3_END)
-        if second is not None:
-            from docking.report import SECOND_EDITION_END, SECOND_EDITION_START
-
-            print(second)
-            if self.readme is not None:
-                changed |= update_readme(
-                    self.readme, second, SECOND_EDITION_START, SECOND_EDITION_END
-                )
         if self.readme is not None:
             changed |= _write_timings(self.readme)
         if self.readme is not None:
@@ -452,13 +418,12 @@ def _write_timings(readme: Path) -> bool:
     return update_readme(readme, text, TIMINGS_START, TIMINGS_END)
 
 
-def _refuse_to_compute(study: bool, experiment3: bool, second: bool, results_dir) -> None:
+def _refuse_to_compute(experiment3: bool, results_dir) -> None:
     """``ValueError`` if the report would compute runs: it names how many and the option."""
     from docking.designs import design
     from docking.sweep import jobs_for, missing
 
-    names = ["paper"] + ["study"] * study + ["experiment3", "experiment3-oracle"] * experiment3
-    names += ["second-edition"] * second
+    names = ["paper"] + ["experiment3", "experiment3-oracle"] * experiment3
     jobs = []
     for name in names:
         d = design(name)
@@ -479,7 +444,7 @@ def _refuse_to_compute(study: bool, experiment3: bool, second: bool, results_dir
 class Figures:
     """Regenerate Figs. 2-5 and the learning curves of Experiments 1 and 2 from their runs in
     the results store or the committed ledger (never computing one); the study's and
-    Experiment 3's figures are written by notebooks 05 and 06."""
+    Experiment 3's figures are written by notebook 06."""
 
     folder: Annotated[Path | None, _default("DOCKING_FIGURES or the checkout's figures/")] = None
     """Where the .png and .pdf files go."""

@@ -101,8 +101,8 @@ def experiment2_rows(results: list[ExperimentResult]) -> list[tuple[str, str, st
     ]
 
 
-#: The learning-curve success that counts as learned in the results table (the second
-#: edition's sample efficiency: ``docking.designs.second_edition.EFFICIENCY_LEVEL``).
+#: The learning-curve success that counts as learned in the results table (sample
+#: efficiency).
 EFFICIENCY_LEVEL = 0.90
 
 
@@ -342,20 +342,12 @@ def results_table(
     results1: list[ExperimentResult],
     results2: list[ExperimentResult],
     heldout: dict[str, np.ndarray] | None = None,
-    step8: dict[str, np.ndarray] | None = None,
 ) -> str:
     """The results table of both experiments in Markdown; with ``heldout`` (see
-    :func:`heldout_rows`), the study's held-out rows after them, and with ``step8`` the
-    second edition's held-out rows of the same learner with Nao-like 8 cm steps."""
+    :func:`heldout_rows`), a design's held-out rows after them."""
     rows = experiment1_rows(results1) + experiment2_rows(results2)
     rows += heldout_rows(heldout) if heldout else []
-    rows += heldout_rows(step8, "the study's second edition") if step8 else []
     return markdown_table(rows)
-
-
-#: The markers of the README's second edition (notebook 07): its worlds, path and verdicts.
-SECOND_EDITION_START = "<!-- second-edition:start -->"
-SECOND_EDITION_END = "<!-- second-edition:end -->"
 
 
 #: The markers of the README's table of Experiment 3 (notebook 06).

@@ -32,7 +32,6 @@
 import numpy as np
 from IPython.display import Image, Markdown, display
 
-from docking import calibration
 from docking.analysis import (
     FAILURE_CLASSES,
     failure_taxonomy,
@@ -41,6 +40,7 @@ from docking.analysis import (
     start_views,
     winner_change,
 )
+from docking.designs import calibration
 from docking.experiments import initial_network
 from docking.figures import FIGURES_DIR
 from docking.presets import EXPERIMENT_1, EXPERIMENT_2, SEEDS
@@ -213,7 +213,7 @@ print(
 # 15 cm; $\epsilon_Q$ 0.03 and 0.2; $\epsilon_W$ 20 times larger) and runs it for the same
 # seeds, paired with the runs above (the same initial weights and random streams), each
 # network tested greedily on 725 trials from the full region; the bold row *is* the runs
-# above, and $\epsilon_W$ is this configuration's unless a row names it. `docking.calibration`
+# above, and $\epsilon_W$ is this configuration's unless a row names it. `docking.designs.calibration`
 # defines the rows and says why these ($\epsilon_W = 0$ is notebook 05's, with ten seeds).
 # Intervals are 95% bootstrap intervals over seeds; the difference to this configuration
 # resamples each row's seeds independently. "Training trials rewarded" is the share of the

@@ -41,8 +41,9 @@
 import numpy as np
 from IPython.display import Image, Markdown, display
 
-from docking import analysis, experiment3, figures
+from docking import analysis, figures
 from docking.analysis import FAILURE_CLASSES
+from docking.designs import experiment3
 from docking.policies import centroid_offset, oracle, run_episode
 from docking.report import save_named
 from docking.stats import difference_ci

@@ -6,7 +6,8 @@ import dataclasses
 import numpy as np
 import pytest
 
-from docking.calibration import (
+from docking.design import Cell
+from docking.designs.calibration import (
     BASELINE,
     analyse,
     markdown_table,
@@ -15,8 +16,7 @@ from docking.calibration import (
     variants,
     wall_time,
 )
-from docking.calibration import rows as table_rows
-from docking.design import Cell
+from docking.designs.calibration import rows as table_rows
 from docking.presets import EXPERIMENT_1, EXPERIMENT_2, SEEDS
 from docking.stats import difference_ci, mean_ci
 from docking.store import config_key

@@ -38,7 +38,7 @@ def test_every_module_is_in_a_layer():
         for p in (ROOT / "docking").rglob("*.py")
         if p.name != "__init__.py" and "__pycache__" not in p.parts
     }
-    # A package's modules belong to its layer (docking.designs.study to docking.designs).
+    # A package's modules belong to its layer (docking.designs.builders to docking.designs).
     unplaced = {m for m in modules if not any(m == x or m.startswith(x + ".") for x in layered)}
     assert not unplaced, unplaced
 

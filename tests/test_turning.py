@@ -6,12 +6,13 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from docking import analysis, experiment3
+from docking import analysis
+from docking.designs import experiment3
+from docking.designs.builders import variant
 from docking.experiments import ExperimentConfig, TrialLog, run_experiment
 from docking.gym import DockingGymEnv
 from docking.oracle import oracle_action
 from docking.presets import EXPERIMENT_2
-from docking.study import cells as study_cells
 from docking.world import (
     ACTION_LETTERS,
     FORWARD,
@@ -186,7 +187,7 @@ def test_experiment3_cells():
     assert longer.config.train_trials == 2 * six.config.train_trials
     assert longer.config.world == six.config.world and longer.baseline == six.baseline
     assert len({repr(c.config.to_dict()) for c in found}) == len(found)
-    paper = next(c for c in study_cells() if c.key == "paper").config
+    paper = variant(EXPERIMENT_2, "study-sideboard", True)  # the studies' paper runs
     first = found[0]
     assert first.key == "4 actions, paper task, 2 deg" and first.config == paper
     for c in found:
@@ -224,7 +225,7 @@ def test_failure_taxonomy_flags_a_wrong_heading_in_the_region():
 
 def _synthetic(rates: dict[str, float], n: int = 200):
     """Experiment 3 results with held-out logs of the given success rates per cell key."""
-    from docking.study import STUDY_SEEDS, StudyResults
+    from docking.design import Results
 
     def log(rate, seed):
         success = np.random.default_rng(seed).random(n) < rate
@@ -239,8 +240,8 @@ def _synthetic(rates: dict[str, float], n: int = 200):
         )
 
     found = experiment3.experiment3_cells()
-    heldout = {c.key: [log(rates[c.key], s) for s in STUDY_SEEDS] for c in found}
-    return StudyResults(experiment3.DESIGN, found, {}, heldout)
+    heldout = {c.key: [log(rates[c.key], s) for s in SEEDS] for c in found}
+    return Results(experiment3.DESIGN, found, {}, heldout)
 
 
 def test_experiment3_comparisons_table_and_verdict_on_synthetic_results():

@@ -14,11 +14,8 @@ MODULES = {
     "paper": "docking.designs.paper",
     "calibration-experiment1": "docking.designs.calibration",
     "calibration-experiment2": "docking.designs.calibration",
-    "study": "docking.designs.study",
-    "study-yardsticks": "docking.designs.study",
     "experiment3": "docking.designs.experiment3",
     "experiment3-oracle": "docking.designs.experiment3",
-    "second-edition": "docking.designs.second_edition",
 }
 
 

@@ -13,8 +13,8 @@ Experiment 3 is Experiment 2 (same world, network, curriculum and trial counts) 
 * the heading noise of every step: :data:`NOISE_DEG`.
 
 A design (:data:`DESIGN`, :mod:`docking.design`): each cell trains networks for
-:data:`~docking.designs.study.STUDY_SEEDS` and judges each on
-:data:`~docking.designs.study.HELDOUT_TRIALS` held-out trials; its coordinates are
+:data:`~docking.designs.builders.SEEDS` and judges each on
+:data:`~docking.designs.builders.HELDOUT_TRIALS` held-out trials; its coordinates are
 ``actions``, ``task`` and ``noise_deg``. The cell with four actions, the paper's task and
 2 deg noise *is* the study's paper configuration (the same runs).
 
@@ -44,9 +44,9 @@ import itertools
 
 import numpy as np
 
+from docking.claims import ShareAbove
 from docking.design import Cell, Design, Results, yardstick_config
-from docking.designs.study import DESIGN as STUDY
-from docking.designs.study import HELDOUT_TRIALS, STUDY_SEEDS, YARDSTICK_SEEDS, share_verdict
+from docking.designs.builders import HELDOUT_TRIALS, SEEDS, YARDSTICK_SEEDS, variant
 from docking.experiments import ExperimentConfig
 from docking.presets import EXPERIMENT_2
 from docking.scene import ACTION_SETS, WorldConfig
@@ -87,6 +87,10 @@ COMPARED = ("paper", "turning")
 #: The extra cell: six actions in the paper's task at 2 deg, trained this many times longer.
 LONGER = 2
 
+#: The rule for "the reason for most of the unsuccessful trials" (Sec. III): the share of
+#: failures removed lies above one half (the studies' rule for the same claim).
+ROTATION_RULE = ShareAbove(0.5)
+
 #: Its key.
 LONGER_KEY = "6 actions, paper task, 2 deg, trained twice as long"
 
@@ -106,8 +110,9 @@ def world(actions: str, task: str, noise: float, base: WorldConfig | None = None
 
 
 def _paper_config() -> ExperimentConfig:
-    """The study's paper configuration (Experiment 2 as a study run)."""
-    return STUDY.cell("paper").config
+    """The paper's configuration as a study run: Experiment 2 with held-out trials and a
+    learning curve, stored with the studies' runs of it."""
+    return variant(EXPERIMENT_2, "study-sideboard", True)
 
 
 def experiment3_cells(full: bool = False) -> list[Cell]:
@@ -235,7 +240,7 @@ def rotation_verdict(results: Results) -> tuple[str, Interval]:
     """The paper's rotation claim ("the reason for most of the unsuccessful trials") judged
     by the remedy it names: in the paper's task at the paper world's 2 deg heading noise, the
     share of the four-action learner's held-out failures that are gone when the learner can
-    turn, judged by :func:`~docking.study.share_verdict` (the study's rule for the same
+    turn, judged by :data:`ROTATION_RULE` (the studies' rule for the same
     claim); the verdict and the interval."""
     found = next(
         c for c in comparisons(results) if c.task == "paper task" and c.noise == NOISE_DEG[0]
@@ -243,23 +248,23 @@ def rotation_verdict(results: Results) -> tuple[str, Interval]:
     ci = found.removed
     if ci is None:
         raise ValueError("the four-action learner never failed: nothing to remove")
-    return share_verdict(ci), ci
+    return ROTATION_RULE.decide(ci), ci
 
 
 DESIGN = Design(
     name="experiment3",
     title="turning actions and precision docking at three heading noises (beyond the paper)",
     cells=tuple(experiment3_cells(full=True)),
-    seeds=STUDY_SEEDS,
+    seeds=SEEDS,
     measure="heldout",
 )
 
 #: The pose oracle (:func:`docking.policies.oracle`, a yardstick run,
 #: :func:`docking.design.yardstick_config`) in the world of every cell of :data:`DESIGN` but
 #: the one trained longer (its world is its six-action cell's), one cell per Experiment 3 cell
-#: under the same key: which cells are solvable. For
-#: :data:`~docking.designs.study.YARDSTICK_SEEDS`, :data:`~docking.designs.study.HELDOUT_TRIALS`
-#: held-out trials each, the held-out starts of the learners' first seeds.
+#: under the same key: which cells are solvable. For the yardstick seeds
+#: (:data:`~docking.designs.builders.YARDSTICK_SEEDS`), with
+#: :data:`~docking.designs.builders.HELDOUT_TRIALS` held-out trials each, the held-out starts of the learners' first seeds.
 ORACLE = Design(
     name="experiment3-oracle",
     title="the pose oracle in the world of every cell of Experiment 3",
