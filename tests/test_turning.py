@@ -226,6 +226,7 @@ def test_failure_taxonomy_flags_a_wrong_heading_in_the_region():
 def _synthetic(rates: dict[str, float], n: int = 200):
     """Experiment 3 results with held-out logs of the given success rates per cell key."""
     from docking.design import Results
+    from docking.designs.builders import SEEDS
 
     def log(rate, seed):
         success = np.random.default_rng(seed).random(n) < rate

@@ -264,7 +264,8 @@ DESIGN = Design(
 #: the one trained longer (its world is its six-action cell's), one cell per Experiment 3 cell
 #: under the same key: which cells are solvable. For the yardstick seeds
 #: (:data:`~docking.designs.builders.YARDSTICK_SEEDS`), with
-#: :data:`~docking.designs.builders.HELDOUT_TRIALS` held-out trials each, the held-out starts of the learners' first seeds.
+#: :data:`~docking.designs.builders.HELDOUT_TRIALS` held-out trials each, the held-out starts
+#: of the learners' first seeds.
 ORACLE = Design(
     name="experiment3-oracle",
     title="the pose oracle in the world of every cell of Experiment 3",
