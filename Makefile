@@ -29,18 +29,14 @@ export PYOPENGL_PLATFORM ?= egl
 
 .PHONY: reproduce experiments check test paper setup system-deps notebooks lab benchmark docs clean
 
-# The trace: what the notebooks and the README report read of each stored run (docking.ledger).
-TRACE := results/trace.jsonl
-
 # Everything from the runs up: computed into results/ (never from the ledger), the notebooks
-# and the README report executed on them while the trace records what they read, then the
-# ledger written from the trace.
+# and the README report executed on them, then the ledger written from the results store
+# (a results table per design, and the runs the designs keep whole).
 reproduce: setup notebooks experiments
-	rm -f $(TRACE)
-	DOCKING_LEDGER=off DOCKING_TRACE=$(CURDIR)/$(TRACE) $(VENV)/bin/jupyter nbconvert --to notebook \
+	DOCKING_LEDGER=off $(VENV)/bin/jupyter nbconvert --to notebook \
 	    --execute --inplace --ExecutePreprocessor.timeout=-1 $(NOTEBOOKS)
-	DOCKING_LEDGER=off DOCKING_TRACE=$(CURDIR)/$(TRACE) $(PY) -m docking report --readme README.md
-	$(PY) -m docking ledger update --trace $(TRACE)
+	DOCKING_LEDGER=off $(PY) -m docking report --readme README.md
+	$(PY) -m docking ledger update
 
 # The experiments through the CLI, so their progress bars reach the terminal; computed, not
 # read from the ledger.

@@ -21,6 +21,7 @@ from __future__ import annotations
 
 import collections
 import dataclasses
+import json
 import os
 import signal
 import sys
@@ -474,14 +475,14 @@ class Figures:
 
 @dataclasses.dataclass
 class Ledger:
-    """Write the results ledger (ledger/, committed) from the stored runs that the notebooks
-    and the README report read, as recorded in the trace file that `make reproduce` writes
-    while it executes them (DOCKING_TRACE); or show what the ledger holds."""
+    """Write the results ledger (ledger/, committed) from the results store: the runs of every
+    design (python -m docking design list), as results tables and the few runs the designs
+    keep whole; or show what the ledger holds."""
 
     action: tyro.conf.Positional[Literal["update", "show"]]
-    """update: write the ledger from the trace; show: its runs, size and fingerprint."""
-    trace: Path = Path("results/trace.jsonl")
-    """The trace file (update only)."""
+    """update: write the ledger from the results store; show: its runs, size, fingerprint."""
+    results_dir: _ResultsDir = None
+    """The results store (update only)."""
 
     def execute(self) -> int:
         from docking import ledger
@@ -495,13 +496,16 @@ class Ledger:
                 else "this installed package has no ledger folder; set DOCKING_LEDGER to one"
             )
         if self.action == "update":
-            if not self.trace.is_file():
-                raise ValueError(
-                    f"no trace file {self.trace}: make reproduce writes it while it executes "
-                    "the notebooks with DOCKING_TRACE set"
-                )
-            keep = ledger.read_trace(self.trace.read_text().splitlines(), source=str(self.trace))
-            data = ledger.update(keep)
+            from docking.design import ledger_runs
+            from docking.designs import design, names
+
+            runs = {}
+            for name in names():
+                for config, seed, whole, keep in ledger_runs(design(name)):
+                    key = (json.dumps(config.to_dict(), sort_keys=True), seed)
+                    old = runs.get(key, (config, seed, False, frozenset()))
+                    runs[key] = (config, seed, whole or old[2], keep | old[3])
+            data = ledger.update(list(runs.values()), results_dir=self.results_dir)
         else:
             data = ledger.manifest(folder)
             if data is None:

@@ -141,6 +141,12 @@ class Design:
       alpha: None: each claim is decided on its own (:meth:`docking.claims.Claim.verdict`).
         A level: the judged claims are one family (:func:`docking.claims.judge_family`,
         Holm's adjustment at this level), as :func:`summary` reports them.
+      whole: ``{cell key: seeds}``: the runs the committed ledger keeps whole (those whose
+        weights or trajectories an analysis or figure reads); the others it keeps as rows
+        of its results table (:mod:`docking.ledger`).
+      keep: What the ledger's table keeps of the design's runs beyond each trial's outcome:
+        ``"paths"``, the paths (poses, actions) of the failed test and held-out trials (what
+        the failure taxonomy reads); ``"starts"``, every test and held-out trial's start pose.
     """
 
     name: str
@@ -152,6 +158,8 @@ class Design:
     stages: tuple[Callable[[Results], Sequence[Cell]], ...] = ()
     report: Callable[[Results], str] | None = None
     alpha: float | None = None
+    whole: dict[str, tuple[int, ...]] = dataclasses.field(default_factory=dict)
+    keep: frozenset[str] = frozenset()
 
     def __post_init__(self):
         check_name("Design", "name", self.name)
@@ -292,7 +300,7 @@ def tested_in(run: ExperimentResult, world: WorldConfig, results_dir=None) -> Ex
     configuration computes (``python -m docking verify`` recomputes it in full). Stored and
     served like any run (the store, then the ledger); computed in memory, not stored, when
     ``run`` itself comes from the ledger."""
-    from docking.ledger import load_run, trace
+    from docking.ledger import load_run
     from docking.store import load_result, result_path, run_key, save_result
 
     config = dataclasses.replace(run.config, heldout_world=world)
@@ -301,7 +309,6 @@ def tested_in(run: ExperimentResult, world: WorldConfig, results_dir=None) -> Ex
         return found
     source = result_path(run.config, run.seed, results_dir)
     stored = source.exists()
-    # The untraced stored run: deriving must not count as an analysis reading its arrays.
     base = load_result(source, run_key(run.config, run.seed)) if stored else run
     t0 = time.perf_counter()
     heldout = heldout_trials(config, run.seed, base.network, world)
@@ -321,8 +328,25 @@ def tested_in(run: ExperimentResult, world: WorldConfig, results_dir=None) -> Ex
     )
     if not stored:
         return result
-    path = save_result(result, result_path(config, run.seed, results_dir))
-    return trace(result, run_key(config, run.seed), path)
+    save_result(result, result_path(config, run.seed, results_dir))
+    return result
+
+
+def ledger_runs(design: Design, full: bool = False) -> list[tuple]:
+    """The runs of ``design`` the committed ledger holds: ``(config, seed, whole, keep)``
+    for every trained cell's seeds and every test-only cell's derived runs
+    (:func:`tested_in`), ``whole`` and ``keep`` as :attr:`Design.whole` and
+    :attr:`Design.keep` say."""
+    found = []
+    cells = design.select(full)
+    for c in cells:
+        config = c.config
+        if not c.trained:
+            base = _find(cells, c.baseline, design.name).config
+            config = dataclasses.replace(base, heldout_world=c.test_world)
+        for seed in c.seeds or design.seeds:
+            found.append((config, seed, seed in design.whole.get(c.key, ()), design.keep))
+    return found
 
 
 def _sweep(cells, seeds, desc: str, options) -> dict[str, list]:

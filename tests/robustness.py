@@ -252,9 +252,9 @@ def cli() -> None:
         (["run", "experiment1", "--world.scene", "flor"], "scene"),
         (["run", "experiment1", "--network.rule", "nonlcal"], "rule"),
         (["design", "run", "nosuch"], "nosuch"),
-        (["design", "run", "study", "--seeds", "5-2"], "seeds"),
-        (["design", "run", "study", "--scheduler", "tcp://127.0.0.1:1"], "127.0.0.1:1"),
-        (["ledger", "update", "--trace", "/nonexistent/trace.jsonl"], "trace"),
+        (["design", "run", "experiment3", "--seeds", "5-2"], "seeds"),
+        (["design", "run", "experiment3", "--scheduler", "tcp://127.0.0.1:1"], "127.0.0.1:1"),
+        (["ledger", "update", "--results-dir", "/nonexistent/store"], "/nonexistent/store"),
     ]
     for args, names in cases:
         found = subprocess.run(

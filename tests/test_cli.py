@@ -245,7 +245,6 @@ def test_project_readme_has_the_markers():
     for start, end in (
         (README_START, README_END),
         (report.EXPERIMENT3_START, report.EXPERIMENT3_END),
-        (report.SECOND_EDITION_START, report.SECOND_EDITION_END),
         (report.TIMINGS_START, report.TIMINGS_END),
     ):
         assert text.count(start) == 1 and text.count(end) == 1

@@ -16,7 +16,6 @@ import threading
 import time
 from pathlib import Path
 
-import numpy as np
 import pytest
 from helpers import SEEDS, TINY
 
@@ -32,18 +31,14 @@ TINY_ARGS = ["--train-trials", "4", "--test-trials", "3", "--eval-every", "2", "
 
 @pytest.fixture(scope="module")
 def built(tmp_path_factory):
-    """A ledger of two tiny runs (seeds 0 and 1), written from the trace of loading them."""
+    """A ledger of two tiny runs (seeds 0 and 1) as rows of its results table."""
     base = tmp_path_factory.mktemp("fuzz-ledger")
-    results, trace, folder = base / "results", base / "trace.jsonl", base / "ledger"
+    results, folder = base / "results", base / "ledger"
     with pytest.MonkeyPatch.context() as mp:
-        mp.setenv("DOCKING_TRACE", str(trace))
         mp.setenv("DOCKING_LEDGER", "off")
         for s in SEEDS:
             run_or_load(TINY, s, results, progress=False)
-        ledger._NOTED.clear()
-        for s in SEEDS:
-            load_run(TINY, s, results).test.success  # noqa: B018 (traced: read)
-    ledger.update(ledger.read_trace(trace.read_text().splitlines()), folder)
+    ledger.update([(TINY, s, True, frozenset()) for s in SEEDS], folder, results)
     return folder
 
 
@@ -53,7 +48,6 @@ def copy(built, tmp_path, monkeypatch):
     folder = tmp_path / "ledger"
     shutil.copytree(built, folder)
     monkeypatch.setenv("DOCKING_LEDGER", str(folder))
-    monkeypatch.delenv("DOCKING_TRACE", raising=False)
     ledger._read_manifest.cache_clear()
     return folder
 
@@ -105,45 +99,35 @@ def _one_error_line(err: str) -> str:
     return lines[0]
 
 
-# 1. A record that points at another seed's entry --------------------------------------------
+# 1, 2. A record that points at another seed's file, or outside the ledger folder ----------
 
 
-def test_the_ledger_serves_its_runs(copy):
-    assert [_served(s).seed for s in SEEDS] == list(SEEDS)
-
-
-def test_a_record_pointing_at_another_seeds_entry_is_refused(copy):
+def test_a_record_pointing_at_another_seeds_file_is_refused(copy):
     def point_0_at_1(data):
-        _record(data, 0).update(
-            file=_record(data, 1)["file"], entry_digest=_record(data, 1)["entry_digest"]
-        )
+        _record(data, 0).update(whole=_record(data, 1)["whole"], sha256=_record(data, 1)["sha256"])
 
     _edit_manifest(copy, point_0_at_1)
-    with pytest.raises(ledger.CorruptLedger, match=r"record of run 'tiny' seed 0 .*seed1\.xz"):
-        _served(0)
-    assert _served(1).seed == 1  # the record of seed 1 is still its own
-
-
-def test_another_seeds_entry_copied_into_place_is_refused(copy):
-    data = json.loads((copy / "manifest.json").read_text())
-    other = (copy / _record(data, 1)["file"]).read_bytes()
-    _rewrite_entry(copy, 0, None, raw=other)
-    with pytest.raises(ledger.CorruptLedger, match="holds the run of seed 1, not of seed 0"):
+    with pytest.raises(ledger.CorruptLedger, match="not its own file"):
         _served(0)
 
 
-# 2. A record's file outside the ledger folder -------------------------------------------------
-
-
-def test_an_entry_outside_the_ledger_folder_is_refused(copy, tmp_path):
+def test_another_seeds_file_copied_into_place_is_refused(copy):
     data = json.loads((copy / "manifest.json").read_text())
-    outside = tmp_path / "elsewhere" / "x.xz"
+    other = (copy / _record(data, 1)["whole"]).read_bytes()
+    (copy / _record(data, 0)["whole"]).write_bytes(other)
+    _edit_manifest(copy, lambda d: _record(d, 0).update(sha256=hashlib.sha256(other).hexdigest()))
+    with pytest.raises(ledger.CorruptLedger, match="not the run asked for"):
+        _served(0)
+
+
+def test_a_file_outside_the_ledger_folder_is_refused(copy, tmp_path):
+    data = json.loads((copy / "manifest.json").read_text())
+    outside = tmp_path / "elsewhere" / "x.npz"
     outside.parent.mkdir()
-    shutil.copy(copy / _record(data, 0)["file"], outside)  # the right bytes, the wrong place
+    shutil.copy(copy / _record(data, 0)["whole"], outside)  # the right bytes, the wrong place
     relative = os.path.relpath(outside, copy)
-    assert relative.startswith("..")
-    _edit_manifest(copy, lambda d: _record(d, 0).update(file=relative))
-    with pytest.raises(ledger.CorruptLedger, match="outside the ledger folder"):
+    _edit_manifest(copy, lambda d: _record(d, 0).update(whole=relative))
+    with pytest.raises(ledger.CorruptLedger, match="not its own file"):
         _served(0)
 
 
@@ -168,20 +152,9 @@ def test_seeds_separated_by_spaces_are_separate_seeds():
 
 
 @pytest.mark.parametrize("value", [-12345.0, float("nan"), "12"])
-def test_an_edited_wall_time_in_an_entry_is_refused(copy, value):
-    def edit(arrays):
-        meta = json.loads(str(arrays["meta"]))
-        meta["wall_time_train"] = value
-        arrays["meta"] = np.array(json.dumps(meta))
-
-    _rewrite_entry(copy, 0, edit)
-    with pytest.raises(ledger.CorruptLedger, match="wall_time_train .* not a time in seconds"):
-        _served(0)
-
-
-def test_an_edited_wall_time_in_the_manifest_is_refused(copy):
-    _edit_manifest(copy, lambda d: _record(d, 0).update(wall_seconds=-12345))
-    with pytest.raises(ledger.CorruptLedger, match="wall_seconds -12345, not a time"):
+def test_an_edited_wall_time_in_the_manifest_is_refused(copy, value):
+    _edit_manifest(copy, lambda d: _record(d, 0).update(wall_time_train=value))
+    with pytest.raises(ledger.CorruptLedger, match="is not a ledger manifest"):
         ledger.manifest(copy)
 
 
@@ -219,14 +192,14 @@ def test_a_tls_scheduler_without_security_is_a_clear_cli_error(
 @pytest.mark.parametrize(
     "text, says",
     [
-        ("[]", "holds a JSON list, not an object"),
-        ("{not json", "not JSON"),
-        ("", "not JSON"),
-        (lambda d: d.pop("fingerprints"), "no 'fingerprints'"),
-        (lambda d: _record(d, 1).update(runner="nope"), "names the runner 'nope'"),
-        (lambda d: d["runs"].update(k=3), "the record of run 'k' is not a JSON object"),
-        (lambda d: _record(d, 1).update(seed=-1), "has the seed -1"),
-        (lambda d: _record(d, 1).pop("file"), "has no 'file' string"),
+        ("[]", "TypeError"),
+        ("{not json", "JSONDecodeError"),
+        ("", "JSONDecodeError"),
+        (lambda d: d.pop("fingerprints"), "KeyError..fingerprints"),
+        (lambda d: _record(d, 1).update(runner="nope"), "its runner"),
+        (lambda d: d["runs"].update(k=3), "TypeError"),
+        (lambda d: _record(d, 1).update(seed=-1), "seed -1"),
+        (lambda d: _record(d, 1).pop("config"), "KeyError..config"),
     ],
 )
 def test_a_manifest_that_is_not_one_is_a_clear_error(copy, text, says, capsys, restore_sigterm):
@@ -243,13 +216,20 @@ def test_a_manifest_that_is_not_one_is_a_clear_error(copy, text, says, capsys, r
     assert "manifest.json is not a ledger manifest" in line
 
 
-# 8. An entry that is not an xz stream -------------------------------------------------------
+# 8. A table that is not an npz ------------------------------------------------------------
 
 
-def test_an_entry_that_is_not_xz_is_a_clear_error(copy):
-    _rewrite_entry(copy, 0, None, raw=b"not an xz stream at all")
-    with pytest.raises(ledger.CorruptLedger, match=r"seed0\.xz matches its digest but is not"):
-        _served(0)
+def test_a_table_that_is_not_an_npz_is_a_clear_error(copy):
+    raw = b"not an npz at all"
+    (copy / "tables" / "tiny.npz").write_bytes(raw)
+
+    def edit(data):
+        data["tables"].update(tiny=hashlib.sha256(raw).hexdigest())
+        _record(data, 1).pop("whole")  # seed 1 is then read from the table
+
+    _edit_manifest(copy, edit)
+    with pytest.raises(ledger.CorruptLedger, match="tiny.npz"):
+        load_run(TINY, 1, "/nonexistent-store")
 
 
 # 9. A failed job on the embedded cluster ----------------------------------------------------
@@ -281,32 +261,6 @@ def test_a_failed_job_on_dask_prints_only_the_clear_message(tmp_path):
     assert out.returncode == 1
     assert "Compute Failed" not in out.stderr
     assert "is not writable" in _one_error_line(out.stderr)
-
-
-# 10. A bad trace line -----------------------------------------------------------------------
-
-
-def test_a_bad_trace_line_names_the_file_and_line(tmp_path, monkeypatch, capsys, restore_sigterm):
-    good = json.dumps({"key": "k", "part": None, "kind": "load", "value": "/x.npz"})
-    for bad in (
-        '{"key": "k", "part": "test", "kind": "trial"}',
-        "{not json",
-        "[]",
-        '{"key": "k", "part": "test", "kind": "trial", "value": "3"}',
-        '{"key": "k", "part": "nowhere", "kind": "whole", "value": "poses"}',
-        '{"key": "k", "part": "test", "kind": "frobnicate", "value": 1}',
-    ):
-        with pytest.raises(ValueError, match=r"t\.jsonl, line 2, is not a trace record"):
-            ledger.read_trace([good, bad], source="t.jsonl")
-    folder = tmp_path / "ledger"
-    folder.mkdir()
-    monkeypatch.setenv("DOCKING_LEDGER", str(folder))
-    trace = tmp_path / "trace.jsonl"
-    trace.write_text(good + "\n\n" + '{"key": "k", "part": "test", "kind": "trial"}\n')
-    assert main(["ledger", "update", "--trace", str(trace)]) == 2
-    line = _one_error_line(capsys.readouterr().err)
-    assert f"{trace}, line 3, is not a trace record (no 'value')" in line
-    assert not any(folder.iterdir())
 
 
 # 11. A scheduler that accepts and never answers ---------------------------------------------

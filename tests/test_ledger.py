@@ -31,69 +31,107 @@ from docking.store import (
 ROOT = os.path.dirname(os.path.dirname(store.__file__))
 
 
+KEEP = frozenset({"paths", "starts"})
+
+
 @pytest.fixture(scope="module")
 def built(tmp_path_factory):
-    """A store of two tiny runs, read under tracing as an analysis would (the network of
-    seed 0, one test trial's poses, the training start poses and far edges, every held-out
-    action of seed 1), and the ledger written from that trace."""
+    """A store of two tiny runs and the ledger written from it: seed 0 kept whole, seed 1 as
+    rows of the results table, with its failed trials' paths."""
     base = tmp_path_factory.mktemp("ledger")
-    results, trace, folder = base / "results", base / "trace.jsonl", base / "ledger"
-    env = {"DOCKING_TRACE": str(trace), "DOCKING_LEDGER": "off"}
+    results, folder = base / "results", base / "ledger"
     with pytest.MonkeyPatch.context() as mp:
-        for name, value in env.items():
-            mp.setenv(name, value)
-        runs = [run_or_load(TINY, s, results, progress=False) for s in SEEDS]  # computes
-        runs = [load_run(TINY, s, results) for s in SEEDS]  # loads, traced
-        assert all(isinstance(r, ledger.TracedResult) for r in runs)
-        read = [runs[0].network.W, runs[0].test.trial_poses(2), runs[0].train.starts]
-        read.append(runs[0].train.start_far)
-        read.append(runs[1].heldout.actions)
-    keep = ledger.read_trace(trace.read_text().splitlines())
-    assert set(keep) == {run_key(TINY, s) for s in SEEDS}
-    data = ledger.update(keep, folder)
+        mp.setenv("DOCKING_LEDGER", "off")
+        for s in SEEDS:
+            run_or_load(TINY, s, results, progress=False)
+    data = ledger.update([(TINY, 0, True, KEEP), (TINY, 1, False, KEEP)], folder, results)
     full = [load_result(result_path(TINY, s, results)) for s in SEEDS]
     return folder, data, full, results
 
 
-def _served(monkeypatch, folder, seed):
+def _served(monkeypatch, folder, seed, config=TINY):
     monkeypatch.setenv("DOCKING_LEDGER", str(folder))
-    monkeypatch.delenv("DOCKING_TRACE", raising=False)
-    return load_run(TINY, seed, "/nonexistent-store")
+    return load_run(config, seed, "/nonexistent-store")
 
 
-def test_the_ledger_serves_what_was_read_bit_for_bit(built, monkeypatch):
+#: TINY with at most two actions per trial: most trials fail, so the table keeps paths.
+SHORT = dataclasses.replace(TINY, world=dataclasses.replace(TINY.world, max_steps=2))
+
+
+@pytest.fixture(scope="module")
+def short_built(tmp_path_factory):
+    base = tmp_path_factory.mktemp("ledger-short")
+    with pytest.MonkeyPatch.context() as mp:
+        mp.setenv("DOCKING_LEDGER", "off")
+        stored = run_or_load(SHORT, 1, base / "results", progress=False)
+    ledger.update([(SHORT, 1, False, KEEP)], base / "ledger", base / "results")
+    return base / "ledger", stored
+
+
+def test_a_whole_run_is_served_bit_for_bit(built, monkeypatch):
     folder, data, full, _ = built
-    a, b = (_served(monkeypatch, folder, s) for s in SEEDS)
-    assert isinstance(a, ledger.LedgerResult) and isinstance(b, ledger.LedgerResult)
-    # Per-trial arrays: success always; the others where read, or (steps) where a trial's
-    # per-step data is kept (the test poses of seed 0, the held-out actions of seed 1).
-    kept = {(0, "train", "start_far"), (0, "test", "steps"), (1, "heldout", "steps")}
-    for seed, served, stored in zip(SEEDS, (a, b), full, strict=True):
-        for part in ("train", "test", "heldout"):
-            for name in ("success", "steps", "start_far"):
-                if name == "success" or (seed, part, name) in kept:
-                    np.testing.assert_array_equal(
-                        getattr(getattr(served, part), name), getattr(getattr(stored, part), name)
-                    )
-                else:
-                    with pytest.raises(ledger.NotInLedger, match=f"{name} of every trial"):
-                        getattr(getattr(served, part), name)
-        np.testing.assert_array_equal(served.curve_success, stored.curve_success)
-        assert served.test.success_rate == stored.test.success_rate
-    np.testing.assert_array_equal(a.network.W, full[0].network.W)
-    np.testing.assert_array_equal(a.network.Q, full[0].network.Q)
-    np.testing.assert_array_equal(a.test.trial_poses(2), full[0].test.trial_poses(2))
-    with pytest.raises(ledger.NotInLedger, match="actions of trial 2"):
-        a.test.trial_actions(2)  # its poses were read, not its actions: only they are kept
-    np.testing.assert_array_equal(a.train.starts, full[0].train.starts)
-    np.testing.assert_array_equal(b.heldout.actions, full[1].heldout.actions)
-    # What no analysis read is not there, and saying so is an error, never a substitute.
-    with pytest.raises(ledger.NotInLedger, match="W and Q are not kept"):
-        _ = b.network
-    with pytest.raises(ledger.NotInLedger, match="poses of trial 1"):
-        a.test.trial_poses(1)
-    with pytest.raises(ledger.NotInLedger, match="deltas of every trial"):
-        _ = a.train.deltas
+    served = _served(monkeypatch, folder, 0)
+    assert (
+        store.content_digest(store.result_arrays(served))
+        == data["runs"][run_key(TINY, 0)]["digest"]
+    )
+
+
+def test_a_table_run_serves_its_per_trial_arrays_and_refuses_the_rest(short_built, monkeypatch):
+    folder, stored = short_built
+    served = _served(monkeypatch, folder, 1, SHORT)
+    for part in ("test", "heldout"):
+        starts = getattr(served, part).starts
+        assert starts.tobytes() == getattr(stored, part).starts.tobytes()
+    for part in ("train", "test", "heldout"):
+        for name in ("success", "steps", "start_far"):
+            a, b = getattr(getattr(served, part), name), getattr(getattr(stored, part), name)
+            assert a.dtype == b.dtype and a.tobytes() == b.tobytes()
+    for name in ("curve_trials", "curve_success", "curve_steps", "curve_rewarded"):
+        assert getattr(served, name).tobytes() == getattr(stored, name).tobytes()
+    # The paths of the failed test and held-out trials, and nothing else
+    failures = 0
+    for part in ("test", "heldout"):
+        log, whole = getattr(served, part), getattr(stored, part)
+        failed = np.flatnonzero(~whole.success)
+        failures += failed.size
+        for k in failed:
+            assert log.trial_poses(k).tobytes() == whole.trial_poses(k).tobytes()
+            assert log.trial_actions(k).tobytes() == whole.trial_actions(k).tobytes()
+        docked = np.flatnonzero(whole.success)
+        if docked.size:
+            with pytest.raises(ledger.NotInLedger, match="path of trial"):
+                log.trial_poses(docked[0])
+    assert failures, "the tiny run must fail some trials for this test to mean anything"
+    # What the table does not keep raises on any use, naming the run and what to do
+    for use in (
+        lambda: served.network.W,
+        lambda: np.mean(served.test.poses),
+        lambda: len(served.train.actions),
+        lambda: served.test.winners == 3,
+        lambda: served.train.deltas[0],
+    ):
+        with pytest.raises(ledger.NotInLedger, match="seed 1.*whole run"):
+            use()
+
+
+def test_an_update_writes_the_same_bytes_again(built, tmp_path):
+    folder, _, _, results = built
+    again = tmp_path / "ledger"
+    ledger.update([(TINY, 0, True, KEEP), (TINY, 1, False, KEEP)], again, results)
+    files = sorted(p.relative_to(folder) for p in folder.rglob("*") if p.is_file())
+    assert files == sorted(p.relative_to(again) for p in again.rglob("*") if p.is_file())
+    for f in files:
+        if f.name != "manifest.json":  # (it records this machine's platform)
+            assert (folder / f).read_bytes() == (again / f).read_bytes(), f
+
+
+def test_the_tables_open_in_plain_numpy(built):
+    folder, *_ = built
+    (table,) = folder.glob("tables/*.npz")
+    with np.load(table, allow_pickle=False) as columns:
+        assert list(columns["key"]) == sorted(run_key(TINY, s) for s in SEEDS)
+        assert columns["heldout.success.count"].tolist() == [TINY.heldout_trials] * 2
 
 
 def test_the_manifest_records_each_runs_digest(built):
@@ -120,13 +158,17 @@ def _refuse(*args, **kwargs):
     raise AssertionError("a run the ledger holds was recomputed")
 
 
-def test_a_tampered_entry_is_refused(built, monkeypatch, tmp_path):
+@pytest.mark.parametrize("where", ["tables/tiny.npz", "manifest.json"])
+def test_a_tampered_file_is_refused(built, monkeypatch, tmp_path, where):
     folder, *_ = built
     copy = tmp_path / "ledger"
     shutil.copytree(folder, copy)
-    entry = next(copy.glob("runs/**/seed0.xz"))
-    entry.write_bytes(entry.read_bytes()[:-10] + b"0123456789")
-    with pytest.raises(ledger.StaleLedger, match="does not match its digest"):
+    (copy / where).write_bytes((copy / where).read_bytes()[:-10] + b"0123456789")
+    with pytest.raises(ledger.StaleLedger):
+        _served(monkeypatch, copy, 1)
+    whole = next(copy.glob("whole/**/seed0.npz"))
+    whole.write_bytes(whole.read_bytes()[:-10] + b"0123456789")
+    with pytest.raises(ledger.StaleLedger):
         _served(monkeypatch, copy, 0)
 
 
@@ -134,42 +176,13 @@ def test_a_ledger_of_another_layout_is_refused(built, monkeypatch, tmp_path):
     folder, *_ = built
     copy = tmp_path / "ledger"
     shutil.copytree(folder, copy)
-    manifest = json.loads((copy / "manifest.json").read_text())
-    manifest["format"] = ledger.LEDGER_FORMAT - 1
-    (copy / "manifest.json").write_text(json.dumps(manifest))
-    with pytest.raises(ledger.StaleLedger, match="has format .* recompute it: make reproduce"):
-        _served(monkeypatch, copy, 0)
+    data = json.loads((copy / "manifest.json").read_text())
+    data["format"] = 5
+    (copy / "manifest.json").write_text(json.dumps(data))
+    with pytest.raises(ledger.StaleLedger, match="format 5"):
+        _served(monkeypatch, copy, 1)
 
 
-def test_W_is_kept_as_its_xor_with_the_runs_random_start(built):
-    """A frozen W costs nothing but its zeros; a learned one comes back to the bit."""
-    from docking.experiments import initial_network
-
-    folder, *_ = built
-    (entry,) = [p for p in folder.rglob("*.xz") if "W.xor" in ledger._decode_entry(p.read_bytes())]
-    arrays = ledger._decode_entry(entry.read_bytes())
-    assert "W" not in arrays and arrays["W.xor"].dtype == np.uint64
-    start = initial_network(TINY, 0).W
-    assert not np.any(ledger._xor_start(start, TINY, 0))  # W at its start: all zero bits
-    rng = np.random.default_rng(0)
-    learned = start + 1e-3 * rng.standard_normal(start.shape)
-    back = ledger._xor_start(ledger._xor_start(learned, TINY, 0), TINY, 0)
-    assert back.dtype == np.float64 and back.tobytes() == learned.tobytes()
-    with pytest.raises(ValueError, match="does not match"):
-        ledger._xor_start(learned[:, :3], TINY, 0)
-
-
-def test_the_manifest_holds_each_configuration_once(built):
-    folder, *_ = built
-    raw = json.loads((folder / "manifest.json").read_text())
-    assert len(raw["configs"]) == 1  # two seeds of one configuration
-    (ref,) = raw["configs"]
-    assert all(record["config"] == ref for record in raw["runs"].values())
-    served = ledger.manifest(folder)  # reading puts the configuration back into each record
-    assert all(record["config"] == TINY.to_dict() for record in served["runs"].values())
-
-
-@pytest.mark.slow
 def test_verify_passes_on_the_ledger_and_fails_on_a_wrong_digest(built, tmp_path):
     folder, *_ = built
     checks = verify.verify(None, workers=1, progress=False, folder=folder)
@@ -228,7 +241,7 @@ def test_a_ledger_from_other_code_is_refused_naming_the_module(built, tmp_path):
                                      eval_every=4, eval_trials=1, heldout_trials=5)
         assert ledger.holds(config, 0)
         try:
-            ledger.lookup(config, 0)
+            ledger.load_run(config, 0, "/nonexistent-store")
         except ledger.StaleLedger as exc:
             print("REFUSED", exc)
         else:
@@ -383,7 +396,6 @@ def test_a_test_only_cell_is_stored_as_the_run_it_equals(tmp_path, monkeypatch):
     from docking.design import tested_in
 
     monkeypatch.setenv("DOCKING_LEDGER", "off")
-    monkeypatch.delenv("DOCKING_TRACE", raising=False)
     other = dataclasses.replace(TINY.world, step_noise_yaw_deg=0.0)
     base = run_or_load(TINY, 0, tmp_path, progress=False)
     derived = tested_in(base, other, tmp_path)
@@ -396,22 +408,3 @@ def test_a_test_only_cell_is_stored_as_the_run_it_equals(tmp_path, monkeypatch):
     monkeypatch.setattr("docking.design.heldout_trials", _refuse)
     again = tested_in(base, other, tmp_path)
     np.testing.assert_array_equal(again.heldout.success, derived.heldout.success)
-
-
-def test_an_entry_gives_back_every_array_to_the_bit():
-    rng = np.random.default_rng(0)
-    arrays = {
-        "meta": np.array('{"seed": 3}'),
-        "poses": rng.standard_normal((17, 3)),
-        "success": rng.random(9) > 0.5,
-        "actions": np.arange(5),
-        "empty": np.zeros((0, 3)),
-        "bits": rng.integers(0, 2**63, (4, 5), dtype=np.uint64),
-    }
-    raw = ledger._encode_entry(arrays)
-    assert raw == ledger._encode_entry(dict(reversed(arrays.items())))  # order-free bytes
-    back = ledger._decode_entry(raw)
-    assert sorted(back) == sorted(arrays)
-    for name, array in arrays.items():
-        assert back[name].dtype == array.dtype and back[name].shape == array.shape
-        assert back[name].tobytes() == array.tobytes() and back[name].flags.writeable

@@ -134,7 +134,7 @@ def test_a_design_cell_may_be_the_pixel_level_bound_but_not_test_only():
 
 @pytest.mark.slow
 def test_the_ledger_serves_a_ppo_run_and_refuses_one_of_other_code(tiny_run, tmp_path, monkeypatch):
-    """A PPO run read under tracing enters the ledger (training episodes, held-out per-trial
+    """A PPO run enters the ledger's results table (training episodes, held-out per-trial
     arrays); served from it bit for bit; per-step data is not kept; other code is refused."""
     import json
 
@@ -142,14 +142,8 @@ def test_the_ledger_serves_a_ppo_run_and_refuses_one_of_other_code(tiny_run, tmp
     from docking.sweep import run_configs
 
     folder, stored = tiny_run
-    trace = tmp_path / "trace.jsonl"
-    monkeypatch.setenv("DOCKING_TRACE", str(trace))
     monkeypatch.setenv("DOCKING_LEDGER", "off")
-    ledger._NOTED.clear()
-    ledger.load_run(TINY, 0, folder)
-    keep = ledger.read_trace(trace.read_text().splitlines())
-    assert keep[run_key(TINY, 0)]["ppo"]
-    data = ledger.update(keep, tmp_path / "ledger")
+    data = ledger.update([(TINY, 0, False, frozenset())], tmp_path / "ledger", folder)
     assert set(data["runs"]) == {run_key(TINY, 0)}
     assert data["runs"][run_key(TINY, 0)]["runner"] == "ppo" and set(data["fingerprints"]) == {
         "ppo"
@@ -158,13 +152,12 @@ def test_the_ledger_serves_a_ppo_run_and_refuses_one_of_other_code(tiny_run, tmp
 
     (check,) = verify(None, workers=1, progress=False, folder=tmp_path / "ledger")
     assert check.ok and check.key == run_key(TINY, 0)  # --all recomputes the PPO run too
-    monkeypatch.delenv("DOCKING_TRACE")
     monkeypatch.setenv("DOCKING_LEDGER", str(tmp_path / "ledger"))
     served = ledger.load_run(TINY, 0, tmp_path / "empty-store")
     np.testing.assert_array_equal(served.train_success, stored.train_success)
     np.testing.assert_array_equal(served.heldout.success, stored.heldout.success)
     np.testing.assert_array_equal(served.heldout.steps, stored.heldout.steps)
-    with pytest.raises(ledger.NotInLedger, match="poses"):
+    with pytest.raises(ledger.NotInLedger, match="path of trial 0"):
         served.heldout.trial_poses(0)
     monkeypatch.setattr("docking.ppo.run_ppo", lambda *a, **k: pytest.fail("recomputed"))
     (again,) = run_configs({"p": TINY}, [0], tmp_path / "s", workers=1, progress=False)["p"]

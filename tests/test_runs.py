@@ -108,21 +108,17 @@ def test_a_stored_ppo_run_is_loaded_not_recomputed(tmp_path, monkeypatch):
 
 @pytest.fixture(scope="module")
 def both(tmp_path_factory):
-    """A store of a learner's run and a PPO run, both read under tracing, and the ledger
-    written from that trace."""
+    """A store of a learner's run and a PPO run, and the ledger written from it (both as rows
+    of their results tables)."""
     base = tmp_path_factory.mktemp("both")
-    results, trace, folder = base / "results", base / "trace.jsonl", base / "ledger"
+    results, folder = base / "results", base / "ledger"
     with pytest.MonkeyPatch.context() as mp:
-        mp.setenv("DOCKING_TRACE", str(trace))
         mp.setenv("DOCKING_LEDGER", "off")
-        ledger._NOTED.clear()
         learner = store.run_or_load(TINY, 0, results, progress=False)
         ppo_run = _ppo_result()
         store.save_result(ppo_run, store.result_path(PPO_TINY, 0, results))
-        load_run(TINY, 0, results).test.success  # noqa: B018 (traced: read)
-        load_run(PPO_TINY, 0, results)
-    keep = ledger.read_trace(trace.read_text().splitlines())
-    data = ledger.update(keep, folder)
+    runs = [(TINY, 0, False, frozenset()), (PPO_TINY, 0, False, frozenset())]
+    data = ledger.update(runs, folder, results)
     return folder, data, learner, ppo_run
 
 
@@ -143,7 +139,7 @@ def test_the_ledger_holds_both_kinds_in_one_table(both, monkeypatch, tmp_path):
     assert isinstance(served, PPOResult) and served.wall_time_train == 1.5
     np.testing.assert_array_equal(served.train_steps, ppo_run.train_steps)
     np.testing.assert_array_equal(served.heldout.success, ppo_run.heldout.success)
-    with pytest.raises(ledger.NotInLedger, match="poses"):
+    with pytest.raises(ledger.NotInLedger, match="path of trial 0"):
         served.heldout.trial_poses(0)
     assert ledger.holds(PPO_TINY, 0, check=True) and not ledger.holds(PPO_TINY, 1)
 

@@ -102,30 +102,30 @@ def _damaged_ledgers(tmp: Path) -> list[tuple[str, dict]]:
         return folder
 
     def other_seeds_entry(data, folder):
-        data["runs"][k0].update(file=r1["file"], entry_digest=r1["entry_digest"])
+        data["runs"][k0].update(whole=r1["whole"], sha256=r1["sha256"])
 
     def outside(data, folder):
-        data["runs"][k0]["file"] = "../../../../../tmp/x.xz"
+        data["runs"][k0]["whole"] = "../../../../../tmp/x.npz"
 
     def wall_time(data, folder):
-        data["runs"][k0]["wall_seconds"] = -12345
+        data["runs"][k0]["wall_time_train"] = -12345
 
     def not_xz(data, folder):
-        (folder / r0["file"]).write_bytes(b"not an xz stream")
+        (folder / r0["whole"]).write_bytes(b"not an npz")
 
     def not_xz_digest_matching(data, folder):
-        (folder / r0["file"]).write_bytes(b"not an xz stream")
-        data["runs"][k0]["entry_digest"] = hashlib.sha256(b"not an xz stream").hexdigest()
+        (folder / r0["whole"]).write_bytes(b"not an npz")
+        data["runs"][k0]["sha256"] = hashlib.sha256(b"not an npz").hexdigest()
 
     def missing_fingerprint(data, folder):
         del data["source_fingerprint"]
 
     cases = {
-        "seed 0's record points at seed 1's entry": other_seeds_entry,
+        "seed 0's record points at seed 1's file": other_seeds_entry,
         "a record's file outside the ledger": outside,
         "a negative wall time": wall_time,
-        "an entry that is not an xz stream": not_xz,
-        "an entry that is not an xz stream, its digest matching": not_xz_digest_matching,
+        "a whole run that is not an npz": not_xz,
+        "a whole run that is not an npz, its digest matching": not_xz_digest_matching,
         "no source_fingerprint": missing_fingerprint,
         "a manifest holding []": lambda data, folder: "[]",
         "a manifest that is not JSON": lambda data, folder: "{nope",

@@ -257,6 +257,8 @@ DESIGN = Design(
     cells=tuple(experiment3_cells(full=True)),
     seeds=SEEDS,
     measure="heldout",
+    whole={"6 actions, precision, 2 deg": (0,)},  # notebook 06 draws its network
+    keep=frozenset({"paths"}),  # the failure taxonomy
 )
 
 #: The pose oracle (:func:`docking.policies.oracle`, a yardstick run,

@@ -42,4 +42,6 @@ DESIGN = Design(
     seeds=SEEDS["experiment1"],
     measure="test",
     report=_report,
+    whole={"experiment1": SEEDS["experiment1"], "experiment2": SEEDS["experiment2"]},
+    keep=frozenset({"paths"}),
 )
