@@ -1,7 +1,8 @@
 """The command line, ``python -m docking`` (also installed as ``docking``).
 
 Built by tyro from the configuration dataclasses and their docstrings, so every field of an
-:class:`~docking.experiments.ExperimentConfig` is an option with its documented default::
+:class:`~docking.experiments.ExperimentConfig` (but its held-out world, see :data:`HIDDEN`) is
+an option with its documented default::
 
     python -m docking run experiment2 --seeds 0-19 --network.eps-w 0
     python -m docking sweep experiment2 --seeds 0-9 --grid network.eps_w=0,0.05 \\
@@ -69,16 +70,23 @@ CHOICES: dict[type, dict[str, tuple[str, ...]]] = {
     WorldConfig: {"scene": SCENES, "actions": tuple(ACTION_SETS)},
     Distractor: {"shape": tuple(DISTRACTOR_SHAPES)},
 }
+#: Fields left off the command line (the configuration keeps its preset's value):
+#: ExperimentConfig.heldout_world, a WorldConfig or None, which tyro can only offer as a
+#: choice of two subcommands ({world-config,none}). The designs set it (docking.designs), and
+#: their held-out worlds carry distractors, which no option can give.
+HIDDEN: dict[type, tuple[str, ...]] = {ExperimentConfig: ("heldout_world",)}
+
 _registry = tyro.constructors.ConstructorRegistry()
 _expanding: set[type] = set()
 
 
 @_registry.struct_rule
 def _with_choices(info):
-    """tyro's own expansion of a configuration dataclass, its named-value fields as Literals."""
-    choices = CHOICES.get(info.type)
-    if choices is None or info.type in _expanding:
+    """tyro's own expansion of a configuration dataclass, its named-value fields as Literals
+    and its HIDDEN fields suppressed."""
+    if info.type not in CHOICES or info.type in _expanding:
         return None
+    choices, hidden = CHOICES[info.type], HIDDEN.get(info.type, ())
     _expanding.add(info.type)
     try:
         spec = tyro.constructors.ConstructorRegistry.get_struct_spec(info)
@@ -89,6 +97,8 @@ def _with_choices(info):
     fields = tuple(
         dataclasses.replace(field, type=Literal[choices[field.name]])
         if field.name in choices
+        else dataclasses.replace(field, type=Annotated[field.type, tyro.conf.Suppress])
+        if field.name in hidden
         else field
         for field in spec.fields
     )

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import os
+import re
 import subprocess
 import sys
 import time
@@ -109,6 +110,13 @@ def test_help_prints_usage_and_starts_nothing(args, tmp_path):
     assert list(tmp_path.iterdir()) == []
     assert elapsed < 20, f"--help took {elapsed:.1f} s"
     assert _options_without_help(out.stdout) == []
+    # A configuration's optional parts are options, not a choice of subcommands.
+    assert not {"world-config", "none"} & set(_subcommand_choices(out.stdout))
+
+
+def _subcommand_choices(text: str) -> list[str]:
+    """The names a tyro help text offers as subcommands (its "• name" lines)."""
+    return re.findall(r"^│\s+• (\S+)", text, re.MULTILINE)
 
 
 def _options_without_help(text: str) -> list[str]:
@@ -133,6 +141,11 @@ def test_the_help_check_finds_an_option_without_help():
     text = "╭─ options ─╮\n│ --a INT │\n│   Says. (default: 1) │\n│ --b INT │\n│   (default: 2) │\n"
     text += "│ -h, --help    show this │\n│ --d INT       (default: 3) │\n"
     assert _options_without_help(text + "│ --c INT │\n╰──╯\n") == ["--b", "--d", "--c"]
+
+
+def test_the_help_check_finds_subcommands():
+    text = "╭─ subcommands ─╮\n│ The world. │\n│   • world-config  Say. │\n│   • none │\n╰──╯\n"
+    assert _subcommand_choices(text) == ["world-config", "none"]
 
 
 @pytest.mark.slow
