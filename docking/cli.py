@@ -22,7 +22,9 @@ from __future__ import annotations
 
 import collections
 import dataclasses
+import functools
 import os
+import re
 import signal
 import sys
 from pathlib import Path
@@ -31,8 +33,9 @@ from typing import Annotated, Literal, Union
 import numpy as np
 import tyro
 
+from docking.camera import CameraConfig
 from docking.designs import names as _design_names
-from docking.experiments import POLICIES, PRETRAIN_RULES, ExperimentConfig
+from docking.experiments import POLICIES, PRETRAIN_RULES, Curriculum, ExperimentConfig
 from docking.network import FEATURE_LAYERS, RULES, NetworkConfig
 from docking.presets import EXPERIMENTS, HEADLINE_SEED, SEEDS
 from docking.scene import ACTION_SETS, DISTRACTOR_SHAPES, SCENES, Distractor, WorldConfig
@@ -70,6 +73,10 @@ CHOICES: dict[type, dict[str, tuple[str, ...]]] = {
     WorldConfig: {"scene": SCENES, "actions": tuple(ACTION_SETS)},
     Distractor: {"shape": tuple(DISTRACTOR_SHAPES)},
 }
+#: The configuration dataclasses that appear on the command line, each shown by
+#: _as_options below.
+CONFIGS = (ExperimentConfig, Curriculum, WorldConfig, CameraConfig, NetworkConfig, Distractor)
+
 #: Fields left off the command line (the configuration keeps its preset's value):
 #: ExperimentConfig.heldout_world, a WorldConfig or None, which tyro can only offer as a
 #: choice of two subcommands ({world-config,none}). The designs set it (docking.designs), and
@@ -81,12 +88,12 @@ _expanding: set[type] = set()
 
 
 @_registry.struct_rule
-def _with_choices(info):
-    """tyro's own expansion of a configuration dataclass, its named-value fields as Literals
-    and its HIDDEN fields suppressed."""
-    if info.type not in CHOICES or info.type in _expanding:
+def _as_options(info):
+    """tyro's own expansion of a configuration dataclass, with its fields as options: the
+    named-value fields as Literals, the hidden fields suppressed, an optional number shown
+    as FLOAT|None, and the help without the words that state a default (tyro prints it)."""
+    if info.type not in CONFIGS or info.type in _expanding:
         return None
-    choices, hidden = CHOICES[info.type], HIDDEN.get(info.type, ())
     _expanding.add(info.type)
     try:
         spec = tyro.constructors.ConstructorRegistry.get_struct_spec(info)
@@ -94,29 +101,61 @@ def _with_choices(info):
         _expanding.discard(info.type)
     if not isinstance(spec, tyro.constructors.StructConstructorSpec):
         return spec
-    fields = tuple(
-        dataclasses.replace(field, type=Literal[choices[field.name]])
-        if field.name in choices
-        else dataclasses.replace(field, type=Annotated[field.type, tyro.conf.Suppress])
-        if field.name in hidden
-        else field
-        for field in spec.fields
-    )
-    return dataclasses.replace(spec, fields=fields)
+    choices = CHOICES.get(info.type, {})
+    hidden = HIDDEN.get(info.type, ())
+    fields = []
+    for field in spec.fields:
+        kind = field.type
+        if field.name in choices:
+            kind = Literal[choices[field.name]]
+        elif field.name in hidden:
+            kind = Annotated[kind, tyro.conf.Suppress]
+        elif kind in _OPTIONAL_METAVARS:
+            kind = Annotated[kind, tyro.conf.arg(metavar=_OPTIONAL_METAVARS[kind])]
+        fields.append(
+            dataclasses.replace(
+                field, type=kind, helptext=functools.partial(_option_help, field.helptext)
+            )
+        )
+    return dataclasses.replace(spec, fields=tuple(fields))
 
 
-def _default(text: str):
-    """A field's default as tyro's help shows it, in words (instead of "(default: None)")."""
-    return tyro.conf.arg(help_behavior_hint=f"(default: {text})")
+#: The optional values of the configurations, as their options show them (tyro's own is
+#: "{None}|FLOAT").
+_OPTIONAL_METAVARS = {float | None: "FLOAT|None", int | None: "INT|None", str | None: "STR|None"}
+
+#: A docstring's words that state a field's default: '"paper" (default), ...', 'None
+#: (default): ...', 'Default 0: ...' (tyro prints the default after the help).
+_DEFAULT_WORDS = ((re.compile(r" \(default\)"), ""), (re.compile(r"\bDefault (\S+):"), r"\1:"))
 
 
-_Processes = Annotated[int | None, _default("one per core")]
-_Scheduler = Annotated[str | None, _default("an embedded cluster on 127.0.0.1")]
+def _option_help(helptext) -> str | None:
+    """A field's help on the command line: its docstring without the words of
+    _DEFAULT_WORDS."""
+    text = helptext() if callable(helptext) else helptext
+    if text is None:
+        return None
+    for pattern, replacement in _DEFAULT_WORDS:
+        text = pattern.sub(replacement, text)
+    return text
+
+
+def _shown(metavar: str, default: str):
+    """An option whose value None means "not given": its value as ``metavar`` (instead of
+    tyro's "{None}|STR") and its default in words (instead of "(default: None)")."""
+    return tyro.conf.arg(metavar=metavar, help_behavior_hint=f"(default: {default})")
+
+
+_Processes = Annotated[int | None, _shown("INT", "one per core")]
+_Scheduler = Annotated[str | None, _shown("STR", "an embedded cluster on 127.0.0.1")]
 _ResultsDir = Annotated[
-    Path | None, _default("DOCKING_RESULTS, the checkout's results/ or ./results")
+    Path | None, _shown("PATH", "DOCKING_RESULTS, the checkout's results/ or ./results")
 ]
-_ExperimentSeeds = Annotated[str | None, _default("the experiment's seeds, docking.presets.SEEDS")]
-_DesignSeeds = Annotated[str | None, _default("the design's")]
+_FiguresDir = Annotated[Path | None, _shown("PATH", "DOCKING_FIGURES or the checkout's figures/")]
+_ExperimentSeeds = Annotated[
+    str | None, _shown("STR", "the experiment's seeds, docking.presets.SEEDS")
+]
+_DesignSeeds = Annotated[str | None, _shown("STR", "the design's")]
 
 
 def _seeds_of(config: ExperimentConfig, text: str | None) -> list[int]:
@@ -217,7 +256,10 @@ class Sweep:
     experiment: _ExperimentArg
     seeds: _ExperimentSeeds = None
     """Seeds as ranges or lists: 0-19, 0,3,5."""
-    grid: tuple[str, ...] = ()
+    grid: Annotated[
+        tuple[str, ...],
+        tyro.conf.arg(help_behavior_hint="(default: none, the base configuration alone)"),
+    ] = ()
     """Fields to vary, each PATH=V1,V2,...; all combinations are run, e.g.
     --grid network.eps_w=0,0.05 world.step_forward=0.1,0.15."""
     scheduler: _Scheduler = None
@@ -271,7 +313,12 @@ class DesignRun:
     sweep on a Dask cluster (embedded by default), then the cells that need measured runs;
     prints each design's summary (its table and the verdicts of its claims)."""
 
-    names: tyro.conf.Positional[tuple[_DesignName, ...]]
+    names: Annotated[
+        tyro.conf.Positional[tuple[_DesignName, ...]],
+        tyro.conf.arg(
+            help_behavior_hint=lambda shown: f"(default: {shown})" if shown else "(required)"
+        ),
+    ]
     """The designs to run (python -m docking design list)."""
     full: bool = False
     """Also the design's sensitivity cells (about twice the runs for the study)."""
@@ -358,7 +405,7 @@ class Report:
     """Print the results table (the paper's numbers beside ours) from the stored runs of
     both experiments and their seeds, running any that are missing."""
 
-    readme: Path | None = None
+    readme: Annotated[Path | None, _shown("PATH", "none, the tables are only printed")] = None
     """Also write the table into this README, between <!-- results:start --> and
     <!-- results:end -->."""
     processes: _Processes = None
@@ -491,7 +538,7 @@ class Figures:
     the results store or the committed ledger (never computing one); the study's and
     Experiment 3's figures are written by notebooks 05 and 06."""
 
-    folder: Annotated[Path | None, _default("DOCKING_FIGURES or the checkout's figures/")] = None
+    folder: _FiguresDir = None
     """Where the .png and .pdf files go."""
     results_dir: _ResultsDir = None
     """The results store."""

@@ -96,6 +96,9 @@ def _cli_on_a_terminal(args, tmp_path, timeout=300):
         ["design"],
         ["design", "run"],
         ["design", "list"],
+        ["figures"],
+        ["ledger"],
+        ["verify"],
         ["benchmark"],
     ],
     ids=lambda a: " ".join(a) or "top",
@@ -110,8 +113,45 @@ def test_help_prints_usage_and_starts_nothing(args, tmp_path):
     assert list(tmp_path.iterdir()) == []
     assert elapsed < 20, f"--help took {elapsed:.1f} s"
     assert _options_without_help(out.stdout) == []
+    assert _defaults_stated_twice(out.stdout) == []
     # A configuration's optional parts are options, not a choice of subcommands.
     assert not {"world-config", "none"} & set(_subcommand_choices(out.stdout))
+
+
+def _help_entries(text: str) -> dict[str, str]:
+    """Each option (and positional argument) of a tyro help text: its signature and its
+    description, the lines that follow it up to the next entry or the panel's end joined."""
+    raw = [line.removeprefix("│").rstrip("│ ") for line in text.splitlines()]
+    entries: dict[str, str] = {}
+    current, positional = None, False
+    for line in raw:
+        if line.startswith(("╭", "╰")):
+            current, positional = None, "positional arguments" in line
+            continue
+        starts = line.startswith(" -") or (positional and line[:2].strip() and line[1] != " ")
+        if starts and positional and current is not None and not entries[current]:
+            continue  # a positional argument's signature wrapped onto a second line
+        if starts:
+            signature, _, rest = line.strip().partition("  ")
+            current = signature
+            entries[current] = rest.strip()
+        elif current is not None:
+            entries[current] = f"{entries[current]} {line.strip()}".strip()
+    return entries
+
+
+def _defaults_stated_twice(text: str) -> list[str]:
+    """The entries of a tyro help text without one readable default: their own words state a
+    default besides tyro's "(default: ...)", tyro's shows nothing ("(default: )"), or the
+    signature offers None as a value ("{None}|STR")."""
+    found = []
+    for signature, description in _help_entries(text).items():
+        words, hint, shown = description.rpartition("(default:")
+        twice = hint and re.search(r"\bdefault", words, re.IGNORECASE)
+        unreadable = "{None}" in signature or (hint and not shown.strip(" )"))
+        if twice or unreadable:
+            found.append(signature.split()[0].rstrip(","))
+    return found
 
 
 def _subcommand_choices(text: str) -> list[str]:
@@ -141,6 +181,18 @@ def test_the_help_check_finds_an_option_without_help():
     text = "╭─ options ─╮\n│ --a INT │\n│   Says. (default: 1) │\n│ --b INT │\n│   (default: 2) │\n"
     text += "│ -h, --help    show this │\n│ --d INT       (default: 3) │\n"
     assert _options_without_help(text + "│ --c INT │\n╰──╯\n") == ["--b", "--d", "--c"]
+
+
+def test_the_help_check_finds_a_default_stated_twice():
+    text = (
+        "╭─ positional arguments ─╮\n│ [{a,b} ...]  Names. (default: ) │\n╰──╯\n"
+        "╭─ options ─╮\n│ --a INT │\n│   Says, 3 by default. (default: 3) │\n"
+        "│ --b {None}|INT  Says. (default: None) │\n│ --c INT  Plain. (default: 1) │\n"
+        '│ --d STR │\n│   "x" (default): the x; "y": │\n│   the y. (default: x) │\n'
+        "│ --e INT  Default 0: zero. (default: 0) │\n│ --f STR  Says. (default: the one) │\n"
+        "╰──╯\n"
+    )
+    assert _defaults_stated_twice(text) == ["[{a,b}", "--a", "--b", "--d", "--e"]
 
 
 def test_the_help_check_finds_subcommands():
