@@ -525,11 +525,40 @@ def _refuse_to_compute(study: bool, experiment3: bool, second: bool, results_dir
     absent = missing(jobs, results_dir)
     if absent:
         kinds = sorted({j.config.name for j in absent})
-        raise ValueError(
-            f"{len(absent)} runs ({', '.join(kinds)}) are neither stored nor in the ledger: "
-            "computing them takes from minutes to hours. Pass --compute to compute them, or "
-            "run the designs first (python -m docking design run ...)"
+        text = f"{len(absent)} runs ({', '.join(kinds)}) are neither stored nor in the ledger"
+        how = (
+            "pass --compute to compute them (from minutes to hours), or run the designs first "
+            "(python -m docking design run ...)"
         )
+        raise ValueError(_absent(text, how))
+
+
+def _absent(text: str, how: str) -> str:
+    """The error of runs that are neither stored nor in the ledger: ``text`` says which, then
+    how to get the ledger if it is off or absent, then ``how`` to compute them."""
+    why = _no_ledger()
+    return f"{text}. {why[0].upper()}{why[1:]}. Or {how}" if why else f"{text}: {how}"
+
+
+def _no_ledger() -> str | None:
+    """Why the ledger serves no run, and what to do, if it is switched off or absent (an
+    installed package: the ledger is the ledger/ folder of the project's git repository, which
+    no wheel carries); None if there is a ledger."""
+    from docking import ledger
+
+    if ledger.ledger_off():
+        return (
+            f"the ledger is switched off by DOCKING_LEDGER={os.environ['DOCKING_LEDGER']}; "
+            "unset it, or set it to a ledger folder"
+        )
+    if ledger.ledger_dir() is None:
+        return (
+            "this installed package has no ledger (the committed runs that report and figures "
+            "read are the ledger/ folder of the project's git repository, which no wheel "
+            "carries): clone the repository and run python -m docking in the clone, or set "
+            "DOCKING_LEDGER to the absolute path of the clone's ledger/ folder"
+        )
+    return None
 
 
 @dataclasses.dataclass
@@ -553,10 +582,11 @@ class Figures:
             runs = [load_run(config, s, self.results_dir) for s in SEEDS[config.name]]
             absent = [s for s, r in zip(SEEDS[config.name], runs, strict=True) if r is None]
             if absent:
-                raise ValueError(
-                    f"{config.name} seeds {absent} are neither stored nor in the ledger: "
-                    f"python -m docking run {config.name} computes them"
+                text = (
+                    f"{config.name} seeds {_seed_text(absent)} are neither stored nor in the ledger"
                 )
+                how = f"compute them with python -m docking run {config.name}"
+                raise ValueError(_absent(text, how))
             results.append(runs)
         for fig in save_figures(*results, self.folder):
             del fig
@@ -580,12 +610,7 @@ class Ledger:
 
         folder = ledger.ledger_dir()  # ValueError if DOCKING_LEDGER is not off or a folder
         if folder is None:
-            raise ValueError(
-                "the ledger is switched off by DOCKING_LEDGER="
-                f"{os.environ['DOCKING_LEDGER']}; unset it, or set it to a ledger folder"
-                if ledger.ledger_off()
-                else "this installed package has no ledger folder; set DOCKING_LEDGER to one"
-            )
+            raise ValueError(_no_ledger())
         if self.action == "update":
             if not self.trace.is_file():
                 raise ValueError(

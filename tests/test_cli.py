@@ -371,6 +371,36 @@ def test_figures_refuses_runs_it_does_not_have(tmp_path):
     assert not (tmp_path / "f").exists()
 
 
+def test_an_installed_package_says_how_to_get_the_ledger(tmp_path, monkeypatch):
+    """A wheel carries no ledger (it is the checkout's ledger/ folder): report and figures,
+    which read their runs from it, say what to do instead of only refusing."""
+    import shutil
+
+    site = tmp_path / "site"  # the package as pip installs it: no pyproject.toml beside it
+    shutil.copytree(REPO / "docking", site / "docking", ignore=shutil.ignore_patterns("*.pyc"))
+    monkeypatch.delenv("DOCKING_LEDGER")
+    env = {**_env(tmp_path), "PYTHONPATH": str(site)}
+    for args in (["figures", "--folder", str(tmp_path / "f")], ["report"]):
+        out = subprocess.run(
+            [sys.executable, "-m", "docking", *args],
+            cwd=tmp_path,
+            env=env,
+            capture_output=True,
+            text=True,
+            timeout=120,
+        )
+        assert out.returncode == 2 and "Traceback" not in out.stderr, out.stderr
+        says = " ".join(out.stderr.split())
+        assert "This installed package has no ledger" in says, says
+        assert "clone the repository" in says and "DOCKING_LEDGER" in says, says
+        assert "python -m docking run" in says or "--compute" in says, says
+    assert not (tmp_path / "f").exists() and not list(tmp_path.rglob("*.npz"))
+    # With the ledger switched off, the error says so (and how to switch it on).
+    monkeypatch.setenv("DOCKING_LEDGER", "off")
+    out = _cli(["figures", "--folder", str(tmp_path / "f")], tmp_path, timeout=120)
+    assert out.returncode == 2 and "DOCKING_LEDGER=off" in out.stderr, out.stderr
+
+
 def test_help_is_plain_text(tmp_path):
     """Option help comes from the config dataclasses' docstrings: no Sphinx markup there."""
     out = _cli(["run", "experiment2", "--help"], tmp_path, timeout=60)
