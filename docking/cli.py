@@ -1,7 +1,8 @@
 """The command line, ``python -m docking`` (also installed as ``docking``).
 
 Built by tyro from the configuration dataclasses and their docstrings, so every field of an
-:class:`~docking.experiments.ExperimentConfig` is an option with its documented default::
+:class:`~docking.experiments.ExperimentConfig` (but its held-out world, see :data:`HIDDEN`) is
+an option with its documented default::
 
     python -m docking run experiment2 --seeds 0-19 --network.eps-w 0
     python -m docking sweep experiment2 --seeds 0-9 --grid network.eps_w=0,0.05 \\
@@ -21,8 +22,10 @@ from __future__ import annotations
 
 import collections
 import dataclasses
+import functools
 import json
 import os
+import re
 import signal
 import sys
 from pathlib import Path
@@ -31,8 +34,9 @@ from typing import Annotated, Literal, Union
 import numpy as np
 import tyro
 
+from docking.camera import CameraConfig
 from docking.designs import names as _design_names
-from docking.experiments import POLICIES, PRETRAIN_RULES, ExperimentConfig
+from docking.experiments import POLICIES, PRETRAIN_RULES, Curriculum, ExperimentConfig
 from docking.network import FEATURE_LAYERS, RULES, NetworkConfig
 from docking.presets import EXPERIMENTS, HEADLINE_SEED, SEEDS
 from docking.scene import ACTION_SETS, DISTRACTOR_SHAPES, SCENES, Distractor, WorldConfig
@@ -70,15 +74,26 @@ CHOICES: dict[type, dict[str, tuple[str, ...]]] = {
     WorldConfig: {"scene": SCENES, "actions": tuple(ACTION_SETS)},
     Distractor: {"shape": tuple(DISTRACTOR_SHAPES)},
 }
+#: The configuration dataclasses that appear on the command line, each shown by
+#: _as_options below.
+CONFIGS = (ExperimentConfig, Curriculum, WorldConfig, CameraConfig, NetworkConfig, Distractor)
+
+#: Fields left off the command line (the configuration keeps its preset's value):
+#: ExperimentConfig.heldout_world, a WorldConfig or None, which tyro can only offer as a
+#: choice of two subcommands ({world-config,none}). The designs set it (docking.designs), and
+#: their held-out worlds carry distractors, which no option can give.
+HIDDEN: dict[type, tuple[str, ...]] = {ExperimentConfig: ("heldout_world",)}
+
 _registry = tyro.constructors.ConstructorRegistry()
 _expanding: set[type] = set()
 
 
 @_registry.struct_rule
-def _with_choices(info):
-    """tyro's own expansion of a configuration dataclass, its named-value fields as Literals."""
-    choices = CHOICES.get(info.type)
-    if choices is None or info.type in _expanding:
+def _as_options(info):
+    """tyro's own expansion of a configuration dataclass, with its fields as options: the
+    named-value fields as Literals, the hidden fields suppressed, an optional number shown
+    as FLOAT|None, and the help without the words that state a default (tyro prints it)."""
+    if info.type not in CONFIGS or info.type in _expanding:
         return None
     _expanding.add(info.type)
     try:
@@ -87,27 +102,61 @@ def _with_choices(info):
         _expanding.discard(info.type)
     if not isinstance(spec, tyro.constructors.StructConstructorSpec):
         return spec
-    fields = tuple(
-        dataclasses.replace(field, type=Literal[choices[field.name]])
-        if field.name in choices
-        else field
-        for field in spec.fields
-    )
-    return dataclasses.replace(spec, fields=fields)
+    choices = CHOICES.get(info.type, {})
+    hidden = HIDDEN.get(info.type, ())
+    fields = []
+    for field in spec.fields:
+        kind = field.type
+        if field.name in choices:
+            kind = Literal[choices[field.name]]
+        elif field.name in hidden:
+            kind = Annotated[kind, tyro.conf.Suppress]
+        elif kind in _OPTIONAL_METAVARS:
+            kind = Annotated[kind, tyro.conf.arg(metavar=_OPTIONAL_METAVARS[kind])]
+        fields.append(
+            dataclasses.replace(
+                field, type=kind, helptext=functools.partial(_option_help, field.helptext)
+            )
+        )
+    return dataclasses.replace(spec, fields=tuple(fields))
 
 
-def _default(text: str):
-    """A field's default as tyro's help shows it, in words (instead of "(default: None)")."""
-    return tyro.conf.arg(help_behavior_hint=f"(default: {text})")
+#: The optional values of the configurations, as their options show them (tyro's own is
+#: "{None}|FLOAT").
+_OPTIONAL_METAVARS = {float | None: "FLOAT|None", int | None: "INT|None", str | None: "STR|None"}
+
+#: A docstring's words that state a field's default: '"paper" (default), ...', 'None
+#: (default): ...', 'Default 0: ...' (tyro prints the default after the help).
+_DEFAULT_WORDS = ((re.compile(r" \(default\)"), ""), (re.compile(r"\bDefault (\S+):"), r"\1:"))
 
 
-_Processes = Annotated[int | None, _default("one per core")]
-_Scheduler = Annotated[str | None, _default("an embedded cluster on 127.0.0.1")]
+def _option_help(helptext) -> str | None:
+    """A field's help on the command line: its docstring without the words of
+    _DEFAULT_WORDS."""
+    text = helptext() if callable(helptext) else helptext
+    if text is None:
+        return None
+    for pattern, replacement in _DEFAULT_WORDS:
+        text = pattern.sub(replacement, text)
+    return text
+
+
+def _shown(metavar: str, default: str):
+    """An option whose value None means "not given": its value as ``metavar`` (instead of
+    tyro's "{None}|STR") and its default in words (instead of "(default: None)")."""
+    return tyro.conf.arg(metavar=metavar, help_behavior_hint=f"(default: {default})")
+
+
+_Processes = Annotated[int | None, _shown("INT", "one per core")]
+_Scheduler = Annotated[str | None, _shown("STR", "an embedded cluster on 127.0.0.1")]
 _ResultsDir = Annotated[
-    Path | None, _default("DOCKING_RESULTS, the checkout's results/ or ./results")
+    Path | None, _shown("PATH", "DOCKING_RESULTS, the checkout's results/ or ./results")
 ]
-_ExperimentSeeds = Annotated[str | None, _default("the experiment's seeds, docking.presets.SEEDS")]
-_DesignSeeds = Annotated[str | None, _default("the design's")]
+_FiguresDir = Annotated[Path | None, _shown("PATH", "DOCKING_FIGURES or the checkout's figures/")]
+_ExperimentSeeds = Annotated[
+    str | None, _shown("STR", "the experiment's seeds, docking.presets.SEEDS")
+]
+_DesignSeeds = Annotated[str | None, _shown("STR", "the design's")]
 
 
 def _seeds_of(config: ExperimentConfig, text: str | None) -> list[int]:
@@ -208,7 +257,10 @@ class Sweep:
     experiment: _ExperimentArg
     seeds: _ExperimentSeeds = None
     """Seeds as ranges or lists: 0-19, 0,3,5."""
-    grid: tuple[str, ...] = ()
+    grid: Annotated[
+        tuple[str, ...],
+        tyro.conf.arg(help_behavior_hint="(default: none, the base configuration alone)"),
+    ] = ()
     """Fields to vary, each PATH=V1,V2,...; all combinations are run, e.g.
     --grid network.eps_w=0,0.05 world.step_forward=0.1,0.15."""
     scheduler: _Scheduler = None
@@ -262,7 +314,12 @@ class DesignRun:
     sweep on a Dask cluster (embedded by default), then the cells that need measured runs;
     prints each design's summary (its table and the verdicts of its claims)."""
 
-    names: tyro.conf.Positional[tuple[_DesignName, ...]]
+    names: Annotated[
+        tyro.conf.Positional[tuple[_DesignName, ...]],
+        tyro.conf.arg(
+            help_behavior_hint=lambda shown: f"(default: {shown})" if shown else "(required)"
+        ),
+    ]
     """The designs to run (python -m docking design list)."""
     full: bool = False
     """Also the design's sensitivity cells (about twice the runs for the study)."""
@@ -349,7 +406,7 @@ class Report:
     """Print the results table (the paper's numbers beside ours) from the stored runs of
     both experiments and their seeds, running any that are missing."""
 
-    readme: Path | None = None
+    readme: Annotated[Path | None, _shown("PATH", "none, the tables are only printed")] = None
     """Also write the table into this README, between <!-- results:start --> and
     <!-- results:end -->."""
     processes: _Processes = None
@@ -366,7 +423,7 @@ class Report:
 
     compute: bool = False
     """Compute the runs that neither the results store nor the ledger holds (without it, the
-    report refuses to start a computation: the study and Experiment 3 are hours on 2 cores)."""
+    report refuses to start a computation: Experiment 3 is hours on 2 cores)."""
 
     def execute(self) -> int:
         from docking.presets import EXPERIMENT_1, EXPERIMENT_2
@@ -434,11 +491,40 @@ def _refuse_to_compute(experiment3: bool, results_dir) -> None:
     absent = missing(jobs, results_dir)
     if absent:
         kinds = sorted({j.config.name for j in absent})
-        raise ValueError(
-            f"{len(absent)} runs ({', '.join(kinds)}) are neither stored nor in the ledger: "
-            "computing them takes from minutes to hours. Pass --compute to compute them, or "
-            "run the designs first (python -m docking design run ...)"
+        text = f"{len(absent)} runs ({', '.join(kinds)}) are neither stored nor in the ledger"
+        how = (
+            "pass --compute to compute them (from minutes to hours), or run the designs first "
+            "(python -m docking design run ...)"
         )
+        raise ValueError(_absent(text, how))
+
+
+def _absent(text: str, how: str) -> str:
+    """The error of runs that are neither stored nor in the ledger: ``text`` says which, then
+    how to get the ledger if it is off or absent, then ``how`` to compute them."""
+    why = _no_ledger()
+    return f"{text}. {why[0].upper()}{why[1:]}. Or {how}" if why else f"{text}: {how}"
+
+
+def _no_ledger() -> str | None:
+    """Why the ledger serves no run, and what to do, if it is switched off or absent (an
+    installed package: the ledger is the ledger/ folder of the project's git repository, which
+    no wheel carries); None if there is a ledger."""
+    from docking import ledger
+
+    if ledger.ledger_off():
+        return (
+            f"the ledger is switched off by DOCKING_LEDGER={os.environ['DOCKING_LEDGER']}; "
+            "unset it, or set it to a ledger folder"
+        )
+    if ledger.ledger_dir() is None:
+        return (
+            "this installed package has no ledger (the committed runs that report and figures "
+            "read are the ledger/ folder of the project's git repository, which no wheel "
+            "carries): clone the repository and run python -m docking in the clone, or set "
+            "DOCKING_LEDGER to the absolute path of the clone's ledger/ folder"
+        )
+    return None
 
 
 @dataclasses.dataclass
@@ -447,7 +533,7 @@ class Figures:
     the results store or the committed ledger (never computing one); the study's and
     Experiment 3's figures are written by notebook 06."""
 
-    folder: Annotated[Path | None, _default("DOCKING_FIGURES or the checkout's figures/")] = None
+    folder: _FiguresDir = None
     """Where the .png and .pdf files go."""
     results_dir: _ResultsDir = None
     """The results store."""
@@ -462,10 +548,11 @@ class Figures:
             runs = [load_run(config, s, self.results_dir) for s in SEEDS[config.name]]
             absent = [s for s, r in zip(SEEDS[config.name], runs, strict=True) if r is None]
             if absent:
-                raise ValueError(
-                    f"{config.name} seeds {absent} are neither stored nor in the ledger: "
-                    f"python -m docking run {config.name} computes them"
+                text = (
+                    f"{config.name} seeds {_seed_text(absent)} are neither stored nor in the ledger"
                 )
+                how = f"compute them with python -m docking run {config.name}"
+                raise ValueError(_absent(text, how))
             results.append(runs)
         for fig in save_figures(*results, self.folder):
             del fig
@@ -489,12 +576,7 @@ class Ledger:
 
         folder = ledger.ledger_dir()  # ValueError if DOCKING_LEDGER is not off or a folder
         if folder is None:
-            raise ValueError(
-                "the ledger is switched off by DOCKING_LEDGER="
-                f"{os.environ['DOCKING_LEDGER']}; unset it, or set it to a ledger folder"
-                if ledger.ledger_off()
-                else "this installed package has no ledger folder; set DOCKING_LEDGER to one"
-            )
+            raise ValueError(_no_ledger())
         if self.action == "update":
             from docking.design import ledger_runs
             from docking.designs import design, names
@@ -581,7 +663,6 @@ Command = Union[  # noqa: UP007
     Annotated[Run, tyro.conf.subcommand("run")],
     Annotated[Sweep, tyro.conf.subcommand("sweep")],
     Annotated[DesignCommand, tyro.conf.subcommand("design")],
-    _alias(("study",), "The study of notebook 05"),
     _alias(
         ("calibration-experiment1", "calibration-experiment2"),
         "The calibration variants of notebooks 03 and 04",

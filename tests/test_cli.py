@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import os
+import re
 import subprocess
 import sys
 import time
@@ -95,6 +96,9 @@ def _cli_on_a_terminal(args, tmp_path, timeout=300):
         ["design"],
         ["design", "run"],
         ["design", "list"],
+        ["figures"],
+        ["ledger"],
+        ["verify"],
         ["benchmark"],
     ],
     ids=lambda a: " ".join(a) or "top",
@@ -109,6 +113,50 @@ def test_help_prints_usage_and_starts_nothing(args, tmp_path):
     assert list(tmp_path.iterdir()) == []
     assert elapsed < 20, f"--help took {elapsed:.1f} s"
     assert _options_without_help(out.stdout) == []
+    assert _defaults_stated_twice(out.stdout) == []
+    # A configuration's optional parts are options, not a choice of subcommands.
+    assert not {"world-config", "none"} & set(_subcommand_choices(out.stdout))
+
+
+def _help_entries(text: str) -> dict[str, str]:
+    """Each option (and positional argument) of a tyro help text: its signature and its
+    description, the lines that follow it up to the next entry or the panel's end joined."""
+    raw = [line.removeprefix("│").rstrip("│ ") for line in text.splitlines()]
+    entries: dict[str, str] = {}
+    current, positional = None, False
+    for line in raw:
+        if line.startswith(("╭", "╰")):
+            current, positional = None, "positional arguments" in line
+            continue
+        starts = line.startswith(" -") or (positional and line[:2].strip() and line[1] != " ")
+        if starts and positional and current is not None and not entries[current]:
+            continue  # a positional argument's signature wrapped onto a second line
+        if starts:
+            signature, _, rest = line.strip().partition("  ")
+            current = signature
+            entries[current] = rest.strip()
+        elif current is not None:
+            entries[current] = f"{entries[current]} {line.strip()}".strip()
+    return entries
+
+
+def _defaults_stated_twice(text: str) -> list[str]:
+    """The entries of a tyro help text without one readable default: their own words state a
+    default besides tyro's "(default: ...)", tyro's shows nothing ("(default: )"), or the
+    signature offers None as a value ("{None}|STR")."""
+    found = []
+    for signature, description in _help_entries(text).items():
+        words, hint, shown = description.rpartition("(default:")
+        twice = hint and re.search(r"\bdefault", words, re.IGNORECASE)
+        unreadable = "{None}" in signature or (hint and not shown.strip(" )"))
+        if twice or unreadable:
+            found.append(signature.split()[0].rstrip(","))
+    return found
+
+
+def _subcommand_choices(text: str) -> list[str]:
+    """The names a tyro help text offers as subcommands (its "• name" lines)."""
+    return re.findall(r"^│\s+• (\S+)", text, re.MULTILINE)
 
 
 def _options_without_help(text: str) -> list[str]:
@@ -133,6 +181,23 @@ def test_the_help_check_finds_an_option_without_help():
     text = "╭─ options ─╮\n│ --a INT │\n│   Says. (default: 1) │\n│ --b INT │\n│   (default: 2) │\n"
     text += "│ -h, --help    show this │\n│ --d INT       (default: 3) │\n"
     assert _options_without_help(text + "│ --c INT │\n╰──╯\n") == ["--b", "--d", "--c"]
+
+
+def test_the_help_check_finds_a_default_stated_twice():
+    text = (
+        "╭─ positional arguments ─╮\n│ [{a,b} ...]  Names. (default: ) │\n╰──╯\n"
+        "╭─ options ─╮\n│ --a INT │\n│   Says, 3 by default. (default: 3) │\n"
+        "│ --b {None}|INT  Says. (default: None) │\n│ --c INT  Plain. (default: 1) │\n"
+        '│ --d STR │\n│   "x" (default): the x; "y": │\n│   the y. (default: x) │\n'
+        "│ --e INT  Default 0: zero. (default: 0) │\n│ --f STR  Says. (default: the one) │\n"
+        "╰──╯\n"
+    )
+    assert _defaults_stated_twice(text) == ["[{a,b}", "--a", "--b", "--d", "--e"]
+
+
+def test_the_help_check_finds_subcommands():
+    text = "╭─ subcommands ─╮\n│ The world. │\n│   • world-config  Say. │\n│   • none │\n╰──╯\n"
+    assert _subcommand_choices(text) == ["world-config", "none"]
 
 
 @pytest.mark.slow
@@ -291,8 +356,9 @@ def test_report_refuses_to_start_a_computation_without_compute(tmp_path):
 def test_design_list_names_every_design(tmp_path):
     out = _cli(["design", "list"], tmp_path, timeout=120)
     assert out.returncode == 0, out.stderr
-    for name in ("paper", "calibration-experiment1", "study", "experiment3", "second-edition"):
+    for name in ("paper", "calibration-experiment1", "experiment3", "experiment3-oracle"):
         assert name in out.stdout
+    assert "second-edition" not in out.stdout  # archived: read at 1341e99
 
 
 def test_figures_refuses_runs_it_does_not_have(tmp_path):
@@ -303,6 +369,36 @@ def test_figures_refuses_runs_it_does_not_have(tmp_path):
         del os.environ["DOCKING_LEDGER"]
     assert out.returncode == 2 and "neither stored nor in the ledger" in out.stderr
     assert not (tmp_path / "f").exists()
+
+
+def test_an_installed_package_says_how_to_get_the_ledger(tmp_path, monkeypatch):
+    """A wheel carries no ledger (it is the checkout's ledger/ folder): report and figures,
+    which read their runs from it, say what to do instead of only refusing."""
+    import shutil
+
+    site = tmp_path / "site"  # the package as pip installs it: no pyproject.toml beside it
+    shutil.copytree(REPO / "docking", site / "docking", ignore=shutil.ignore_patterns("*.pyc"))
+    monkeypatch.delenv("DOCKING_LEDGER")
+    env = {**_env(tmp_path), "PYTHONPATH": str(site)}
+    for args in (["figures", "--folder", str(tmp_path / "f")], ["report"]):
+        out = subprocess.run(
+            [sys.executable, "-m", "docking", *args],
+            cwd=tmp_path,
+            env=env,
+            capture_output=True,
+            text=True,
+            timeout=120,
+        )
+        assert out.returncode == 2 and "Traceback" not in out.stderr, out.stderr
+        says = " ".join(out.stderr.split())
+        assert "This installed package has no ledger" in says, says
+        assert "clone the repository" in says and "DOCKING_LEDGER" in says, says
+        assert "python -m docking run" in says or "--compute" in says, says
+    assert not (tmp_path / "f").exists() and not list(tmp_path.rglob("*.npz"))
+    # With the ledger switched off, the error says so (and how to switch it on).
+    monkeypatch.setenv("DOCKING_LEDGER", "off")
+    out = _cli(["figures", "--folder", str(tmp_path / "f")], tmp_path, timeout=120)
+    assert out.returncode == 2 and "DOCKING_LEDGER=off" in out.stderr, out.stderr
 
 
 def test_help_is_plain_text(tmp_path):
