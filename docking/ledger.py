@@ -376,8 +376,8 @@ def _npz(arrays: dict[str, np.ndarray]) -> bytes:
 def _columns(runs: list[tuple[str, dict, frozenset]]) -> dict[str, np.ndarray]:
     """The results table of ``runs`` (``(key, stored arrays, what to keep)`` each)."""
     for _, arrays, keep in runs:
-        for part in ("test", "heldout"):
-            if "starts" in keep and f"{part}.steps" in arrays:
+        for part in PARTS:
+            if "starts" in keep and f"{part}.poses" in arrays:
                 offsets = np.concatenate([[0], np.cumsum(arrays[f"{part}.steps"] + 1)[:-1]])
                 arrays[f"{part}.starts"] = arrays[f"{part}.poses"][offsets.astype(np.int64)]
     table = {"key": np.array([key for key, _, _ in runs])}
