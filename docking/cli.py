@@ -444,16 +444,24 @@ class Report:
         table = results_table(*results)
         print(table)
         changed = self.readme is not None and update_readme(self.readme, table)
+        comparisons, rates = None, None
         if self.experiment3:
             from docking.designs import experiment3
             from docking.report import EXPERIMENT3_END, EXPERIMENT3_START
 
             found = experiment3.run(results_dir=self.results_dir, workers=self.processes)
             oracle = experiment3.ORACLE.run(results_dir=self.results_dir, workers=self.processes)
-            text = experiment3.table(found, experiment3.oracle_table(oracle))
+            comparisons, rates = experiment3.comparisons(found), experiment3.oracle_table(oracle)
+            text = experiment3.table(found, rates)
             print(text)
             if self.readme is not None:
                 changed |= update_readme(self.readme, text, EXPERIMENT3_START, EXPERIMENT3_END)
+        from docking.report import SUMMARY_END, SUMMARY_START, summary_text
+
+        summary = summary_text(*results, comparisons, rates)
+        print(summary)
+        if self.readme is not None:
+            changed |= update_readme(self.readme, summary, SUMMARY_START, SUMMARY_END)
         if self.readme is not None:
             changed |= _write_timings(self.readme)
         if self.readme is not None:

@@ -146,7 +146,8 @@ class Design:
         of its results table (:mod:`docking.ledger`).
       keep: What the ledger's table keeps of the design's runs beyond each trial's outcome:
         ``"paths"``, the paths (poses, actions) of the failed test and held-out trials (what
-        the failure taxonomy reads); ``"starts"``, every trial's start pose.
+        the failure taxonomy reads); ``"starts"``, every trial's start pose; ``"networks"``,
+        each run's W and Q; ``"winners"``, the winning unit of every test and held-out step.
     """
 
     name: str

@@ -43,6 +43,7 @@ import numpy as np
 from docking import paths, ppo, store
 from docking.experiments import ExperimentResult, TrialLog
 from docking.fileio import atomic_write
+from docking.network import Network
 
 __all__ = ["CorruptLedger", "NotInLedger", "NotKept", "StaleLedger", "holds", "load_run"]
 
@@ -314,7 +315,11 @@ def load_run(config, seed: int, results_dir: Path | str | None = None):
     return ExperimentResult(
         config=config,
         seed=seed,
-        network=NotKept(f"{what}: its network"),
+        network=(
+            Network.from_weights(config.network, arrays["W"], arrays["Q"])
+            if "W" in arrays
+            else NotKept(f"{what}: its network")
+        ),
         train=logs["train"],
         test=logs["test"],
         **curves,
@@ -350,6 +355,8 @@ def _log(table: dict, arrays: dict, run: int, part: str, what: str) -> TableLog:
                 table[f"{part}.path.actions"][action_at[i] : action_at[i + 1]],
             )
     absent = {f: NotKept(f"{what}: the {part} trials' {f}") for f in STEP_FIELDS}
+    if f"{part}.winners" in arrays:
+        absent["winners"] = arrays[f"{part}.winners"]
     per_trial = {f: arrays[f"{part}.{f}"] for f in ("success", "steps", "start_far")}
     starts = arrays.get(f"{part}.starts")
     return TableLog(**per_trial, **absent, paths=kept, start_poses=starts, what=what)
@@ -373,19 +380,33 @@ def _npz(arrays: dict[str, np.ndarray]) -> bytes:
     return buffer.getvalue()
 
 
+def _row(arrays: dict, keep: frozenset) -> dict[str, np.ndarray]:
+    """What a table keeps of a run's stored ``arrays``: every per-trial and per-run array;
+    with ``"starts"`` each trial's start pose, ``"networks"`` W and Q, ``"winners"`` the test
+    and held-out steps' winning units; never ``meta`` or another per-step array."""
+    row = {}
+    for name, array in arrays.items():
+        field = name.rpartition(".")[2]
+        if name == "meta" or (name in NETWORK and "networks" not in keep):
+            continue
+        if field in STEP_FIELDS and not (field == "winners" and "winners" in keep):
+            continue
+        if field == "winners" and name.startswith("train."):
+            continue
+        row[name] = np.atleast_1d(array)
+    for part in PARTS:
+        if "starts" in keep and f"{part}.poses" in arrays:
+            offsets = np.concatenate([[0], np.cumsum(arrays[f"{part}.steps"] + 1)[:-1]])
+            row[f"{part}.starts"] = arrays[f"{part}.poses"][offsets.astype(np.int64)]
+    return row
+
+
 def _columns(runs: list[tuple[str, dict, frozenset]]) -> dict[str, np.ndarray]:
     """The results table of ``runs`` (``(key, stored arrays, what to keep)`` each)."""
-    for _, arrays, keep in runs:
-        for part in PARTS:
-            if "starts" in keep and f"{part}.poses" in arrays:
-                offsets = np.concatenate([[0], np.cumsum(arrays[f"{part}.steps"] + 1)[:-1]])
-                arrays[f"{part}.starts"] = arrays[f"{part}.poses"][offsets.astype(np.int64)]
     table = {"key": np.array([key for key, _, _ in runs])}
-    names = sorted({n for _, arrays, _ in runs for n in arrays})
-    for name in names:
-        if name == "meta" or name in NETWORK or name.rpartition(".")[2] in STEP_FIELDS:
-            continue
-        found = [np.atleast_1d(arrays[name]) if name in arrays else None for _, arrays, _ in runs]
+    rows = [_row(arrays, keep) for _, arrays, keep in runs]
+    for name in sorted({n for row in rows for n in row}):
+        found = [row.get(name) for row in rows]
         table[name] = np.concatenate([a for a in found if a is not None])
         table[name + ".count"] = np.array([-1 if a is None else len(a) for a in found])
     for part in ("test", "heldout"):
@@ -460,15 +481,17 @@ def update(runs, folder: Path | str | None = None, results_dir=None) -> dict:
         "tables": {n: hashlib.sha256(files[f"tables/{n}.npz"]).hexdigest() for n in tables},
         "runs": records,
     }
-    old = {p for kind in ("runs", "ppo", "tables", "whole") for p in folder.glob(f"{kind}/**")}
+    kinds = ("runs", "ppo", "tables", "whole")  # (runs/, ppo/: earlier formats' entries)
+    old = {p for kind in kinds for p in [folder / kind, *folder.glob(f"{kind}/**/*")]}
     for relative, raw in files.items():
         old.discard(folder / relative)
         if not (folder / relative).exists() or (folder / relative).read_bytes() != raw:
             atomic_write(folder / relative, lambda f, raw=raw: f.write(raw))
     for stale in (p for p in old if p.is_file()):
         stale.unlink()
-    for empty in sorted((p for p in old if p.is_dir() and not any(p.iterdir())), reverse=True):
-        empty.rmdir()
+    for folder_ in sorted((p for p in old if p.is_dir()), reverse=True):
+        if not any(folder_.iterdir()):
+            folder_.rmdir()
     text = json.dumps(data, indent=1, sort_keys=True) + "\n"
     atomic_write(folder / "manifest.json", lambda f: f.write(text.encode()))
     _read_manifest.cache_clear()

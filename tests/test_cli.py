@@ -311,10 +311,15 @@ def test_project_readme_has_the_markers():
         (README_START, README_END),
         (report.EXPERIMENT3_START, report.EXPERIMENT3_END),
         (report.TIMINGS_START, report.TIMINGS_END),
+        (report.SUMMARY_START, report.SUMMARY_END),
     ):
         assert text.count(start) == 1 and text.count(end) == 1
-    # one verdict table (the second edition's); the first edition's stays in its notebook
-    assert text.count("| claim, in the paper's words | verdict |") == 1
+    # The summary answers first: before how to run anything, within the first screen.
+    assert text.index(report.SUMMARY_START) < text.index("## Start here")
+    assert text[: text.index(report.SUMMARY_END)].count("\n") < 30
+    # No verdict table of an archived edition; the third edition's will be the one
+    assert "| claim, in the paper's words | verdict |" not in text
+    assert "second-edition:start" not in text
 
 
 def test_timings_paragraph_says_what_was_measured():

@@ -234,3 +234,26 @@ def test_results_table_rows_of_sample_efficiency_and_held_out_success(result1, r
     assert "per seed 5, never; median 5" in row
     assert "| Exp. 1 held-out success, 2 seeds (the study) | (not reported) | mean 95.0%" in table
     assert "held-out" not in report.results_table([result1], [r2])
+
+
+def test_the_summary_quotes_the_runs_and_the_world_they_hold_in(result1, result2):
+    from docking.stats import Interval
+
+    text = report.summary_text([result1], [result2])
+    h1, h2 = result1, result2
+    assert f"{h1.test_successes}/{len(h1.test)} test trials of Experiment 1" in text
+    assert f"{h2.test_successes}/{len(h2.test)} = " in text
+    w = result2.config.world
+    assert f"({100 * w.step_forward:.0f} cm forward, {100 * w.step_side:.0f} cm sideways" in text
+    assert "Not supported" not in text  # no Experiment 3 given: no sentence about it
+
+    class Pair:  # an Experiment 3 comparison: six minus four actions
+        def __init__(self, gain):
+            self.gain = Interval(gain, gain - 0.03, gain + 0.03, ())
+            self.four = Interval(0.9, 0.88, 0.92, ())
+
+    text = report.summary_text([result1], [result2], [Pair(-0.2), Pair(-0.05)])
+    assert "**Not supported.**" in text
+    assert "in 2 of Experiment 3's 2 cells; six minus four actions ranges from -20.0 to" in text
+    text = report.summary_text([result1], [result2], [Pair(-0.2), Pair(0.01)])
+    assert "**Mixed.**" in text and "in 1 of Experiment 3's 2 cells" in text

@@ -126,6 +126,15 @@ def test_an_update_writes_the_same_bytes_again(built, tmp_path):
             assert (folder / f).read_bytes() == (again / f).read_bytes(), f
 
 
+def test_an_update_removes_the_files_of_runs_it_no_longer_keeps(built, tmp_path):
+    folder, _, _, results = built
+    copy = tmp_path / "ledger"
+    shutil.copytree(folder, copy)
+    ledger.update([(TINY, 1, False, KEEP)], copy, results)
+    assert not (copy / "whole").exists()  # seed 0 was whole: its file and folders go
+    assert sorted(p.name for p in copy.glob("tables/*")) == ["tiny.npz"]
+
+
 def test_the_tables_open_in_plain_numpy(built):
     folder, *_ = built
     (table,) = folder.glob("tables/*.npz")
