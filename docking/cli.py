@@ -458,7 +458,11 @@ class Report:
                 changed |= update_readme(self.readme, text, EXPERIMENT3_START, EXPERIMENT3_END)
         from docking.report import SUMMARY_END, SUMMARY_START, summary_text
 
-        summary = summary_text(*results, comparisons, rates)
+        first = None
+        if comparisons:
+            c = comparisons[0]
+            first = rates[experiment3.cell_key("paper", c.task, c.noise)]
+        summary = summary_text(*results, comparisons, first)
         print(summary)
         if self.readme is not None:
             changed |= update_readme(self.readme, summary, SUMMARY_START, SUMMARY_END)
