@@ -90,6 +90,7 @@ def prepare() -> Path:
     (SOURCE / "index.md").write_text(_markdown((ROOT / "README.md").read_text()))
     (SOURCE / "contributing.md").write_text(_markdown((ROOT / "CONTRIBUTING.md").read_text()))
     shutil.copytree(ROOT / "figures", SOURCE / "figures")
+    shutil.copy(ROOT / "docs" / "extra.css", SOURCE / "extra.css")
     sources = sorted((ROOT / "notebooks").glob("[0-9]*.py"))
     if not sources:
         raise SystemExit("no notebooks/*.py: is this the project's checkout?")

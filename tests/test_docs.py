@@ -1,7 +1,8 @@
 """The documentation site (issue 20): built by ``make docs`` into ``build/site``, opened in
 headless Chromium (Debian's, through playwright): every notebook page shows its figures and
 its equations rendered by MathJax (no raw ``$$`` left in the text), and every internal link
-resolves. Run by ``make test`` after ``make docs`` (``pytest -m docs``)."""
+resolves. What a reader sees at a laptop's width (issue 29): every table whole, without a
+horizontal scrollbar. Run by ``make test`` after ``make docs`` (``pytest -m docs``)."""
 
 from __future__ import annotations
 
@@ -17,6 +18,10 @@ pytestmark = pytest.mark.docs
 SITE = Path(__file__).resolve().parent.parent / "build" / "site"
 CHROMIUM = shutil.which("chromium") or "/usr/bin/chromium"
 NOTEBOOKS = sorted(p.name for p in (SITE / "notebooks").glob("*.html")) if SITE.exists() else []
+#: Every page of the site (the 404 page, a server's, aside).
+PAGES = sorted(p for p in SITE.rglob("*.html") if p.name != "404.html") if SITE.exists() else []
+#: A laptop's screen: the width at which the site is checked as a reader sees it.
+VIEWPORT = {"width": 1280, "height": 800}
 
 
 @pytest.fixture(scope="module")
@@ -158,3 +163,42 @@ def test_the_start_page_shows_the_readmes_figures(browser):
         page.close()
     figures = [(src, w) for src, w in widths if "/figures/" in src]
     assert len(figures) >= 10 and all(w > 0 for _, w in figures), figures
+
+
+#: For each table of the page's text, every element from the table up to the page's text
+#: that hides part of it (content wider than the box, ``overflow`` other than ``visible``:
+#: a horizontal scrollbar), and whether it reaches past the window's right edge.
+_CLIPPED_TABLES = """() => Array.from(document.querySelectorAll('article table'))
+  .filter(t => !t.closest('.highlighttable'))
+  .map(t => {
+    const clips = [];
+    for (let e = t; e && e.tagName !== 'ARTICLE'; e = e.parentElement) {
+      if (getComputedStyle(e).overflowX !== 'visible' && e.scrollWidth > e.clientWidth + 1)
+        clips.push(`${e.tagName}.${e.className}: ${e.scrollWidth} > ${e.clientWidth}`);
+    }
+    const right = t.getBoundingClientRect().right;
+    if (right > window.innerWidth + 1)
+      clips.push(`past the window's edge: ${right} > ${window.innerWidth}`);
+    const head = Array.from(t.rows[0] ? t.rows[0].cells : []).map(c => c.innerText.trim());
+    return {head: head.slice(0, 3).join(' | '), columns: head.length, clips};
+  })"""
+
+
+def test_every_table_shows_all_its_columns(browser):
+    """At 1280 px, no table of any page is wider than its box: nothing behind a scrollbar
+    (the 9-column table of the README and notebook 07 used to show half its columns)."""
+    page = browser.new_page(viewport=VIEWPORT)
+    clipped, tables, widest = [], 0, 0
+    try:
+        for html in PAGES:
+            page.goto(html.as_uri())
+            page.wait_for_load_state("load")
+            for table in page.evaluate(_CLIPPED_TABLES):
+                tables += 1
+                widest = max(widest, table["columns"])
+                if table["clips"]:
+                    clipped.append(f"{html.relative_to(SITE)}: [{table['head']}] {table['clips']}")
+    finally:
+        page.close()
+    assert tables > 20 and widest >= 9, (tables, widest)  # the README's and 07's tables
+    assert not clipped, "\n".join(clipped)
