@@ -2,6 +2,13 @@
 outputs, the figures, CONTRIBUTING and the API reference, as a static mkdocs site in
 ``build/site`` that needs no server and no network (MathJax is served from the site).
 
+What the site shows beyond the sources' text: each figure's caption as its alt text (the
+README's figure table for the figures it shows; a caption the notebook passes, as with
+IPython's ``Image(alt=...)``; else the notebook's text before the figure), each notebook
+figure as a PNG file of its own that opens full size (docs/mkdocs.yml: glightbox), and the
+notebooks' import blocks folded (tagged ``hide-input``; docs/hooks.py renders the tag and the
+alt text, which nbconvert's template leaves out).
+
 ``make test`` executes every notebook under ``pytest --nbmake --overwrite``, which writes its
 outputs into ``notebooks/*.ipynb``; this script copies those. A notebook that has no
 ``.ipynb``, one without outputs, or one older than its ``.py`` source is executed here first
@@ -14,6 +21,8 @@ or the committed ledger, so ``make docs`` works in a fresh clone without ``make 
 from __future__ import annotations
 
 import argparse
+import base64
+import hashlib
 import json
 import re
 import shutil
@@ -46,6 +55,133 @@ API_MODULES = (
 MATHJAX_CONFIG = """window.MathJax = window.MathJax || {};
 MathJax.Hub && MathJax.Hub.Config({});
 """
+
+
+#: TeX commands of the notebooks' text, as plain text for an alt attribute.
+_TEX = {
+    "alpha": "α", "beta": "β", "gamma": "γ", "delta": "δ", "Delta": "Δ", "varepsilon": "ε",
+    "epsilon": "ε", "theta": "θ", "pi": "π", "sigma": "σ", "sum": "Σ", "propto": "∝",
+    "partial": "∂", "approx": "≈", "neq": "≠", "leq": "≤", "geq": "≥", "times": "×",
+    "pm": "±", "cdot": "·",
+}  # fmt: skip
+
+
+def _plain(text: str) -> str:
+    """Markdown with TeX as one line of plain text (for an ``alt`` attribute)."""
+    text = re.sub(r"\$+([^$]*)\$+", lambda m: _plain_tex(m.group(1)), text)
+    text = re.sub(r"!?\[([^\]]*)\]\([^)]*\)", r"\1", text)  # links, images: their text
+    text = re.sub(r"(\*\*|__|\*|`)", "", text)
+    return " ".join(text.split())
+
+
+def _plain_tex(tex: str) -> str:
+    tex = re.sub(r"\\([A-Za-z]+)", lambda m: _TEX.get(m.group(1), ""), tex)
+    return " ".join(re.sub(r"[{}\\]", "", tex).split())
+
+
+def _readme_captions(readme: str) -> dict[str, str]:
+    """The README's figure table: ``figures/NAME.png`` -> the caption beside the image (its
+    bold title set off by a dash unless the sentence runs on: "Fig. 2 — the scene: ...",
+    "Where W changed in Experiment 2 ...")."""
+    captions = {}
+    for m in re.finditer(r"!\[[^\]]*\]\((figures/[^)\s]+)\)([^|]*)", readme):
+        caption = re.sub(
+            r"^\s*\*\*([^*]+)\*\*\s+(?=[A-Za-z])(?!(?:in|of|on|at|for|from|with)\b)",
+            r"\1 — ",
+            m.group(2),
+        )
+        captions[m.group(1)] = _plain(caption)
+    return captions
+
+
+def _with_captions(readme: str, captions: dict[str, str]) -> str:
+    """The README's figures with their captions as alt text (``![Fig. 2](...)`` has only
+    "Fig. 2")."""
+
+    def alt(m: re.Match) -> str:
+        caption = captions.get(m.group(2), m.group(1)).replace("[", "(").replace("]", ")")
+        return f"![{caption}]({m.group(2)})"
+
+    return re.sub(r"!\[([^\]]*)\]\(([^)\s]+)\)", alt, readme)
+
+
+def _leading_text(cells: list[dict], index: int) -> str:
+    """The notebook's text before cell ``index``: the heading of its section and the paragraph
+    right before the cell (its last sentence if it ends in a colon, "One trial from a random
+    start:"; else its first sentences)."""
+    heading, paragraphs = "", []
+    for cell in reversed(cells[:index]):
+        if cell["cell_type"] != "markdown":
+            if paragraphs or heading:
+                break
+            continue
+        blocks = [b.strip() for b in re.split(r"\n\s*\n", "".join(cell["source"])) if b.strip()]
+        for block in reversed(blocks):
+            if block.startswith("#"):
+                heading = block.lstrip("#").strip()
+                break
+            paragraphs.insert(0, block)
+        if heading:
+            break
+    lead = ""
+    if paragraphs and paragraphs[-1].endswith(":"):
+        lead = _sentences(_plain(paragraphs[-1]))[-1].rstrip(":")
+    elif paragraphs:
+        lead = _first_sentences(_plain(paragraphs[-1]))
+    heading = _plain(heading)
+    return f"{heading}: {lead}" if heading and lead else heading or lead
+
+
+def _sentences(text: str) -> list[str]:
+    return re.split(r"(?<=[.!?])\s+(?=[A-Z(\"“])", text)
+
+
+def _first_sentences(text: str, limit: int = 240) -> str:
+    """The sentences of ``text`` that fit ``limit`` characters (at least the first, cut at a
+    word with an ellipsis if it alone is longer)."""
+    sentences = _sentences(text)
+    kept = sentences[0]
+    for sentence in sentences[1:]:
+        if len(kept) + 1 + len(sentence) > limit:
+            break
+        kept += " " + sentence
+    if len(kept) > limit:
+        kept = kept[:limit].rsplit(" ", 1)[0] + " …"
+    return kept
+
+
+def _site_notebook(path: Path, captions: dict[str, str]) -> None:
+    """Rewrite the site's copy of a notebook (``path``, in build/site-src): each PNG figure a
+    file of its own (the same file as the README's
+    when the figure is one of ``figures/``), its caption in the output's metadata."""
+    nb = json.loads(path.read_text())
+    known = {
+        hashlib.sha256(png.read_bytes()).hexdigest(): f"figures/{png.name}"
+        for png in (ROOT / "figures").glob("*.png")
+    }
+    files = path.parent / f"{path.stem}_files"
+    count = 0
+    for index, cell in enumerate(nb["cells"]):
+        for output in cell.get("outputs", []):
+            png = output.get("data", {}).get("image/png")
+            if png is None:
+                continue
+            data = base64.b64decode(png)
+            figure = known.get(hashlib.sha256(data).hexdigest())
+            if figure:
+                src = f"../{figure}"  # notebooks/ and archive/ are beside figures/
+            else:
+                count += 1
+                files.mkdir(exist_ok=True)
+                (files / f"figure-{count}.png").write_bytes(data)
+                src = f"{files.name}/figure-{count}.png"
+            metadata = output.setdefault("metadata", {})
+            image = metadata.setdefault("image/png", {})
+            image["alt"] = _plain(
+                image.get("alt") or captions.get(figure) or _leading_text(nb["cells"], index)
+            )
+            metadata.setdefault("filenames", {})["image/png"] = src
+    path.write_text(json.dumps(nb, indent=1, ensure_ascii=False))
 
 
 def _executed(path: Path) -> bool:
@@ -87,7 +223,9 @@ def prepare() -> Path:
     if SOURCE.exists():
         shutil.rmtree(SOURCE)
     (SOURCE / "notebooks").mkdir(parents=True)
-    (SOURCE / "index.md").write_text(_markdown((ROOT / "README.md").read_text()))
+    readme = (ROOT / "README.md").read_text()
+    captions = _readme_captions(readme)
+    (SOURCE / "index.md").write_text(_with_captions(_markdown(readme), captions))
     (SOURCE / "contributing.md").write_text(_markdown((ROOT / "CONTRIBUTING.md").read_text()))
     shutil.copytree(ROOT / "figures", SOURCE / "figures")
     shutil.copy(ROOT / "docs" / "extra.css", SOURCE / "extra.css")
@@ -102,6 +240,8 @@ def prepare() -> Path:
     # The archived notebooks (archive/README.md): executed at an earlier commit, copied as
     # they are.
     shutil.copytree(ROOT / "archive", SOURCE / "archive", ignore=shutil.ignore_patterns("*.py"))
+    for nb in sorted(SOURCE.glob("*/*.ipynb")):
+        _site_notebook(nb, captions)
     api = ["# API reference", ""]
     for module in API_MODULES:
         api += [

@@ -2,7 +2,8 @@
 headless Chromium (Debian's, through playwright): every notebook page shows its figures and
 its equations rendered by MathJax (no raw ``$$`` left in the text), and every internal link
 resolves. What a reader sees at a laptop's width (issue 29): every table whole, without a
-horizontal scrollbar. Run by ``make test`` after ``make docs`` (``pytest -m docs``)."""
+horizontal scrollbar; every figure with its caption as alt text, a link to its full-size image
+that opens in a lightbox. Run by ``make test`` after ``make docs`` (``pytest -m docs``)."""
 
 from __future__ import annotations
 
@@ -15,7 +16,8 @@ import pytest
 
 pytestmark = pytest.mark.docs
 
-SITE = Path(__file__).resolve().parent.parent / "build" / "site"
+ROOT = Path(__file__).resolve().parent.parent
+SITE = ROOT / "build" / "site"
 CHROMIUM = shutil.which("chromium") or "/usr/bin/chromium"
 NOTEBOOKS = sorted(p.name for p in (SITE / "notebooks").glob("*.html")) if SITE.exists() else []
 #: Every page of the site (the 404 page, a server's, aside).
@@ -202,3 +204,86 @@ def test_every_table_shows_all_its_columns(browser):
         page.close()
     assert tables > 20 and widest >= 9, (tables, widest)  # the README's and 07's tables
     assert not clipped, "\n".join(clipped)
+
+
+#: Each image of the page's text: its source, alt text, natural width and the link around it.
+_IMAGES = """() => Array.from(document.querySelectorAll('article img')).map(i => {
+  const a = i.closest('a[href]');
+  return {src: i.currentSrc || i.src, alt: i.getAttribute('alt'), width: i.naturalWidth,
+          href: a ? a.href : null, lightbox: Boolean(a && a.classList.contains('glightbox'))};
+})"""
+
+#: The alt text nbconvert writes when a notebook's figure has none.
+NO_DESCRIPTION = "No description has been provided for this image"
+
+
+@pytest.fixture(scope="module")
+def site_images(browser) -> dict[str, list[dict]]:
+    """Every page's images (``_IMAGES``), by the page's path in the site."""
+    page = browser.new_page(viewport=VIEWPORT)
+    images = {}
+    try:
+        for html in PAGES:
+            page.goto(html.as_uri())
+            page.wait_for_load_state("load")
+            images[html.relative_to(SITE).as_posix()] = page.evaluate(_IMAGES)
+    finally:
+        page.close()
+    return images
+
+
+def test_every_figure_has_its_caption_as_alt_text(site_images):
+    """No image without alt text, nor with nbconvert's "No description has been provided"
+    (every notebook figure had it), nor with a word or two only ("Fig. 2")."""
+    every = [(page, image) for page, images in site_images.items() for image in images]
+    assert len(every) >= 30, len(every)  # the README's 12 figures, the notebooks' 19
+    bad = [
+        f"{page}: {Path(image['src']).name}: {image['alt']!r}"
+        for page, image in every
+        if not image["alt"]
+        or NO_DESCRIPTION.lower() in image["alt"].lower()
+        or len(image["alt"].split()) < 4
+        or Path(image["src"]).stem in image["alt"]
+    ]
+    assert not bad, "\n".join(bad)
+    # the README's caption of Fig. 2, on the start page and in notebook 02
+    for page in ("index.html", "notebooks/02_scene.html"):
+        alts = [i["alt"] for i in site_images[page] if i["src"].endswith("/fig2_scene.png")]
+        assert alts and alts[0].startswith("Fig. 2 — the scene: overview"), (page, alts)
+
+
+def test_every_figure_links_to_its_full_size_image(site_images):
+    """Each image is a link to its own file (not to a thumbnail, not to a data: URI that a
+    browser refuses to open), and that file is in the site."""
+    bad = []
+    for page, images in site_images.items():
+        for image in images:
+            target = Path(unquote(urlparse(image["href"] or "").path))
+            if image["href"] != image["src"] or not image["lightbox"] or not target.is_file():
+                bad.append(f"{page}: {image['src'][:80]} -> {image['href'] and image['href'][:80]}")
+    assert not bad, "\n".join(bad)
+
+
+@pytest.mark.parametrize("page_path", ["index.html", "notebooks/04_experiment2.html"])
+def test_a_figure_opens_full_size_in_the_lightbox(browser, page_path):
+    """A click on the widest figure of the page opens it at its full resolution (the PNG's
+    own width, more than the page shows), its caption beneath."""
+    page = browser.new_page(viewport=VIEWPORT)
+    try:
+        page.goto((SITE / page_path).as_uri())
+        page.wait_for_load_state("load")
+        images = page.evaluate(_IMAGES)
+        widest = max(range(len(images)), key=lambda i: images[i]["width"])
+        shown = page.locator("article img").nth(widest)
+        shown.scroll_into_view_if_needed()
+        shown_width = shown.bounding_box()["width"]
+        shown.click()
+        opened = page.locator(".gslide.current .gslide-image img")
+        opened.wait_for(state="visible", timeout=10_000)
+        full = opened.evaluate("i => [i.currentSrc || i.src, i.naturalWidth]")
+        caption = page.locator(".gslide.current .gslide-title").inner_text()
+    finally:
+        page.close()
+    assert full == [images[widest]["src"], images[widest]["width"]]
+    assert images[widest]["width"] > shown_width  # the page shows it smaller than it is
+    assert caption == images[widest]["alt"]
