@@ -21,7 +21,9 @@ or the committed ledger, so ``make docs`` works in a fresh clone without ``make 
 from __future__ import annotations
 
 import argparse
+import ast
 import base64
+import copy
 import hashlib
 import json
 import re
@@ -56,6 +58,10 @@ MATHJAX_CONFIG = """window.MathJax = window.MathJax || {};
 MathJax.Hub && MathJax.Hub.Config({});
 """
 
+
+#: A code cell's leading imports are folded when they take at least this many lines (a cell of
+#: imports only is folded however short).
+FOLDED_IMPORT_LINES = 3
 
 #: TeX commands of the notebooks' text, as plain text for an alt attribute.
 _TEX = {
@@ -105,6 +111,40 @@ def _with_captions(readme: str, captions: dict[str, str]) -> str:
     return re.sub(r"!\[([^\]]*)\]\(([^)\s]+)\)", alt, readme)
 
 
+def _fold_imports(cell: dict) -> list[dict]:
+    """A code cell that opens with a block of imports: the block as a cell of its own, tagged
+    ``hide-input`` (shown folded), and the rest, with the outputs, as another."""
+    if cell["cell_type"] != "code":
+        return [cell]
+    source = "".join(cell["source"])
+    try:
+        body = ast.parse(source).body
+    except SyntaxError:
+        return [cell]
+    n = next(
+        (i for i, node in enumerate(body) if not isinstance(node, (ast.Import, ast.ImportFrom))),
+        len(body),
+    )
+    if n == 0:
+        return [cell]
+    lines = source.splitlines(keepends=True)
+    end = body[n - 1].end_lineno
+    imports, rest = "".join(lines[:end]).strip("\n"), "".join(lines[end:]).strip("\n")
+    if rest and end < FOLDED_IMPORT_LINES:
+        return [cell]
+    folded = copy.deepcopy(cell)
+    folded["metadata"].setdefault("tags", []).append("hide-input")
+    folded["source"] = imports
+    if not rest:
+        return [folded]
+    folded["outputs"], folded["execution_count"] = [], None
+    if "id" in cell:
+        folded["id"] = f"{cell['id']}-imports"
+    rest_cell = copy.deepcopy(cell)
+    rest_cell["source"] = rest
+    return [folded, rest_cell]
+
+
 def _leading_text(cells: list[dict], index: int) -> str:
     """The notebook's text before cell ``index``: the heading of its section and the paragraph
     right before the cell (its last sentence if it ends in a colon, "One trial from a random
@@ -151,10 +191,11 @@ def _first_sentences(text: str, limit: int = 240) -> str:
 
 
 def _site_notebook(path: Path, captions: dict[str, str]) -> None:
-    """Rewrite the site's copy of a notebook (``path``, in build/site-src): each PNG figure a
-    file of its own (the same file as the README's
+    """Rewrite the site's copy of a notebook (``path``, in build/site-src): import blocks
+    tagged ``hide-input``, each PNG figure a file of its own (the same file as the README's
     when the figure is one of ``figures/``), its caption in the output's metadata."""
     nb = json.loads(path.read_text())
+    nb["cells"] = [part for cell in nb["cells"] for part in _fold_imports(cell)]
     known = {
         hashlib.sha256(png.read_bytes()).hexdigest(): f"figures/{png.name}"
         for png in (ROOT / "figures").glob("*.png")

@@ -3,10 +3,13 @@ headless Chromium (Debian's, through playwright): every notebook page shows its 
 its equations rendered by MathJax (no raw ``$$`` left in the text), and every internal link
 resolves. What a reader sees at a laptop's width (issue 29): every table whole, without a
 horizontal scrollbar; every figure with its caption as alt text, a link to its full-size image
-that opens in a lightbox. Run by ``make test`` after ``make docs`` (``pytest -m docs``)."""
+that opens in a lightbox; the notebooks' import blocks folded. Run by ``make test`` after
+``make docs`` (``pytest -m docs``)."""
 
 from __future__ import annotations
 
+import ast
+import json
 import shutil
 from collections import Counter
 from pathlib import Path
@@ -287,3 +290,62 @@ def test_a_figure_opens_full_size_in_the_lightbox(browser, page_path):
     assert full == [images[widest]["src"], images[widest]["width"]]
     assert images[widest]["width"] > shown_width  # the page shows it smaller than it is
     assert caption == images[widest]["alt"]
+
+
+def _folded_imports(name: str) -> list[str]:
+    """The first line of each statement of the notebook's first import block (the leading
+    imports of its first code cell that has any), from the executed notebook make docs reads."""
+    folder = "archive" if name.startswith("archive/") else "notebooks"
+    nb = ROOT / folder / Path(name).with_suffix(".ipynb").name
+    for cell in json.loads(nb.read_text())["cells"]:
+        if cell["cell_type"] != "code":
+            continue
+        source = "".join(cell["source"])
+        lines = source.splitlines()
+        imports = []
+        for node in ast.parse(source).body:
+            if not isinstance(node, (ast.Import, ast.ImportFrom)):
+                break
+            imports.append(lines[node.lineno - 1].strip())
+        if imports:
+            return imports
+    return []
+
+
+NOTEBOOK_PAGES = [f"notebooks/{n}" for n in NOTEBOOKS] + (
+    sorted(f"archive/{p.name}" for p in (SITE / "archive").glob("[0-9]*.html"))
+    if SITE.exists()
+    else []
+)
+
+
+@pytest.mark.parametrize("name", NOTEBOOK_PAGES)
+def test_a_notebooks_imports_are_folded(browser, name):
+    """The notebook's import block is on the page, but folded: inside a closed <details>
+    whose summary names the modules, no import line visible until the reader opens it."""
+    imports = _folded_imports(name)
+    assert imports, f"{name}: no import block in the notebook"
+    page = browser.new_page(viewport=VIEWPORT)
+    try:
+        page.goto((SITE / name).as_uri())
+        page.wait_for_load_state("load")
+        visible = page.evaluate(
+            "Array.from(document.querySelectorAll('article pre'))"
+            ".filter(p => p.checkVisibility()).map(p => p.innerText).join('\\n')"
+        )
+        folds = page.locator("article details.docking-hidden-input")
+        n_folds = folds.count()
+        if n_folds:
+            fold = folds.first
+            closed = fold.evaluate("d => !d.open")
+            summary = fold.locator("summary").inner_text()
+            fold.locator("summary").click()
+            opened = fold.locator("pre").evaluate("p => [p.checkVisibility(), p.innerText]")
+    finally:
+        page.close()
+    shown = [line for line in imports if any(line == v.strip() for v in visible.splitlines())]
+    assert not shown, f"{name}: import lines shown unfolded: {shown}"
+    assert n_folds, f"{name}: no folded cell"
+    assert closed and summary.startswith("imports: "), (closed, summary)
+    assert opened[0], f"{name}: the folded code does not open"
+    assert all(line in opened[1] for line in imports), (imports, opened[1])
