@@ -190,12 +190,37 @@ def _first_sentences(text: str, limit: int = 240) -> str:
     return kept
 
 
+#: A display equation's number as the notebooks write it, "... \quad (8)$$", two equations of
+#: a display set apart by "\qquad".
+_NUMBERED = re.compile(r"\\quad\s*\((\d+)\)\s*(?:\\qquad\s*|$)")
+
+
+def _tagged(markdown: str) -> str:
+    """The paper's equation numbers as MathJax tags: "$$A \\quad (1) \\qquad B \\quad (2)$$"
+    becomes "$$A \\tag{1}$$" and "$$B \\tag{2}$$", each equation centred on its line and
+    its number at the right margin, as in the paper (and an anchor, ``#mjx-eqn-1``). A display
+    whose text does not end in its number is left as it is."""
+
+    def tag(m: re.Match) -> str:
+        parts = _NUMBERED.split(m.group(1).strip())
+        if len(parts) < 3 or parts[-1].strip():
+            return m.group(0)
+        pairs = zip(parts[0:-1:2], parts[1:-1:2], strict=True)
+        return "\n\n".join(f"$${tex.strip()} \\tag{{{n}}}$$" for tex, n in pairs)
+
+    return re.sub(r"\$\$(.+?)\$\$", tag, markdown, flags=re.S)
+
+
 def _site_notebook(path: Path, captions: dict[str, str]) -> None:
-    """Rewrite the site's copy of a notebook (``path``, in build/site-src): import blocks
-    tagged ``hide-input``, each PNG figure a file of its own (the same file as the README's
-    when the figure is one of ``figures/``), its caption in the output's metadata."""
+    """Rewrite the site's copy of a notebook (``path``, in build/site-src): equation numbers
+    as MathJax tags, import blocks tagged ``hide-input``, each PNG figure a file of its own
+    (the same file as the README's when the figure is one of ``figures/``), its caption in the
+    output's metadata."""
     nb = json.loads(path.read_text())
     nb["cells"] = [part for cell in nb["cells"] for part in _fold_imports(cell)]
+    for cell in nb["cells"]:
+        if cell["cell_type"] == "markdown":
+            cell["source"] = _tagged("".join(cell["source"]))
     known = {
         hashlib.sha256(png.read_bytes()).hexdigest(): f"figures/{png.name}"
         for png in (ROOT / "figures").glob("*.png")
