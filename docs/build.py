@@ -59,6 +59,9 @@ MathJax.Hub && MathJax.Hub.Config({});
 """
 
 
+#: The notebook whose displays carry the paper's equation numbers (the site's copy).
+EQUATIONS = "notebooks/01_gradient.ipynb"
+
 #: A code cell's leading imports are folded when they take at least this many lines (a cell of
 #: imports only is folded however short).
 FOLDED_IMPORT_LINES = 3
@@ -211,6 +214,43 @@ def _tagged(markdown: str) -> str:
     return re.sub(r"\$\$(.+?)\$\$", tag, markdown, flags=re.S)
 
 
+#: A mention of the paper's equations in the text: "Eq. 8", "Eq. (7)-(8)", "Eqs. 5-6".
+_MENTION = re.compile(r"\b(Eqs?\.\s?)((?:\(\d+\)|\d+)(?:\s?[-–,]\s?(?:\(\d+\)|\d+))*)")
+#: What a mention is not looked for in: code spans, TeX, links.
+_NOT_TEXT = re.compile(r"(`[^`]*`|\$\$.*?\$\$|\$[^$]*\$|\[[^\]]*\]\([^)]*\))")
+
+
+def _linked(markdown: str, target: str, numbers: set[str]) -> str:
+    """Each number of a mention of the paper's equations ("Eq. (8)") a link to the equation in
+    notebook 01 (``target``: its page, relative to the text's), whose displays carry the
+    paper's numbers (``numbers``); headings and code left as they are."""
+
+    def number(m: re.Match) -> str:
+        n = m.group(0).strip("()")
+        return f"[{m.group(0)}]({target}#mjx-eqn-{n})" if n in numbers else m.group(0)
+
+    def mention(m: re.Match) -> str:
+        return m.group(1) + re.sub(r"\(\d+\)|\d+", number, m.group(2))
+
+    lines, fenced = [], False
+    for line in markdown.split("\n"):
+        if line.lstrip().startswith(("```", "~~~")):
+            fenced = not fenced
+        if fenced or line.lstrip().startswith(("#", "```", "~~~")):
+            lines.append(line)
+            continue
+        parts = _NOT_TEXT.split(line)  # odd: code, TeX, links
+        lines.append("".join(p if i % 2 else _MENTION.sub(mention, p) for i, p in enumerate(parts)))
+    return "\n".join(lines)
+
+
+def _equation_numbers(notebook: Path) -> set[str]:
+    """The equation numbers that the displays of ``notebook`` (the site's copy) carry."""
+    cells = json.loads(notebook.read_text())["cells"]
+    text = "".join("".join(c["source"]) for c in cells if c["cell_type"] == "markdown")
+    return set(re.findall(r"\\tag\{(\d+)\}", text))
+
+
 def _site_notebook(path: Path, captions: dict[str, str]) -> None:
     """Rewrite the site's copy of a notebook (``path``, in build/site-src): equation numbers
     as MathJax tags, import blocks tagged ``hide-input``, each PNG figure a file of its own
@@ -308,6 +348,18 @@ def prepare() -> Path:
     shutil.copytree(ROOT / "archive", SOURCE / "archive", ignore=shutil.ignore_patterns("*.py"))
     for nb in sorted(SOURCE.glob("*/*.ipynb")):
         _site_notebook(nb, captions)
+    # Mentions of the paper's equations linked to them, in notebook 01.
+    numbers = _equation_numbers(SOURCE / EQUATIONS)
+    for page in (SOURCE / "index.md", SOURCE / "contributing.md"):
+        page.write_text(_linked(page.read_text(), EQUATIONS, numbers))
+    for nb in sorted(SOURCE.glob("*/*.ipynb")):
+        own = nb.relative_to(SOURCE).as_posix() == EQUATIONS
+        target = "" if own else Path("..", EQUATIONS).with_suffix(".html").as_posix()
+        notebook = json.loads(nb.read_text())
+        for cell in notebook["cells"]:
+            if cell["cell_type"] == "markdown":
+                cell["source"] = _linked("".join(cell["source"]), target, numbers)
+        nb.write_text(json.dumps(notebook, indent=1, ensure_ascii=False))
     api = ["# API reference", ""]
     for module in API_MODULES:
         api += [

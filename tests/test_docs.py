@@ -3,8 +3,9 @@ headless Chromium (Debian's, through playwright): every notebook page shows its 
 its equations rendered by MathJax (no raw ``$$`` left in the text), and every internal link
 resolves. What a reader sees at a laptop's width (issue 29): every table whole, without a
 horizontal scrollbar; every figure with its caption as alt text, a link to its full-size image
-that opens in a lightbox; the notebooks' import blocks folded. Run by ``make test`` after
-``make docs`` (``pytest -m docs``)."""
+that opens in a lightbox; the notebooks' import blocks folded; the paper's equation numbers at
+the right margin of notebook 01's displays, every "Eq. 8" of the text a link to its equation.
+Run by ``make test`` after ``make docs`` (``pytest -m docs``)."""
 
 from __future__ import annotations
 
@@ -349,3 +350,47 @@ def test_a_notebooks_imports_are_folded(browser, name):
     assert closed and summary.startswith("imports: "), (closed, summary)
     assert opened[0], f"{name}: the folded code does not open"
     assert all(line in opened[1] for line in imports), (imports, opened[1])
+
+
+_MATHJAX_DONE = (
+    "() => window.MathJax && MathJax.Hub && MathJax.Hub.queue.pending === 0"
+    " && MathJax.Hub.queue.running === 0"
+)
+
+
+def test_every_mention_of_an_equation_links_to_it(browser):
+    """Notebook 01 numbers its displays as the paper does, each number a MathJax tag at the
+    right margin with its anchor (#mjx-eqn-1 ... #mjx-eqn-16), and every "Eq. n" of the
+    site's text (the README's "Eq. 8" among them) is a link to one of those anchors."""
+    page = browser.new_page(viewport=VIEWPORT)
+    links = []
+    try:
+        for html in PAGES:
+            page.goto(html.as_uri())
+            page.wait_for_load_state("load")
+            links += [
+                (html.relative_to(SITE).as_posix(), href)
+                for href in page.evaluate(
+                    "Array.from(document.querySelectorAll('article a[href*=\"#mjx-eqn-\"]'))"
+                    ".map(a => a.href)"
+                )
+            ]
+        page.goto((SITE / "notebooks" / "01_gradient.html").as_uri())
+        page.wait_for_function(_MATHJAX_DONE, timeout=60_000)
+        anchors = page.evaluate(
+            "Array.from(document.querySelectorAll('[id^=\"mjx-eqn-\"]'))"
+            ".map(e => [e.id, e.textContent.trim()])"
+        )
+    finally:
+        page.close()
+    assert anchors == [[f"mjx-eqn-{n}", f"({n})"] for n in range(1, 17)], anchors
+    equations = (SITE / "notebooks" / "01_gradient.html").as_posix()
+    ids = {anchor for anchor, _ in anchors}
+    broken = [
+        f"{html} -> {href}"
+        for html, href in links
+        if unquote(urlparse(href).path) != equations or urlparse(href).fragment not in ids
+    ]
+    assert not broken, "\n".join(broken)
+    assert len(links) >= 30, len(links)
+    assert ("index.html", f"file://{equations}#mjx-eqn-8") in links
