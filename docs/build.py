@@ -260,7 +260,11 @@ def _site_notebook(path: Path, captions: dict[str, str]) -> None:
     nb["cells"] = [part for cell in nb["cells"] for part in _fold_imports(cell)]
     for cell in nb["cells"]:
         if cell["cell_type"] == "markdown":
-            cell["source"] = _tagged("".join(cell["source"]))
+            cell["source"] = _unbroken(_tagged("".join(cell["source"])))
+        for output in cell.get("outputs", []):
+            if "text/markdown" in output.get("data", {}):
+                markdown = "".join(output["data"]["text/markdown"])
+                output["data"]["text/markdown"] = _unbroken(markdown)
     known = {
         hashlib.sha256(png.read_bytes()).hexdigest(): f"figures/{png.name}"
         for png in (ROOT / "figures").glob("*.png")
@@ -298,7 +302,23 @@ def _executed(path: Path) -> bool:
 def _markdown(text: str) -> str:
     """README/CONTRIBUTING links made site links: notebooks' .py sources to their pages."""
     text = re.sub(r"\(((?:notebooks|archive)/\d\d_\w+)\.py\)", r"(\1.ipynb)", text)
-    return text.replace("(CONTRIBUTING.md)", "(contributing.md)")
+    return _unbroken(text.replace("(CONTRIBUTING.md)", "(contributing.md)"))
+
+
+#: An interval of a table's cell, "[95.8, 98.6]", and a number with its unit, "29.4 pp".
+_INTERVAL = re.compile(r"\[(-?\d+(?:\.\d+)?),\s(-?\d+(?:\.\d+)?)\]")
+_UNIT = re.compile(r"(\d) (pp|cm|deg)\b")
+
+
+def _unbroken(markdown: str) -> str:
+    """A table's intervals and numbers with their units kept on one line (no-break spaces), so
+    that a narrow column breaks between "97.2%" and "[95.8, 98.6]", not inside the interval."""
+    lines = []
+    for line in markdown.split("\n"):
+        if line.lstrip().startswith("|"):
+            line = _UNIT.sub("\\1\u00a0\\2", _INTERVAL.sub("[\\1,\u00a0\\2]", line))
+        lines.append(line)
+    return "\n".join(lines)
 
 
 def _execute(source: Path, nb: Path) -> None:
