@@ -2,6 +2,13 @@
 outputs, the figures, CONTRIBUTING and the API reference, as a static mkdocs site in
 ``build/site`` that needs no server and no network (MathJax is served from the site).
 
+What the site shows beyond the sources' text: each figure's caption as its alt text (the
+README's figure table for the figures it shows; a caption the notebook passes, as with
+IPython's ``Image(alt=...)``; else the notebook's text before the figure), each notebook
+figure as a PNG file of its own that opens full size (docs/mkdocs.yml: glightbox), and the
+notebooks' import blocks folded (tagged ``hide-input``; docs/hooks.py renders the tag and the
+alt text, which nbconvert's template leaves out).
+
 ``make test`` executes every notebook under ``pytest --nbmake --overwrite``, which writes its
 outputs into ``notebooks/*.ipynb``; this script copies those. A notebook that has no
 ``.ipynb``, one without outputs, or one older than its ``.py`` source is executed here first
@@ -14,6 +21,10 @@ or the committed ledger, so ``make docs`` works in a fresh clone without ``make 
 from __future__ import annotations
 
 import argparse
+import ast
+import base64
+import copy
+import hashlib
 import json
 import re
 import shutil
@@ -48,6 +59,241 @@ MathJax.Hub && MathJax.Hub.Config({});
 """
 
 
+#: The notebook whose displays carry the paper's equation numbers (the site's copy).
+EQUATIONS = "notebooks/01_gradient.ipynb"
+
+#: A code cell's leading imports are folded when they take at least this many lines (a cell of
+#: imports only is folded however short).
+FOLDED_IMPORT_LINES = 3
+
+#: TeX commands of the notebooks' text, as plain text for an alt attribute.
+_TEX = {
+    "alpha": "α", "beta": "β", "gamma": "γ", "delta": "δ", "Delta": "Δ", "varepsilon": "ε",
+    "epsilon": "ε", "theta": "θ", "pi": "π", "sigma": "σ", "sum": "Σ", "propto": "∝",
+    "partial": "∂", "approx": "≈", "neq": "≠", "leq": "≤", "geq": "≥", "times": "×",
+    "pm": "±", "cdot": "·",
+}  # fmt: skip
+
+
+def _plain(text: str) -> str:
+    """Markdown with TeX as one line of plain text (for an ``alt`` attribute)."""
+    text = re.sub(r"\$+([^$]*)\$+", lambda m: _plain_tex(m.group(1)), text)
+    text = re.sub(r"!?\[([^\]]*)\]\([^)]*\)", r"\1", text)  # links, images: their text
+    text = re.sub(r"(\*\*|__|\*|`)", "", text)
+    return " ".join(text.split())
+
+
+def _plain_tex(tex: str) -> str:
+    tex = re.sub(r"\\([A-Za-z]+)", lambda m: _TEX.get(m.group(1), ""), tex)
+    return " ".join(re.sub(r"[{}\\]", "", tex).split())
+
+
+def _readme_captions(readme: str) -> dict[str, str]:
+    """The README's figure table: ``figures/NAME.png`` -> the caption beside the image (its
+    bold title set off by a dash unless the sentence runs on: "Fig. 2 — the scene: ...",
+    "Where W changed in Experiment 2 ...")."""
+    captions = {}
+    for m in re.finditer(r"!\[[^\]]*\]\((figures/[^)\s]+)\)([^|]*)", readme):
+        caption = re.sub(
+            r"^\s*\*\*([^*]+)\*\*\s+(?=[A-Za-z])(?!(?:in|of|on|at|for|from|with)\b)",
+            r"\1 — ",
+            m.group(2),
+        )
+        captions[m.group(1)] = _plain(caption)
+    return captions
+
+
+def _with_captions(readme: str, captions: dict[str, str]) -> str:
+    """The README's figures with their captions as alt text (``![Fig. 2](...)`` has only
+    "Fig. 2")."""
+
+    def alt(m: re.Match) -> str:
+        caption = captions.get(m.group(2), m.group(1)).replace("[", "(").replace("]", ")")
+        return f"![{caption}]({m.group(2)})"
+
+    return re.sub(r"!\[([^\]]*)\]\(([^)\s]+)\)", alt, readme)
+
+
+def _fold_imports(cell: dict) -> list[dict]:
+    """A code cell that opens with a block of imports: the block as a cell of its own, tagged
+    ``hide-input`` (shown folded), and the rest, with the outputs, as another."""
+    if cell["cell_type"] != "code":
+        return [cell]
+    source = "".join(cell["source"])
+    try:
+        body = ast.parse(source).body
+    except SyntaxError:
+        return [cell]
+    n = next(
+        (i for i, node in enumerate(body) if not isinstance(node, (ast.Import, ast.ImportFrom))),
+        len(body),
+    )
+    if n == 0:
+        return [cell]
+    lines = source.splitlines(keepends=True)
+    end = body[n - 1].end_lineno
+    imports, rest = "".join(lines[:end]).strip("\n"), "".join(lines[end:]).strip("\n")
+    if rest and end < FOLDED_IMPORT_LINES:
+        return [cell]
+    folded = copy.deepcopy(cell)
+    folded["metadata"].setdefault("tags", []).append("hide-input")
+    folded["source"] = imports
+    if not rest:
+        return [folded]
+    folded["outputs"], folded["execution_count"] = [], None
+    if "id" in cell:
+        folded["id"] = f"{cell['id']}-imports"
+    rest_cell = copy.deepcopy(cell)
+    rest_cell["source"] = rest
+    return [folded, rest_cell]
+
+
+def _leading_text(cells: list[dict], index: int) -> str:
+    """The notebook's text before cell ``index``: the heading of its section and the paragraph
+    right before the cell (its last sentence if it ends in a colon, "One trial from a random
+    start:"; else its first sentences)."""
+    heading, paragraphs = "", []
+    for cell in reversed(cells[:index]):
+        if cell["cell_type"] != "markdown":
+            if paragraphs or heading:
+                break
+            continue
+        blocks = [b.strip() for b in re.split(r"\n\s*\n", "".join(cell["source"])) if b.strip()]
+        for block in reversed(blocks):
+            if block.startswith("#"):
+                heading = block.lstrip("#").strip()
+                break
+            paragraphs.insert(0, block)
+        if heading:
+            break
+    lead = ""
+    if paragraphs and paragraphs[-1].endswith(":"):
+        lead = _sentences(_plain(paragraphs[-1]))[-1].rstrip(":")
+    elif paragraphs:
+        lead = _first_sentences(_plain(paragraphs[-1]))
+    heading = _plain(heading)
+    return f"{heading}: {lead}" if heading and lead else heading or lead
+
+
+def _sentences(text: str) -> list[str]:
+    return re.split(r"(?<=[.!?])\s+(?=[A-Z(\"“])", text)
+
+
+def _first_sentences(text: str, limit: int = 240) -> str:
+    """The sentences of ``text`` that fit ``limit`` characters (at least the first, cut at a
+    word with an ellipsis if it alone is longer)."""
+    sentences = _sentences(text)
+    kept = sentences[0]
+    for sentence in sentences[1:]:
+        if len(kept) + 1 + len(sentence) > limit:
+            break
+        kept += " " + sentence
+    if len(kept) > limit:
+        kept = kept[:limit].rsplit(" ", 1)[0] + " …"
+    return kept
+
+
+#: A display equation's number as the notebooks write it, "... \quad (8)$$", two equations of
+#: a display set apart by "\qquad".
+_NUMBERED = re.compile(r"\\quad\s*\((\d+)\)\s*(?:\\qquad\s*|$)")
+
+
+def _tagged(markdown: str) -> str:
+    """The paper's equation numbers as MathJax tags: "$$A \\quad (1) \\qquad B \\quad (2)$$"
+    becomes "$$A \\tag{1}$$" and "$$B \\tag{2}$$", each equation centred on its line and
+    its number at the right margin, as in the paper (and an anchor, ``#mjx-eqn-1``). A display
+    whose text does not end in its number is left as it is."""
+
+    def tag(m: re.Match) -> str:
+        parts = _NUMBERED.split(m.group(1).strip())
+        if len(parts) < 3 or parts[-1].strip():
+            return m.group(0)
+        pairs = zip(parts[0:-1:2], parts[1:-1:2], strict=True)
+        return "\n\n".join(f"$${tex.strip()} \\tag{{{n}}}$$" for tex, n in pairs)
+
+    return re.sub(r"\$\$(.+?)\$\$", tag, markdown, flags=re.S)
+
+
+#: A mention of the paper's equations in the text: "Eq. 8", "Eq. (7)-(8)", "Eqs. 5-6".
+_MENTION = re.compile(r"\b(Eqs?\.\s?)((?:\(\d+\)|\d+)(?:\s?[-–,]\s?(?:\(\d+\)|\d+))*)")
+#: What a mention is not looked for in: code spans, TeX, links.
+_NOT_TEXT = re.compile(r"(`[^`]*`|\$\$.*?\$\$|\$[^$]*\$|\[[^\]]*\]\([^)]*\))")
+
+
+def _linked(markdown: str, target: str, numbers: set[str]) -> str:
+    """Each number of a mention of the paper's equations ("Eq. (8)") a link to the equation in
+    notebook 01 (``target``: its page, relative to the text's), whose displays carry the
+    paper's numbers (``numbers``); headings and code left as they are."""
+
+    def number(m: re.Match) -> str:
+        n = m.group(0).strip("()")
+        return f"[{m.group(0)}]({target}#mjx-eqn-{n})" if n in numbers else m.group(0)
+
+    def mention(m: re.Match) -> str:
+        return m.group(1) + re.sub(r"\(\d+\)|\d+", number, m.group(2))
+
+    lines, fenced = [], False
+    for line in markdown.split("\n"):
+        if line.lstrip().startswith(("```", "~~~")):
+            fenced = not fenced
+        if fenced or line.lstrip().startswith(("#", "```", "~~~")):
+            lines.append(line)
+            continue
+        parts = _NOT_TEXT.split(line)  # odd: code, TeX, links
+        lines.append("".join(p if i % 2 else _MENTION.sub(mention, p) for i, p in enumerate(parts)))
+    return "\n".join(lines)
+
+
+def _equation_numbers(notebook: Path) -> set[str]:
+    """The equation numbers that the displays of ``notebook`` (the site's copy) carry."""
+    cells = json.loads(notebook.read_text())["cells"]
+    text = "".join("".join(c["source"]) for c in cells if c["cell_type"] == "markdown")
+    return set(re.findall(r"\\tag\{(\d+)\}", text))
+
+
+def _site_notebook(path: Path, captions: dict[str, str]) -> None:
+    """Rewrite the site's copy of a notebook (``path``, in build/site-src): equation numbers
+    as MathJax tags, import blocks tagged ``hide-input``, each PNG figure a file of its own
+    (the same file as the README's when the figure is one of ``figures/``), its caption in the
+    output's metadata."""
+    nb = json.loads(path.read_text())
+    nb["cells"] = [part for cell in nb["cells"] for part in _fold_imports(cell)]
+    for cell in nb["cells"]:
+        if cell["cell_type"] == "markdown":
+            cell["source"] = _unbroken(_tagged("".join(cell["source"])))
+        for output in cell.get("outputs", []):
+            if "text/markdown" in output.get("data", {}):
+                markdown = "".join(output["data"]["text/markdown"])
+                output["data"]["text/markdown"] = _unbroken(markdown)
+    known = {
+        hashlib.sha256(png.read_bytes()).hexdigest(): f"figures/{png.name}"
+        for png in (ROOT / "figures").glob("*.png")
+    }
+    files = path.parent / f"{path.stem}_files"
+    count = 0
+    for index, cell in enumerate(nb["cells"]):
+        for output in cell.get("outputs", []):
+            png = output.get("data", {}).get("image/png")
+            if png is None:
+                continue
+            data = base64.b64decode(png)
+            figure = known.get(hashlib.sha256(data).hexdigest())
+            if figure:
+                src = f"../{figure}"  # notebooks/ and archive/ are beside figures/
+            else:
+                count += 1
+                files.mkdir(exist_ok=True)
+                (files / f"figure-{count}.png").write_bytes(data)
+                src = f"{files.name}/figure-{count}.png"
+            metadata = output.setdefault("metadata", {})
+            image = metadata.setdefault("image/png", {})
+            image["alt"] = _plain(
+                image.get("alt") or captions.get(figure) or _leading_text(nb["cells"], index)
+            )
+            metadata.setdefault("filenames", {})["image/png"] = src
+    path.write_text(json.dumps(nb, indent=1, ensure_ascii=False))
+
+
 def _executed(path: Path) -> bool:
     cells = json.loads(path.read_text())["cells"]
     return any(c.get("outputs") for c in cells if c["cell_type"] == "code")
@@ -56,7 +302,23 @@ def _executed(path: Path) -> bool:
 def _markdown(text: str) -> str:
     """README/CONTRIBUTING links made site links: notebooks' .py sources to their pages."""
     text = re.sub(r"\(((?:notebooks|archive)/\d\d_\w+)\.py\)", r"(\1.ipynb)", text)
-    return text.replace("(CONTRIBUTING.md)", "(contributing.md)")
+    return _unbroken(text.replace("(CONTRIBUTING.md)", "(contributing.md)"))
+
+
+#: An interval of a table's cell, "[95.8, 98.6]", and a number with its unit, "29.4 pp".
+_INTERVAL = re.compile(r"\[(-?\d+(?:\.\d+)?),\s(-?\d+(?:\.\d+)?)\]")
+_UNIT = re.compile(r"(\d) (pp|cm|deg)\b")
+
+
+def _unbroken(markdown: str) -> str:
+    """A table's intervals and numbers with their units kept on one line (no-break spaces), so
+    that a narrow column breaks between "97.2%" and "[95.8, 98.6]", not inside the interval."""
+    lines = []
+    for line in markdown.split("\n"):
+        if line.lstrip().startswith("|"):
+            line = _UNIT.sub("\\1\u00a0\\2", _INTERVAL.sub("[\\1,\u00a0\\2]", line))
+        lines.append(line)
+    return "\n".join(lines)
 
 
 def _execute(source: Path, nb: Path) -> None:
@@ -87,9 +349,12 @@ def prepare() -> Path:
     if SOURCE.exists():
         shutil.rmtree(SOURCE)
     (SOURCE / "notebooks").mkdir(parents=True)
-    (SOURCE / "index.md").write_text(_markdown((ROOT / "README.md").read_text()))
+    readme = (ROOT / "README.md").read_text()
+    captions = _readme_captions(readme)
+    (SOURCE / "index.md").write_text(_with_captions(_markdown(readme), captions))
     (SOURCE / "contributing.md").write_text(_markdown((ROOT / "CONTRIBUTING.md").read_text()))
     shutil.copytree(ROOT / "figures", SOURCE / "figures")
+    shutil.copy(ROOT / "docs" / "extra.css", SOURCE / "extra.css")
     sources = sorted((ROOT / "notebooks").glob("[0-9]*.py"))
     if not sources:
         raise SystemExit("no notebooks/*.py: is this the project's checkout?")
@@ -101,6 +366,20 @@ def prepare() -> Path:
     # The archived notebooks (archive/README.md): executed at an earlier commit, copied as
     # they are.
     shutil.copytree(ROOT / "archive", SOURCE / "archive", ignore=shutil.ignore_patterns("*.py"))
+    for nb in sorted(SOURCE.glob("*/*.ipynb")):
+        _site_notebook(nb, captions)
+    # Mentions of the paper's equations linked to them, in notebook 01.
+    numbers = _equation_numbers(SOURCE / EQUATIONS)
+    for page in (SOURCE / "index.md", SOURCE / "contributing.md"):
+        page.write_text(_linked(page.read_text(), EQUATIONS, numbers))
+    for nb in sorted(SOURCE.glob("*/*.ipynb")):
+        own = nb.relative_to(SOURCE).as_posix() == EQUATIONS
+        target = "" if own else Path("..", EQUATIONS).with_suffix(".html").as_posix()
+        notebook = json.loads(nb.read_text())
+        for cell in notebook["cells"]:
+            if cell["cell_type"] == "markdown":
+                cell["source"] = _linked("".join(cell["source"]), target, numbers)
+        nb.write_text(json.dumps(notebook, indent=1, ensure_ascii=False))
     api = ["# API reference", ""]
     for module in API_MODULES:
         api += [

@@ -1,10 +1,16 @@
 """The documentation site (issue 20): built by ``make docs`` into ``build/site``, opened in
 headless Chromium (Debian's, through playwright): every notebook page shows its figures and
 its equations rendered by MathJax (no raw ``$$`` left in the text), and every internal link
-resolves. Run by ``make test`` after ``make docs`` (``pytest -m docs``)."""
+resolves. What a reader sees at a laptop's width (issue 29): every table whole, without a
+horizontal scrollbar; every figure with its caption as alt text, a link to its full-size image
+that opens in a lightbox; the notebooks' import blocks folded; the paper's equation numbers at
+the right margin of notebook 01's displays, every "Eq. 8" of the text a link to its equation.
+Run by ``make test`` after ``make docs`` (``pytest -m docs``)."""
 
 from __future__ import annotations
 
+import ast
+import json
 import shutil
 from collections import Counter
 from pathlib import Path
@@ -14,9 +20,14 @@ import pytest
 
 pytestmark = pytest.mark.docs
 
-SITE = Path(__file__).resolve().parent.parent / "build" / "site"
+ROOT = Path(__file__).resolve().parent.parent
+SITE = ROOT / "build" / "site"
 CHROMIUM = shutil.which("chromium") or "/usr/bin/chromium"
 NOTEBOOKS = sorted(p.name for p in (SITE / "notebooks").glob("*.html")) if SITE.exists() else []
+#: Every page of the site (the 404 page, a server's, aside).
+PAGES = sorted(p for p in SITE.rglob("*.html") if p.name != "404.html") if SITE.exists() else []
+#: A laptop's screen: the width at which the site is checked as a reader sees it.
+VIEWPORT = {"width": 1280, "height": 800}
 
 
 @pytest.fixture(scope="module")
@@ -158,3 +169,228 @@ def test_the_start_page_shows_the_readmes_figures(browser):
         page.close()
     figures = [(src, w) for src, w in widths if "/figures/" in src]
     assert len(figures) >= 10 and all(w > 0 for _, w in figures), figures
+
+
+#: For each table of the page's text, every element from the table up to the page's text
+#: that hides part of it (content wider than the box, ``overflow`` other than ``visible``:
+#: a horizontal scrollbar), and whether it reaches past the window's right edge.
+_CLIPPED_TABLES = """() => Array.from(document.querySelectorAll('article table'))
+  .filter(t => !t.closest('.highlighttable'))
+  .map(t => {
+    const clips = [];
+    for (let e = t; e && e.tagName !== 'ARTICLE'; e = e.parentElement) {
+      if (getComputedStyle(e).overflowX !== 'visible' && e.scrollWidth > e.clientWidth + 1)
+        clips.push(`${e.tagName}.${e.className}: ${e.scrollWidth} > ${e.clientWidth}`);
+    }
+    const right = t.getBoundingClientRect().right;
+    if (right > window.innerWidth + 1)
+      clips.push(`past the window's edge: ${right} > ${window.innerWidth}`);
+    const head = Array.from(t.rows[0] ? t.rows[0].cells : []).map(c => c.innerText.trim());
+    return {head: head.slice(0, 3).join(' | '), columns: head.length, clips};
+  })"""
+
+
+def test_every_table_shows_all_its_columns(browser):
+    """At 1280 px, no table of any page is wider than its box: nothing behind a scrollbar
+    (the 9-column table of the README and notebook 07 used to show half its columns)."""
+    page = browser.new_page(viewport=VIEWPORT)
+    clipped, tables, widest = [], 0, 0
+    try:
+        for html in PAGES:
+            page.goto(html.as_uri())
+            page.wait_for_load_state("load")
+            for table in page.evaluate(_CLIPPED_TABLES):
+                tables += 1
+                widest = max(widest, table["columns"])
+                if table["clips"]:
+                    clipped.append(f"{html.relative_to(SITE)}: [{table['head']}] {table['clips']}")
+    finally:
+        page.close()
+    assert tables > 20 and widest >= 9, (tables, widest)  # the README's and 07's tables
+    assert not clipped, "\n".join(clipped)
+
+
+#: Each image of the page's text: its source, alt text, natural width and the link around it.
+_IMAGES = """() => Array.from(document.querySelectorAll('article img')).map(i => {
+  const a = i.closest('a[href]');
+  return {src: i.currentSrc || i.src, alt: i.getAttribute('alt'), width: i.naturalWidth,
+          href: a ? a.href : null, lightbox: Boolean(a && a.classList.contains('glightbox'))};
+})"""
+
+#: The alt text nbconvert writes when a notebook's figure has none.
+NO_DESCRIPTION = "No description has been provided for this image"
+
+
+@pytest.fixture(scope="module")
+def site_images(browser) -> dict[str, list[dict]]:
+    """Every page's images (``_IMAGES``), by the page's path in the site."""
+    page = browser.new_page(viewport=VIEWPORT)
+    images = {}
+    try:
+        for html in PAGES:
+            page.goto(html.as_uri())
+            page.wait_for_load_state("load")
+            images[html.relative_to(SITE).as_posix()] = page.evaluate(_IMAGES)
+    finally:
+        page.close()
+    return images
+
+
+def test_every_figure_has_its_caption_as_alt_text(site_images):
+    """No image without alt text, nor with nbconvert's "No description has been provided"
+    (every notebook figure had it), nor with a word or two only ("Fig. 2")."""
+    every = [(page, image) for page, images in site_images.items() for image in images]
+    assert len(every) >= 30, len(every)  # the README's 12 figures, the notebooks' 19
+    bad = [
+        f"{page}: {Path(image['src']).name}: {image['alt']!r}"
+        for page, image in every
+        if not image["alt"]
+        or NO_DESCRIPTION.lower() in image["alt"].lower()
+        or len(image["alt"].split()) < 4
+        or Path(image["src"]).stem in image["alt"]
+    ]
+    assert not bad, "\n".join(bad)
+    # the README's caption of Fig. 2, on the start page and in notebook 02
+    for page in ("index.html", "notebooks/02_scene.html"):
+        alts = [i["alt"] for i in site_images[page] if i["src"].endswith("/fig2_scene.png")]
+        assert alts and alts[0].startswith("Fig. 2 — the scene: overview"), (page, alts)
+
+
+def test_every_figure_links_to_its_full_size_image(site_images):
+    """Each image is a link to its own file (not to a thumbnail, not to a data: URI that a
+    browser refuses to open), and that file is in the site."""
+    bad = []
+    for page, images in site_images.items():
+        for image in images:
+            target = Path(unquote(urlparse(image["href"] or "").path))
+            if image["href"] != image["src"] or not image["lightbox"] or not target.is_file():
+                bad.append(f"{page}: {image['src'][:80]} -> {image['href'] and image['href'][:80]}")
+    assert not bad, "\n".join(bad)
+
+
+@pytest.mark.parametrize("page_path", ["index.html", "notebooks/04_experiment2.html"])
+def test_a_figure_opens_full_size_in_the_lightbox(browser, page_path):
+    """A click on the widest figure of the page opens it at its full resolution (the PNG's
+    own width, more than the page shows), its caption beneath."""
+    page = browser.new_page(viewport=VIEWPORT)
+    try:
+        page.goto((SITE / page_path).as_uri())
+        page.wait_for_load_state("load")
+        images = page.evaluate(_IMAGES)
+        widest = max(range(len(images)), key=lambda i: images[i]["width"])
+        shown = page.locator("article img").nth(widest)
+        shown.scroll_into_view_if_needed()
+        shown_width = shown.bounding_box()["width"]
+        shown.click()
+        opened = page.locator(".gslide.current .gslide-image img")
+        opened.wait_for(state="visible", timeout=10_000)
+        full = opened.evaluate("i => [i.currentSrc || i.src, i.naturalWidth]")
+        caption = page.locator(".gslide.current .gslide-title").inner_text()
+    finally:
+        page.close()
+    assert full == [images[widest]["src"], images[widest]["width"]]
+    assert images[widest]["width"] > shown_width  # the page shows it smaller than it is
+    assert caption == images[widest]["alt"]
+
+
+def _folded_imports(name: str) -> list[str]:
+    """The first line of each statement of the notebook's first import block (the leading
+    imports of its first code cell that has any), from the executed notebook make docs reads."""
+    folder = "archive" if name.startswith("archive/") else "notebooks"
+    nb = ROOT / folder / Path(name).with_suffix(".ipynb").name
+    for cell in json.loads(nb.read_text())["cells"]:
+        if cell["cell_type"] != "code":
+            continue
+        source = "".join(cell["source"])
+        lines = source.splitlines()
+        imports = []
+        for node in ast.parse(source).body:
+            if not isinstance(node, (ast.Import, ast.ImportFrom)):
+                break
+            imports.append(lines[node.lineno - 1].strip())
+        if imports:
+            return imports
+    return []
+
+
+NOTEBOOK_PAGES = [f"notebooks/{n}" for n in NOTEBOOKS] + (
+    sorted(f"archive/{p.name}" for p in (SITE / "archive").glob("[0-9]*.html"))
+    if SITE.exists()
+    else []
+)
+
+
+@pytest.mark.parametrize("name", NOTEBOOK_PAGES)
+def test_a_notebooks_imports_are_folded(browser, name):
+    """The notebook's import block is on the page, but folded: inside a closed <details>
+    whose summary names the modules, no import line visible until the reader opens it."""
+    imports = _folded_imports(name)
+    assert imports, f"{name}: no import block in the notebook"
+    page = browser.new_page(viewport=VIEWPORT)
+    try:
+        page.goto((SITE / name).as_uri())
+        page.wait_for_load_state("load")
+        visible = page.evaluate(
+            "Array.from(document.querySelectorAll('article pre'))"
+            ".filter(p => p.checkVisibility()).map(p => p.innerText).join('\\n')"
+        )
+        folds = page.locator("article details.docking-hidden-input")
+        n_folds = folds.count()
+        if n_folds:
+            fold = folds.first
+            closed = fold.evaluate("d => !d.open")
+            summary = fold.locator("summary").inner_text()
+            fold.locator("summary").click()
+            opened = fold.locator("pre").evaluate("p => [p.checkVisibility(), p.innerText]")
+    finally:
+        page.close()
+    shown = [line for line in imports if any(line == v.strip() for v in visible.splitlines())]
+    assert not shown, f"{name}: import lines shown unfolded: {shown}"
+    assert n_folds, f"{name}: no folded cell"
+    assert closed and summary.startswith("imports: "), (closed, summary)
+    assert opened[0], f"{name}: the folded code does not open"
+    assert all(line in opened[1] for line in imports), (imports, opened[1])
+
+
+_MATHJAX_DONE = (
+    "() => window.MathJax && MathJax.Hub && MathJax.Hub.queue.pending === 0"
+    " && MathJax.Hub.queue.running === 0"
+)
+
+
+def test_every_mention_of_an_equation_links_to_it(browser):
+    """Notebook 01 numbers its displays as the paper does, each number a MathJax tag at the
+    right margin with its anchor (#mjx-eqn-1 ... #mjx-eqn-16), and every "Eq. n" of the
+    site's text (the README's "Eq. 8" among them) is a link to one of those anchors."""
+    page = browser.new_page(viewport=VIEWPORT)
+    links = []
+    try:
+        for html in PAGES:
+            page.goto(html.as_uri())
+            page.wait_for_load_state("load")
+            links += [
+                (html.relative_to(SITE).as_posix(), href)
+                for href in page.evaluate(
+                    "Array.from(document.querySelectorAll('article a[href*=\"#mjx-eqn-\"]'))"
+                    ".map(a => a.href)"
+                )
+            ]
+        page.goto((SITE / "notebooks" / "01_gradient.html").as_uri())
+        page.wait_for_function(_MATHJAX_DONE, timeout=60_000)
+        anchors = page.evaluate(
+            "Array.from(document.querySelectorAll('[id^=\"mjx-eqn-\"]'))"
+            ".map(e => [e.id, e.textContent.trim()])"
+        )
+    finally:
+        page.close()
+    assert anchors == [[f"mjx-eqn-{n}", f"({n})"] for n in range(1, 17)], anchors
+    equations = (SITE / "notebooks" / "01_gradient.html").as_posix()
+    ids = {anchor for anchor, _ in anchors}
+    broken = [
+        f"{html} -> {href}"
+        for html, href in links
+        if unquote(urlparse(href).path) != equations or urlparse(href).fragment not in ids
+    ]
+    assert not broken, "\n".join(broken)
+    assert len(links) >= 30, len(links)
+    assert ("index.html", f"file://{equations}#mjx-eqn-8") in links
