@@ -446,13 +446,14 @@ class Report:
         changed = self.readme is not None and update_readme(self.readme, table)
         comparisons, rates = None, None
         if self.experiment3:
+            from docking import report
             from docking.designs import experiment3
             from docking.report import EXPERIMENT3_END, EXPERIMENT3_START
 
             found = experiment3.run(results_dir=self.results_dir, workers=self.processes)
             oracle = experiment3.ORACLE.run(results_dir=self.results_dir, workers=self.processes)
-            comparisons, rates = experiment3.comparisons(found), experiment3.oracle_table(oracle)
-            text = experiment3.table(found, rates)
+            comparisons, rates = report.turning_comparisons(found), report.oracle_rates(oracle)
+            text = report.turning_table(found, rates)
             print(text)
             if self.readme is not None:
                 changed |= update_readme(self.readme, text, EXPERIMENT3_START, EXPERIMENT3_END)

@@ -13,6 +13,7 @@ them; :func:`save_figures` makes every figure from the runs of both experiments.
 
 from __future__ import annotations
 
+import dataclasses
 from pathlib import Path
 
 import numpy as np
@@ -21,6 +22,7 @@ from matplotlib.figure import Figure
 from docking import analysis, figures
 from docking.experiments import ExperimentConfig, ExperimentResult, initial_network
 from docking.presets import HEADLINE_SEED, SEEDS
+from docking.stats import Interval, difference_ci, mean_ci, removed_share_ci
 from docking.world import DockingEnv
 
 #: The paper's figures (Sec. III).
@@ -364,7 +366,7 @@ def summary_text(
     """The README's first screen: what was reproduced, under what choices, what held up and
     what did not, in a few sentences whose numbers come from the runs: Experiments 1 and 2
     (``results1``, ``results2``) and, if given, Experiment 3's four-against-six comparisons
-    (:func:`docking.designs.experiment3.comparisons`) and the pose oracle's held-out success
+    (:func:`turning_comparisons`) and the pose oracle's held-out success
     in the world of the first one's four-action cell (the paper's task and noise)."""
     h1, h2 = headline(results1), headline(results2)
     rate1 = np.array([r.test.success.mean() for r in results1])
@@ -494,3 +496,258 @@ def update_readme(path, table: str, start: str = README_START, end: str = README
         return False
     atomic_write(path, lambda f: f.write(new.encode("utf-8")))
     return True
+
+
+# ------------------------------------------------------------------------------------------
+# Experiment 3 (notebook 06): four against six actions, from the cells' coordinates.
+# ------------------------------------------------------------------------------------------
+
+
+@dataclasses.dataclass(frozen=True)
+class Comparison:
+    """Four against six actions in one task at one heading noise.
+
+    Attributes:
+      task, noise: The cell pair's task and heading noise (deg).
+      four_key, six_key: The two cells' keys.
+      four, six: Held-out success with four and with six actions (95% intervals over seeds).
+      gain: Six minus four actions (percentage points as fractions, 95% interval).
+      removed: The share of the four-action learner's failures that are gone with six
+        actions, ``1 - failures6 / failures4`` (95% interval, seeds of each resampled
+        independently); None if the four-action learner never failed.
+    """
+
+    task: str
+    noise: float
+    four: Interval
+    six: Interval
+    gain: Interval
+    removed: Interval | None
+    four_key: str = ""
+    six_key: str = ""
+
+    @property
+    def failure_ratio(self) -> Interval | None:
+        """How many times as often six actions fail as four, ``failures6 / failures4``
+        (``1 - removed``, with its interval)."""
+        if self.removed is None:
+            return None
+        r = self.removed
+        return Interval(1 - r.estimate, 1 - r.high, 1 - r.low, r.values, r.confidence)
+
+
+def turning_comparisons(results) -> list[Comparison]:
+    """One :class:`Comparison` per six-action core cell of an Experiment 3 design (coordinate
+    ``actions == "turning"``) against its baseline, the four-action cell of the same task
+    and noise, in the design's order."""
+    found = []
+    for c in results.cells:
+        if c.coords.get("actions") != "turning" or not c.core:
+            continue
+        four, six = results.success(c.baseline), results.success(c.key)
+        removed = None
+        if np.mean(1 - four) > 0:
+            removed = removed_share_ci(1 - six, 1 - four, paired=False)
+        found.append(
+            Comparison(
+                c.coords["task"],
+                c.coords["noise_deg"],
+                mean_ci(four),
+                mean_ci(six),
+                difference_ci(six, four),
+                removed,
+                c.baseline,
+                c.key,
+            )
+        )
+    return found
+
+
+def oracle_rates(oracle) -> dict[str, float]:
+    """A yardstick design's held-out success per cell (``{cell key: rate}``, all seeds'
+    trials pooled)."""
+    return {c.key: float(np.mean(oracle.score(c.key))) for c in oracle.cells}
+
+
+def turning_table(results, oracle: dict[str, float]) -> str:
+    """The Markdown table of Experiment 3: per task and noise, the oracle (``oracle``: its
+    rate in each cell's world, by cell key) and the learner with four and six actions, six
+    minus four, and how many times as often six actions fail as four."""
+    rows = []
+    for c in turning_comparisons(results):
+        o4, o6 = oracle[c.four_key], oracle[c.six_key]
+        ratio = "no failures" if c.failure_ratio is None else c.failure_ratio.format(1.0, "x", 2)
+        rows.append(
+            f"| {c.task} | {c.noise:g} | {100 * o4:.1f}% / {100 * o6:.1f}% | "
+            f"{c.four.format(unit='%')} | {c.six.format(unit='%')} | "
+            f"{c.gain.format(unit=' pp')} | {ratio} |"
+        )
+    header = (
+        "| task | heading noise (deg) | oracle, 4 / 6 actions | learner, 4 actions | "
+        "learner, 6 actions | 6 minus 4 | failures, 6 / 4 actions |\n"
+        "|---|---|---|---|---|---|---|"
+    )
+    return header + "\n" + "\n".join(rows)
+
+
+def rotation_verdict(results, rule) -> tuple[str, Interval]:
+    """The paper's rotation claim ("the reason for most of the unsuccessful trials") judged
+    by the remedy it names: in the paper's task at the lowest heading noise, the share of the
+    four-action learner's held-out failures that are gone when the learner can turn, decided
+    by ``rule`` (a :class:`docking.claims.Rule`); the verdict and the interval."""
+    paper = [c for c in turning_comparisons(results) if c.task == "paper task"]
+    found = min(paper, key=lambda c: c.noise)
+    if found.removed is None:
+        raise ValueError("the four-action learner never failed: nothing to remove")
+    return rule.decide(found.removed), found.removed
+
+
+def failure_shares(results, keys: list[str]) -> tuple[np.ndarray, list[int]]:
+    """The failure taxonomy (:func:`docking.analysis.failure_taxonomy`) of the held-out
+    failures of each cell in ``keys``, all seeds pooled: ``(shares, failures)`` with
+    ``shares[k, c]`` the share of cell ``k``'s failed trials in class ``c`` (classes in the
+    order of :data:`docking.analysis.FAILURE_CLASSES`; NaN for a cell without failures)."""
+    from docking.analysis import FAILURE_CLASSES, failure_taxonomy
+    from docking.world import DockingEnv
+
+    shares, failures = np.full((len(keys), len(FAILURE_CLASSES)), np.nan), []
+    for k, key in enumerate(keys):
+        env = DockingEnv(results.cell(key).config.world, seed=0)
+        counts, n = np.zeros(len(FAILURE_CLASSES)), 0
+        for log in results.heldout[key]:
+            failed = ~log.success
+            flags = failure_taxonomy(log, env, trials=np.flatnonzero(failed))
+            n += int(failed.sum())
+            counts += [int(flags[c][failed].sum()) for c in FAILURE_CLASSES]
+        env.close()
+        failures.append(n)
+        if n:
+            shares[k] = counts / n
+    return shares, failures
+
+
+def final_headings(results, key: str) -> np.ndarray:
+    """``|yaw|`` (deg; 0 = facing the landmark's wall) at the end of every failed held-out
+    trial of cell ``key``, all seeds pooled."""
+    out = [
+        abs(np.degrees(log.trial_poses(k)[-1][2]))
+        for log in results.heldout[key]
+        for k in np.flatnonzero(~log.success)
+    ]
+    return np.array(out, dtype=np.float64)
+
+
+# ------------------------------------------------------------------------------------------
+# The calibration tables (notebooks 03, 04): rows against a baseline row.
+# ------------------------------------------------------------------------------------------
+
+
+@dataclasses.dataclass(frozen=True)
+class Row:
+    """One row of a calibration table, computed from per-seed numbers.
+
+    Attributes:
+      key, label: As the variant's.
+      success: Mean test success over seeds with its 95% bootstrap interval (the per-seed
+        values in ``success.values``).
+      difference: Mean success minus the baseline row's, with its 95% interval (seeds
+        resampled per row); None for the baseline itself.
+      at_100: Seeds whose test success is 100%.
+      rewarded: Mean share of training trials rewarded, with its interval; None if not given.
+      rewarded_difference: That share minus the baseline row's, with its interval (seeds
+        resampled per row); None for the baseline or if not given.
+    """
+
+    key: str
+    label: str
+    success: Interval
+    difference: Interval | None
+    at_100: int
+    rewarded: Interval | None = None
+    rewarded_difference: Interval | None = None
+
+    @property
+    def n_seeds(self) -> int:
+        return len(self.success.values)
+
+
+def analyse(
+    rows,
+    success: dict[str, np.ndarray],
+    baseline: str,
+    rewarded: dict[str, np.ndarray] | None = None,
+    seed: int = 0,
+) -> list[Row]:
+    """The table's rows (cells ``rows``) from per-seed test success (and training trials
+    rewarded) per cell key; differences against the row ``baseline``, which ``rows`` must
+    hold."""
+    if baseline not in {v.key for v in rows}:
+        raise ValueError(f"the rows must include the baseline {baseline!r}")
+    base = np.asarray(success[baseline], dtype=float)
+    out = []
+    for v in rows:
+        x = np.asarray(success[v.key], dtype=float)
+        is_base = v.key == baseline
+        out.append(
+            Row(
+                v.key,
+                v.label,
+                mean_ci(x, seed=seed),
+                None if is_base else difference_ci(x, base, seed=seed),
+                int(np.sum(x == 1.0)),
+                None if rewarded is None else mean_ci(rewarded[v.key], seed=seed),
+                None
+                if rewarded is None or is_base
+                else difference_ci(rewarded[v.key], rewarded[baseline], seed=seed),
+            )
+        )
+    return out
+
+
+def calibration_table(rows: list[Row], baseline: str, seeds_at_100: bool = False) -> str:
+    """The calibration table in Markdown: the setting; mean test success with its 95%
+    interval; the per-seed values; the difference to this configuration with its interval
+    (pp); the share of training trials rewarded (if the rows carry it); the seeds at 100%
+    (if ``seeds_at_100``). The baseline row is in bold."""
+    with_rewarded = all(r.rewarded is not None for r in rows)
+    header = ["setting", "test success, % [95% CI]", "per seed, %", "minus this config., pp"]
+    if with_rewarded:
+        header.append("training trials rewarded, %")
+    if seeds_at_100:
+        header.append("seeds at 100 %")
+    lines = ["| " + " | ".join(header) + " |", "|" + "---|" * len(header)]
+    for r in rows:
+        cells = [
+            r.label + (" (this configuration)" if r.key == baseline else ""),
+            r.success.format(),
+            ", ".join(f"{100 * v:.1f}" for v in r.success.values),
+            "—" if r.difference is None else r.difference.format(),
+        ]
+        if with_rewarded:
+            cells.append(r.rewarded.format())
+        if seeds_at_100:
+            cells.append(f"{r.at_100} of {r.n_seeds}")
+        if r.key == baseline:
+            cells = [f"**{c}**" for c in cells]
+        lines.append("| " + " | ".join(cells) + " |")
+    return "\n".join(lines)
+
+
+
+def calibration_rows(results, baseline: str, seed: int = 0) -> list[Row]:
+    """The rows (:func:`analyse`) of a calibration design's results against its row
+    ``baseline``: test success and the share of training trials rewarded, per seed."""
+    return analyse(
+        results.cells,
+        {c.key: results.score(c.key) for c in results.cells},
+        baseline,
+        {c.key: analysis.rewarded_share(results.runs[c.key]) for c in results.cells},
+        seed=seed,
+    )
+
+
+def computing_time(results, baseline: str | None = None, key: str | None = None) -> float:
+    """Seconds of computing (training and test) of row ``key``'s runs, or of every row's but
+    ``baseline`` (a calibration's own cost) if ``key`` is None."""
+    keys = [key] if key is not None else [c.key for c in results.cells if c.key != baseline]
+    return float(sum(r.wall_time_train + r.wall_time_test for k in keys for r in results.runs[k]))

@@ -41,7 +41,7 @@
 import numpy as np
 from IPython.display import Image, Markdown, display
 
-from docking import analysis, figures
+from docking import analysis, figures, report
 from docking.analysis import FAILURE_CLASSES
 from docking.designs import experiment3
 from docking.policies import centroid_offset, oracle, run_episode
@@ -91,7 +91,7 @@ display(
 # docked in only about 98% of trials.
 
 # %%
-oracle_rates = experiment3.oracle_table(experiment3.ORACLE.run())
+oracle_rates = report.oracle_rates(experiment3.ORACLE.run())
 display(
     Markdown(
         "| cell | oracle success |\n|---|---|\n"
@@ -128,8 +128,8 @@ print(
 # four-action learner's failures that are gone with six actions.
 
 # %%
-display(Markdown(experiment3.table(results, oracle_rates)))
-found = {(c.task, c.noise): c for c in experiment3.comparisons(results)}
+display(Markdown(report.turning_table(results, oracle_rates)))
+found = {(c.task, c.noise): c for c in report.turning_comparisons(results)}
 
 tasks, noise = list(experiment3.TASKS), np.array(experiment3.NOISE_DEG)
 labels = {"paper": "4 actions", "turning": "6 actions"}
@@ -179,7 +179,7 @@ assert hard.six.high < oracle_rates["4 actions, precision, 6 deg"] < 0.9
 # same claim by removing the heading noise at test instead.)
 
 # %%
-verdict, removed = experiment3.rotation_verdict(results)
+verdict, removed = report.rotation_verdict(results, experiment3.ROTATION_RULE)
 base = found["paper task", 2.0]
 display(
     Markdown(
@@ -209,7 +209,7 @@ assert verdict == "contradicted" and removed.high < 0
 
 # %%
 keys = [c.key for c in results.cells]
-shares, failures = experiment3.failure_shares(results, keys)
+shares, failures = report.failure_shares(results, keys)
 classes = list(FAILURE_CLASSES)
 display(
     Image(
@@ -234,8 +234,8 @@ lines = []
 for c in found.values():
     k4 = experiment3.cell_key("paper", c.task, c.noise)
     k6 = experiment3.cell_key("turning", c.task, c.noise)
-    yaw4 = np.median(experiment3.final_headings(results, k4))
-    yaw6 = np.median(experiment3.final_headings(results, k6))
+    yaw4 = np.median(report.final_headings(results, k4))
+    yaw6 = np.median(report.final_headings(results, k6))
     rewarded = difference_ci(
         analysis.rewarded_share(results.runs[k6]), analysis.rewarded_share(results.runs[k4])
     )

@@ -6,18 +6,11 @@ import dataclasses
 import numpy as np
 import pytest
 
+from docking.analysis import rewarded_share
 from docking.design import Cell
-from docking.designs.calibration import (
-    BASELINE,
-    analyse,
-    markdown_table,
-    rewarded,
-    run,
-    variants,
-    wall_time,
-)
-from docking.designs.calibration import rows as table_rows
+from docking.designs.calibration import BASELINE, run, variants
 from docking.presets import EXPERIMENT_1, EXPERIMENT_2, SEEDS
+from docking.report import analyse, calibration_rows, calibration_table, computing_time
 from docking.stats import difference_ci, mean_ci
 from docking.store import config_key
 
@@ -102,7 +95,7 @@ def _rows():
 def test_markdown_table_from_synthetic_results():
     success = {"worse": [0.5, 1.0, 0.75], BASELINE: [1.0, 1.0, 0.995]}
     rewarded = {"worse": [0.2, 0.3, 0.25], BASELINE: [0.6, 0.5, 0.55]}
-    rows = analyse(_rows(), success, rewarded)
+    rows = analyse(_rows(), success, BASELINE, rewarded)
     assert [r.key for r in rows] == ["worse", BASELINE]
     worse, this = rows
     assert worse.success == mean_ci(success["worse"])
@@ -112,7 +105,7 @@ def test_markdown_table_from_synthetic_results():
     assert worse.rewarded == mean_ci(rewarded["worse"])
     assert worse.rewarded_difference == difference_ci(rewarded["worse"], rewarded[BASELINE])
     assert this.rewarded_difference is None
-    lines = markdown_table(rows, seeds_at_100=True).splitlines()
+    lines = calibration_table(rows, BASELINE, seeds_at_100=True).splitlines()
     assert len(lines) == 4
     header = [c.strip() for c in lines[0].strip("|").split("|")]
     assert header == [
@@ -136,13 +129,13 @@ def test_markdown_table_from_synthetic_results():
     assert bold[0] == "**the setting (this configuration)**"
     assert bold[3] == "**—**" and bold[5] == "**2 of 3**"
     # Without rewarded shares and the 100% column (Experiment 2's table).
-    plain = markdown_table(analyse(_rows(), success), seeds_at_100=False).splitlines()
+    plain = calibration_table(analyse(_rows(), success, BASELINE), BASELINE).splitlines()
     assert plain[0].count("|") == 5 and "seeds at 100" not in plain[0]
 
 
 def test_analyse_needs_the_baseline():
     with pytest.raises(ValueError, match="baseline"):
-        analyse(_rows()[:1], {"worse": [0.5, 1.0]})
+        analyse(_rows()[:1], {"worse": [0.5, 1.0]}, BASELINE)
 
 
 def test_run_goes_through_the_store_and_resumes(tmp_path, monkeypatch):
@@ -167,8 +160,10 @@ def test_run_goes_through_the_store_and_resumes(tmp_path, monkeypatch):
     assert [r.seed for r in first.runs["epsQ"]] == [0, 1]
     assert first.runs["epsQ"][0].config == rows[1].config
     assert (tmp_path / "calibration-test").is_dir() and (tmp_path / tiny.name).is_dir()
-    assert first.success("epsQ").shape == (2,) and rewarded(first, BASELINE).shape == (2,)
-    assert wall_time(first) > 0
+    assert first.success("epsQ").shape == (2,) and rewarded_share(first.runs[BASELINE]).shape == (
+        2,
+    )
+    assert computing_time(first, BASELINE) > 0
 
     def refuse(*args, **kwargs):
         raise AssertionError("a stored run was computed again")
@@ -179,11 +174,11 @@ def test_run_goes_through_the_store_and_resumes(tmp_path, monkeypatch):
         np.testing.assert_array_equal(again.success(key), first.success(key))
         for a, b in zip(again.runs[key], first.runs[key], strict=True):
             np.testing.assert_array_equal(a.network.W, b.network.W)
-    table = markdown_table(table_rows(again), seeds_at_100=True)
+    table = calibration_table(calibration_rows(again, BASELINE), BASELINE, seeds_at_100=True)
     assert "tiny, eps_Q 0.2" in table and "**tiny (this configuration)**" in table
     # every training trial starts beyond 0 m: the share is each run's training success rate
     expected = [r.train.success_rate for r in again.runs["epsQ"]]
-    np.testing.assert_array_equal(rewarded(again, "epsQ"), expected)
+    np.testing.assert_array_equal(rewarded_share(again.runs["epsQ"]), expected)
 
 
 def test_seeds_are_the_main_experiments():

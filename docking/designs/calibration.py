@@ -7,7 +7,8 @@ variants here are those choices changed one or two at a time: two designs
 or :data:`~docking.presets.EXPERIMENT_2` with a few fields replaced (coordinates
 ``experiment``, ``variant``, ``changes``), measured by their test trials; running one is
 :func:`run`; the statistics are :mod:`docking.stats`; the notebooks show
-:func:`markdown_table` of :func:`rows` and assert their claims on the returned runs.
+:func:`docking.report.calibration_table` of :func:`docking.report.calibration_rows` and
+assert their claims on the returned runs.
 
 Choices named here:
 
@@ -43,29 +44,19 @@ experiments' variants and prints the tables.
 from __future__ import annotations
 
 import dataclasses
-from collections.abc import Mapping, Sequence
+from collections.abc import Sequence
 from pathlib import Path
 
-import numpy as np
-
-from docking.analysis import rewarded_share
 from docking.design import Cell, Design, Results, run_design
 from docking.experiments import ExperimentConfig
 from docking.presets import EXPERIMENT_1, EXPERIMENT_2, SEEDS
-from docking.stats import Interval, difference_ci, mean_ci
 
 __all__ = [
     "BASELINE",
     "DESIGNS",
-    "Row",
-    "analyse",
-    "markdown_table",
-    "rewarded",
-    "rows",
     "run",
     "run_all",
     "variants",
-    "wall_time",
 ]
 
 #: The key of the row "this configuration" (the main experiment itself) in every list.
@@ -183,28 +174,6 @@ def _rows_of(experiment: str) -> list[Cell]:
 # ------------------------------------------------------------------------------------------
 
 
-def rewarded(results: Results, key: str) -> np.ndarray:
-    """Per seed, the share of row ``key``'s training trials that ended in the dock."""
-    return rewarded_share(results.runs[key])
-
-
-def rows(results: Results, seed: int = 0) -> list[Row]:
-    """The table's rows (:func:`analyse`) of a calibration's results."""
-    return analyse(
-        results.cells,
-        {c.key: results.score(c.key) for c in results.cells},
-        {c.key: rewarded(results, c.key) for c in results.cells},
-        seed=seed,
-    )
-
-
-def wall_time(results: Results, key: str | None = None) -> float:
-    """Seconds of computing (training and test) of row ``key``'s runs, or of every row's but
-    :data:`BASELINE` (the calibration's own cost) if ``key`` is None."""
-    keys = [key] if key is not None else [c.key for c in results.cells if c.key != BASELINE]
-    return float(sum(r.wall_time_train + r.wall_time_test for k in keys for r in results.runs[k]))
-
-
 def _design(experiment: str, cells: Sequence[Cell], seeds: Sequence[int]) -> Design:
     return Design(
         name=_NAMES[experiment],
@@ -218,8 +187,11 @@ def _design(experiment: str, cells: Sequence[Cell], seeds: Sequence[int]) -> Des
 
 
 def _report(results: Results) -> str:
-    table = markdown_table(rows(results), seeds_at_100=results.design.name.endswith("1"))
-    return f"{table}\n\ncomputing time of the variants: {wall_time(results):.0f} s"
+    from docking.report import calibration_rows, calibration_table, computing_time
+
+    rows = calibration_rows(results, BASELINE)
+    table = calibration_table(rows, BASELINE, seeds_at_100=results.design.name.endswith("1"))
+    return f"{table}\n\ncomputing time of the variants: {computing_time(results, BASELINE):.0f} s"
 
 
 #: The two calibration designs, ``{name: design}``.
@@ -268,104 +240,6 @@ def run(
 def run_all(**kwargs) -> dict[str, Results]:
     """:func:`run` for both experiments (keyword arguments as there)."""
     return {experiment: run(experiment, **kwargs) for experiment in _VARIANTS}
-
-
-# ------------------------------------------------------------------------------------------
-# Analysis and the table.
-# ------------------------------------------------------------------------------------------
-
-
-@dataclasses.dataclass(frozen=True)
-class Row:
-    """One row of a calibration table, computed from per-seed numbers.
-
-    Attributes:
-      key, label: As the variant's.
-      success: Mean test success over seeds with its 95% bootstrap interval (the per-seed
-        values in ``success.values``).
-      difference: Mean success minus :data:`BASELINE`'s, with its 95% interval (seeds
-        resampled per row); None for the baseline itself.
-      at_100: Seeds whose test success is 100%.
-      rewarded: Mean share of training trials rewarded, with its interval; None if not given.
-      rewarded_difference: That share minus :data:`BASELINE`'s, with its interval (seeds
-        resampled per row); None for the baseline or if not given.
-    """
-
-    key: str
-    label: str
-    success: Interval
-    difference: Interval | None
-    at_100: int
-    rewarded: Interval | None = None
-    rewarded_difference: Interval | None = None
-
-    @property
-    def n_seeds(self) -> int:
-        return len(self.success.values)
-
-
-def analyse(
-    rows: Sequence[Cell],
-    success: Mapping[str, Sequence[float]],
-    rewarded: Mapping[str, Sequence[float]] | None = None,
-    seed: int = 0,
-) -> list[Row]:
-    """The table's rows from per-seed test success (and training trials rewarded) per
-    variant key; differences against the row :data:`BASELINE`, which ``rows`` must hold."""
-    if BASELINE not in {v.key for v in rows}:
-        raise ValueError(f"the rows must include the baseline {BASELINE!r}")
-    base = np.asarray(success[BASELINE], dtype=float)
-    out = []
-    for v in rows:
-        x = np.asarray(success[v.key], dtype=float)
-        baseline = v.key == BASELINE
-        out.append(
-            Row(
-                v.key,
-                v.label,
-                mean_ci(x, seed=seed),
-                None if baseline else difference_ci(x, base, seed=seed),
-                int(np.sum(x == 1.0)),
-                None if rewarded is None else mean_ci(rewarded[v.key], seed=seed),
-                None
-                if rewarded is None or baseline
-                else difference_ci(rewarded[v.key], rewarded[BASELINE], seed=seed),
-            )
-        )
-    return out
-
-
-def _pct(x: float) -> str:
-    return f"{100 * x:.1f}"
-
-
-def markdown_table(rows: Sequence[Row], seeds_at_100: bool = False) -> str:
-    """The calibration table in Markdown: the setting; mean test success with its 95%
-    interval; the per-seed values; the difference to this configuration with its interval
-    (pp); the share of training trials rewarded (if the rows carry it); the seeds at 100%
-    (if ``seeds_at_100``). The baseline row is in bold."""
-    with_rewarded = all(r.rewarded is not None for r in rows)
-    header = ["setting", "test success, % [95% CI]", "per seed, %", "minus this config., pp"]
-    if with_rewarded:
-        header.append("training trials rewarded, %")
-    if seeds_at_100:
-        header.append("seeds at 100 %")
-    lines = ["| " + " | ".join(header) + " |", "|" + "---|" * len(header)]
-    for r in rows:
-        cells = [
-            r.label + (" (this configuration)" if r.key == BASELINE else ""),
-            r.success.format(),
-            ", ".join(_pct(v) for v in r.success.values),
-            "—" if r.difference is None else r.difference.format(),
-        ]
-        if with_rewarded:
-            cells.append(r.rewarded.format())
-        if seeds_at_100:
-            cells.append(f"{r.at_100} of {r.n_seeds}")
-        if r.key == BASELINE:
-            cells = [f"**{c}**" for c in cells]
-        lines.append("| " + " | ".join(cells) + " |")
-    return "\n".join(lines)
 
 
 # ------------------------------------------------------------------------------------------

@@ -42,27 +42,16 @@ from __future__ import annotations
 import dataclasses
 import itertools
 
-import numpy as np
-
 from docking.claims import ShareAbove
-from docking.design import Cell, Design, Results, yardstick_config
+from docking.design import Cell, Design, yardstick_config
 from docking.designs.builders import HELDOUT_TRIALS, SEEDS, YARDSTICK_SEEDS, variant
 from docking.experiments import ExperimentConfig
 from docking.presets import EXPERIMENT_2
 from docking.scene import ACTION_SETS, WorldConfig
-from docking.stats import Interval, difference_ci, mean_ci, removed_share_ci
 
 __all__ = [
-    "COMPARED",
-    "Comparison",
     "LONGER",
     "LONGER_KEY",
-    "comparisons",
-    "failure_shares",
-    "final_headings",
-    "oracle_table",
-    "rotation_verdict",
-    "table",
     "NOISE_DEG",
     "ORACLE",
     "PRECISION_DEG",
@@ -156,101 +145,6 @@ def experiment3_cells(full: bool = False) -> list[Cell]:
     return found
 
 
-# ------------------------------------------------------------------------------------------
-# What the runs show.
-# ------------------------------------------------------------------------------------------
-
-
-@dataclasses.dataclass(frozen=True)
-class Comparison:
-    """Four against six actions in one task at one heading noise.
-
-    Attributes:
-      task, noise: The cell pair's task and heading noise (deg).
-      four, six: Held-out success with four and with six actions (95% intervals over seeds).
-      gain: Six minus four actions (percentage points as fractions, 95% interval).
-      removed: The share of the four-action learner's failures that are gone with six
-        actions, ``1 - failures6 / failures4`` (95% interval, seeds of each resampled
-        independently); None if the four-action learner never failed.
-    """
-
-    task: str
-    noise: float
-    four: Interval
-    six: Interval
-    gain: Interval
-    removed: Interval | None
-
-    @property
-    def failure_ratio(self) -> Interval | None:
-        """How many times as often six actions fail as four, ``failures6 / failures4``
-        (``1 - removed``, with its interval)."""
-        if self.removed is None:
-            return None
-        r = self.removed
-        return Interval(1 - r.estimate, 1 - r.high, 1 - r.low, r.values, r.confidence)
-
-
-def comparisons(results: Results) -> list[Comparison]:
-    """One :class:`Comparison` per task and heading noise, in the order of :data:`TASKS` and
-    :data:`NOISE_DEG`."""
-    found = []
-    for task, noise in itertools.product(TASKS, NOISE_DEG):
-        four = results.success(cell_key("paper", task, noise))
-        six = results.success(cell_key("turning", task, noise))
-        removed = None
-        if np.mean(1 - four) > 0:
-            removed = removed_share_ci(1 - six, 1 - four, paired=False)
-        found.append(
-            Comparison(task, noise, mean_ci(four), mean_ci(six), difference_ci(six, four), removed)
-        )
-    return found
-
-
-def oracle_table(oracle: Results) -> dict[str, float]:
-    """The pose oracle's held-out success in the world of every cell (``{cell key: rate}``,
-    all seeds' trials pooled) from the results of :data:`ORACLE`: it turns in the six-action
-    worlds and cannot in the four-action ones."""
-    return {c.key: float(np.mean(oracle.score(c.key))) for c in oracle.cells}
-
-
-def table(results: Results, oracle: dict[str, float]) -> str:
-    """The Markdown table of Experiment 3: per task and noise, the oracle and the learner
-    with four and six actions, six minus four, and how many times as often six actions fail
-    as four (the extra cell, trained longer, is not in it)."""
-    rows = []
-    for c in comparisons(results):
-        o4 = oracle[cell_key("paper", c.task, c.noise)]
-        o6 = oracle[cell_key("turning", c.task, c.noise)]
-        ratio = "no failures" if c.failure_ratio is None else c.failure_ratio.format(1.0, "x", 2)
-        rows.append(
-            f"| {c.task} | {c.noise:g} | {100 * o4:.1f}% / {100 * o6:.1f}% | "
-            f"{c.four.format(unit='%')} | {c.six.format(unit='%')} | "
-            f"{c.gain.format(unit=' pp')} | {ratio} |"
-        )
-    header = (
-        "| task | heading noise (deg) | oracle, 4 / 6 actions | learner, 4 actions | "
-        "learner, 6 actions | 6 minus 4 | failures, 6 / 4 actions |\n"
-        "|---|---|---|---|---|---|---|"
-    )
-    return header + "\n" + "\n".join(rows)
-
-
-def rotation_verdict(results: Results) -> tuple[str, Interval]:
-    """The paper's rotation claim ("the reason for most of the unsuccessful trials") judged
-    by the remedy it names: in the paper's task at the paper world's 2 deg heading noise, the
-    share of the four-action learner's held-out failures that are gone when the learner can
-    turn, judged by :data:`ROTATION_RULE` (the studies' rule for the same
-    claim); the verdict and the interval."""
-    found = next(
-        c for c in comparisons(results) if c.task == "paper task" and c.noise == NOISE_DEG[0]
-    )
-    ci = found.removed
-    if ci is None:
-        raise ValueError("the four-action learner never failed: nothing to remove")
-    return ROTATION_RULE.decide(ci), ci
-
-
 DESIGN = Design(
     name="experiment3",
     title="turning actions and precision docking at three heading noises (beyond the paper)",
@@ -285,38 +179,3 @@ DESIGNS = {DESIGN.name: DESIGN, ORACLE.name: ORACLE}
 #: Run (or load) Experiment 3: :meth:`Design.run` of :data:`DESIGN` (one sweep; stored runs,
 #: e.g. the study's paper configuration, are loaded; ``full``: also the cell trained longer).
 run = DESIGN.run
-
-
-def failure_shares(results: Results, keys: list[str]) -> tuple[np.ndarray, list[int]]:
-    """The failure taxonomy (:func:`docking.analysis.failure_taxonomy`) of the held-out
-    failures of each cell in ``keys``, all seeds pooled: ``(shares, failures)`` with
-    ``shares[k, c]`` the share of cell ``k``'s failed trials in class ``c`` (classes in the
-    order of :data:`docking.analysis.FAILURE_CLASSES`; NaN for a cell without failures)."""
-    from docking.analysis import FAILURE_CLASSES, failure_taxonomy
-    from docking.world import DockingEnv
-
-    shares, failures = np.full((len(keys), len(FAILURE_CLASSES)), np.nan), []
-    for k, key in enumerate(keys):
-        env = DockingEnv(results.cell(key).config.world, seed=0)
-        counts, n = np.zeros(len(FAILURE_CLASSES)), 0
-        for log in results.heldout[key]:
-            failed = ~log.success
-            flags = failure_taxonomy(log, env, trials=np.flatnonzero(failed))
-            n += int(failed.sum())
-            counts += [int(flags[c][failed].sum()) for c in FAILURE_CLASSES]
-        env.close()
-        failures.append(n)
-        if n:
-            shares[k] = counts / n
-    return shares, failures
-
-
-def final_headings(results: Results, key: str) -> np.ndarray:
-    """``|yaw|`` (deg; 0 = facing the landmark's wall) at the end of every failed held-out
-    trial of cell ``key``, all seeds pooled."""
-    out = [
-        abs(np.degrees(log.trial_poses(k)[-1][2]))
-        for log in results.heldout[key]
-        for k in np.flatnonzero(~log.success)
-    ]
-    return np.array(out, dtype=np.float64)
