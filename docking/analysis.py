@@ -654,22 +654,6 @@ def trials_to_level(runs: list[ExperimentResult], level: float) -> np.ndarray:
     return np.array(out)
 
 
-def episodes_to_level(train_success: np.ndarray, level: float, window: int = 50) -> float:
-    """The training episodes until ``window`` consecutive ones first succeed at ``level`` or
-    more (the episode that completes that window; NaN if none does): a learner's sample
-    efficiency without a greedy learning curve (PPO's, in the second edition)."""
-    if not 0 < level <= 1:
-        raise ValueError(f"level must be in (0, 1], got {level}")
-    if window < 1:
-        raise ValueError(f"window must be >= 1, got {window}")
-    success = np.asarray(train_success, dtype=float)
-    if len(success) < window:
-        return float("nan")
-    share = np.convolve(success, np.ones(window) / window, mode="valid")
-    hits = np.flatnonzero(share >= level - 1e-12)
-    return float(hits[0] + window) if len(hits) else float("nan")
-
-
 def curve_flatness(runs: list[ExperimentResult]) -> float:
     """How much the mean learning curve still rises at its end: the mean greedy success of
     its last quarter of points minus that of its third quarter (seeds pooled)."""

@@ -335,14 +335,6 @@ def verdict_table(claims, results) -> str:
     return header + "\n" + "\n".join(c.row(results) for c in claims)
 
 
-def claim_of(claims, key: str) -> Claim:
-    """The claim ``key`` of ``claims``."""
-    for c in claims:
-        if c.key == key:
-            return c
-    raise KeyError(f"no claim {key!r} ({', '.join(c.key for c in claims)})")
-
-
 @dataclasses.dataclass(frozen=True)
 class Decision:
     """One comparison of a family: its claim, world and cell, the interval, the p-value,

@@ -1041,43 +1041,6 @@ def fig_failures(
     return fig
 
 
-def fig_study_curves(panels: dict[str, dict[str, LearningCurves]]) -> Figure:
-    """Learning curves of the curriculum cells: one panel per world (``panels``: world name
-    -> {cell label: curves}), the mean greedy success against training trials, a band from
-    the lowest to the highest seed."""
-    fig = _new_figure(5.2 * len(panels), 3.6)
-    axes = np.atleast_1d(fig.subplots(1, len(panels), sharey=True))
-    for ax, (letter, (world, curves)) in zip(
-        axes, zip("ABCD", panels.items(), strict=False), strict=False
-    ):
-        for k, (label, c) in enumerate(curves.items()):
-            stack = np.array(
-                [np.interp(c.mean_trials, t, s) for t, s in zip(c.trials, c.success, strict=True)]
-            )
-            ax.fill_between(
-                c.mean_trials,
-                100 * stack.min(0),
-                100 * stack.max(0),
-                color=f"C{k}",
-                alpha=0.15,
-                lw=0,
-            )
-            ax.plot(
-                c.mean_trials,
-                100 * c.mean_success,
-                color=f"C{k}",
-                lw=2,
-                label=f"{label} ({len(c.seeds)} seeds)",
-            )
-        ax.set_title(f"{letter}   {world}", loc="left", fontweight="bold", fontsize=10)
-        ax.set_xlabel("training trials")
-        ax.grid(alpha=0.3, lw=0.5)
-        ax.legend(fontsize=7, loc="lower right")
-    axes[0].set_ylabel("greedy success, full region (%)")
-    axes[0].set_ylim(-3, 103)
-    return fig
-
-
 def fig_experiment3(
     noise: np.ndarray,
     tasks: list[str],

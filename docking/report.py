@@ -733,7 +733,6 @@ def calibration_table(rows: list[Row], baseline: str, seeds_at_100: bool = False
     return "\n".join(lines)
 
 
-
 def calibration_rows(results, baseline: str, seed: int = 0) -> list[Row]:
     """The rows (:func:`analyse`) of a calibration design's results against its row
     ``baseline``: test success and the share of training trials rewarded, per seed."""

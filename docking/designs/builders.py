@@ -9,7 +9,6 @@ from __future__ import annotations
 
 import dataclasses
 
-from docking.design import Cell, yardstick_config
 from docking.experiments import Curriculum, ExperimentConfig
 from docking.network import NetworkConfig
 from docking.presets import EXPERIMENT_2, FLOOR_WORLD
@@ -63,19 +62,4 @@ def with_cup(world: WorldConfig) -> WorldConfig:
     """``world`` with the red cup (:data:`CUP`, or :data:`FLOOR_CUP` in the floor world)."""
     return dataclasses.replace(
         world, distractors=(CUP if world.scene == "sideboard" else FLOOR_CUP,)
-    )
-
-
-def yardstick_cells(worlds: dict[str, ExperimentConfig], policies=tuple(YARDSTICK_LABELS)):
-    """One yardstick cell per world and policy, keyed ``"world/policy"``, judged on
-    :data:`HELDOUT_TRIALS` held-out trials per seed."""
-    return tuple(
-        Cell(
-            f"{world}/{policy}",
-            yardstick_config(base, policy, HELDOUT_TRIALS),
-            {"world": world, "policy": policy},
-            f"{YARDSTICK_LABELS[policy]} ({world} world)",
-        )
-        for world, base in worlds.items()
-        for policy in policies
     )
