@@ -281,3 +281,33 @@ def _interval_method(groups, method: str, confidence: float, seed: int) -> Inter
     )
     low, high = result.confidence_interval
     return Interval(float(a.mean() - b.mean()), float(low), float(high), (), confidence)
+
+
+def power(n: int, effect: float, sd: float, alpha: float = 0.05) -> float:
+    """The power of the paired Student-t rule "the two-sided ``1 - alpha`` interval of the
+    mean difference lies above 0" with ``n`` seeds, when the true mean difference is
+    ``effect > 0`` and the per-seed differences have standard deviation ``sd``: the
+    probability that the lower bound exceeds 0 (noncentral t)."""
+    if n < 2 or not effect > 0 or not sd > 0 or not 0 < alpha < 1:
+        raise ValueError(
+            f"power needs n >= 2, effect > 0, sd > 0, 0 < alpha < 1: {n}, {effect}, {sd}, {alpha}"
+        )
+    df = n - 1
+    critical = stats.t.ppf(1 - alpha / 2, df)
+    return float(stats.nct.sf(critical, df, effect / sd * np.sqrt(n)))
+
+
+def seeds_for_power(
+    effect: float,
+    sd: float,
+    alpha: float = 0.05,
+    target: float = 0.8,
+    least: int = 10,
+    most: int = 200,
+) -> int | None:
+    """The fewest seeds, at least ``least``, at which :func:`power` reaches ``target``; None
+    if even ``most`` seeds do not."""
+    for n in range(max(least, 2), most + 1):
+        if power(n, effect, sd, alpha) >= target:
+            return n
+    return None

@@ -2,6 +2,7 @@
 
 import numpy as np
 import pytest
+from scipy import stats
 
 from docking.stats import difference_ci, mean_ci
 
@@ -57,3 +58,19 @@ def test_removed_share_ci_paired_and_unpaired():
         removed_share_ci(half, np.zeros(10), paired=False)
     with pytest.raises(ValueError, match="paired"):
         removed_share_ci(half[:5], base, paired=True)
+
+
+def test_power_matches_a_simulation_and_gives_the_seeds_it_needs():
+    from docking.stats import power, seeds_for_power
+
+    rng = np.random.default_rng(7)
+    n, effect, sd = 10, 0.05, 0.06
+    draws = rng.normal(effect, sd, size=(20000, n))
+    lows = draws.mean(1) - stats.t.ppf(0.975, n - 1) * draws.std(1, ddof=1) / np.sqrt(n)
+    assert abs(power(n, effect, sd) - np.mean(lows > 0)) < 0.01
+    needed = seeds_for_power(effect, sd, target=0.8)
+    assert power(needed, effect, sd) >= 0.8 > power(needed - 1, effect, sd)
+    assert seeds_for_power(1.0, 0.01) == 10  # never fewer than ten
+    assert seeds_for_power(0.001, 1.0, most=50) is None
+    with pytest.raises(ValueError, match="effect > 0"):
+        power(10, 0.0, 1.0)
