@@ -302,6 +302,7 @@ def _executed(path: Path) -> bool:
 def _markdown(text: str) -> str:
     """README/CONTRIBUTING links made site links: notebooks' .py sources to their pages."""
     text = re.sub(r"\(((?:notebooks|archive)/\d\d_\w+)\.py\)", r"(\1.ipynb)", text)
+    text = re.sub(r"\(docs/guide/(\w+\.md)\)", r"(guide/\1)", text)
     return _unbroken(text.replace("(CONTRIBUTING.md)", "(contributing.md)"))
 
 
@@ -353,6 +354,11 @@ def prepare() -> Path:
     captions = _readme_captions(readme)
     (SOURCE / "index.md").write_text(_with_captions(_markdown(readme), captions))
     (SOURCE / "contributing.md").write_text(_markdown((ROOT / "CONTRIBUTING.md").read_text()))
+    # The guides (docs/guide/): the README's long material, one page each.
+    (SOURCE / "guide").mkdir()
+    for guide in sorted((ROOT / "docs" / "guide").glob("*.md")):
+        text = _markdown(guide.read_text()).replace("](guide/", "](")
+        (SOURCE / "guide" / guide.name).write_text(text.replace("](notebooks/", "](../notebooks/"))
     shutil.copytree(ROOT / "figures", SOURCE / "figures")
     shutil.copy(ROOT / "docs" / "extra.css", SOURCE / "extra.css")
     sources = sorted((ROOT / "notebooks").glob("[0-9]*.py"))
@@ -372,6 +378,8 @@ def prepare() -> Path:
     numbers = _equation_numbers(SOURCE / EQUATIONS)
     for page in (SOURCE / "index.md", SOURCE / "contributing.md"):
         page.write_text(_linked(page.read_text(), EQUATIONS, numbers))
+    for page in sorted((SOURCE / "guide").glob("*.md")):
+        page.write_text(_linked(page.read_text(), f"../{EQUATIONS}", numbers))
     for nb in sorted(SOURCE.glob("*/*.ipynb")):
         own = nb.relative_to(SOURCE).as_posix() == EQUATIONS
         target = "" if own else Path("..", EQUATIONS).with_suffix(".html").as_posix()
