@@ -12,15 +12,18 @@ Rules:
 * :class:`Above`: the baseline minus the cell (percentage points of success) lies above a
   bound (0: the baseline is better).
 * :class:`Within`: the difference lies within +-margin (no effect), contradicted if it
-  excludes 0.
+  excludes 0 (the second edition's); :class:`Equivalent`: the same, contradicted only if it
+  lies wholly outside the margin.
 * :class:`ShareAbove`: the share of the baseline's failures that are gone in the cell lies
   above a share (e.g. 0.5: "most").
 * :class:`Gap`: a change costs a reference learner more than this one: ``(reference's
   baseline - reference) - (baseline - cell)`` lies above 0.
 
 Each rule computes its interval by the first edition's percentile bootstrap
-(``method="bootstrap"``) or by Student-t (``method="t"``, the second edition's: its
-coverage at ten seeds is checked by :func:`docking.stats.coverage`). A family of claims is
+(``method="bootstrap"``), by Welch's Student-t (``method="t"``, the second edition's) or by
+the paired Student-t over seeds (``method="paired"``, for arms that share each seed's
+networks or held-out streams); :func:`docking.stats.coverage` checks the intervals'
+coverage. A family of claims is
 judged together by :func:`judge_family`: a p-value per comparison, Holm's adjustment over
 the family, and "at the bound" where a deciding interval ends within 1 pp of the rule's
 bound.
@@ -40,6 +43,7 @@ from docking.stats import (
     removed_share_ci,
     t_difference_ci,
     t_interaction_ci,
+    t_paired_ci,
     t_share_ci,
 )
 
@@ -50,6 +54,7 @@ __all__ = [
     "VERDICT_COLOURS",
     "Above",
     "Claim",
+    "Equivalent",
     "Rule",
     "ShareAbove",
     "Within",
@@ -77,7 +82,10 @@ class Rule:
 
     def statistic(self, baseline: np.ndarray, cell: np.ndarray, seed: int = 0) -> Interval:
         """``baseline - cell`` of per-seed values, with its interval (bootstrap: seeds
-        resampled per group; t: Welch)."""
+        resampled per group; t: Welch; paired: Student-t on the per-seed differences, for arms
+        that share each seed's networks or held-out streams)."""
+        if self.method == "paired":
+            return t_paired_ci(baseline, cell)
         if self.method == "t":
             return t_difference_ci(baseline, cell)
         return difference_ci(baseline, cell, seed=seed)
@@ -172,6 +180,53 @@ class Within(Rule):
         if verdict == SUPPORTED:
             return min(self.margin - ci.high, ci.low + self.margin) < NEAR_BOUND
         return min(abs(ci.low), abs(ci.high)) < NEAR_BOUND
+
+    @property
+    def band(self) -> tuple[float, float]:
+        return (-self.margin, self.margin)
+
+
+@dataclasses.dataclass(frozen=True)
+class Equivalent(Rule):
+    """No effect, judged against a margin: supported if the interval of ``baseline - cell``
+    lies within ``+-margin``, contradicted only if it lies wholly outside it (an effect
+    larger than the margin), else not supported. (:class:`Within` called an interval that
+    merely excludes 0 contradicted.)"""
+
+    margin: float
+    method: str = "paired"
+
+    def decide(self, ci: Interval) -> str:
+        if -self.margin <= ci.low and ci.high <= self.margin:
+            return SUPPORTED
+        return CONTRADICTED if ci.low > self.margin or ci.high < -self.margin else NOT_SUPPORTED
+
+    def describe(self) -> str:
+        return (
+            f"supported if the interval lies within +-{100 * self.margin:.0f} pp, "
+            f"contradicted if it lies wholly outside"
+        )
+
+    def p_side(self, ci: Interval) -> tuple[float, str]:
+        """Equivalence (two one-sided tests against +-margin) or non-equivalence (the
+        estimate beyond a margin, one-sided), whichever the data favour; the smaller p-value
+        doubled (two tests per comparison)."""
+        from scipy import stats
+
+        if ci.se == 0:
+            inside = -self.margin < ci.estimate < self.margin
+            return 0.0, SUPPORTED if inside else CONTRADICTED
+        lower = stats.t.sf((ci.estimate + self.margin) / ci.se, ci.df)
+        upper = stats.t.cdf((ci.estimate - self.margin) / ci.se, ci.df)
+        equivalence = float(max(lower, upper))
+        beyond = float(stats.t.sf((abs(ci.estimate) - self.margin) / ci.se, ci.df))
+        if equivalence <= beyond:
+            return min(1.0, 2 * equivalence), SUPPORTED
+        return min(1.0, 2 * beyond), CONTRADICTED
+
+    def near_bound(self, ci: Interval, verdict: str) -> bool:
+        ends = (abs(abs(ci.low) - self.margin), abs(abs(ci.high) - self.margin))
+        return min(ends) < NEAR_BOUND
 
     @property
     def band(self) -> tuple[float, float]:

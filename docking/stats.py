@@ -170,6 +170,18 @@ def t_mean_ci(values, confidence: float = 0.95) -> Interval:
     return _t_interval(float(x.mean()), se, len(x) - 1, confidence, tuple(x.tolist()))
 
 
+def t_paired_ci(values, baseline, confidence: float = 0.95) -> Interval:
+    """``mean(values - baseline)`` over seeds paired by index (the same seed's networks or
+    held-out streams in both arms), with the paired Student-t interval (``n - 1`` degrees of
+    freedom); ``values`` of the result are the per-seed differences."""
+    a, b = _values(values, "t_paired_ci"), _values(baseline, "t_paired_ci baseline")
+    if len(a) != len(b):
+        raise ValueError(f"t_paired_ci pairs seeds: {len(a)} values against {len(b)}")
+    d = a - b
+    se = float(d.std(ddof=1) / np.sqrt(len(d)))
+    return _t_interval(float(d.mean()), se, len(d) - 1, confidence, tuple(d.tolist()))
+
+
 def _welch(groups, signs) -> tuple[float, float, float]:
     """Estimate, standard error and Welch-Satterthwaite degrees of freedom of
     ``sum(sign * mean(group))`` over independent groups."""
@@ -245,10 +257,13 @@ def coverage(
     Student-t) covers the true difference of two groups' mean success, on synthetic seeds
     like the study's: each group has ``n`` seeds whose true success is drawn from a Beta
     distribution (mean ``mean`` and ``mean - 0.05``, standard deviation ``spread``: seeds
-    differ), each measured on ``trials`` held-out trials (binomial). Returns the share of
-    ``repeats`` intervals that cover the true difference (0.05)."""
-    if method not in ("percentile", "bca", "t"):
-        raise ValueError(f"coverage: method must be percentile, bca or t, got {method!r}")
+    differ), each measured on ``trials`` held-out trials (binomial). ``"paired"``: the paired
+    Student-t interval (:func:`t_paired_ci`) where each seed's two arms share its network: the
+    second arm's true success is the first's minus 0.05 plus a seed's own normal deviation
+    (standard deviation ``spread / 2``). Returns the share of ``repeats`` intervals that
+    cover the true difference (0.05)."""
+    if method not in ("percentile", "bca", "t", "paired"):
+        raise ValueError(f"coverage: method must be percentile, bca, t or paired, got {method!r}")
     rng = np.random.default_rng(seed)
 
     def beta(m):
@@ -257,6 +272,13 @@ def coverage(
 
     hits = 0
     for r in range(repeats):
+        if method == "paired":  # one seed's two arms share its network: correlated
+            true = rng.beta(*beta(mean), size=n)
+            arms = (true, np.clip(true - 0.05 + rng.normal(0, spread / 2, n), 0, 1))
+            groups = [rng.binomial(trials, p) / trials for p in arms]
+            ci = t_paired_ci(*groups, confidence=confidence)
+            hits += ci.low <= 0.05 <= ci.high
+            continue
         groups = [
             rng.binomial(trials, rng.beta(*beta(m), size=n)) / trials for m in (mean, mean - 0.05)
         ]

@@ -74,3 +74,17 @@ def test_power_matches_a_simulation_and_gives_the_seeds_it_needs():
     assert seeds_for_power(0.001, 1.0, most=50) is None
     with pytest.raises(ValueError, match="effect > 0"):
         power(10, 0.0, 1.0)
+
+
+def test_the_paired_interval_pairs_seeds_and_covers():
+    from docking.stats import coverage, t_paired_ci
+
+    base = np.array([0.9, 0.8, 0.95, 0.7, 0.85])
+    ci = t_paired_ci(base - 0.05, base)  # every seed 5 pp worse: no spread of differences
+    assert ci.estimate == pytest.approx(-0.05) and ci.low == ci.high == pytest.approx(-0.05)
+    noisy = base - 0.05 + np.array([0.01, -0.01, 0.02, -0.02, 0.0])
+    paired, welch = t_paired_ci(noisy, base), stats.ttest_ind(noisy, base)
+    assert paired.high < 0 and welch.pvalue > 0.05  # pairing resolves what Welch cannot
+    with pytest.raises(ValueError, match="pairs seeds"):
+        t_paired_ci(base, base[:4])
+    assert 0.93 <= coverage("paired", n=10, repeats=800, seed=3) <= 0.97
