@@ -98,37 +98,64 @@ def test_every_notebook_is_on_the_site():
     ]
 
 
-@pytest.mark.parametrize("name", NOTEBOOKS)
-def test_a_notebook_page_shows_its_figures_and_renders_its_equations(browser, name):
-    page = _open(browser, SITE / "notebooks" / name)
+def _rendered(browser, path: Path) -> dict:
+    """What a notebook page shows once MathJax is done: its figures' widths, its prose, how
+    many equations it typeset (and their TeX) and how many MathJax could not render."""
+    page = _open(browser, path)
     try:
         page.wait_for_function(
             "() => window.MathJax && MathJax.Hub && MathJax.Hub.queue.pending === 0"
             " && MathJax.Hub.queue.running === 0",
             timeout=60_000,
         )
-        images = page.evaluate(
-            "Array.from(document.querySelectorAll('.jp-OutputArea img, .output img'))"
-            ".map(i => i.naturalWidth)"
-        )
-        prose = page.evaluate(
-            "Array.from(document.querySelectorAll('.jp-MarkdownOutput, .text_cell_render'))"
-            ".map(e => e.innerText).join('\\n')"
-        )
-        math = page.locator(".MathJax, .MathJax_Display").count()
-        typeset = Counter(
-            tex.strip()
-            for tex in page.evaluate(
-                "Array.from(document.querySelectorAll('script[type^=\"math/tex\"]'))"
-                ".map(s => s.textContent)"
-            )
-        )
-        errors = page.evaluate(
-            "document.body.innerText.split('Math Processing Error').length - 1"
-            " + document.querySelectorAll('.merror, .MathJax_Error').length"
-        )
+        return {
+            "images": page.evaluate(
+                "Array.from(document.querySelectorAll('.jp-OutputArea img, .output img'))"
+                ".map(i => i.naturalWidth)"
+            ),
+            "prose": page.evaluate(
+                "Array.from(document.querySelectorAll('.jp-MarkdownOutput, .text_cell_render'))"
+                ".map(e => e.innerText).join('\\n')"
+            ),
+            "math": page.locator(".MathJax, .MathJax_Display").count(),
+            "typeset": Counter(
+                tex.strip()
+                for tex in page.evaluate(
+                    "Array.from(document.querySelectorAll('script[type^=\"math/tex\"]'))"
+                    ".map(s => s.textContent)"
+                )
+            ),
+            "errors": page.evaluate(
+                "document.body.innerText.split('Math Processing Error').length - 1"
+                # MathJax's noErrors shows a TeX error as the raw TeX in a .noError span
+                " + document.querySelectorAll('.merror, .MathJax_Error, .noError').length"
+            ),
+        }
     finally:
         page.close()
+
+
+def test_a_broken_equation_is_caught(browser):
+    """The check below fails on a page with a deliberately broken equation (an unbalanced
+    brace put into notebook 01's Eq. 1)."""
+    good = SITE / "notebooks" / "01_gradient.html"
+    broken = good.with_name("broken_equation.html")
+    html = good.read_text()
+    assert "h_j = \\sum_n W_{jn} I_n" in html
+    broken.write_text(html.replace("h_j = \\sum_n W_{jn} I_n", "h_j = \\sum_n W_{jn I_n", 1))
+    try:
+        assert _rendered(browser, broken)["errors"] >= 1
+        assert _rendered(browser, good)["errors"] == 0
+    finally:
+        broken.unlink()
+
+
+@pytest.mark.parametrize("name", NOTEBOOKS)
+def test_a_notebook_page_shows_its_figures_and_renders_its_equations(browser, name):
+    found = _rendered(browser, SITE / "notebooks" / name)
+    images, prose, math, typeset, errors = (
+        found[k] for k in ("images", "prose", "math", "typeset", "errors")
+    )
     assert errors == 0, f"{name}: {errors} equations MathJax could not render"
     untypeset = _equations(name) - typeset  # each equation of the text is a typeset element
     assert not untypeset, f"{name}: equations not typeset: {list(untypeset)[:5]}"
