@@ -27,7 +27,6 @@ order L, R, F, B.
 from __future__ import annotations
 
 import io
-import textwrap
 from pathlib import Path
 
 import numpy as np
@@ -978,69 +977,6 @@ def fig_forest(
     return fig
 
 
-def fig_weight_change(
-    start: np.ndarray, end: np.ndarray, shape, title: str, columns: int = 9
-) -> Figure:
-    """Where each feature unit's weights changed: ``W_end - W_start`` per unit as an image,
-    red where the weight grew, blue where it shrank, one symmetric scale for all units
-    (written in the caption), so units that hardly moved look white."""
-    start, end = np.asarray(start), np.asarray(end)
-    if start.shape != end.shape or start.shape[1] != int(np.prod(shape)):
-        raise ValueError(f"fig_weight_change: W shapes {start.shape}, {end.shape}, input {shape}")
-    change = (end - start).reshape(-1, *shape)
-    scale = float(np.max(np.abs(change))) or 1.0
-    rows = int(np.ceil(len(change) / columns))
-    fig = _new_figure(1.25 * columns + 0.8, 0.62 * rows + 1.1)
-    axes = np.atleast_1d(fig.subplots(rows, columns)).reshape(-1)
-    for j, ax in enumerate(axes):
-        ax.set_xticks([])
-        ax.set_yticks([])
-        if j >= len(change):
-            ax.set_visible(False)
-            continue
-        image = ax.imshow(
-            change[j], cmap="RdBu_r", vmin=-scale, vmax=scale, interpolation="nearest"
-        )
-        ax.set_title(f"unit {j}", fontsize=7, pad=2)
-    fig.colorbar(image, ax=axes.tolist(), shrink=0.6, label="W_end - W_start")
-    fig.suptitle(title, fontsize=10)
-    return fig
-
-
-def fig_failures(
-    cell_labels: list[str], classes: list[str], shares: np.ndarray, failures: list[int]
-) -> Figure:
-    """The failure taxonomy: for each cell (a row of ``shares``), the share of its failed
-    held-out trials in each class (classes overlap, so a row need not sum to 1)."""
-    shares = np.asarray(shares, dtype=float)
-    if shares.shape != (len(cell_labels), len(classes)):
-        raise ValueError(f"fig_failures: shares {shares.shape} for {len(cell_labels)} cells")
-    fig = _new_figure(9.5, 3.6)
-    ax = fig.subplots()
-    width = 0.8 / len(cell_labels)
-    x = np.arange(len(classes))
-    for k, label in enumerate(cell_labels):
-        ax.bar(
-            x + (k - (len(cell_labels) - 1) / 2) * width,
-            100 * shares[k],
-            width,
-            label=f"{label} ({failures[k]} failures)",
-        )
-    labels = ["\n".join(textwrap.wrap(c.replace("_", " "), 14)) for c in classes]
-    ax.set_xticks(x, labels, fontsize=8)
-    ax.set_ylabel("share of failed trials (%)")
-    ax.set_ylim(0, 100)
-    ax.legend(fontsize=7, loc="upper right")
-    ax.grid(axis="y", alpha=0.3, lw=0.5)
-    ax.set_title(
-        "share of each cell's failed held-out trials in each class; a failure can fall in "
-        "several classes, so a cell's bars need not sum to 100%",
-        fontsize=8,
-        loc="left",
-    )
-    return fig
-
-
 def fig_experiment3(
     noise: np.ndarray,
     tasks: list[str],
@@ -1184,62 +1120,3 @@ def fig_action_fields(
 # ------------------------------------------------------------------------------------------
 # The study's second edition.
 # ------------------------------------------------------------------------------------------
-
-
-def fig_path(
-    worlds: list[str], learners: dict[str, list[np.ndarray]], bound: float, branches: int = 0
-) -> Figure:
-    """Held-out success of each learner along the path between the worlds (one factor at a
-    time): per learner a line through the means and a dot per seed, per world; the dashed
-    line is the level at which "the pixels suffice" (``bound``).
-
-    Args:
-      worlds: The worlds' labels, in path order (the x axis).
-      learners: ``{learner: [per-seed success in each world]}`` (NaN-free arrays; a learner
-        missing in a world: an empty array).
-      bound: The level drawn dashed (a fraction).
-      branches: The last ``branches`` worlds are branches off the path (e.g. 8 cm steps),
-        drawn after a divider, their means not joined to the path's line.
-    """
-    if not worlds or any(len(v) != len(worlds) for v in learners.values()):
-        raise ValueError("fig_path: every learner needs one array per world")
-    fig = _new_figure(1.35 * len(worlds) + 3.5, 4.2)
-    ax = fig.subplots()
-    x = np.arange(len(worlds))
-    for k, (name, values) in enumerate(learners.items()):
-        colour = f"C{k}"
-        means = np.array([np.mean(v) if len(v) else np.nan for v in values])
-        n = len(worlds) - branches
-        ax.plot(x[:n], 100 * means[:n], "-o", color=colour, lw=1.6, ms=4, label=name, zorder=3)
-        ax.plot(x[n:], 100 * means[n:], "o", color=colour, ms=4, zorder=3)
-        for i, v in enumerate(values):
-            jitter = (k - (len(learners) - 1) / 2) * 0.06
-            ax.plot(
-                np.full(len(v), x[i] + jitter),
-                100 * np.asarray(v),
-                ".",
-                color=colour,
-                ms=3,
-                alpha=0.6,
-            )
-    if branches:
-        ax.axvline(len(worlds) - branches - 0.5, color="0.6", lw=0.8)
-        ax.text(len(worlds) - branches - 0.45, 101, "branches", fontsize=8, color="0.4", va="top")
-    ax.axhline(
-        100 * bound,
-        color="0.3",
-        lw=0.8,
-        ls="--",
-        label=f"{100 * bound:.0f}%: the pixels suffice where the pixel-level bound reaches it",
-    )
-    ax.set_xticks(x, [textwrap.fill(w, 14) for w in worlds], fontsize=8)
-    ax.set_ylabel("held-out success (%): mean (line), seeds (dots)")
-    ax.set_ylim(-3, 103)
-    ax.grid(axis="y", alpha=0.3, lw=0.5)
-    ax.legend(fontsize=8, loc="lower left", frameon=False)
-    ax.set_title(
-        "Along the path from the sideboard world to the floor world, one factor at a time",
-        fontsize=10,
-        loc="left",
-    )
-    return fig
