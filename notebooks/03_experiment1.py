@@ -34,9 +34,9 @@ import numpy as np
 from IPython.display import Image, Markdown, display
 
 from docking.analysis import best_actions, feature_change, learning_curves
-from docking.designs import calibration
+from docking.designs import calibration, design
 from docking.figures import FIGURES_DIR, fig_rewards, to_png
-from docking.presets import EXPERIMENT_1, SEEDS
+from docking.presets import EXPERIMENT_1
 from docking.report import (
     calibration_rows,
     calibration_table,
@@ -47,7 +47,6 @@ from docking.report import (
     markdown_table,
     save_fig3,
 )
-from docking.sweep import run_seeds
 from docking.world import ACTION_LETTERS, DockingEnv
 
 config = EXPERIMENT_1
@@ -72,7 +71,8 @@ display(Markdown(configuration_table(config)))
 # parallel worker processes, one per core.
 
 # %%
-results = run_seeds(config, SEEDS[config.name])
+experiments = design("paper").run()  # Experiments 1 and 2, the seeds of docking.presets.SEEDS
+results = experiments.runs[config.name]
 main = headline(results)
 for r in results:
     print(
@@ -144,7 +144,7 @@ assert backward < 0.01
 # 100 training trials that ended in the dock.
 
 # %%
-calib = calibration.run(config.name)
+calib = design(f"calibration-{config.name}").run(full=True)
 rows = {r.key: r for r in calibration_rows(calib, calibration.BASELINE)}
 display(Markdown(calibration_table(list(rows.values()), calibration.BASELINE, seeds_at_100=True)))
 print(

@@ -40,10 +40,10 @@ from docking.analysis import (
     start_views,
     winner_change,
 )
-from docking.designs import calibration
+from docking.designs import calibration, design
 from docking.experiments import initial_network
 from docking.figures import FIGURES_DIR
-from docking.presets import EXPERIMENT_1, EXPERIMENT_2, SEEDS
+from docking.presets import EXPERIMENT_1, EXPERIMENT_2
 from docking.report import (
     calibration_rows,
     calibration_table,
@@ -57,7 +57,6 @@ from docking.report import (
     save_learning_curves,
 )
 from docking.stats import difference_ci
-from docking.sweep import run_seeds
 from docking.world import ACTION_LETTERS, DockingEnv
 
 config = EXPERIMENT_2
@@ -74,7 +73,8 @@ display(Markdown(configuration_table(config)))
 # ## Run (or load)
 
 # %%
-results = run_seeds(config, SEEDS[config.name])
+experiments = design("paper").run()  # Experiments 1 and 2, the seeds of docking.presets.SEEDS
+results = experiments.runs[config.name]
 main = headline(results)
 for r in results:
     print(
@@ -91,7 +91,7 @@ for r in results:
 # seconds) for the left column.
 
 # %%
-results1 = run_seeds(EXPERIMENT_1, SEEDS[EXPERIMENT_1.name])
+results1 = experiments.runs[EXPERIMENT_1.name]
 save_learning_curves(results1, results)  # analysis.learning_curves -> figure -> save
 display(Image(filename=str(FIGURES_DIR / "learning_curves.png")))
 
@@ -223,7 +223,7 @@ print(
 # 2000 training trials that ended in the dock.
 
 # %%
-calib = calibration.run(config.name)
+calib = design(f"calibration-{config.name}").run(full=True)
 rows = {r.key: r for r in calibration_rows(calib, calibration.BASELINE)}
 display(Markdown(calibration_table(list(rows.values()), calibration.BASELINE)))
 print(

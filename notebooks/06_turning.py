@@ -43,7 +43,7 @@ from IPython.display import Image, Markdown, display
 
 from docking import analysis, figures, report
 from docking.analysis import FAILURE_CLASSES
-from docking.designs import experiment3
+from docking.designs import design, experiment3
 from docking.policies import centroid_offset, oracle, run_episode
 from docking.report import save_named
 from docking.stats import difference_ci
@@ -91,7 +91,7 @@ display(
 # docked in only about 98% of trials.
 
 # %%
-oracle_rates = report.oracle_rates(experiment3.ORACLE.run())
+oracle_rates = report.oracle_rates(design("experiment3-oracle").run())
 display(
     Markdown(
         "| cell | oracle success |\n|---|---|\n"
@@ -112,7 +112,7 @@ assert four["4 actions, precision, 6 deg"] < 0.95 < six["6 actions, precision, 6
 # stored runs are loaded.
 
 # %%
-results = experiment3.run()
+results = design("experiment3").run()
 runs = [r for key in results.runs for r in results.runs[key]]
 print(
     f"{len(results.cells)} cells x {len(results.runs[results.cells[0].key])} seeds; "
