@@ -8,10 +8,12 @@ in formats any numpy opens (``np.load``; zip archives of ``.npy`` arrays, LZMA-c
   configuration's name, e.g. ``experiment3``): per trial of each part (``train``, ``test``,
   ``heldout``) its ``success``, ``steps`` and ``start_far``; the learning curves; each run's
   other per-run arrays. A column ``A`` is every run's ``A`` end to end, ``A.count`` says how
-  many rows each run has (-1: the run has no ``A``), ``key`` names the runs in order. Where
-  a design asks for it (``Design.paths``), also the path of every failed test or held-out
-  trial (``<part>.path.run``, ``.trial``, ``.poses``, ``.actions``: what the failure
-  taxonomy reads).
+  many rows each run has (-1: the run has no ``A``), ``key`` names the runs in order. What
+  a design's ``Design.keep`` asks for besides: the path of every failed test or held-out
+  trial (``"paths"``: ``<part>.path.run``, ``.trial``, ``.steps``, ``.poses``,
+  ``.actions``, what the failure taxonomy reads), every trial's start pose (``"starts"``),
+  each run's ``W`` and ``Q`` (``"networks"``), the test and held-out steps' winning units
+  (``"winners"``).
 * ``whole/<name>/<key[:16]>/seed<k>.npz``: the few runs kept whole (``Design.whole``: those
   whose weights or trajectories a figure draws), the stored file itself.
 * ``manifest.json``: per kind of run (:class:`docking.store.Runner`) the source fingerprint
@@ -50,7 +52,8 @@ __all__ = ["CorruptLedger", "NotInLedger", "NotKept", "StaleLedger", "holds", "l
 #: Version of the ledger's layout.
 LEDGER_FORMAT = 6
 PARTS = ("train", "test", "heldout")
-#: A trial log's per-step arrays and a run's weights: kept only in whole runs.
+#: A trial log's per-step arrays and a run's weights: kept in whole runs, and in a table
+#: only as a design's ``keep`` asks.
 STEP_FIELDS = ("poses", "actions", "winners", "deltas")
 NETWORK = ("W", "Q")
 _RECOMPUTE = "make reproduce (recomputes the runs, then python -m docking ledger update)"
