@@ -434,9 +434,9 @@ def timings_text(
     size = ""
     if ledger_bytes is not None:
         size = (
-            f" ({ledger_bytes / 2**20:.1f} MiB; its tables and whole runs are compressed already, and a "
-            "full recompute under changed code rewrites every one of them, so it adds about "
-            "that much to the repository's history)"
+            f" ({ledger_bytes / 2**20:.1f} MiB; its tables and whole runs are compressed "
+            "already, and a full recompute under changed code rewrites every one of them, so it "
+            "adds about that much to the repository's history)"
         )
     reproduce = (
         f"`make reproduce` computes the ledger's {runs} runs, whose recorded wall times add "
