@@ -22,10 +22,8 @@ from __future__ import annotations
 
 import collections
 import dataclasses
-import functools
 import json
 import os
-import re
 import signal
 import sys
 from pathlib import Path
@@ -92,7 +90,7 @@ _expanding: set[type] = set()
 def _as_options(info):
     """tyro's own expansion of a configuration dataclass, with its fields as options: the
     named-value fields as Literals, the hidden fields suppressed, an optional number shown
-    as FLOAT|None, and the help without the words that state a default (tyro prints it)."""
+    as FLOAT|None."""
     if info.type not in CONFIGS or info.type in _expanding:
         return None
     _expanding.add(info.type)
@@ -113,32 +111,13 @@ def _as_options(info):
             kind = Annotated[kind, tyro.conf.Suppress]
         elif kind in _OPTIONAL_METAVARS:
             kind = Annotated[kind, tyro.conf.arg(metavar=_OPTIONAL_METAVARS[kind])]
-        fields.append(
-            dataclasses.replace(
-                field, type=kind, helptext=functools.partial(_option_help, field.helptext)
-            )
-        )
+        fields.append(dataclasses.replace(field, type=kind))
     return dataclasses.replace(spec, fields=tuple(fields))
 
 
 #: The optional values of the configurations, as their options show them (tyro's own is
 #: "{None}|FLOAT").
 _OPTIONAL_METAVARS = {float | None: "FLOAT|None", int | None: "INT|None", str | None: "STR|None"}
-
-#: A docstring's words that state a field's default: '"paper" (default), ...', 'None
-#: (default): ...', 'Default 0: ...' (tyro prints the default after the help).
-_DEFAULT_WORDS = ((re.compile(r" \(default\)"), ""), (re.compile(r"\bDefault (\S+):"), r"\1:"))
-
-
-def _option_help(helptext) -> str | None:
-    """A field's help on the command line: its docstring without the words of
-    _DEFAULT_WORDS."""
-    text = helptext() if callable(helptext) else helptext
-    if text is None:
-        return None
-    for pattern, replacement in _DEFAULT_WORDS:
-        text = pattern.sub(replacement, text)
-    return text
 
 
 def _shown(metavar: str, default: str):

@@ -55,7 +55,7 @@ class Curriculum:
     Attributes:
       far_initial: The start region's far edge in the first training trial (m).
       grow_trials: Training trials over which the far edge grows (0: no curriculum).
-      far_final: Where the training region's far edge ends (m). None (default): at the
+      far_final: Where the training region's far edge ends (m). None: at the
         test region's (world.start_far). A nearer value trains on a region nearer than
         the one tested (e.g. "near-only" training, grow_trials = 0).
     """
@@ -118,12 +118,12 @@ class ExperimentConfig:
         Sec. IV). 0: none (the paper).
       pretrain_rate: The step rate of the pretraining rule (the winning unit's
         W_j += rate (I - W_j); a SOM's neighbourhood scales it).
-      pretrain_rule: "competitive" (default): plain winner-take-all
+      pretrain_rule: "competitive": plain winner-take-all
         (competitive_update); "som": Kohonen's
         self-organizing map (som_update), the units on a
         grid, the neighbourhood's width shrinking geometrically from half the grid's longer
         side to 0.5 units over the pretraining trials. See PRETRAIN_RULES.
-      policy: What acts: "network" (default), the paper's learner, trained; or a yardstick
+      policy: What acts: "network", the paper's learner, trained; or a yardstick
         that needs no learning (policies): "oracle" (reads the true pose),
         "centroid" (the one-line pixel rule), "forward", "random". A yardstick
         run has no training (train_trials, pretrain_trials and eval_trials 0) and

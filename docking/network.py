@@ -98,7 +98,7 @@ class NetworkConfig:
             (an all-zero input stays zero).  Not in the paper; it makes h_j a cosine
             similarity in [0, 1] (rows of W have unit length too), so that beta_s = 100 has
             the same meaning whatever the brightness of the image.
-        q_init: initial action weights are drawn uniform in [0, q_init].  Default 0: all
+        q_init: initial action weights are drawn uniform in [0, q_init].  0: all
             actions start equally likely and all values start at 0, the natural start for a
             reward in {0, 1}.  W is drawn first, and Q consumes the same number of draws
             whatever q_init (also 0), so q_init changes nothing else that the same
@@ -112,7 +112,7 @@ class NetworkConfig:
             of the run's earlier training steps (DeltaShuffle),
             so it keeps delta's distribution (sign and size) and loses its correlation with
             the current input and learning progress (Eq. 7 still uses this step's delta).
-            False (default): the paper. Excludes feature_delta.
+            False: the paper. Excludes feature_delta.
         feature_layer: "softmax" (the paper, Eq. 1-2) or "none": no feature layer,
             s = I, a linear SARSA on the pixels (n_features must equal n_inputs;
             W is the identity and is never learned).

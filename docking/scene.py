@@ -148,12 +148,12 @@ class WorldConfig:
         the crop's border.
       camera: The head camera and the observation pipeline.
       distractors: Red objects besides the landmark (Distractor); none by default.
-      scene: "sideboard" (default): the landmark stands on a sideboard at the camera's
+      scene: "sideboard": the landmark stands on a sideboard at the camera's
         height, whose front stops the robot at the dock. "floor": the sideboard is taken
         away and the landmark stands on the floor at the same place; nothing stops the robot
         at the dock (it can overshoot or walk past the landmark's side), and with the camera
         tilted down the landmark's image moves vertically with distance. See SCENES.
-      actions: The action set (ACTION_SETS): "paper" (default), the paper's four
+      actions: The action set (ACTION_SETS): "paper", the paper's four
         steps; "turning" adds turn-left and turn-right (indices 4 and 5), a rotation in
         place by turn_deg with the same noise as every step (position noise on both body
         axes, heading noise).
@@ -163,12 +163,12 @@ class WorldConfig:
       dock_heading_deg: Precision docking (the paper's future work): if set, the robot is
         docked only when, besides its reference point being in the region, its heading is
         within +-this many degrees of facing the landmark (of the bearing from its reference
-        point to the centre of the landmark's front face). None (default): the paper's task,
+        point to the centre of the landmark's front face). None: the paper's task,
         the reference point alone.
       heading_hold: A scripted heading compensation from odometry (the hybrid control of
         the rotation claim): every step's heading target is the heading the trial started
         with, plus that step's own noise, so heading errors do not add up over the steps.
-        False (default): the paper's walk, each step turns from where the last one ended.
+        False: the paper's walk, each step turns from where the last one ended.
     """
 
     step_forward: float = 0.15
