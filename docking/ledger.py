@@ -162,14 +162,21 @@ def ledger_dir() -> Path | None:
 def manifest(folder: Path | None = None) -> dict | None:
     """The ledger's manifest (None if there is none), checked against this code
     (:class:`StaleLedger` if computed by other code)."""
-    folder = ledger_dir() if folder is None else Path(folder)
-    if folder is None or not (folder / "manifest.json").is_file():
+    data = _stored_manifest(ledger_dir() if folder is None else Path(folder))
+    if data is None:
         return None
-    path = (folder / "manifest.json").resolve()
-    data = _read_manifest(path, path.stat().st_mtime_ns)
     for name in sorted(data["fingerprints"]):
         _check(data, store.runner_named(name))
     return data
+
+
+def _stored_manifest(folder: Path | None) -> dict | None:
+    """The manifest in ``folder`` as read (cached until the file changes), unchecked against
+    this code; None if there is none."""
+    if folder is None or not (folder / "manifest.json").is_file():
+        return None
+    path = (folder / "manifest.json").resolve()
+    return _read_manifest(path, path.stat().st_mtime_ns)
 
 
 @functools.lru_cache(maxsize=4)
@@ -242,11 +249,9 @@ def computing_seconds(data: dict) -> tuple[int, float]:
 
 def _find(config, seed: int) -> tuple[dict, str] | None:
     store.runner_for(config)  # TypeError for what is no run's configuration
-    folder = ledger_dir()
-    if folder is None or not (folder / "manifest.json").is_file():
+    data = _stored_manifest(ledger_dir())
+    if data is None:
         return None
-    path = (folder / "manifest.json").resolve()
-    data = _read_manifest(path, path.stat().st_mtime_ns)
     key = data["index"].get(_index(config.to_dict(), seed))
     return None if key is None else (data, key)
 
@@ -399,9 +404,13 @@ def _row(arrays: dict, keep: frozenset) -> dict[str, np.ndarray]:
         row[name] = np.atleast_1d(array)
     for part in PARTS:
         if "starts" in keep and f"{part}.poses" in arrays:
-            offsets = np.concatenate([[0], np.cumsum(arrays[f"{part}.steps"] + 1)[:-1]])
-            row[f"{part}.starts"] = arrays[f"{part}.poses"][offsets.astype(np.int64)]
+            row[f"{part}.starts"] = _stored_log(arrays, part).starts
     return row
+
+
+def _stored_log(arrays: dict, part: str) -> TrialLog:
+    """The trial log of ``part`` in a stored run's ``arrays`` (its own slicing of trials)."""
+    return TrialLog(**{f.name: arrays[f"{part}.{f.name}"] for f in dataclasses.fields(TrialLog)})
 
 
 def _columns(runs: list[tuple[str, dict, frozenset]]) -> dict[str, np.ndarray]:
@@ -417,15 +426,13 @@ def _columns(runs: list[tuple[str, dict, frozenset]]) -> dict[str, np.ndarray]:
         for i, (_, arrays, keep) in enumerate(runs):
             if "paths" not in keep or f"{part}.success" not in arrays:
                 continue
-            steps = arrays[f"{part}.steps"]
-            pose_at = np.concatenate([[0], np.cumsum(steps + 1)])
-            action_at = np.concatenate([[0], np.cumsum(steps)])
-            for k in np.flatnonzero(~arrays[f"{part}.success"]):
+            log = _stored_log(arrays, part)
+            for k in np.flatnonzero(~log.success):
                 kept["run"].append(i)
                 kept["trial"].append(k)
-                kept["steps"].append(steps[k])
-                kept["poses"].append(arrays[f"{part}.poses"][pose_at[k] : pose_at[k + 1]])
-                kept["actions"].append(arrays[f"{part}.actions"][action_at[k] : action_at[k + 1]])
+                kept["steps"].append(log.steps[k])
+                kept["poses"].append(log.trial_poses(k))
+                kept["actions"].append(log.trial_actions(k))
         if kept["run"]:
             table.update({f"{part}.path.{c}": np.array(kept[c]) for c in ("run", "trial", "steps")})
             table[f"{part}.path.poses"] = np.concatenate(kept["poses"])
