@@ -160,21 +160,29 @@ class Within(Rule):
     def describe(self) -> str:
         return f"supported if the interval lies within +-{100 * self.margin:.0f} pp"
 
-    def p_side(self, ci: Interval) -> tuple[float, str]:
-        """Equivalence (two one-sided tests against +-margin) or a difference from 0,
-        whichever the data favour; the smaller p-value doubled (two tests per comparison)."""
+    def equivalence_p(self, ci: Interval) -> float:
+        """The p-value of equivalence: two one-sided Student-t tests against +-margin."""
         from scipy import stats
 
+        lower = stats.t.sf((ci.estimate + self.margin) / ci.se, ci.df)
+        upper = stats.t.cdf((ci.estimate - self.margin) / ci.se, ci.df)
+        return float(max(lower, upper))
+
+    def p_side(self, ci: Interval) -> tuple[float, str]:
+        """Equivalence (two one-sided tests against +-margin) or what contradicts it
+        (:meth:`against_p`), whichever the data favour; the smaller p-value doubled (two tests
+        per comparison)."""
         if ci.se == 0:
             inside = -self.margin < ci.estimate < self.margin
             return 0.0, SUPPORTED if inside else CONTRADICTED
-        lower = stats.t.sf((ci.estimate + self.margin) / ci.se, ci.df)
-        upper = stats.t.cdf((ci.estimate - self.margin) / ci.se, ci.df)
-        equivalence = float(max(lower, upper))
-        difference = ci.p_value(0.0)
-        if equivalence <= difference:
+        equivalence, against = self.equivalence_p(ci), self.against_p(ci)
+        if equivalence <= against:
             return min(1.0, 2 * equivalence), SUPPORTED
-        return min(1.0, 2 * difference), CONTRADICTED
+        return min(1.0, 2 * against), CONTRADICTED
+
+    def against_p(self, ci: Interval) -> float:
+        """The p-value of what contradicts "no effect": here a difference from 0."""
+        return ci.p_value(0.0)
 
     def near_bound(self, ci: Interval, verdict: str) -> bool:
         if verdict == SUPPORTED:
@@ -187,13 +195,12 @@ class Within(Rule):
 
 
 @dataclasses.dataclass(frozen=True)
-class Equivalent(Rule):
+class Equivalent(Within):
     """No effect, judged against a margin: supported if the interval of ``baseline - cell``
     lies within ``+-margin``, contradicted only if it lies wholly outside it (an effect
     larger than the margin), else not supported. (:class:`Within` called an interval that
     merely excludes 0 contradicted.)"""
 
-    margin: float
     method: str = "paired"
 
     def decide(self, ci: Interval) -> str:
@@ -207,30 +214,16 @@ class Equivalent(Rule):
             f"contradicted if it lies wholly outside"
         )
 
-    def p_side(self, ci: Interval) -> tuple[float, str]:
-        """Equivalence (two one-sided tests against +-margin) or non-equivalence (the
-        estimate beyond a margin, one-sided), whichever the data favour; the smaller p-value
-        doubled (two tests per comparison)."""
+    def against_p(self, ci: Interval) -> float:
+        """The p-value of an effect beyond the margin (one-sided, on the estimate's side):
+        what contradicts "no effect" under this rule."""
         from scipy import stats
 
-        if ci.se == 0:
-            inside = -self.margin < ci.estimate < self.margin
-            return 0.0, SUPPORTED if inside else CONTRADICTED
-        lower = stats.t.sf((ci.estimate + self.margin) / ci.se, ci.df)
-        upper = stats.t.cdf((ci.estimate - self.margin) / ci.se, ci.df)
-        equivalence = float(max(lower, upper))
-        beyond = float(stats.t.sf((abs(ci.estimate) - self.margin) / ci.se, ci.df))
-        if equivalence <= beyond:
-            return min(1.0, 2 * equivalence), SUPPORTED
-        return min(1.0, 2 * beyond), CONTRADICTED
+        return float(stats.t.sf((abs(ci.estimate) - self.margin) / ci.se, ci.df))
 
     def near_bound(self, ci: Interval, verdict: str) -> bool:
         ends = (abs(abs(ci.low) - self.margin), abs(abs(ci.high) - self.margin))
         return min(ends) < NEAR_BOUND
-
-    @property
-    def band(self) -> tuple[float, float]:
-        return (-self.margin, self.margin)
 
 
 @dataclasses.dataclass(frozen=True)
