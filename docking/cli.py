@@ -432,16 +432,13 @@ class Report:
             found = experiment3.run(results_dir=self.results_dir, workers=self.processes)
             oracle = experiment3.ORACLE.run(results_dir=self.results_dir, workers=self.processes)
             comparisons, rates = report.turning_comparisons(found), report.oracle_rates(oracle)
-            text = report.turning_table(found, rates)
+            text = report.turning_table(comparisons, rates)
             print(text)
             if self.readme is not None:
                 changed |= update_readme(self.readme, text, EXPERIMENT3_START, EXPERIMENT3_END)
         from docking.report import SUMMARY_END, SUMMARY_START, summary_text
 
-        first = None
-        if comparisons:
-            c = comparisons[0]
-            first = rates[experiment3.cell_key("paper", c.task, c.noise)]
+        first = rates[comparisons[0].four_key] if comparisons else None
         summary = summary_text(*results, comparisons, first)
         print(summary)
         if self.readme is not None:

@@ -569,12 +569,13 @@ def oracle_rates(oracle) -> dict[str, float]:
     return {c.key: float(np.mean(oracle.score(c.key))) for c in oracle.cells}
 
 
-def turning_table(results, oracle: dict[str, float]) -> str:
-    """The Markdown table of Experiment 3: per task and noise, the oracle (``oracle``: its
-    rate in each cell's world, by cell key) and the learner with four and six actions, six
-    minus four, and how many times as often six actions fail as four."""
+def turning_table(comparisons: list[Comparison], oracle: dict[str, float]) -> str:
+    """The Markdown table of Experiment 3 from its :func:`turning_comparisons`: per task and
+    noise, the oracle (``oracle``: its rate in each cell's world, by cell key) and the learner
+    with four and six actions, six minus four, and how many times as often six actions fail
+    as four."""
     rows = []
-    for c in turning_comparisons(results):
+    for c in comparisons:
         o4, o6 = oracle[c.four_key], oracle[c.six_key]
         ratio = "no failures" if c.failure_ratio is None else c.failure_ratio.format(1.0, "x", 2)
         rows.append(
@@ -590,12 +591,13 @@ def turning_table(results, oracle: dict[str, float]) -> str:
     return header + "\n" + "\n".join(rows)
 
 
-def rotation_verdict(results, rule) -> tuple[str, Interval]:
+def rotation_verdict(comparisons: list[Comparison], rule) -> tuple[str, Interval]:
     """The paper's rotation claim ("the reason for most of the unsuccessful trials") judged
-    by the remedy it names: in the paper's task at the lowest heading noise, the share of the
-    four-action learner's held-out failures that are gone when the learner can turn, decided
-    by ``rule`` (a :class:`docking.claims.Rule`); the verdict and the interval."""
-    paper = [c for c in turning_comparisons(results) if c.task == "paper task"]
+    by the remedy it names, from Experiment 3's :func:`turning_comparisons`: in the paper's
+    task at the lowest heading noise, the share of the four-action learner's held-out
+    failures that are gone when the learner can turn, decided by ``rule`` (a
+    :class:`docking.claims.Rule`); the verdict and the interval."""
+    paper = [c for c in comparisons if c.task == "paper task"]
     found = min(paper, key=lambda c: c.noise)
     if found.removed is None:
         raise ValueError("the four-action learner never failed: nothing to remove")

@@ -128,8 +128,9 @@ print(
 # four-action learner's failures that are gone with six actions.
 
 # %%
-display(Markdown(report.turning_table(results, oracle_rates)))
-found = {(c.task, c.noise): c for c in report.turning_comparisons(results)}
+comparisons = report.turning_comparisons(results)
+display(Markdown(report.turning_table(comparisons, oracle_rates)))
+found = {(c.task, c.noise): c for c in comparisons}
 
 tasks, noise = list(experiment3.TASKS), np.array(experiment3.NOISE_DEG)
 labels = {"paper": "4 actions", "turning": "6 actions"}
@@ -179,7 +180,7 @@ assert hard.six.high < oracle_rates["4 actions, precision, 6 deg"] < 0.9
 # same claim by removing the heading noise at test instead.)
 
 # %%
-verdict, removed = report.rotation_verdict(results, experiment3.ROTATION_RULE)
+verdict, removed = report.rotation_verdict(comparisons, experiment3.ROTATION_RULE)
 base = found["paper task", 2.0]
 display(
     Markdown(

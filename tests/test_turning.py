@@ -257,19 +257,22 @@ def test_experiment3_comparisons_table_and_verdict_on_synthetic_results():
     assert (first.task, first.noise) == ("paper task", 2.0)
     assert first.gain.estimate == pytest.approx(first.six.estimate - first.four.estimate)
     assert 0.5 < first.removed.estimate < 0.9 and first.removed.low > 0.5
-    verdict, ci = report.rotation_verdict(results, experiment3.ROTATION_RULE)
+    verdict, ci = report.rotation_verdict(found, experiment3.ROTATION_RULE)
     assert verdict == "supported" and ci == first.removed
     # the precision rows remove few failures: their interval straddles 0 or lies low
     assert all(c.removed.estimate < 0.3 for c in found if c.task == "precision")
     oracle = {c.key: 1.0 for c in experiment3.experiment3_cells()}
-    text = report.turning_table(results, oracle)
+    text = report.turning_table(found, oracle)
     assert text.count("\n") == 1 + len(found) and "| paper task | 2 |" in text
     ratio = first.failure_ratio
     assert ratio.estimate == pytest.approx(1 - first.removed.estimate)
     assert ratio.low == pytest.approx(1 - first.removed.high)
     rates = {k: (0.9 if k.startswith("4") else 0.899) for k in rates}
     assert (
-        report.rotation_verdict(_synthetic(rates), experiment3.ROTATION_RULE)[0] == "contradicted"
+        report.rotation_verdict(
+            report.turning_comparisons(_synthetic(rates)), experiment3.ROTATION_RULE
+        )[0]
+        == "contradicted"
     )
 
 
