@@ -44,6 +44,8 @@ ENV_IDS = {
     "docking/Floor-v0": "floor",
     "docking/Turning-v0": "turning",
     "docking/Precision-v0": "precision",
+    "docking/Nao-v0": "nao",
+    "docking/Continuous-v0": "continuous",
 }
 
 

@@ -37,7 +37,15 @@ from docking.designs import names as _design_names
 from docking.experiments import POLICIES, PRETRAIN_RULES, Curriculum, ExperimentConfig
 from docking.network import FEATURE_LAYERS, RULES, NetworkConfig
 from docking.presets import EXPERIMENTS, HEADLINE_SEED, SEEDS
-from docking.scene import ACTION_SETS, DISTRACTOR_SHAPES, SCENES, Distractor, WorldConfig
+from docking.scene import (
+    ACTION_SETS,
+    DISTRACTOR_SHAPES,
+    LANDMARK_SHAPES,
+    ROOMS,
+    SCENES,
+    Distractor,
+    WorldConfig,
+)
 
 PROG = "python -m docking"
 DESCRIPTION = (
@@ -69,7 +77,12 @@ _ExperimentArg = Annotated[_Experiment, tyro.conf.arg(name=""), tyro.conf.OmitSu
 CHOICES: dict[type, dict[str, tuple[str, ...]]] = {
     ExperimentConfig: {"pretrain_rule": PRETRAIN_RULES, "policy": POLICIES},
     NetworkConfig: {"rule": RULES, "feature_layer": FEATURE_LAYERS},
-    WorldConfig: {"scene": SCENES, "actions": tuple(ACTION_SETS)},
+    WorldConfig: {
+        "scene": SCENES,
+        "actions": tuple(ACTION_SETS),
+        "landmark_shape": LANDMARK_SHAPES,
+        "room": ROOMS,
+    },
     Distractor: {"shape": tuple(DISTRACTOR_SHAPES)},
 }
 #: The configuration dataclasses that appear on the command line, each shown by
@@ -77,10 +90,11 @@ CHOICES: dict[type, dict[str, tuple[str, ...]]] = {
 CONFIGS = (ExperimentConfig, Curriculum, WorldConfig, CameraConfig, NetworkConfig, Distractor)
 
 #: Fields left off the command line (the configuration keeps its preset's value):
-#: ExperimentConfig.heldout_world, a WorldConfig or None, which tyro can only offer as a
-#: choice of two subcommands ({world-config,none}). The designs set it (docking.designs), and
-#: their held-out worlds carry distractors, which no option can give.
-HIDDEN: dict[type, tuple[str, ...]] = {ExperimentConfig: ("heldout_world",)}
+#: ExperimentConfig.heldout_world (a WorldConfig or None) and ExperimentConfig.before (an
+#: ExperimentConfig or None), which tyro can only offer as a choice of two subcommands
+#: ({world-config,none}). The designs set them (docking.designs); their held-out worlds carry
+#: distractors, which no option can give.
+HIDDEN: dict[type, tuple[str, ...]] = {ExperimentConfig: ("heldout_world", "before")}
 
 _registry = tyro.constructors.ConstructorRegistry()
 _expanding: set[type] = set()

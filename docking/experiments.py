@@ -128,7 +128,14 @@ class ExperimentConfig:
         "centroid" (the one-line pixel rule), "forward", "random". A yardstick
         run has no training (train_trials, pretrain_trials and eval_trials 0) and
         acts in the test and held-out trials, drawing from the streams a learner of the same
-        seed draws from. See POLICIES.
+        seed draws from. See POLICIES. A world with continuous actions takes the oracle
+        alone.
+      before: Coping with change (the paper's Sec. IV): the network is first trained as a
+        run of ``before`` with the same seed trains it (its pretraining and training trials;
+        no test), then learns on here, in this configuration's world and with its rates,
+        from this run's own streams (so its starts and noise are those of a fresh network's
+        run of this configuration, trial for trial while their paths agree). None: a fresh
+        network. ``before`` has this network's shape and no ``before`` of its own.
     """
 
     name: str
@@ -146,6 +153,7 @@ class ExperimentConfig:
     pretrain_rate: float = 0.05
     pretrain_rule: str = "competitive"
     policy: str = "network"
+    before: ExperimentConfig | None = None
 
     def __post_init__(self):
         owner = "ExperimentConfig"
@@ -188,6 +196,14 @@ class ExperimentConfig:
                     f"ExperimentConfig: the yardstick policy={self.policy!r} does not learn; "
                     f"{', '.join(f'{k}={v}' for k, v in learning.items())} must be 0"
                 )
+        if self.before is not None:
+            self._check_before()
+        for w in (self.world, self.heldout_world):
+            if w is not None and w.continuous and self.policy != "oracle":
+                raise ValueError(
+                    f"ExperimentConfig: a world with continuous actions (actions={w.actions!r}) "
+                    f"takes policy='oracle' alone, got policy={self.policy!r}"
+                )
         if self.heldout_world is not None:
             check_instance(owner, "heldout_world", self.heldout_world, WorldConfig)
             if self.heldout_world.camera.input_shape != self.world.camera.input_shape:
@@ -210,7 +226,7 @@ class ExperimentConfig:
                 f"final far edge), got {curriculum.far_initial:g}"
             )
         for what, w in (("world", world), ("heldout_world", self.heldout_world)):
-            if w is not None and w.n_actions != self.network.n_actions:
+            if w is not None and not w.continuous and w.n_actions != self.network.n_actions:
                 raise ValueError(
                     f"ExperimentConfig.network.n_actions must equal the {w.n_actions} actions of "
                     f"{what}.actions={w.actions!r} ({', '.join(w.action_names)}), got "
@@ -223,6 +239,23 @@ class ExperimentConfig:
                 f"pixels ({rows * cols}), got {self.network.n_inputs}"
             )
 
+    def _check_before(self) -> None:
+        before = check_instance("ExperimentConfig", "before", self.before, ExperimentConfig)
+        shape = ("n_inputs", "n_features", "n_actions", "feature_layer")
+        problems = [
+            f"before.network.{name} must equal network.{name}"
+            for name in shape
+            if getattr(before.network, name) != getattr(self.network, name)
+        ]
+        if before.before is not None:
+            problems.append("before must have no before of its own")
+        if "network" != self.policy or "network" != before.policy:
+            problems.append("both must have policy='network'")
+        if self.pretrain_trials:
+            problems.append("pretrain_trials must be 0 (the network comes from before)")
+        if problems:
+            raise ValueError(f"ExperimentConfig.before: {'; '.join(problems)}")
+
     def to_dict(self) -> dict:
         """Every field, nested, as JSON-ready Python values (tuples become lists)."""
         return json.loads(json.dumps(dataclasses.asdict(self)))
@@ -234,7 +267,9 @@ class ExperimentConfig:
         validated as always (``ValueError``)."""
         fields = _fields("ExperimentConfig", cls, d)
         heldout = fields.pop("heldout_world", None)
+        before = fields.pop("before", None)
         return cls(
+            before=None if before is None else cls.from_dict(before),
             world=_world_from_dict(fields.pop("world"), "ExperimentConfig.world"),
             heldout_world=None
             if heldout is None
@@ -456,11 +491,14 @@ def policy_trial(env: DockingEnv, policy) -> TrialRecord:
 
     episode = run_episode(env, policy)
     steps = episode.steps
+    # A continuous action is a vector; the log keeps action indices, -1 for "a vector" (the
+    # poses show where each step went).
+    actions = episode.actions if episode.actions.ndim == 1 else np.full(steps, -1, np.int64)
     rewards = np.zeros(steps, dtype=np.float64)
     rewards[-1] = float(episode.success)
     return TrialRecord(
         poses=np.asarray(episode.poses, dtype=np.float64),
-        actions=episode.actions,
+        actions=actions,
         rewards=rewards,
         deltas=np.zeros(steps, dtype=np.float64),
         winners=np.full(steps, -1, dtype=np.int64),
@@ -473,8 +511,10 @@ def trials_in_run(config: ExperimentConfig) -> int:
     pretraining, training, learning-curve, test and held-out trials."""
     check_instance("trials_in_run", "config", config, ExperimentConfig)
     points = 1 + config.train_trials // config.eval_every if config.eval_trials else 0
+    first = config.before
     return (
-        config.pretrain_trials
+        (first.pretrain_trials + first.train_trials if first is not None else 0)
+        + config.pretrain_trials
         + config.train_trials
         + points * config.eval_trials
         + config.test_trials
@@ -574,44 +614,69 @@ def run_experiment(
     ``progress``: tqdm bars of the training and test trials. ``on_trials(n)``, if given, is
     called as trials finish with how many just did (they add up to
     :func:`trials_in_run`), for a caller's own progress bar; it cannot change the run."""
-    from docking.world import DockingEnv
-
     check_instance("run_experiment", "config", config, ExperimentConfig)
     seed = check_int("run_experiment", "seed", seed, lo=0, hi=MAX_SEED)
     rngs = _streams(seed)
+    if config.before is None:
+        net = Network(config.network, rngs["init"])
+    else:  # coping with change: the network ``before`` trains, learning on here
+        first = _streams(seed)
+        trained = Network(config.before.network, first["init"])
+        _train(config.before, seed, trained, first, progress, on_trials, curve=False)
+        net = Network.from_weights(config.network, trained.W, trained.Q)
+    t0 = time.perf_counter()
+    train, curve = _train(config, seed, net, rngs, progress, on_trials)
+    wall_train = time.perf_counter() - t0
+    t0 = time.perf_counter()
+    test, heldout = _test(config, seed, net, rngs, progress, on_trials)
+    wall_test = time.perf_counter() - t0
+    return ExperimentResult(
+        config=config,
+        seed=seed,
+        network=net,
+        train=train,
+        test=test,
+        curve_trials=np.array(curve["trials"], dtype=np.int64),
+        curve_success=np.array(curve["success"], dtype=np.float64),
+        curve_steps=np.array(curve["steps"], dtype=np.float64),
+        curve_rewarded=np.array(curve["rewarded"], dtype=np.int64),
+        wall_time_train=wall_train,
+        wall_time_test=wall_test,
+        heldout=heldout,
+    )
+
+
+def _train(
+    config: ExperimentConfig,
+    seed: int,
+    net: Network,
+    rngs: dict[str, np.random.Generator],
+    progress: bool,
+    on_trials: Callable[[int], None] | None,
+    curve: bool = True,
+) -> tuple[TrialLog, dict[str, list]]:
+    """The pretraining (if any) and the SARSA training of ``net`` in place, with the learning
+    curve (unless ``curve`` is False): ``(the training trials, the curve's columns)``."""
+    from docking.world import DockingEnv
+
+    _pretrain(config, net, rngs, on_trials)
     train_env = DockingEnv(config.world, seed=rngs["train_world"])
-    test_env = DockingEnv(config.world, seed=rngs["test_world"])
-    eval_env = DockingEnv(config.world, seed=rngs["eval_world"])
-    net = Network(config.network, rngs["init"])
-    if config.pretrain_trials:
-        pretrain_env = DockingEnv(config.world, seed=rngs["pretrain_world"])
-        pretrain_competitive(
-            net,
-            pretrain_env,
-            rngs["pretrain_actions"],
-            config.pretrain_trials,
-            config.pretrain_rate,
-            config.pretrain_rule,
-            on_trials,
-        )
+    eval_env = DockingEnv(config.world, seed=rngs["eval_world"]) if curve else None
     near = config.world.start_near
     shuffle = DeltaShuffle(rngs["delta_shuffle"]) if config.network.permute_delta else None
-
     records, fars = [], []
-    curve = {"trials": [], "success": [], "steps": [], "rewarded": []}
+    points = {"trials": [], "success": [], "steps": [], "rewarded": []}
     rewarded = 0
 
     def measure(done: int) -> None:
-        if config.eval_trials == 0:
+        if eval_env is None or config.eval_trials == 0:
             return
         recs = evaluate(eval_env, net, rngs["eval_actions"], config.eval_trials, config, on_trials)
         ok = [r.steps for r in recs if r.success]
-        curve["trials"].append(done)
-        curve["success"].append(len(ok) / len(recs))
-        curve["steps"].append(float(np.mean(ok)) if ok else np.nan)
-        curve["rewarded"].append(rewarded)
+        point = (done, len(ok) / len(recs), float(np.mean(ok)) if ok else np.nan, rewarded)
+        for name, value in zip(points, point, strict=True):
+            points[name].append(value)
 
-    t0 = time.perf_counter()
     measure(0)
     bar = tqdm(
         range(config.train_trials),
@@ -637,22 +702,54 @@ def run_experiment(
         rewarded += rec.success
         if (k + 1) % config.eval_every == 0:
             measure(k + 1)
-            if curve["success"]:  # eval_trials = 0: no learning curve
-                bar.set_postfix(rewarded=rewarded, test=f"{curve['success'][-1]:.0%}")
-    wall_train = time.perf_counter() - t0
+            if points["success"]:  # eval_trials = 0: no learning curve
+                bar.set_postfix(rewarded=rewarded, test=f"{points['success'][-1]:.0%}")
+    return TrialLog.from_records(records, fars), points
 
-    t0 = time.perf_counter()
-    test_records = []
-    test_policy = (
-        None if config.policy == "network" else yardstick(config.policy, rngs["test_actions"])
-    )
+
+def _pretrain(
+    config: ExperimentConfig,
+    net: Network,
+    rngs: dict[str, np.random.Generator],
+    on_trials: Callable[[int], None] | None,
+) -> None:
+    """The first stage of a two-stage learner, if ``config`` has one (pretrain_competitive)."""
+    from docking.world import DockingEnv
+
+    if config.pretrain_trials:
+        pretrain_competitive(
+            net,
+            DockingEnv(config.world, seed=rngs["pretrain_world"]),
+            rngs["pretrain_actions"],
+            config.pretrain_trials,
+            config.pretrain_rate,
+            config.pretrain_rule,
+            on_trials,
+        )
+
+
+def _test(
+    config: ExperimentConfig,
+    seed: int,
+    net: Network,
+    rngs: dict[str, np.random.Generator],
+    progress: bool,
+    on_trials: Callable[[int], None] | None,
+) -> tuple[TrialLog, TrialLog | None]:
+    """The final test trials and the held-out trials (if any) of ``net``, or of the
+    yardstick ``config.policy``: ``(test, held-out or None)``."""
+    from docking.world import DockingEnv
+
+    test_env = DockingEnv(config.world, seed=rngs["test_world"])
+    records = []
+    policy = None if config.policy == "network" else yardstick(config.policy, rngs["test_actions"])
     for _ in tqdm(
         range(config.test_trials),
         desc=f"{config.name} seed {seed} test",
         disable=not progress,
         leave=False,
     ):
-        if test_policy is None:
+        if policy is None:
             record = run_trial(
                 test_env,
                 net,
@@ -661,26 +758,13 @@ def run_experiment(
                 bootstrap_on_truncation=config.bootstrap_on_truncation,
             )
         else:
-            record = policy_trial(test_env, test_policy)
-        test_records.append(record)
+            record = policy_trial(test_env, policy)
+        records.append(record)
         if on_trials is not None:
             on_trials(1)
+    test = TrialLog.from_records(records, [config.world.start_far] * len(records))
     heldout = None
     if config.heldout_trials:
         world = config.heldout_world or config.world
         heldout = heldout_trials(config, seed, net, world, on_trials)
-    wall_test = time.perf_counter() - t0
-    return ExperimentResult(
-        config=config,
-        seed=seed,
-        network=net,
-        train=TrialLog.from_records(records, fars),
-        test=TrialLog.from_records(test_records, [config.world.start_far] * len(test_records)),
-        curve_trials=np.array(curve["trials"], dtype=np.int64),
-        curve_success=np.array(curve["success"], dtype=np.float64),
-        curve_steps=np.array(curve["steps"], dtype=np.float64),
-        curve_rewarded=np.array(curve["rewarded"], dtype=np.int64),
-        wall_time_train=wall_train,
-        wall_time_test=wall_test,
-        heldout=heldout,
-    )
+    return test, heldout

@@ -47,6 +47,7 @@ UNKEYED: dict[str, frozenset[str]] = {
             # validation (values enter the key through the configuration's JSON)
             "Curriculum.__post_init__",
             "ExperimentConfig.__post_init__",
+            "ExperimentConfig._check_before",
             # the configuration as JSON and back
             "ExperimentConfig.to_dict",
             "ExperimentConfig.from_dict",
@@ -67,6 +68,7 @@ UNKEYED: dict[str, frozenset[str]] = {
         }
     ),
     "docking.scene": frozenset({"Distractor.__post_init__", "WorldConfig.__post_init__"}),
+    "docking.trial": frozenset({"_check_arguments"}),
     "docking.camera": frozenset({"CameraConfig.__post_init__"}),
 }
 

@@ -14,8 +14,12 @@ it); this module adapts it for Gymnasium users. ``import docking`` registers the
 The ids: ``docking/Docking-v0`` (the default :class:`~docking.scene.WorldConfig`),
 ``docking/Experiment1-v0`` and ``docking/Experiment2-v0`` (the paper's start regions),
 ``docking/Floor-v0`` (the study's floor world), ``docking/Turning-v0`` (Experiment 3: six
-actions with turns) and ``docking/Precision-v0`` (six actions, docked only when facing the
-landmark within 10 deg). Each spec's ``max_episode_steps`` is the world's ``max_steps``
+actions with turns), ``docking/Precision-v0`` (six actions, docked only when facing the
+landmark within 10 deg), ``docking/Nao-v0`` (the Nao-like world,
+:data:`docking.presets.NAO_WORLD`) and ``docking/Continuous-v0`` (Experiment 2's world with a
+``Box`` action: a step vector ``(forward, sideways)`` in [-1, 1]^2, each component a
+fraction of the world's longest step; ``actions="continuous-turning"`` adds a turn).
+Each spec's ``max_episode_steps`` is the world's ``max_steps``
 (the paper's 25 actions). The keyword arguments of ``make`` are ``seed``, ``render_mode``
 (``None`` or ``"rgb_array"``: an overview render of the room) and any field of
 :class:`~docking.scene.WorldConfig` (``camera`` as a :class:`~docking.camera.CameraConfig`
@@ -53,7 +57,7 @@ ENV_ID = "docking/Docking-v0"
 
 def preset_world(name: str | None) -> WorldConfig:
     """The world of a registered id's ``preset`` (:data:`docking.ENV_IDS`)."""
-    from docking.presets import EXPERIMENT_1, EXPERIMENT_2, FLOOR_WORLD
+    from docking.presets import EXPERIMENT_1, EXPERIMENT_2, FLOOR_WORLD, NAO_WORLD
 
     worlds = {
         None: WorldConfig(),
@@ -65,6 +69,9 @@ def preset_world(name: str | None) -> WorldConfig:
         "precision": dataclasses.replace(
             EXPERIMENT_2.world, actions="turning", dock_heading_deg=10.0
         ),
+        "nao": NAO_WORLD,
+        # The paper's future work (Sec. V): a step vector instead of four steps.
+        "continuous": dataclasses.replace(EXPERIMENT_2.world, actions="continuous"),
     }
     if name not in worlds:
         raise ValueError(f"no preset world {name!r}; the presets are {', '.join(map(str, worlds))}")
@@ -127,7 +134,11 @@ class DockingGymEnv(gymnasium.Env):
         self.observation_space = spaces.Box(
             low=float(spec.minimum), high=float(spec.maximum), shape=spec.shape, dtype=spec.dtype
         )
-        self.action_space = spaces.Discrete(self.config.n_actions)
+        if self.config.continuous:  # a step vector: forward, sideways (and a turn)
+            n = self.config.n_actions
+            self.action_space = spaces.Box(-1.0, 1.0, shape=(n,), dtype=np.float64)
+        else:
+            self.action_space = spaces.Discrete(self.config.n_actions)
         self._needs_reset = True
 
     def _info(self) -> dict[str, Any]:

@@ -56,7 +56,7 @@ __all__ = ["NetworkConfig", "Network", "RULES", "finite_difference_gradient"]
 RULES = ("local", "nonlocal")
 
 #: ``"softmax"``: the paper's feature layer (Eq. 1-2); ``"none"``: ``s = I`` (linear SARSA).
-FEATURE_LAYERS = ("softmax", "none")
+FEATURE_LAYERS = ("softmax", "none", "winner")
 
 _FORMAT_VERSION = 2
 
@@ -115,7 +115,11 @@ class NetworkConfig:
             False: the paper. Excludes feature_delta.
         feature_layer: "softmax" (the paper, Eq. 1-2) or "none": no feature layer,
             s = I, a linear SARSA on the pixels (n_features must equal n_inputs;
-            W is the identity and is never learned).
+            W is the identity and is never learned). "winner": the forced single winner,
+            s one-hot at the unit of the largest h_j of Eq. (1) (beta_s unused): no
+            population code at all. Eq. (8) is kept as written, so with s one-hot the
+            non-local rule's bracket is 0 and W never changes, and the local rule moves the
+            winner alone, by eps_w delta I (a delta-modulated competitive rule).
     """
 
     n_inputs: int = 320  # 32x10 image, Sec. II-A
@@ -292,8 +296,13 @@ class Network:
         if self.config.feature_layer == "none":
             return I  # no feature layer: linear SARSA on the pixels
         # Eq. (1): h_j = sum_n W_jn I_n
+        h = arith.matvec(self.W, I)
+        if self.config.feature_layer == "winner":  # the forced single winner, not Eq. (2)
+            s = np.zeros_like(h)
+            s[int(np.argmax(h))] = 1.0  # the first of tied units
+            return s
         # Eq. (2): s_j = exp(beta_s h_j) / sum_k exp(beta_s h_k)
-        return _softmax(self.config.beta_s * arith.matvec(self.W, I))
+        return _softmax(self.config.beta_s * h)
 
     def action_probabilities(self, s: np.ndarray, beta_a: float) -> np.ndarray:
         """The policy: the probability of each action for the feature state ``s``, Eq. (3)-(4).

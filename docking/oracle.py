@@ -24,6 +24,24 @@ from docking.scene import (
 )
 
 
+def oracle_vector(pose, config: WorldConfig) -> np.ndarray:
+    """The oracle's continuous action at ``pose`` (``config.continuous``): the step that
+    aims the reference point at the docking region's centre, each component the needed
+    displacement in the body frame over the longest step (``step_forward``,
+    ``step_side``) and clipped to [-1, 1]; with a turn component, the turn that faces the
+    landmark (its heading error over ``turn_deg``, clipped). Each component is bounded
+    alone, so a diagonal step may be longer than either limit (Nao's walk bounds the step
+    jointly; our choice, the one the discrete sets imply)."""
+    x, y, yaw = pose
+    dx, dy = -config.dock_center - x, -y
+    ahead = np.cos(yaw) * dx + np.sin(yaw) * dy
+    left = -np.sin(yaw) * dx + np.cos(yaw) * dy
+    step = [ahead / config.step_forward, left / config.step_side]
+    if len(config.action_names) > 2:
+        step.append(-heading_error(pose) / np.radians(config.turn_deg))
+    return np.clip(np.array(step, dtype=np.float64), -1.0, 1.0)
+
+
 def oracle_action(pose, config: WorldConfig) -> int:
     """The oracle's action at ``pose``: sidestep while the docking region's centre is more
     than a quarter of the region's width (at least half a sidestep) to the side, otherwise

@@ -18,7 +18,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from docking.oracle import oracle_action
+from docking.oracle import oracle_action, oracle_vector
 from docking.scene import BACKWARD, FORWARD, LEFT, N_ACTIONS, RIGHT
 
 if TYPE_CHECKING:
@@ -65,7 +65,8 @@ def run_episode(env: DockingEnv, policy) -> Episode:
         timestep = env.step(action)
         poses.append(env.pose)
     success = timestep.discount == 0.0 and timestep.reward > 0
-    return Episode(bool(success), np.array(poses), np.array(actions, dtype=np.int64))
+    dtype = np.float64 if env.config.continuous else np.int64  # vectors or indices
+    return Episode(bool(success), np.array(poses), np.array(actions, dtype=dtype))
 
 
 def evaluate_policy(env: DockingEnv, policy, n_trials: int) -> list[Episode]:
@@ -75,8 +76,11 @@ def evaluate_policy(env: DockingEnv, policy, n_trials: int) -> list[Episode]:
     return [run_episode(env, policy) for _ in range(int(n_trials))]
 
 
-def oracle(observation, env: DockingEnv) -> int:
-    """The pose-reading oracle (:func:`docking.oracle.oracle_action`); ignores the pixels."""
+def oracle(observation, env: DockingEnv):
+    """The pose-reading oracle (:func:`docking.oracle.oracle_action`, or with continuous
+    actions :func:`docking.oracle.oracle_vector`); ignores the pixels."""
+    if env.config.continuous:
+        return oracle_vector(env.pose, env.config)
     return oracle_action(env.pose, env.config)
 
 

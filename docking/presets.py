@@ -66,6 +66,38 @@ FLOOR_WORLD = WorldConfig(
     step_side=0.05,
 )
 
+#: The Nao-like world of the study's third edition, fixed from Nao's published specifications
+#: before any of its runs (docs/guide/nao_world.md gives each value's source): one action is
+#: one step at the walk's maximum (MaxStepX 0.08 m; MaxStepY 0.16 m less the feet's 0.088 m
+#: separation), the V3.x top camera (36.8 deg vertical field of view) 0.527 m above the
+#: floor with straight legs, looking 30 deg down (the head's 29.5 deg pitch limit, rounded),
+#: the landmark on the floor (the paper names no furniture at the dock), the whole frame as
+#: the crop (no band chosen), and everything else the paper's (start and docking regions,
+#: 25 actions) or the package's (walking noise).
+NAO_WORLD = WorldConfig(
+    scene="floor",
+    camera=CameraConfig(tilt_deg=30.0, fovy_deg=36.8, crop=(0, 0, 160, 120)),
+    camera_height=0.527,
+    step_forward=0.08,
+    step_side=0.072,
+    start_near=0.58,
+    start_far=1.5,
+)
+
+#: The landmark and its dock moved elsewhere, for networks trained at home (the paper's
+#: Sec. IV: "the robot is able to navigate to any position, where a landmark with the same
+#: geometrical properties is located"), each as the room moved about the landmark
+#: (WorldConfig.room_shift, WorldConfig.room): along the front wall 0.6 m to the left, next
+#: to the plant; against the room's right-hand wall (the room turned by 90 deg), the shelf
+#: beside it; and in the second room (other walls, floor and furniture, a bookcase and a
+#: lamp near the approach). Chosen so that no furniture stands where the robot walks; not
+#: tried with any learner.
+RELOCATIONS = {
+    "along the wall": WorldConfig(room_shift=(0.0, -0.6, 0.0)),
+    "another wall": WorldConfig(room_shift=(-1.75, 1.375, 90.0)),
+    "second room": WorldConfig(room="second"),
+}
+
 EXPERIMENTS = {c.name: c for c in (EXPERIMENT_1, EXPERIMENT_2)}
 
 #: Seeds of the multi-seed runs (the paper reports one run) and the seed of the headline

@@ -42,7 +42,13 @@ FORWARD, BACKWARD, LEFT, RIGHT, TURN_LEFT, TURN_RIGHT = 0, 1, 2, 3, 4, 5
 ACTION_SETS = {
     "paper": ("forward", "backward", "left", "right"),
     "turning": ("forward", "backward", "left", "right", "turn-left", "turn-right"),
+    "continuous": ("forward", "side"),
+    "continuous-turning": ("forward", "side", "turn"),
 }
+
+#: The action sets whose action is a vector (one component per name, each in [-1, 1]): the
+#: paper's future work (Sec. V), "allowing continuous actions".
+CONTINUOUS_SETS = ("continuous", "continuous-turning")
 
 #: Short labels of the actions, for figures and tables.
 _LETTERS = {
@@ -52,6 +58,8 @@ _LETTERS = {
     "right": "R",
     "turn-left": "TL",
     "turn-right": "TR",
+    "side": "S",
+    "turn": "T",
 }
 
 #: The paper's action set (the default world's); a world's own set is
@@ -62,6 +70,14 @@ N_ACTIONS = len(ACTION_NAMES)
 
 #: The scenes a world can be built as (:attr:`WorldConfig.scene`).
 SCENES = ("sideboard", "floor")
+
+#: The rooms a world can be built in (:attr:`WorldConfig.room`): the asset's, or the second
+#: room of ``assets/second_room.xml`` (other walls, floor and furniture; the same landmark).
+ROOMS = ("home", "second")
+
+#: The landmark's shapes (:attr:`WorldConfig.landmark_shape`): the asset's inverted T (a slab
+#: and a post behind it), or the slab alone (no post, so no parallax between two parts).
+LANDMARK_SHAPES = ("paper", "slab")
 
 #: The shapes a distractor can have and how many ``size`` values each takes (MuJoCo's geom
 #: sizes: box half-extents x, y, z; cylinder radius and half-height; sphere radius).
@@ -169,6 +185,14 @@ class WorldConfig:
         the rotation claim): every step's heading target is the heading the trial started
         with, plus that step's own noise, so heading errors do not add up over the steps.
         False: the paper's walk, each step turns from where the last one ended.
+      camera_height: The eye camera's height above the floor (m); None: the asset's.
+      landmark_shape: See LANDMARK_SHAPES.
+      room: See ROOMS.
+      room_shift: The room (its walls, floor, furniture and light) moved about the landmark,
+        which keeps its place with its sideboard, the dock and the start region: (dx,
+        dy, yaw_deg): a turn by yaw_deg about the landmark's origin, then a shift by (dx,
+        dy) m. It is the landmark and its dock moved elsewhere in the room (the inverse
+        motion), in the frame every pose is written in.
     """
 
     step_forward: float = 0.15
@@ -191,11 +215,25 @@ class WorldConfig:
     turn_deg: float = 10.0
     dock_heading_deg: float | None = None
     heading_hold: bool = False
+    camera_height: float | None = None
+    landmark_shape: str = "paper"
+    room: str = "home"
+    room_shift: tuple[float, float, float] = (0.0, 0.0, 0.0)
 
     def __post_init__(self):
         owner = "WorldConfig"
         check_choice(owner, "scene", self.scene, SCENES)
         check_choice(owner, "actions", self.actions, tuple(ACTION_SETS))
+        check_choice(owner, "landmark_shape", self.landmark_shape, LANDMARK_SHAPES)
+        check_choice(owner, "room", self.room, ROOMS)
+        if self.camera_height is not None:
+            normalise(
+                self,
+                camera_height=check_real(
+                    owner, "camera_height", self.camera_height, lo=0.1, hi=2.0
+                ),
+            )
+        normalise(self, room_shift=_reals(owner, "room_shift", self.room_shift, 3, -180, 180))
         if self.dock_heading_deg is not None:
             normalise(
                 self,
@@ -273,6 +311,11 @@ class WorldConfig:
             )
 
     @property
+    def continuous(self) -> bool:
+        """Whether an action is a vector (CONTINUOUS_SETS), not an index."""
+        return self.actions in CONTINUOUS_SETS
+
+    @property
     def action_names(self) -> tuple[str, ...]:
         """The names of this world's actions, in index order."""
         return ACTION_SETS[self.actions]
@@ -284,7 +327,8 @@ class WorldConfig:
 
     @property
     def n_actions(self) -> int:
-        """How many actions this world has (the network needs as many action units)."""
+        """How many actions this world has (the network needs as many action units), or
+        with continuous actions how many components an action has."""
         return len(self.action_names)
 
     def action_index(self, name: str) -> int:
@@ -300,6 +344,16 @@ class WorldConfig:
 
 #: The scene's MJCF asset (open it with ``python -m mujoco.viewer --mjcf <this path>``).
 ASSET_PATH = Path(__file__).resolve().parent / "assets" / "docking.xml"
+
+#: The second room's furniture, floor and walls (:attr:`WorldConfig.room` ``"second"``).
+SECOND_ROOM_PATH = ASSET_PATH.with_name("second_room.xml")
+
+
+def _reals(owner: str, name: str, value, n: int, lo: float, hi: float) -> tuple[float, ...]:
+    """``value`` as a tuple of ``n`` reals in ``[lo, hi]``, or FieldTypeError/ValueError."""
+    if not isinstance(value, (tuple, list)) or len(value) != n:
+        raise FieldTypeError(f"{owner}.{name} must be {n} numbers, got {value!r}")
+    return tuple(check_real(owner, f"{name}[{k}]", v, lo=lo, hi=hi) for k, v in enumerate(value))
 
 
 def _box_bounds(model: mujoco.MjModel, name: str) -> tuple[np.ndarray, np.ndarray]:

@@ -103,23 +103,10 @@ def run_trial(
     Returns:
         A :class:`TrialRecord`.
     """
-    check_instance("run_trial", "net", net, Network)
-    check_instance("run_trial", "rng", rng, np.random.Generator)
-    learn = check_bool("run_trial", "learn", learn)
-    bootstrap_on_truncation = check_bool(
-        "run_trial", "bootstrap_on_truncation", bootstrap_on_truncation
+    learn, bootstrap_on_truncation = _check_arguments(
+        env, net, rng, learn, bootstrap_on_truncation, feature_delta
     )
-    if not (callable(getattr(env, "reset", None)) and callable(getattr(env, "step", None))):
-        raise FieldTypeError(
-            f"run_trial.env must be a dm_env.Environment (reset() and step()), got "
-            f"{type(env).__name__}"
-        )
     cfg = net.config
-    if learn and cfg.permute_delta and not callable(feature_delta):
-        raise FieldTypeError(
-            "run_trial.feature_delta must be a callable (the permuted delta) when learning with "
-            f"NetworkConfig.permute_delta, got {feature_delta!r}"
-        )
     if beta_a is None:
         beta_a = cfg.beta_a_train if learn else cfg.beta_a_test  # Eq. (4)
     beta_a = check_real("run_trial", "beta_a", beta_a, lo=0)
@@ -179,3 +166,25 @@ def run_trial(
         winners=np.array(winners, dtype=np.int64),
         success=bool(success),
     )
+
+
+def _check_arguments(env, net, rng, learn, bootstrap_on_truncation, feature_delta):
+    """:func:`run_trial`'s arguments checked: ``(learn, bootstrap_on_truncation)`` as bools, or
+    ``FieldTypeError``/``ValueError`` naming the bad one."""
+    check_instance("run_trial", "net", net, Network)
+    check_instance("run_trial", "rng", rng, np.random.Generator)
+    learn = check_bool("run_trial", "learn", learn)
+    bootstrap_on_truncation = check_bool(
+        "run_trial", "bootstrap_on_truncation", bootstrap_on_truncation
+    )
+    if not (callable(getattr(env, "reset", None)) and callable(getattr(env, "step", None))):
+        raise FieldTypeError(
+            f"run_trial.env must be a dm_env.Environment (reset() and step()), got "
+            f"{type(env).__name__}"
+        )
+    if learn and net.config.permute_delta and not callable(feature_delta):
+        raise FieldTypeError(
+            "run_trial.feature_delta must be a callable (the permuted delta) when learning with "
+            f"NetworkConfig.permute_delta, got {feature_delta!r}"
+        )
+    return learn, bootstrap_on_truncation

@@ -71,6 +71,7 @@ from docking.scene import (  # noqa: E402, F401
     N_ACTIONS,
     RIGHT,
     SCENES,
+    SECOND_ROOM_PATH,
     TURN_LEFT,
     TURN_RIGHT,
     Distractor,
@@ -110,23 +111,26 @@ _STEP_MOVE_TIME, _STEP_SETTLE_TIME = 0.3, 0.1
 
 def make_mjcf(config: WorldConfig) -> mjcf.RootElement:
     """The scene of ``config`` as an editable ``dm_control.mjcf`` model: the asset with the eye
-    camera's tilt and field of view and the docking region's position and size set from
-    ``config``."""
+    camera's tilt, field of view and height, the docking region's position and size, the
+    landmark's shape and stand, the room and its placement set from ``config``."""
     root = mjcf.from_path(str(ASSET_PATH))
     cam = config.camera
     eye = root.find("camera", "eye")
     eye.xyaxes = _eye_xyaxes(cam.tilt_deg)
     eye.fovy = cam.fovy_deg
+    if config.camera_height is not None:
+        eye.pos = [eye.pos[0], eye.pos[1], config.camera_height]
     dock = root.find("geom", "dock")
     dock.pos = [-config.dock_center, 0.0, dock.pos[2]]
     dock.size = [config.dock_depth / 2, config.dock_width / 2, dock.size[2]]
     landmark = root.find("geom", "landmark_slab")
+    if config.landmark_shape == "slab":
+        root.find("geom", "landmark_post").remove()
     if config.scene == "floor":  # take the sideboard away; the landmark stands on the floor
         sideboard = root.find("geom", "sideboard")
         top = float(sideboard.pos[2] + sideboard.size[2])
         sideboard.remove()
-        for name in ("landmark_slab", "landmark_post"):
-            geom = root.find("geom", name)
+        for geom in _landmark_geoms(root):
             geom.pos = [geom.pos[0], geom.pos[1], geom.pos[2] - top]
     for k, d in enumerate(config.distractors):
         root.worldbody.add(
@@ -138,8 +142,90 @@ def make_mjcf(config: WorldConfig) -> mjcf.RootElement:
             material=landmark.material,
             group=landmark.group,
         )
+    if config.room == "second":
+        _furnish_second_room(root)
+    if any(config.room_shift):
+        _shift_room(root, config.room_shift)
     _mark_occluders(root)
     return root
+
+
+def _landmark_geoms(root: mjcf.RootElement) -> list:
+    """The landmark's geoms in ``root`` (the slab, and the post unless it was taken away)."""
+    return [g for g in root.find_all("geom") if (g.name or "").startswith("landmark_")]
+
+
+#: The parts of the asset that belong to its room, not to the landmark's stand: what
+#: ``WorldConfig.room`` replaces and ``WorldConfig.room_shift`` moves.
+_HOME_FURNITURE = ("sofa", "table", "shelf", "plant")
+_ROOM_GEOMS = ("floor", "wall_front", "wall_back", "wall_left", "wall_right", "rug")
+
+
+def _furnish_second_room(root: mjcf.RootElement) -> None:
+    """Replace the home room's furniture, floor and walls by those of
+    ``assets/second_room.xml`` (its materials ``floor``/``wall`` become the room's)."""
+    second = mjcf.from_path(str(SECOND_ROOM_PATH))
+    for name in _HOME_FURNITURE:
+        root.find("body", name).remove()
+    root.find("geom", "rug").remove()
+    for material in second.asset.material:
+        root.asset.add("material", **_attributes(material, prefix="second_"))
+    for geom in root.find_all("geom"):
+        if geom.name == "floor" or (geom.name or "").startswith("wall_"):
+            geom.material = "second_" + ("floor" if geom.name == "floor" else "wall")
+    for element in second.worldbody.all_children():
+        _copy_into(element, root.worldbody, prefix="second_")
+
+
+def _attributes(element, prefix: str = "") -> dict:
+    """An element's attributes as keywords for ``add``: references to materials (by name)
+    get ``prefix``, as the copies of those materials do."""
+    found = {}
+    for key, value in element.get_attributes().items():
+        if key == "material":
+            value = prefix + (value if isinstance(value, str) else value.name)
+        elif key == "name":
+            value = prefix + value
+        found[key] = value
+    return found
+
+
+def _copy_into(element, parent, prefix: str = "") -> None:
+    """Copy ``element`` (a body, geom or light, with its children) under ``parent``."""
+    _build(_snapshot(element, prefix), parent)
+
+
+def _snapshot(element, prefix: str) -> tuple:
+    """``(tag, attributes, children)`` of ``element``, as :func:`_build` re-creates it."""
+    children = [_snapshot(child, prefix) for child in element.all_children()]
+    return element.tag, _attributes(element, prefix), children
+
+
+def _build(snapshot: tuple, parent) -> None:
+    tag, attributes, children = snapshot
+    element = parent.add(tag, **attributes)
+    for child in children:
+        _build(child, element)
+
+
+def _shift_room(root: mjcf.RootElement, shift: tuple[float, float, float]) -> None:
+    """Move the room (floor, walls, furniture, ceiling light) by ``shift = (dx, dy,
+    yaw_deg)`` about the landmark: into one body turned by yaw_deg about z, at (dx, dy)."""
+    dx, dy, yaw = shift
+    room = root.worldbody.add("body", name="room", pos=[dx, dy, 0.0], euler=[0, 0, np.radians(yaw)])
+    moved = [
+        element
+        for element in root.worldbody.all_children()
+        if element.tag in ("body", "geom", "light")
+        and (
+            element.name in _HOME_FURNITURE + _ROOM_GEOMS + ("ceiling",)
+            or (element.name or "").startswith("second_")
+        )
+    ]
+    for element in moved:
+        snapshot = _snapshot(element, prefix="")
+        element.remove()
+        _build(snapshot, room)
 
 
 def _mark_occluders(root: mjcf.RootElement) -> None:
@@ -240,6 +326,8 @@ class Physics(dm_mujoco.Physics):
         # Smoothstep u^2 (3 - 2u) of the gliding phase, u = k / n_move for k = 1..n_move.
         u = [k / self._n_move for k in range(1, self._n_move + 1)]
         self._smoothstep = np.array([[v * v * (3.0 - 2.0 * v)] for v in u])
+        names = [model.geom(k).name for k in range(model.ngeom)]
+        self._landmark = [n for n in ("landmark_slab", "landmark_post") if n in names]
 
     def pose(self) -> np.ndarray:
         """The robot's ground-truth pose ``[x, y, yaw]`` (m, m, rad)."""
@@ -304,7 +392,7 @@ class Physics(dm_mujoco.Physics):
         """World coordinates of the 8 corners of each of the landmark's boxes, ``(16, 3)``."""
         corners = []
         signs = np.array([[sx, sy, sz] for sx in (-1, 1) for sy in (-1, 1) for sz in (-1, 1)])
-        for name in ("landmark_slab", "landmark_post"):
+        for name in self._landmark:
             geom = self.model.geom(name)
             centre = self.data.geom(name).xpos
             rot = self.data.geom(name).xmat.reshape(3, 3)
@@ -475,6 +563,9 @@ class DockingEnv(dm_env.Environment):
         return specs.BoundedArray((rows, cols), np.float32, 0.0, 1.0, name="pixels")
 
     def action_spec(self):
+        if self._config.continuous:  # a step vector, each component in [-1, 1]
+            n = self._config.n_actions
+            return specs.BoundedArray((n,), np.float64, -1.0, 1.0, name="action")
         return specs.DiscreteArray(self._config.n_actions, dtype=np.int64, name="action")
 
     def reset(self) -> dm_env.TimeStep:
@@ -491,8 +582,11 @@ class DockingEnv(dm_env.Environment):
     def step(self, action) -> dm_env.TimeStep:
         if self._needs_reset:
             return self.reset()
-        action = _check_action(action, self._config.action_names)
-        docked = self._physics.walk_to(self._step_target(action), stop=self._in_dock)
+        if self._config.continuous:
+            target = self._vector_target(_check_vector_action(action, self._config.action_names))
+        else:
+            target = self._step_target(_check_action(action, self._config.action_names))
+        docked = self._physics.walk_to(target, stop=self._in_dock)
         self._steps += 1
         observation = self._observe()
         if docked:
@@ -526,6 +620,29 @@ class DockingEnv(dm_env.Environment):
                 x + cos * forward - sin * side,
                 y + sin * forward + cos * side,
                 yaw + self._noise_yaw_rad * noise[2],
+            ]
+        )
+
+    def _vector_target(self, action: np.ndarray) -> np.ndarray:
+        """The target of a continuous action: ``action`` scales the step lengths (forward,
+        sideways) and the turn (if the set has one) of the discrete sets, so a component of
+        +-1 is one of their steps; the noise is theirs (:meth:`_step_target`)."""
+        cfg = self._config
+        forward = cfg.step_forward * action[0]
+        side = cfg.step_side * action[1]
+        turn = self._turn_rad * action[2] if len(action) > 2 else 0.0
+        noise = self._rng.normal(0.0, 1.0, size=3)
+        forward += cfg.step_noise_xy * noise[0]
+        side += cfg.step_noise_xy * noise[1]
+        x, y, yaw = self._physics.servo_targets()
+        if cfg.heading_hold:
+            yaw = self._start_yaw
+        cos, sin = np.cos(yaw), np.sin(yaw)
+        return np.array(
+            [
+                x + cos * forward - sin * side,
+                y + sin * forward + cos * side,
+                yaw + turn + self._noise_yaw_rad * noise[2],
             ]
         )
 
@@ -597,11 +714,32 @@ def footprints(config: WorldConfig) -> dict[str, tuple[float, float, float, floa
     figures."""
     model = make_model(config)
     rects = {}
-    names = ("landmark_slab", "landmark_post", "dock")
+    post = ("landmark_post",) if config.landmark_shape == "paper" else ()
+    names = ("landmark_slab", *post, "dock")
     for name in (("sideboard",) if config.scene == "sideboard" else ()) + names:
         lo, hi = _box_bounds(model, name)
         rects[name] = (float(lo[0]), float(lo[1]), float(hi[0]), float(hi[1]))
     return rects
+
+
+def _check_vector_action(action, names: tuple[str, ...]) -> np.ndarray:
+    """A continuous action as a float64 vector: ``len(names)`` finite reals in [-1, 1];
+    anything else raises ``ValueError``."""
+    try:
+        vector = np.array(action, dtype=np.float64)
+    except (TypeError, ValueError):
+        vector = None
+    if (
+        vector is None
+        or vector.shape != (len(names),)
+        or not np.isfinite(vector).all()
+        or np.abs(vector).max() > 1.0
+    ):
+        raise ValueError(
+            f"action must be {len(names)} finite numbers in [-1, 1] ({', '.join(names)}), "
+            f"got {action!r}"
+        )
+    return vector
 
 
 def _check_action(action, names: tuple[str, ...] = ACTION_NAMES) -> int:

@@ -127,7 +127,10 @@ def test_every_task_id_passes_check_env_and_has_its_step_limit(env_id):
         world = docking.gym.preset_world(docking.ENV_IDS[env_id])
         assert env.unwrapped.config == world
         assert env.spec.max_episode_steps == world.max_steps == 25
-        assert env.action_space.n == world.n_actions
+        if world.continuous:  # a step vector
+            assert env.action_space.shape == (world.n_actions,)
+        else:
+            assert env.action_space.n == world.n_actions
         check_env(env.unwrapped, skip_render_check=True)
     finally:
         env.close()

@@ -370,11 +370,21 @@ def test_geom_groups_of_the_asset():
 
 
 def _worlds():
-    from docking.presets import FLOOR_WORLD
+    from docking.presets import FLOOR_WORLD, NAO_WORLD, RELOCATIONS
     from docking.world import Distractor
 
     cup = WorldConfig(distractors=(Distractor.cup(y=0.30),))
-    return {"sideboard": WorldConfig(), "floor": FLOOR_WORLD, "cup": cup}
+    return {
+        "sideboard": WorldConfig(),
+        "floor": FLOOR_WORLD,
+        "cup": cup,
+        "nao": NAO_WORLD,
+        **{name.replace(" ", "-"): world for name, world in RELOCATIONS.items()},
+    }
+
+
+#: Every world of _worlds (the render and occlusion tests run in each).
+WORLDS = ["sideboard", "floor", "cup", "nao", "along-the-wall", "another-wall", "second-room"]
 
 
 def _poses_across_the_start_region(world=None, n=60, seed=0):
@@ -407,7 +417,7 @@ def _render(env, groups, window=None):
     return view.render(env.physics.data.ptr).copy()
 
 
-@pytest.mark.parametrize("world", ["sideboard", "floor", "cup"])
+@pytest.mark.parametrize("world", WORLDS)
 def test_band_render_equals_the_crop_of_the_full_frame(world):
     # The narrowed frustum renders the crop's pixels of the full frame, up to rounding where a
     # triangle's edge crosses a pixel's centre: at most 8 pixels per frame (measured in the
@@ -425,7 +435,7 @@ def test_band_render_equals_the_crop_of_the_full_frame(world):
             np.testing.assert_array_equal(red_mask(full, cam), red_mask(band, cam))
 
 
-@pytest.mark.parametrize("world", ["sideboard", "floor", "cup"])
+@pytest.mark.parametrize("world", WORLDS)
 def test_hiding_the_other_geoms_does_not_change_the_observation(world):
     # The robot's camera draws only group 2 (the landmark); with the room drawn as well, the
     # red mask of the crop is the same, pixel for pixel, and so is the observation.
@@ -462,7 +472,7 @@ def test_only_the_camera_group_can_appear_red():
 
 
 @pytest.mark.slow
-@pytest.mark.parametrize("world", ["sideboard", "floor", "cup"])
+@pytest.mark.parametrize("world", WORLDS)
 def test_no_hidden_geom_can_occlude_the_landmark(world):
     # Rays from the robot's camera to points on the faces of the red geoms (the landmark, a
     # distractor) that lie in its crop, from a 10 cm grid over the whole floor the robot can
@@ -507,8 +517,12 @@ def test_no_hidden_geom_can_occlude_the_landmark(world):
     tilt = np.radians(cam.tilt_deg)
     geomid = np.zeros(1, dtype=np.int32)
     stands, rays = 0, 0
-    for x in np.arange(-facts.room_back + 0.1, facts.room_front, 0.1):
-        for y in np.arange(-facts.room_half_width + 0.1, facts.room_half_width, 0.1):
+    # The grid covers the room's floor, wherever WorldConfig.room_shift put the room.
+    dx, dy, turn = config.room_shift
+    cos, sin = np.cos(np.radians(turn)), np.sin(np.radians(turn))
+    for xr in np.arange(-facts.room_back + 0.1, facts.room_front, 0.1):
+        for yr in np.arange(-facts.room_half_width + 0.1, facts.room_half_width, 0.1):
+            x, y = dx + cos * xr - sin * yr, dy + sin * xr + cos * yr
             if any(np.all(np.abs([x, y] - c) < h + facts.robot_radius) for c, h in blocked):
                 continue
             stands += 1
