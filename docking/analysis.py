@@ -320,6 +320,24 @@ def feature_fidelity(net: Network, inputs: MeanInputs, min_views: int = 20) -> f
     return float(np.mean(rs)) if rs else float("nan")
 
 
+def docked_heading_error_deg(log: TrialLog) -> float:
+    """The mean absolute heading error (deg; :func:`docking.scene.heading_error`, against
+    facing the landmark) at the end of the docked trials of ``log`` (NaN if none docked)."""
+    from docking.ledger import final_poses
+    from docking.scene import heading_error
+
+    ends = final_poses(log)[np.asarray(log.success, dtype=bool)]
+    if not len(ends):
+        return float("nan")
+    return float(np.mean([abs(np.degrees(heading_error(p))) for p in ends]))
+
+
+def actions_per_docking(log: TrialLog) -> float:
+    """The mean number of actions of the docked trials of ``log`` (NaN if none docked)."""
+    docked = np.asarray(log.steps)[np.asarray(log.success, dtype=bool)]
+    return float(np.mean(docked)) if len(docked) else float("nan")
+
+
 def first_trials_poses(log: TrialLog, n_trials: int) -> np.ndarray:
     """Every pose of the first ``n_trials`` trials of ``log``, ``(m, 3)`` (read trial by
     trial, so a ledger keeps only these trials' poses)."""

@@ -44,6 +44,7 @@ from docking.stats import (
     t_difference_ci,
     t_interaction_ci,
     t_paired_ci,
+    t_paired_interaction_ci,
     t_share_ci,
 )
 
@@ -252,18 +253,23 @@ class Gap(Rule):
     """A change costs a reference learner more than this one: a comparison is
     ``(cell, baseline, reference_baseline, reference_cell)`` and the statistic is
     ``(mean(reference_baseline) - mean(reference_cell)) - (mean(baseline) - mean(cell))``
-    (Welch's t over four groups of seeds), supported if its interval lies above 0."""
+    (``method="t"``: Welch's t over four groups of seeds; ``"paired"``: the Student-t interval
+    of the per-seed values, the four arms sharing each seed), supported if its interval lies
+    above 0."""
 
     method: str = "t"
 
     def interval(self, results, pair: tuple[str, ...], measure, seed: int = 0) -> Interval:
         key, baseline, reference_baseline, reference_cell = pair
-        return t_interaction_ci(
+        arms = (
             measure(results, reference_baseline),
             measure(results, reference_cell),
             measure(results, baseline),
             measure(results, key),
         )
+        if self.method == "paired":
+            return t_paired_interaction_ci(*arms)
+        return t_interaction_ci(*arms)
 
     def describe(self) -> str:
         return (
@@ -294,6 +300,9 @@ class Claim:
       measure: ``measure(results, key) -> per-seed values`` (default: measured success).
       judged: False for a finding that is reported with its numbers but is not a verdict
         (not in the family of :func:`judge_family`).
+      min_baseline: A comparison is judged only where its baseline's mean measured success
+        is at least this (e.g. rotation, judged only where the learner docks often enough
+        for its failures to say something); elsewhere it is "not judged". None: always.
     """
 
     key: str
@@ -304,6 +313,14 @@ class Claim:
     cells: Mapping[str, tuple[str, ...]]
     measure: Callable = success
     judged: bool = True
+    min_baseline: float | None = None
+
+    def gated(self, results, entry) -> bool:
+        """Whether comparison ``entry`` falls outside the claim's gate
+        (:attr:`min_baseline`): its baseline docks less often than the gate asks."""
+        if self.min_baseline is None:
+            return False
+        return float(np.mean(results.score(pair_of(results, entry)[1]))) < self.min_baseline
 
     @property
     def test(self) -> str:
@@ -397,13 +414,18 @@ class Decision:
     verdict: str
 
 
-def judge_family(claims, results, alpha: float = 0.05) -> list[Decision]:
-    """Judge every comparison of the ``judged`` claims as one family: each rule's p-value
-    (Student-t intervals), Holm's adjustment over all of them; a comparison whose adjusted
-    p-value is below ``alpha`` gets the verdict its side decides, else "not supported"; a
-    decided comparison whose deciding interval end lies within :data:`NEAR_BOUND` of the
-    bound is "at the bound" instead."""
-    found = []
+NOT_JUDGED = "not judged"
+
+
+def judge_family(claims, results, alpha: float = 0.05, per_claim: bool = False) -> list[Decision]:
+    """Judge every comparison of the ``judged`` claims: each rule's p-value (Student-t
+    intervals), Holm's adjustment over all of them as one family, or with ``per_claim`` over
+    each claim's own comparisons; a comparison whose adjusted p-value is below ``alpha`` gets
+    the verdict its side decides, else "not supported"; a decided comparison whose deciding
+    interval end lies within :data:`NEAR_BOUND` of the bound is "at the bound" instead. A
+    comparison outside its claim's gate (:meth:`Claim.gated`) is "not judged" and leaves the
+    family."""
+    found, skipped = [], []
     for claim in claims:
         if not claim.judged:
             continue
@@ -411,15 +433,33 @@ def judge_family(claims, results, alpha: float = 0.05) -> list[Decision]:
             for entry in keys:
                 ci = claim.interval(results, entry)
                 p, side = claim.rule.p_side(ci)
-                found.append((claim, world, pair_of(results, entry)[0], ci, p, side))
-    adjusted = holm([f[4] for f in found]) if found else []
+                row = (claim, world, pair_of(results, entry)[0], ci, p, side)
+                (skipped if claim.gated(results, entry) else found).append(row)
+    groups = [[f for f in found if f[0] is c] for c in claims] if per_claim else [found]
+    adjusted = {}
+    for group in groups:
+        if group:
+            adjusted.update(zip(map(id, group), holm([f[4] for f in group]), strict=True))
     decisions = []
-    for (claim, world, key, ci, p, side), p_adj in zip(found, adjusted, strict=True):
+    for row in found + skipped:
+        claim, world, key, ci, p, side = row
+        if id(row) not in adjusted:
+            decisions.append(Decision(claim.key, world, key, ci, p, float("nan"), NOT_JUDGED))
+            continue
+        p_adj = adjusted[id(row)]
         verdict = side if p_adj < alpha else NOT_SUPPORTED
         if verdict != NOT_SUPPORTED and claim.rule.near_bound(ci, verdict):
             verdict = AT_BOUND
         decisions.append(Decision(claim.key, world, key, ci, p, float(p_adj), verdict))
-    return decisions
+    rows = zip(found + skipped, decisions, strict=True)
+    keyed = sorted(rows, key=lambda x: _position(claims, x[0]))
+    return [d for _, d in keyed]
+
+
+def _position(claims, row) -> tuple[int, int]:
+    """A decision's place: its claim's, then its comparison's within the claim."""
+    claim, world = row[0], row[1]
+    return (list(claims).index(claim), list(claim.cells).index(world))
 
 
 def family_verdicts(claims, decisions: list[Decision]) -> dict[str, tuple[str, dict[str, str]]]:
@@ -437,6 +477,8 @@ def family_verdicts(claims, decisions: list[Decision]) -> dict[str, tuple[str, d
                 per_world[world] = SUPPORTED
             elif CONTRADICTED in found:
                 per_world[world] = CONTRADICTED
+            elif all(v == NOT_JUDGED for v in found):
+                per_world[world] = NOT_JUDGED
             elif AT_BOUND in found:
                 per_world[world] = AT_BOUND
             else:

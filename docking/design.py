@@ -147,7 +147,10 @@ class Design:
       keep: What the ledger's table keeps of the design's runs beyond each trial's outcome:
         ``"paths"``, the paths (poses, actions) of the failed test and held-out trials (what
         the failure taxonomy reads); ``"starts"``, every trial's start pose; ``"networks"``,
-        each run's W and Q; ``"winners"``, the winning unit of every test and held-out step.
+        each run's W and Q; ``"winners"``, the winning unit of every test and held-out step;
+        ``"ends"``, every test and held-out trial's final pose.
+      networks: ``{cell key: seeds}``: runs whose W and Q the table keeps besides (as
+        ``"networks"`` in :attr:`keep` does for every run).
     """
 
     name: str
@@ -161,6 +164,7 @@ class Design:
     alpha: float | None = None
     whole: dict[str, tuple[int, ...]] = dataclasses.field(default_factory=dict)
     keep: frozenset[str] = frozenset()
+    networks: dict[str, tuple[int, ...]] = dataclasses.field(default_factory=dict)
 
     def __post_init__(self):
         check_name("Design", "name", self.name)
@@ -333,21 +337,62 @@ def tested_in(run: ExperimentResult, world: WorldConfig, results_dir=None) -> Ex
     return result
 
 
-def ledger_runs(design: Design, full: bool = False) -> list[tuple]:
+def ledger_runs(design: Design, full: bool = False, stored_only: bool = False) -> list[tuple]:
     """The runs of ``design`` the committed ledger holds: ``(config, seed, whole, keep)``
     for every trained cell's seeds and every test-only cell's derived runs
-    (:func:`tested_in`), ``whole`` and ``keep`` as :attr:`Design.whole` and
-    :attr:`Design.keep` say."""
-    found = []
+    (:func:`tested_in`), ``whole`` and ``keep`` as :attr:`Design.whole`,
+    :attr:`Design.keep` and :attr:`Design.networks` say; a stage's cells too (its
+    function asked on the runs before it). ``stored_only``: only the cells whose runs the
+    results store holds (a design whose runs are under way), and a stage only if the cells
+    before it are all there."""
     cells = design.select(full)
+    if stored_only:
+        cells = [c for c in cells if _stored(design, cells, c)]
+    if design.stages and len(cells) == len(design.select(full)):
+        cells = _with_stages(design, cells, stored_only)
+    found = []
     for c in cells:
-        config = c.config
-        if not c.trained:
-            base = _find(cells, c.baseline, design.name).config
-            config = dataclasses.replace(base, heldout_world=c.test_world)
-        for seed in c.seeds or design.seeds:
-            found.append((config, seed, seed in design.whole.get(c.key, ()), design.keep))
+        for config, seed in _entries(design, cells, c):
+            keep = design.keep | (
+                {"networks"} if seed in design.networks.get(c.key, ()) else frozenset()
+            )
+            found.append((config, seed, seed in design.whole.get(c.key, ()), keep))
     return found
+
+
+def _entries(design: Design, cells, c: Cell) -> list[tuple]:
+    """``(config, seed)`` of each run of cell ``c`` (a test-only cell: its derived runs)."""
+    config = c.config
+    if not c.trained:
+        base = _find(cells, c.baseline, design.name).config
+        config = dataclasses.replace(base, heldout_world=c.test_world)
+    return [(config, seed) for seed in c.seeds or design.seeds]
+
+
+def _stored(design: Design, cells, c: Cell) -> bool:
+    from docking.store import result_path
+
+    return all(result_path(*e).exists() for e in _entries(design, cells, c))
+
+
+def _with_stages(design: Design, cells: list[Cell], stored_only: bool) -> list[Cell]:
+    """``cells`` and the cells of ``design``'s stages, each asked on the runs before it
+    (loaded: from the store, else the ledger)."""
+    from docking.ledger import load_run
+
+    def load(new):
+        return {c.key: [load_run(*e) for e in _entries(design, cells, c)] for c in new if c.trained}
+
+    runs = load(cells)
+    results = judge(design, cells, runs)
+    for stage in design.stages:
+        extra = list(stage(results))
+        if stored_only and not all(_stored(design, cells + extra, c) for c in extra):
+            break
+        cells = cells + extra
+        runs.update(load(extra))
+        results = judge(design, cells, runs)
+    return cells
 
 
 def _sweep(cells, seeds, desc: str, options) -> dict[str, list]:

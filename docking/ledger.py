@@ -13,7 +13,7 @@ in formats any numpy opens (``np.load``; zip archives of ``.npy`` arrays, LZMA-c
   trial (``"paths"``: ``<part>.path.run``, ``.trial``, ``.steps``, ``.poses``,
   ``.actions``, what the failure taxonomy reads), every trial's start pose (``"starts"``),
   each run's ``W`` and ``Q`` (``"networks"``), the test and held-out steps' winning units
-  (``"winners"``).
+  (``"winners"``), each test and held-out trial's final pose (``"ends"``).
 * ``whole/<name>/<key[:16]>/seed<k>.npz``: the few runs kept whole (``Design.whole``: those
   whose weights or trajectories a figure draws), the stored file itself.
 * ``manifest.json``: per kind of run (:class:`docking.store.Runner`) the source fingerprint
@@ -47,7 +47,15 @@ from docking.experiments import ExperimentResult, TrialLog
 from docking.fileio import atomic_write
 from docking.network import Network
 
-__all__ = ["CorruptLedger", "NotInLedger", "NotKept", "StaleLedger", "holds", "load_run"]
+__all__ = [
+    "CorruptLedger",
+    "NotInLedger",
+    "NotKept",
+    "StaleLedger",
+    "final_poses",
+    "holds",
+    "load_run",
+]
 
 #: Version of the ledger's layout.
 LEDGER_FORMAT = 6
@@ -112,6 +120,7 @@ class TableLog(TrialLog):
 
     paths: dict = dataclasses.field(default_factory=dict)
     start_poses: np.ndarray | None = None
+    end_poses: np.ndarray | None = None
     what: str = "a run"
 
     @property
@@ -119,6 +128,12 @@ class TableLog(TrialLog):
         if self.start_poses is None:
             NotKept(f"{self.what}: the trials' start poses")._refuse()
         return self.start_poses
+
+    @property
+    def ends(self) -> np.ndarray:
+        if self.end_poses is None:
+            NotKept(f"{self.what}: the trials' final poses")._refuse()
+        return self.end_poses
 
     def trial_poses(self, k: int) -> np.ndarray:
         return self._path(k)[0]
@@ -366,8 +381,10 @@ def _log(table: dict, arrays: dict, run: int, part: str, what: str) -> TableLog:
     if f"{part}.winners" in arrays:
         absent["winners"] = arrays[f"{part}.winners"]
     per_trial = {f: arrays[f"{part}.{f}"] for f in ("success", "steps", "start_far")}
-    starts = arrays.get(f"{part}.starts")
-    return TableLog(**per_trial, **absent, paths=kept, start_poses=starts, what=what)
+    starts, ends = arrays.get(f"{part}.starts"), arrays.get(f"{part}.ends")
+    return TableLog(
+        **per_trial, **absent, paths=kept, start_poses=starts, end_poses=ends, what=what
+    )
 
 
 # ------------------------------------------------------------------------------------------
@@ -405,7 +422,17 @@ def _row(arrays: dict, keep: frozenset) -> dict[str, np.ndarray]:
     for part in PARTS:
         if "starts" in keep and f"{part}.poses" in arrays:
             row[f"{part}.starts"] = _stored_log(arrays, part).starts
+        if "ends" in keep and part != "train" and f"{part}.poses" in arrays:
+            row[f"{part}.ends"] = final_poses(_stored_log(arrays, part))
     return row
+
+
+def final_poses(log: TrialLog) -> np.ndarray:
+    """The final pose of every trial of ``log``, ``(n, 3)`` (a table's kept ones, else read
+    from its poses)."""
+    if isinstance(log, TableLog):
+        return log.ends
+    return log.poses[np.cumsum(log.steps + 1) - 1] if len(log) else np.zeros((0, 3))
 
 
 def _stored_log(arrays: dict, part: str) -> TrialLog:

@@ -212,6 +212,19 @@ def t_interaction_ci(a, b, c, d, confidence: float = 0.95) -> Interval:
     return _t_interval(est, se, df, confidence, tuple(groups[0].tolist()))
 
 
+def t_paired_interaction_ci(a, b, c, d, confidence: float = 0.95) -> Interval:
+    """``mean((a - b) - (c - d))`` over seeds paired by index (four arms sharing each seed's
+    networks or held-out streams), with the paired Student-t interval; ``values`` of the
+    result are the per-seed values."""
+    arms = [
+        _values(x, f"t_paired_interaction_ci {n}")
+        for x, n in zip((a, b, c, d), "abcd", strict=True)
+    ]
+    if len({len(x) for x in arms}) != 1:
+        raise ValueError(f"t_paired_interaction_ci pairs seeds: {[len(x) for x in arms]} values")
+    return t_paired_ci(arms[0] - arms[1], arms[2] - arms[3], confidence)
+
+
 def t_share_ci(failures, baseline_failures, confidence: float = 0.95) -> Interval:
     """The share of the baseline's failures gone in a variant run on the same seeds,
     ``1 - mean(failures) / mean(baseline_failures)``, with a t interval from the delta

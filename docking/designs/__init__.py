@@ -16,6 +16,7 @@ MODULES = {
     "calibration-experiment2": "docking.designs.calibration",
     "experiment3": "docking.designs.experiment3",
     "experiment3-oracle": "docking.designs.experiment3",
+    "third-edition": "docking.designs.third_edition",
 }
 
 

@@ -1,0 +1,64 @@
+"""The third edition's rules, pinned before its runs (docking.designs.third_edition)."""
+
+from __future__ import annotations
+
+import hashlib
+import re
+from pathlib import Path
+
+import pytest
+
+from docking.designs import third_edition as te
+
+#: The SHA-256 of rules_text() when the rules were committed, before any run of the edition.
+RULES_DIGEST = "cd2a0602b296679342c67a9afe926c24a0baa8901a6f55c48a4e2fbac2984ac4"
+
+PAPER = Path(__file__).resolve().parents[2] / "shared" / "paper.md"
+
+
+def test_rules_are_the_committed_ones():
+    assert hashlib.sha256(te.rules_text().encode()).hexdigest() == RULES_DIGEST
+
+
+def test_seeds_are_fresh_and_disjoint():
+    assert min(te.SEEDS) > 9  # no earlier run of the package used a seed above 9
+    assert not set(te.TUNING_SEEDS) & set(te.SEEDS)
+    for subset in (te.PATH_SEEDS, te.YARDSTICK_SEEDS, te.PPO_SEEDS, te.FIDELITY_SEEDS):
+        assert set(subset) <= set(te.SEEDS)
+
+
+def test_every_learner_gets_the_same_tuning_budget():
+    assert {len(g) for g in te.GRIDS.values()} == {te.GRID_SIZE}
+    cells = te.contest_cells()
+    for world in te.CONTEST:
+        for learner in te.LEARNERS:
+            tuning = [c for c in cells if c.key.startswith(f"{world}/tune-{learner}-")]
+            assert len(tuning) == te.GRID_SIZE
+            assert all(c.seeds == te.TUNING_SEEDS[:1] for c in tuning)
+    assert te.TUNING_RUNS == 15
+
+
+def test_each_grid_starts_with_the_untuned_setting():
+    for world in te.CONTEST:
+        for learner in te.LEARNERS:
+            untuned = te._learner(world, learner)
+            first = te._learner(world, learner, **te.GRIDS[learner][0])
+            assert untuned.to_dict() == first.to_dict()
+
+
+def test_comparisons_name_cells_of_the_design():
+    keys = {c.key for c in te.DESIGN.cells}
+    for claim in te.CLAIMS:
+        for entries in claim.cells.values():
+            for entry in entries:
+                names = (entry,) if isinstance(entry, str) else entry
+                assert set(names) <= keys, (claim.key, names)
+
+
+@pytest.mark.skipif(not PAPER.exists(), reason="the paper's text (shared/paper.md) is not here")
+def test_claims_quote_the_paper():
+    text = re.sub(r"\s+", " ", PAPER.read_text())
+    for claim in te.CLAIMS:
+        words = claim.words.removeprefix("(finding) ")
+        for part in filter(None, (p.strip() for p in words.split("..."))):
+            assert part.lower() in text.lower(), (claim.key, part)
