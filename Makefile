@@ -70,7 +70,7 @@ docs: setup
 # The paper's two experiments from an empty store, Figs. 2-5, the learning curves and the
 # results table (printed; `make reproduce` writes it into the README).
 paper: setup
-	DOCKING_LEDGER=off $(PY) -m docking report --compute --figures --no-experiment3
+	DOCKING_LEDGER=off $(PY) -m docking report --compute --figures --no-experiment3 --no-third-edition
 
 lab: setup notebooks
 	$(VENV)/bin/jupyter lab $$([ "$$(id -u)" = 0 ] && echo --allow-root)

@@ -410,6 +410,9 @@ class Report:
     """Also the table of Experiment 3 (notebook 06; runs it if it is not stored, and the
     oracle in every cell), into the README between <!-- experiment3:start --> and
     <!-- experiment3:end -->."""
+    third_edition: bool = True
+    """Also the third edition's contest (notebook 07) in the README's summary and its table
+    between <!-- third-edition:start --> and <!-- third-edition:end -->."""
     figures: bool = False
     """Also save Figs. 2-5 and the learning curves of Experiments 1 and 2 into figures/
     (or DOCKING_FIGURES)."""
@@ -422,7 +425,7 @@ class Report:
         from docking.presets import EXPERIMENT_1, EXPERIMENT_2
 
         if not self.compute:
-            _refuse_to_compute(self.experiment3, self.results_dir)
+            _refuse_to_compute(self.experiment3, self.results_dir, self.third_edition)
         from docking.report import results_table, update_readme
         from docking.sweep import run_seeds
 
@@ -452,8 +455,23 @@ class Report:
                 changed |= update_readme(self.readme, text, EXPERIMENT3_START, EXPERIMENT3_END)
         from docking.report import SUMMARY_END, SUMMARY_START, summary_text
 
+        contest = None
+        if self.third_edition:
+            from docking import report
+            from docking.designs import third_edition
+
+            contest = third_edition.part("contest").run(
+                results_dir=self.results_dir, workers=self.processes
+            )
+            names = {w: third_edition.WORLDS[w][0] for w in third_edition.CONTEST}
+            text = report.contest_table(contest, names)
+            print(text)
+            if self.readme is not None:
+                changed |= update_readme(
+                    self.readme, text, report.THIRD_EDITION_START, report.THIRD_EDITION_END
+                )
         first = rates[comparisons[0].four_key] if comparisons else None
-        summary = summary_text(*results, comparisons, first)
+        summary = summary_text(*results, comparisons, first, contest)
         print(summary)
         if self.readme is not None:
             changed |= update_readme(self.readme, summary, SUMMARY_START, SUMMARY_END)
@@ -479,19 +497,15 @@ def _write_timings(readme: Path) -> bool:
     return update_readme(readme, text, TIMINGS_START, TIMINGS_END)
 
 
-def _refuse_to_compute(experiment3: bool, results_dir) -> None:
+def _refuse_to_compute(experiment3: bool, results_dir, third_edition: bool = False) -> None:
     """``ValueError`` if the report would compute runs: it names how many and the option."""
+    from docking.design import absent_runs
     from docking.designs import design
-    from docking.sweep import jobs_for, missing
+    from docking.designs import third_edition as te
 
     names = ["paper"] + ["experiment3", "experiment3-oracle"] * experiment3
-    jobs = []
-    for name in names:
-        d = design(name)
-        for cell in d.select(False):
-            if cell.trained:
-                jobs += jobs_for([cell.config], cell.seeds or d.seeds)
-    absent = missing(jobs, results_dir)
+    designs = [design(name) for name in names] + [te.part("contest")] * third_edition
+    absent = [job for d in designs for job in absent_runs(d, results_dir)]
     if absent:
         kinds = sorted({j.config.name for j in absent})
         text = f"{len(absent)} runs ({', '.join(kinds)}) are neither stored nor in the ledger"
@@ -573,6 +587,9 @@ class Ledger:
     """update: write the ledger from the results store; show: its runs, size, fingerprint."""
     results_dir: _ResultsDir = None
     """The results store (update only)."""
+    under_way: Annotated[tuple[str, ...], _shown("NAME ...", "none: every design complete")] = ()
+    """Designs whose runs are under way: only the cells whose runs the store holds are
+    written (update only)."""
 
     def execute(self) -> int:
         from docking import ledger
@@ -584,9 +601,15 @@ class Ledger:
             from docking.design import ledger_runs
             from docking.designs import design, names
 
+            unknown = sorted(set(self.under_way) - set(names()))
+            if unknown:
+                raise ValueError(f"no design {', '.join(unknown)}; the designs are {names()}")
             runs = {}
             for name in names():
-                for config, seed, whole, keep in ledger_runs(design(name)):
+                partial = name in self.under_way
+                for config, seed, whole, keep in ledger_runs(
+                    design(name), stored_only=partial, results_dir=self.results_dir
+                ):
                     key = (json.dumps(config.to_dict(), sort_keys=True), seed)
                     old = runs.get(key, (config, seed, False, frozenset()))
                     runs[key] = (config, seed, whole or old[2], keep | old[3])

@@ -337,7 +337,9 @@ def tested_in(run: ExperimentResult, world: WorldConfig, results_dir=None) -> Ex
     return result
 
 
-def ledger_runs(design: Design, full: bool = False, stored_only: bool = False) -> list[tuple]:
+def ledger_runs(
+    design: Design, full: bool = False, stored_only: bool = False, results_dir=None
+) -> list[tuple]:
     """The runs of ``design`` the committed ledger holds: ``(config, seed, whole, keep)``
     for every trained cell's seeds and every test-only cell's derived runs
     (:func:`tested_in`), ``whole`` and ``keep`` as :attr:`Design.whole`,
@@ -347,9 +349,9 @@ def ledger_runs(design: Design, full: bool = False, stored_only: bool = False) -
     before it are all there."""
     cells = design.select(full)
     if stored_only:
-        cells = [c for c in cells if _stored(design, cells, c)]
+        cells = [c for c in cells if _stored(design, cells, c, results_dir)]
     if design.stages and len(cells) == len(design.select(full)):
-        cells = _with_stages(design, cells, stored_only)
+        cells = _with_stages(design, cells, stored_only, results_dir)
     found = []
     for c in cells:
         for config, seed in _entries(design, cells, c):
@@ -369,30 +371,63 @@ def _entries(design: Design, cells, c: Cell) -> list[tuple]:
     return [(config, seed) for seed in c.seeds or design.seeds]
 
 
-def _stored(design: Design, cells, c: Cell) -> bool:
+def _stored(design: Design, cells, c: Cell, results_dir=None) -> bool:
     from docking.store import result_path
 
-    return all(result_path(*e).exists() for e in _entries(design, cells, c))
+    return all(result_path(*e, results_dir).exists() for e in _entries(design, cells, c))
 
 
-def _with_stages(design: Design, cells: list[Cell], stored_only: bool) -> list[Cell]:
+def _with_stages(design: Design, cells: list[Cell], stored_only: bool, results_dir) -> list[Cell]:
     """``cells`` and the cells of ``design``'s stages, each asked on the runs before it
     (loaded: from the store, else the ledger)."""
     from docking.ledger import load_run
 
     def load(new):
-        return {c.key: [load_run(*e) for e in _entries(design, cells, c)] for c in new if c.trained}
+        return {
+            c.key: [load_run(*e, results_dir) for e in _entries(design, cells, c)]
+            for c in new
+            if c.trained
+        }
 
     runs = load(cells)
-    results = judge(design, cells, runs)
+    results = judge(design, cells, runs, results_dir)
     for stage in design.stages:
         extra = list(stage(results))
-        if stored_only and not all(_stored(design, cells + extra, c) for c in extra):
+        if stored_only and not all(_stored(design, cells + extra, c, results_dir) for c in extra):
             break
         cells = cells + extra
         runs.update(load(extra))
-        results = judge(design, cells, runs)
+        results = judge(design, cells, runs, results_dir)
     return cells
+
+
+def absent_runs(design: Design, results_dir=None) -> list:
+    """The jobs (:class:`docking.sweep.Job`) of ``design``'s core cells that neither the
+    results store nor the ledger holds, what :func:`run_design` would compute; a stage's
+    cells are asked once every run before them is there."""
+    from docking.ledger import load_run
+    from docking.sweep import jobs_for, missing
+
+    def absent(cells):
+        jobs = [
+            j for c in cells if c.trained for j in jobs_for([c.config], c.seeds or design.seeds)
+        ]
+        return missing(jobs, results_dir)
+
+    cells = design.select(False)
+    found = absent(cells)
+    for stage in design.stages:
+        if found:
+            break
+        runs = {
+            c.key: [load_run(*e, results_dir) for e in _entries(design, cells, c)]
+            for c in cells
+            if c.trained
+        }
+        extra = list(stage(judge(design, cells, runs, results_dir)))
+        cells = cells + extra
+        found = absent(extra)
+    return found
 
 
 def _sweep(cells, seeds, desc: str, options) -> dict[str, list]:

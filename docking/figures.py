@@ -1120,3 +1120,59 @@ def fig_action_fields(
 # ------------------------------------------------------------------------------------------
 # The study's second edition.
 # ------------------------------------------------------------------------------------------
+
+
+def fig_contest(
+    worlds: list[str], columns: list[str], seeds: dict[tuple[str, str], np.ndarray]
+) -> Figure:
+    """The fair contest: held-out success per world (one panel each) of every learner and
+    yardstick of ``columns`` (left to right), each seed a dot, the mean a bar with its 95%
+    Student-t interval.
+
+    Args:
+      worlds: Panel titles.
+      columns: Labels of the learners and yardsticks, in order; a label ending in "tuned"
+        is drawn filled, "untuned" hatched, the yardsticks grey.
+      seeds: ``{(world, column): per-seed success (fractions)}``; a pair absent is left out.
+    """
+    from docking.stats import t_mean_ci
+
+    fig = _new_figure(4.2 * len(worlds), 4.4)
+    axes = np.atleast_1d(fig.subplots(1, len(worlds), sharey=True))
+    x = np.arange(len(columns))
+    learners = {}
+    for ax, world in zip(axes, worlds, strict=True):
+        for k, label in enumerate(columns):
+            values = seeds.get((world, label))
+            if values is None or not len(values):
+                continue
+            base = label.replace(", untuned", "").replace(", tuned", "")
+            color = learners.setdefault(base, f"C{len(learners)}") if "tuned" in label else "0.6"
+            ci = t_mean_ci(values) if len(values) > 1 else None
+            mean = 100 * float(np.mean(values))
+            ax.bar(
+                k,
+                mean,
+                color=color if not label.endswith("untuned") else "white",
+                edgecolor=color,
+                hatch="///" if label.endswith("untuned") else None,
+                lw=1.2,
+                alpha=0.85,
+            )
+            if ci is not None:
+                ax.errorbar(
+                    k,
+                    mean,
+                    yerr=[[mean - 100 * ci.low], [100 * ci.high - mean]],
+                    color="black",
+                    capsize=3,
+                    lw=1,
+                )
+            jitter = np.linspace(-0.25, 0.25, len(values))
+            ax.plot(k + jitter, 100 * np.asarray(values), ".", color="black", ms=3, alpha=0.6)
+        ax.set_title(world, fontsize=10)
+        ax.set_xticks(x, columns, rotation=60, ha="right", fontsize=8)
+        ax.grid(axis="y", alpha=0.3, lw=0.5)
+        ax.set_ylim(0, 103)
+    axes[0].set_ylabel("held-out success (%), each seed a dot")
+    return fig

@@ -362,12 +362,14 @@ def summary_text(
     results2: list[ExperimentResult],
     comparisons: list | None = None,
     oracle: float | None = None,
+    contest=None,
 ) -> str:
     """The README's first screen: what was reproduced, under what choices, what held up and
     what did not, in a few sentences whose numbers come from the runs: Experiments 1 and 2
     (``results1``, ``results2``) and, if given, Experiment 3's four-against-six comparisons
-    (:func:`turning_comparisons`) and the pose oracle's held-out success
-    in the world of the first one's four-action cell (the paper's task and noise)."""
+    (:func:`turning_comparisons`), the pose oracle's held-out success in the world of the
+    first one's four-action cell (the paper's task and noise), and the third edition's
+    contest (its results, :func:`contest_summary`)."""
     h1, h2 = headline(results1), headline(results2)
     rate1 = np.array([r.test.success.mean() for r in results1])
     rate2 = np.array([r.test.success.mean() for r in results2])
@@ -403,15 +405,61 @@ def summary_text(
             f"six minus four actions ranges from {100 * min(gains):.1f} to "
             f"{100 * max(gains):.1f} percentage points{oracle_note} (notebook 06)."
         )
-    text.append(
-        "**The main finding so far** (the study's second edition, archived at `1341e99`): "
-        "outside the world tuned towards the paper's numbers, a one-line pixel rule, linear "
-        "SARSA on the same pixels and an off-the-shelf PPO all beat the paper's learner, and "
-        "none of the paper's claims was supported there. A third edition re-tests this on "
-        "fresh seeds, with every learner tuned alike (open work)."
-    )
+    text.append(contest_summary(contest) if contest is not None else _ARCHIVED_FINDING)
     return "\n\n".join(text)
 
+
+_ARCHIVED_FINDING = (
+    "**The main finding so far** (the study's second edition, archived at `1341e99`): "
+    "outside the world tuned towards the paper's numbers, a one-line pixel rule, linear "
+    "SARSA on the same pixels and an off-the-shelf PPO all beat the paper's learner, and "
+    "none of the paper's claims was supported there."
+)
+
+#: What the summary calls the contest's worlds.
+CONTEST_WORLDS = {
+    "sideboard": "the sideboard world",
+    "floor": "the floor world",
+    "nao": "the Nao-like world",
+}
+
+
+def contest_summary(contest) -> str:
+    """The README's sentences on the third edition's contest (``contest``: the results of
+    its contest part): per world, the tuned learners' and the oracle's held-out success, and
+    whether tuning closes the gap between linear SARSA and the paper's learner (the
+    edition's rule, :func:`contest_gaps` with a 5 pp bound)."""
+    from docking.stats import t_mean_ci
+
+    gaps = {g.world: g for g in contest_gaps(contest, CONTEST_WORLDS, 0.05)}
+    parts = []
+    for world, name in CONTEST_WORLDS.items():
+        found = {
+            v: t_mean_ci(contest.score(f"{world}/{v}"))
+            for v in ("paper-tuned", "paper", "linear-tuned", "ppo-tuned")
+        }
+        oracle = float(np.mean(contest.score(f"{world}/oracle")))
+        parts.append(
+            f"in {name} the tuned paper's learner docks {_pct(found['paper-tuned'].estimate)} "
+            f"[{_pct(found['paper-tuned'].low)}, {_pct(found['paper-tuned'].high)}] "
+            f"(untuned {_pct(found['paper'].estimate)}), tuned linear SARSA "
+            f"{_pct(found['linear-tuned'].estimate)}, tuned PPO "
+            f"{_pct(found['ppo-tuned'].estimate)}, the pose oracle {_pct(oracle)}; "
+            f"linear SARSA's lead is {gaps[world].interval.format(unit=' pp')}: the gap "
+            f"{'is closed' if gaps[world].verdict == 'closed' else gaps[world].verdict}"
+        )
+    return (
+        "**The main finding** (the study's third edition, notebook 07: fresh seeds, every "
+        "learner tuned by the same successive halving of 15 runs per world): "
+        + "; ".join(parts)
+        + ". The Nao-like world is fixed from Nao's published steps and camera, not tuned "
+        "towards any result."
+    )
+
+
+#: The markers of the README's table of the third edition's contest (notebook 07).
+THIRD_EDITION_START = "<!-- third-edition:start -->"
+THIRD_EDITION_END = "<!-- third-edition:end -->"
 
 #: The markers of the README's table of Experiment 3 (notebook 06).
 EXPERIMENT3_START = "<!-- experiment3:start -->"
@@ -752,3 +800,190 @@ def computing_time(results, baseline: str | None = None, key: str | None = None)
     ``baseline`` (a calibration's own cost) if ``key`` is None."""
     keys = [key] if key is not None else [c.key for c in results.cells if c.key != baseline]
     return float(sum(r.wall_time_train + r.wall_time_test for k in keys for r in results.runs[k]))
+
+
+# ------------------------------------------------------------------------------------------
+# The study's third edition (notebook 07): the contest, the path, the verdicts.
+# ------------------------------------------------------------------------------------------
+
+#: The contest table's columns: ``(variant, header)``, bounds and learners first.
+CONTEST_COLUMNS = (
+    ("oracle", "pose oracle"),
+    ("ppo-tuned", "PPO, tuned"),
+    ("ppo", "PPO, untuned"),
+    ("linear-tuned", "linear SARSA, tuned"),
+    ("linear", "linear SARSA, untuned"),
+    ("paper-tuned", "the paper's learner, tuned"),
+    ("paper", "the paper's learner, untuned"),
+    ("centroid", "centroid rule"),
+    ("forward", "always forward"),
+    ("random", "random"),
+)
+
+
+def contest_table(results, worlds: dict[str, str]) -> str:
+    """How hard is each world, tuned against tuned (Markdown): per world of ``worlds``
+    (``{key: what it is}``), the held-out success of every column of
+    :data:`CONTEST_COLUMNS` (mean and 95% Student-t interval over its seeds, and how many)."""
+    from docking.stats import t_mean_ci
+
+    run = {c.key for c in results.cells}
+    lines = [
+        "| world | " + " | ".join(h for _, h in CONTEST_COLUMNS) + " |",
+        "|---|" + "---|" * len(CONTEST_COLUMNS),
+    ]
+    for world, what in worlds.items():
+        values = []
+        for variant, _ in CONTEST_COLUMNS:
+            key = f"{world}/{variant}"
+            if key not in run:
+                values.append("-")
+                continue
+            score = results.score(key)
+            values.append(f"{t_mean_ci(score).format(unit='%')} (n = {len(score)})")
+        lines.append(f"| {what} | " + " | ".join(values) + " |")
+    return "\n".join(lines)
+
+
+def tuning_rows(results, worlds, learners, grids, tuned_setting) -> list[dict]:
+    """The successive halving of each learner in each world: per world and learner, every
+    setting's round-1 success, the round-2 settings' means over the tuning seeds, and the
+    setting chosen (``tuned_setting(results, world, learner)``, an index into
+    ``grids[learner]``)."""
+    rows = []
+    for world in worlds:
+        for learner in learners:
+            round1 = [
+                float(np.mean(results.score(f"{world}/tune-{learner}-{i}")))
+                for i in range(len(grids[learner]))
+            ]
+            round2 = {}
+            for i in range(len(grids[learner])):
+                key = f"{world}/tune-{learner}-{i}/round2"
+                if key in {c.key for c in results.cells}:
+                    both = np.concatenate(
+                        [results.score(key[: -len("/round2")]), results.score(key)]
+                    )
+                    round2[i] = float(np.mean(both))
+            chosen = tuned_setting(results, world, learner)
+            rows.append(
+                dict(
+                    world=world,
+                    learner=learner,
+                    round1=np.array(round1),
+                    round2=round2,
+                    chosen=chosen,
+                    setting=grids[learner][chosen],
+                )
+            )
+    return rows
+
+
+def tuning_table(rows: list[dict]) -> str:
+    """The Markdown table of :func:`tuning_rows`."""
+    lines = [
+        "| world | learner | round 1 (9 settings, one tuning seed): best / default | "
+        "round 2 (3 settings, three seeds) | tuned setting |",
+        "|---|---|---|---|---|",
+    ]
+    for r in rows:
+        r2 = ", ".join(f"#{i}: {100 * v:.1f}%" for i, v in r["round2"].items())
+        setting = ", ".join(f"{k} = {v:g}" for k, v in r["setting"].items())
+        default = " (the default)" if r["chosen"] == 0 else ""
+        lines.append(
+            f"| {r['world']} | {r['learner']} | {100 * r['round1'].max():.1f}% / "
+            f"{100 * r['round1'][0]:.1f}% | {r2} | #{r['chosen']}: {setting}{default} |"
+        )
+    return "\n".join(lines)
+
+
+@dataclasses.dataclass(frozen=True)
+class ContestGap:
+    """The contest's finding in one world: ``other - paper`` (paired over seeds) and what
+    the rule makes of it (``"closed"``, ``"remains"``, ``"undecided"``)."""
+
+    world: str
+    other: str
+    interval: Interval
+    verdict: str
+
+
+def contest_gaps(results, worlds, bound: float, other: str = "linear-tuned") -> list[ContestGap]:
+    """Per world: ``other`` minus the tuned paper's learner, paired over the seeds both
+    have (Student-t); closed if the interval lies below ``bound``, remains if above it."""
+    from docking.stats import t_paired_ci
+
+    found = []
+    for world in worlds:
+        a, b = results.score(f"{world}/{other}"), results.score(f"{world}/paper-tuned")
+        n = min(len(a), len(b))
+        ci = t_paired_ci(a[:n], b[:n])
+        verdict = "closed" if ci.high < bound else "remains" if ci.low > bound else "undecided"
+        found.append(ContestGap(world, other, ci, verdict))
+    return found
+
+
+def gaps_table(gaps: list[ContestGap]) -> str:
+    """The Markdown table of :func:`contest_gaps`."""
+    lines = ["| world | compared | minus the tuned paper's learner | gap |", "|---|---|---|---|"]
+    for g in gaps:
+        lines.append(
+            f"| {g.world} | {g.other} | {g.interval.format(unit=' pp')} "
+            f"(n = {len(g.interval.values)}) | {g.verdict} |"
+        )
+    return "\n".join(lines)
+
+
+@dataclasses.dataclass(frozen=True)
+class PathStep:
+    """One step of the path: the paper's learner's drop from ``before`` to ``after``
+    (paired over the seeds both worlds have), Holm's p-value for "the drop exceeds the
+    bound", and the decision (``"breaks"``, ``"does not break"``, ``"undecided"``)."""
+
+    before: str
+    after: str
+    drop: Interval
+    p_adjusted: float
+    decision: str
+
+
+def path_steps(results, steps, bound: float, alpha: float) -> list[PathStep]:
+    """The paper's learner's drop at each of ``steps`` (``(before, after)`` world keys),
+    paired over the shared seeds; Holm over ``steps`` of the one-sided p-values of "the drop
+    exceeds ``bound``"; breaks where that is below ``alpha``, does not break where the
+    drop's 95% interval lies below ``bound``, else undecided."""
+    from scipy import stats as st
+
+    from docking.stats import holm, t_paired_ci
+
+    drops = []
+    for a, b in steps:
+        x, y = results.score(f"{a}/paper"), results.score(f"{b}/paper")
+        n = min(len(x), len(y))
+        drops.append(t_paired_ci(x[:n], y[:n]))
+    ps = [
+        float(st.t.sf((d.estimate - bound) / d.se, d.df))
+        if d.se > 0
+        else float(d.estimate <= bound)
+        for d in drops
+    ]
+    adjusted = holm(ps)
+    found = []
+    for (a, b), d, p in zip(steps, drops, adjusted, strict=True):
+        decision = "breaks" if p < alpha else "does not break" if d.high < bound else "undecided"
+        found.append(PathStep(a, b, d, float(p), decision))
+    return found
+
+
+def path_table(steps: list[PathStep], worlds: dict[str, str]) -> str:
+    """The Markdown table of :func:`path_steps` (``worlds``: what each world changes)."""
+    lines = [
+        "| step | what changes | drop of the paper's learner | Holm p (drop > bound) | decision |",
+        "|---|---|---|---|---|",
+    ]
+    for s in steps:
+        lines.append(
+            f"| {s.before} → {s.after} | {worlds[s.after]} | {s.drop.format(unit=' pp')} | "
+            f"{s.p_adjusted:.2g} | {s.decision} |"
+        )
+    return "\n".join(lines)

@@ -555,6 +555,24 @@ DESIGN = Design(
 )
 
 
+def part(name: str) -> Design:
+    """A part of :data:`DESIGN` that runs on its own (the same cells, so the same runs):
+    ``"contest"``, the contest worlds' untuned learners, yardsticks and tuning, with the
+    stages (round 2, then the tuned learners); ``"rest"``, every other cell (and the
+    baselines its test-only cells need), without stages. Neither judges the claims."""
+    contest = [
+        c for c in DESIGN.cells if c["world"] in CONTEST and c.baseline is None and c.trained
+    ]
+    if name == "contest":
+        return dataclasses.replace(DESIGN, cells=tuple(contest), claims=())
+    if name == "rest":
+        rest = [c for c in DESIGN.cells if c not in contest or c.baseline is not None]
+        needed = {c.baseline for c in rest if not c.trained}
+        cells = tuple(c for c in DESIGN.cells if c in rest or c.key in needed)
+        return dataclasses.replace(DESIGN, cells=cells, claims=(), stages=())
+    raise ValueError(f"part must be 'contest' or 'rest', got {name!r}")
+
+
 def rules_text() -> str:
     """Every rule of this edition as canonical text: constants, grids, claims, every cell."""
     constants = {
