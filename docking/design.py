@@ -383,11 +383,17 @@ def _with_stages(design: Design, cells: list[Cell], stored_only: bool, results_d
     from docking.ledger import load_run
 
     def load(new):
-        return {
-            c.key: [load_run(*e, results_dir) for e in _entries(design, cells, c)]
-            for c in new
-            if c.trained
-        }
+        found = {}
+        for c in (c for c in new if c.trained):
+            found[c.key] = [load_run(*e, results_dir) for e in _entries(design, cells, c)]
+            if any(r is None for r in found[c.key]):
+                raise LookupError(
+                    f"design {design.name!r}: runs of cell {c.key!r} are neither stored nor in "
+                    "the ledger; run the design first (python -m docking design run "
+                    f"{design.name}), or write what is there (ledger update --under-way "
+                    f"{design.name})"
+                )
+        return found
 
     runs = load(cells)
     results = judge(design, cells, runs, results_dir)

@@ -27,3 +27,55 @@ def test_a_paired_rule_uses_the_per_seed_differences():
     welch = claims.Above(0.0, method="t").statistic(base, cell)
     assert paired.low > 0 > welch.low  # the same seeds' arms: pairing decides
     assert claims.Above(0.0, method="paired").decide(paired) == claims.SUPPORTED
+
+
+class _Results:
+    """Per-seed scores by cell key, with baselines: what the claims read of a design's
+    results."""
+
+    def __init__(self, scores, baselines):
+        self._scores, self._baselines = scores, baselines
+
+    def score(self, key):
+        return np.asarray(self._scores[key], dtype=float)
+
+    def cell(self, key):
+        return type("C", (), {"baseline": self._baselines.get(key)})()
+
+
+def _seeds(mean, n=10, spread=0.01):
+    return mean + np.linspace(-spread, spread, n)
+
+
+def test_a_paired_gap_uses_each_seeds_four_arms():
+    rng = np.random.default_rng(1)
+    level = rng.uniform(0.5, 0.95, 10)  # seeds differ a lot; their arms move together
+    arms = {"cell": level - 0.01, "paper": level, "ref": level, "ref-cell": level - 0.05}
+    results = _Results(arms, {})
+    entry = ("cell", "paper", "ref", "ref-cell")
+    paired = claims.Gap(method="paired").interval(results, entry, claims.success)
+    welch = claims.Gap(method="t").interval(results, entry, claims.success)
+    assert abs(paired.estimate - 0.04) < 1e-12 and abs(welch.estimate - 0.04) < 1e-12
+    assert paired.low > 0 > welch.low
+
+
+def test_holm_per_claim_and_one_family_and_the_gate():
+    scores = {"a": _seeds(0.9), "a0": _seeds(0.86), "b": _seeds(0.9), "b0": _seeds(0.7)}
+    scores.update({"c": _seeds(0.5, spread=0.1), "c0": _seeds(0.5, spread=0.1) - 0.02})
+    results = _Results(scores, {"a0": "a", "b0": "b", "c0": "c"})
+    rule = claims.Above(0.0, method="paired")
+    one = claims.Claim("one", "w", "s", "x", rule, {"w1": ("a0",), "w2": ("b0",)})
+    gated = claims.Claim("gated", "w", "s", "x", rule, {"w": ("c0",)}, min_baseline=0.8)
+    two = claims.Claim("two", "w", "s", "x", rule, {"w1": ("b0",)})
+    per = claims.judge_family([one, gated, two], results, per_claim=True)
+    family = claims.judge_family([one, gated, two], results)
+    assert [d.claim for d in per] == ["one", "one", "gated", "two"]
+    assert per[-1].p_adjusted == per[-1].p  # alone in its claim: no adjustment
+    assert family[-1].p_adjusted > per[-1].p  # one family of three comparisons
+    per = per[:3]
+    assert per[-1].verdict == claims.NOT_JUDGED and np.isnan(per[-1].p_adjusted)
+    # Holm over the claim's two comparisons, not over a family that excludes the gated one
+    p = sorted(d.p for d in per[:2])
+    assert sorted(d.p_adjusted for d in per[:2]) == [2 * p[0], max(2 * p[0], p[1])]
+    verdicts = claims.family_verdicts([one, gated], per)
+    assert verdicts["gated"] == (claims.NOT_JUDGED, {"w": claims.NOT_JUDGED})

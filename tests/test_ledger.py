@@ -64,7 +64,7 @@ def short_built(tmp_path_factory):
     with pytest.MonkeyPatch.context() as mp:
         mp.setenv("DOCKING_LEDGER", "off")
         stored = run_or_load(SHORT, 1, base / "results", progress=False)
-    ledger.update([(SHORT, 1, False, KEEP)], base / "ledger", base / "results")
+    ledger.update([(SHORT, 1, False, KEEP | {"ends"})], base / "ledger", base / "results")
     return base / "ledger", stored
 
 
@@ -113,6 +113,22 @@ def test_a_table_run_serves_its_per_trial_arrays_and_refuses_the_rest(short_buil
     ):
         with pytest.raises(ledger.NotInLedger, match="seed 1.*whole run"):
             use()
+
+
+def test_a_table_keeps_the_final_poses_it_is_asked_for(short_built, built, monkeypatch):
+    folder, stored = short_built
+    served = _served(monkeypatch, folder, 1, SHORT)
+    for part in ("test", "heldout"):
+        whole = getattr(stored, part)
+        ends = ledger.final_poses(getattr(served, part))
+        assert ends.tobytes() == ledger.final_poses(whole).tobytes()
+        assert (
+            ends.tobytes()
+            == np.array([whole.trial_poses(k)[-1] for k in range(len(whole))]).tobytes()
+        )
+    without = _served(monkeypatch, built[0], 1)  # a table not asked for them
+    with pytest.raises(ledger.NotInLedger, match="final poses"):
+        ledger.final_poses(without.heldout)
 
 
 def test_an_update_writes_the_same_bytes_again(built, tmp_path):

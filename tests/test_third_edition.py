@@ -6,9 +6,12 @@ import hashlib
 import re
 from pathlib import Path
 
+import numpy as np
 import pytest
 
+from docking import report
 from docking.designs import third_edition as te
+from docking.stats import COVERAGE_KINDS, rule_coverage
 
 #: The SHA-256 of rules_text() when the rules were committed, before any run of the edition.
 RULES_DIGEST = "cd2a0602b296679342c67a9afe926c24a0baa8901a6f55c48a4e2fbac2984ac4"
@@ -62,3 +65,49 @@ def test_claims_quote_the_paper():
         words = claim.words.removeprefix("(finding) ")
         for part in filter(None, (p.strip() for p in words.split("..."))):
             assert part.lower() in text.lower(), (claim.key, part)
+
+
+class _Scores:
+    """Per-seed scores by cell key: what the contest's report reads."""
+
+    def __init__(self, scores):
+        self.scores = {k: np.asarray(v, dtype=float) for k, v in scores.items()}
+        self.cells = [type("C", (), {"key": k})() for k in scores]
+
+    def score(self, key):
+        return self.scores[key]
+
+
+def test_the_contest_gap_rule():
+    base = np.linspace(0.3, 0.6, 20)
+    results = _Scores(
+        {
+            "w1/paper-tuned": base,
+            "w1/linear-tuned": base + 0.01 + np.linspace(-0.01, 0.01, 20),  # closed
+            "w2/paper-tuned": base,
+            "w2/linear-tuned": base + 0.30 + np.linspace(-0.01, 0.01, 20),  # remains
+            "w3/paper-tuned": base,
+            "w3/linear-tuned": base + 0.05 + np.linspace(-0.2, 0.2, 20),  # undecided
+        }
+    )
+    gaps = report.contest_gaps(results, ("w1", "w2", "w3"), 0.05)
+    assert [g.verdict for g in gaps] == ["closed", "remains", "undecided"]
+    assert "closed" in report.gaps_table(gaps)
+
+
+def test_the_path_is_decided_by_intervals():
+    base = np.linspace(0.8, 0.95, 10)
+    noise = np.linspace(-0.01, 0.01, 10)
+    results = _Scores(
+        {"a/paper": base, "b/paper": base - 0.3 + noise, "c/paper": base - 0.3 - 0.01 + noise}
+    )
+    steps = report.path_steps(results, [("a", "b"), ("b", "c")], 0.05, 0.05)
+    assert [s.decision for s in steps] == ["breaks", "does not break"]
+    assert steps[0].p_adjusted < 1e-6
+
+
+def test_rule_coverage_is_near_its_level_and_refuses_an_unknown_kind():
+    for kind in COVERAGE_KINDS:
+        assert 0.9 <= rule_coverage(kind, 10, repeats=300) <= 0.99
+    with pytest.raises(ValueError, match="kind must be one of"):
+        rule_coverage("bootstrap", 10)

@@ -1,0 +1,63 @@
+"""A design with stages: its ledger entries, its absent runs, a design under way."""
+
+from __future__ import annotations
+
+import dataclasses
+
+import numpy as np
+import pytest
+from helpers import TINY
+
+from docking.design import Cell, Design, absent_runs, ledger_runs
+
+
+def _stage(results):
+    """Round 2 of a tiny successive halving: the better of two settings on seed 2."""
+    best = max(("a", "b"), key=lambda k: (float(np.mean(results.score(k))), k == "a"))
+    return [dataclasses.replace(results.cell(best), key=f"{best}/round2", seeds=(2,))]
+
+
+DESIGN = Design(
+    name="tiny-stages",
+    title="a tiny design with a stage",
+    cells=(
+        Cell("a", TINY, {"v": "a"}, seeds=(0,)),
+        Cell(
+            "b",
+            dataclasses.replace(TINY, network=dataclasses.replace(TINY.network, eps_q=0.3)),
+            {"v": "b"},
+            seeds=(0,),
+        ),
+    ),
+    seeds=(0,),
+    stages=(_stage,),
+    keep=frozenset({"ends"}),
+    networks={"a": (0,)},
+)
+
+
+@pytest.fixture
+def store(tmp_path, monkeypatch):
+    monkeypatch.setenv("DOCKING_LEDGER", "off")
+    monkeypatch.setenv("DOCKING_RESULTS", str(tmp_path / "results"))
+    return tmp_path / "results"
+
+
+def test_a_stage_is_asked_once_the_runs_before_it_are_there(store):
+    assert {(j.config.network.eps_q, j.seed) for j in absent_runs(DESIGN)} == {(0.1, 0), (0.3, 0)}
+    assert ledger_runs(DESIGN, stored_only=True) == []  # nothing stored: nothing written
+    DESIGN.run(progress=False, workers=1)
+    assert absent_runs(DESIGN) == []
+    found = ledger_runs(DESIGN)
+    assert [(c.network.eps_q, s) for c, s, _, _ in found][:2] == [(0.1, 0), (0.3, 0)]
+    assert len(found) == 3 and found[2][1] == 2  # the stage's cell, on its own seed
+    assert [k for *_, k in found] == [frozenset({"ends", "networks"})] + [frozenset({"ends"})] * 2
+
+
+def test_a_design_under_way_writes_what_is_stored(store):
+    first = dataclasses.replace(DESIGN, cells=DESIGN.cells[:1], stages=())
+    first.run(progress=False, workers=1)
+    found = ledger_runs(DESIGN, stored_only=True)
+    assert [(c.network.eps_q, s) for c, s, _, _ in found] == [(0.1, 0)]  # no stage yet
+    with pytest.raises(LookupError, match="cell 'b'.*--under-way tiny-stages"):
+        ledger_runs(DESIGN)
