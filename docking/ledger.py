@@ -13,7 +13,8 @@ in formats any numpy opens (``np.load``; zip archives of ``.npy`` arrays, LZMA-c
   trial (``"paths"``: ``<part>.path.run``, ``.trial``, ``.steps``, ``.poses``,
   ``.actions``, what the failure taxonomy reads), every trial's start pose (``"starts"``),
   each run's ``W`` and ``Q`` (``"networks"``), the test and held-out steps' winning units
-  (``"winners"``), each test and held-out trial's final pose (``"ends"``).
+  (``"winners"``), each test and held-out trial's final pose (``"ends"``) and the distance
+  walked (``"lengths"``).
 * ``whole/<name>/<key[:16]>/seed<k>.npz``: the few runs kept whole (``Design.whole``: those
   whose weights or trajectories a figure draws), the stored file itself.
 * ``manifest.json``: per kind of run (:class:`docking.store.Runner`) the source fingerprint
@@ -54,6 +55,7 @@ __all__ = [
     "StaleLedger",
     "final_poses",
     "holds",
+    "path_lengths",
     "load_run",
 ]
 
@@ -121,6 +123,7 @@ class TableLog(TrialLog):
     paths: dict = dataclasses.field(default_factory=dict)
     start_poses: np.ndarray | None = None
     end_poses: np.ndarray | None = None
+    lengths: np.ndarray | None = None
     what: str = "a run"
 
     @property
@@ -383,7 +386,13 @@ def _log(table: dict, arrays: dict, run: int, part: str, what: str) -> TableLog:
     per_trial = {f: arrays[f"{part}.{f}"] for f in ("success", "steps", "start_far")}
     starts, ends = arrays.get(f"{part}.starts"), arrays.get(f"{part}.ends")
     return TableLog(
-        **per_trial, **absent, paths=kept, start_poses=starts, end_poses=ends, what=what
+        **per_trial,
+        **absent,
+        paths=kept,
+        start_poses=starts,
+        end_poses=ends,
+        lengths=arrays.get(f"{part}.lengths"),
+        what=what,
     )
 
 
@@ -424,6 +433,8 @@ def _row(arrays: dict, keep: frozenset) -> dict[str, np.ndarray]:
             row[f"{part}.starts"] = _stored_log(arrays, part).starts
         if "ends" in keep and part != "train" and f"{part}.poses" in arrays:
             row[f"{part}.ends"] = final_poses(_stored_log(arrays, part))
+        if "lengths" in keep and part != "train" and f"{part}.poses" in arrays:
+            row[f"{part}.lengths"] = path_lengths(_stored_log(arrays, part))
     return row
 
 
@@ -433,6 +444,19 @@ def final_poses(log: TrialLog) -> np.ndarray:
     if isinstance(log, TableLog):
         return log.ends
     return log.poses[np.cumsum(log.steps + 1) - 1] if len(log) else np.zeros((0, 3))
+
+
+def path_lengths(log: TrialLog) -> np.ndarray:
+    """The distance the reference point walked in each trial of ``log`` (m; the sum of its
+    steps' displacements): a table's kept ones, else read from its poses."""
+    if isinstance(log, TableLog):
+        if log.lengths is None:
+            NotKept(f"{log.what}: the trials' path lengths")._refuse()
+        return log.lengths
+    steps = np.linalg.norm(np.diff(log.poses[:, :2], axis=0), axis=1)
+    ends = np.cumsum(log.steps + 1)
+    walked = np.concatenate([[0.0], np.cumsum(steps)])
+    return walked[ends - 1] - walked[ends - 1 - log.steps]
 
 
 def _stored_log(arrays: dict, part: str) -> TrialLog:

@@ -64,7 +64,7 @@ def short_built(tmp_path_factory):
     with pytest.MonkeyPatch.context() as mp:
         mp.setenv("DOCKING_LEDGER", "off")
         stored = run_or_load(SHORT, 1, base / "results", progress=False)
-    ledger.update([(SHORT, 1, False, KEEP | {"ends"})], base / "ledger", base / "results")
+    ledger.update([(SHORT, 1, False, KEEP | {"ends", "lengths"})], base / "ledger", base / "results")
     return base / "ledger", stored
 
 
@@ -126,9 +126,18 @@ def test_a_table_keeps_the_final_poses_it_is_asked_for(short_built, built, monke
             ends.tobytes()
             == np.array([whole.trial_poses(k)[-1] for k in range(len(whole))]).tobytes()
         )
+        lengths = ledger.path_lengths(getattr(served, part))
+        walked = [
+            np.sum(np.linalg.norm(np.diff(whole.trial_poses(k)[:, :2], axis=0), axis=1))
+            for k in range(len(whole))
+        ]
+        assert np.allclose(lengths, walked, rtol=0, atol=1e-12)
+        assert lengths.tobytes() == ledger.path_lengths(whole).tobytes()
     without = _served(monkeypatch, built[0], 1)  # a table not asked for them
     with pytest.raises(ledger.NotInLedger, match="final poses"):
         ledger.final_poses(without.heldout)
+    with pytest.raises(ledger.NotInLedger, match="path lengths"):
+        ledger.path_lengths(without.heldout)
 
 
 def test_an_update_writes_the_same_bytes_again(built, tmp_path):
