@@ -45,6 +45,7 @@ experiments: setup
 	DOCKING_LEDGER=off $(PY) -m docking run experiment2
 	DOCKING_LEDGER=off $(PY) -m docking design run calibration-experiment1 calibration-experiment2
 	DOCKING_LEDGER=off $(PY) -m docking design run experiment3 experiment3-oracle
+	DOCKING_LEDGER=off $(PY) -m docking design run third-edition untested
 
 check: setup
 	$(VENV)/bin/ruff format --check .

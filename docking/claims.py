@@ -49,6 +49,7 @@ from docking.stats import (
 )
 
 __all__ = [
+    "AtMost",
     "SUPPORTED",
     "NOT_SUPPORTED",
     "CONTRADICTED",
@@ -276,6 +277,22 @@ class Gap(Rule):
             "supported if the interval of (the reference's loss) - (this learner's loss) "
             "lies above 0"
         )
+
+
+@dataclasses.dataclass(frozen=True)
+class AtMost(Rule):
+    """The cell's value is at most ``fraction`` of its baseline's (e.g. re-learning takes at
+    most half the trials a fresh learner takes): supported if the paired interval of
+    ``fraction * baseline - cell`` lies above 0, contradicted if below."""
+
+    fraction: float
+    method: str = "paired"
+
+    def statistic(self, baseline: np.ndarray, cell: np.ndarray, seed: int = 0) -> Interval:
+        return t_paired_ci(self.fraction * np.asarray(baseline), cell)
+
+    def describe(self) -> str:
+        return f"supported if the interval of {self.fraction:g} x baseline - cell lies above 0"
 
 
 def success(results, key: str) -> np.ndarray:

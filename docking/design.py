@@ -141,6 +141,8 @@ class Design:
       alpha: None: each claim is decided on its own (:meth:`docking.claims.Claim.verdict`).
         A level: the judged claims are one family (:func:`docking.claims.judge_family`,
         Holm's adjustment at this level), as :func:`summary` reports them.
+      per_claim: With ``alpha``: Holm's adjustment within each claim over its comparisons
+        instead of over one family (the family is reported beside it).
       whole: ``{cell key: seeds}``: the runs the committed ledger keeps whole (those whose
         weights or trajectories an analysis or figure reads); the others it keeps as rows
         of its results table (:mod:`docking.ledger`).
@@ -165,6 +167,7 @@ class Design:
     whole: dict[str, tuple[int, ...]] = dataclasses.field(default_factory=dict)
     keep: frozenset[str] = frozenset()
     networks: dict[str, tuple[int, ...]] = dataclasses.field(default_factory=dict)
+    per_claim: bool = False
 
     def __post_init__(self):
         check_name("Design", "name", self.name)
@@ -501,10 +504,20 @@ def summary(results: Results) -> str:
 def verdicts_text(results: Results) -> str:
     """The Markdown table of the design's claims: the family's (every comparison with its
     Holm-adjusted p-value, :func:`docking.claims.family_table`) if the design has an
-    ``alpha``, else each claim's own verdict (:func:`docking.claims.verdict_table`)."""
+    ``alpha`` (Holm within each claim if it says ``per_claim``, then one family beside it),
+    else each claim's own verdict (:func:`docking.claims.verdict_table`)."""
     from docking.claims import family_table, judge_family, verdict_table
 
     design = results.design
     if design.alpha is None:
         return verdict_table(design.claims, results)
-    return family_table(design.claims, judge_family(design.claims, results, alpha=design.alpha))
+    family = family_table(design.claims, judge_family(design.claims, results, alpha=design.alpha))
+    if not design.per_claim:
+        return family
+    per = judge_family(design.claims, results, alpha=design.alpha, per_claim=True)
+    return (
+        f"Decided by Holm within each claim at {design.alpha:g}:\n\n"
+        + family_table(design.claims, per)
+        + f"\n\nBeside it, one family of every comparison (Holm at {design.alpha:g}):\n\n"
+        + family
+    )

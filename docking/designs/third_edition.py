@@ -546,6 +546,7 @@ DESIGN = Design(
     claims=CLAIMS,
     stages=tuning_stages(),
     alpha=ALPHA,
+    per_claim=True,
     keep=frozenset({"ends"}),
     networks={
         "experiment1/paper": SEEDS,
