@@ -37,6 +37,7 @@ __all__ = [
     "Design",
     "Results",
     "judge",
+    "rules_text",
     "run_design",
     "summary",
     "tested_in",
@@ -199,6 +200,42 @@ class Design:
 
     def cell(self, key: str) -> Cell:
         return _find(self.cells, key, self.name)
+
+
+def rules_text(design: Design, constants: dict) -> str:
+    """A design's rules as canonical text (JSON, sorted keys), what its test pins by a
+    digest before its runs: ``constants`` (its named values), its claims (words, source,
+    what is compared, the rule, the comparisons, the measure, judged or not) and every cell
+    (key, configuration, baseline, seeds, test world)."""
+    import json
+
+    claims = [
+        dict(
+            key=c.key,
+            words=c.words,
+            source=c.source,
+            compares=c.compares,
+            rule=repr(c.rule),
+            cells={
+                w: [e if isinstance(e, str) else list(e) for e in v] for w, v in c.cells.items()
+            },
+            measure=c.measure.__name__,
+            judged=c.judged,
+        )
+        for c in design.claims
+    ]
+    cells = [
+        dict(
+            key=c.key,
+            config=c.config.to_dict(),
+            baseline=c.baseline,
+            seeds=c.seeds,
+            test_world=None if c.test_world is None else dataclasses.asdict(c.test_world),
+        )
+        for c in design.cells
+    ]
+    text = {"constants": constants, "claims": claims, "cells": cells}
+    return json.dumps(text, sort_keys=True, indent=1, default=list)
 
 
 def yardstick_config(base: ExperimentConfig, policy: str, heldout_trials: int) -> ExperimentConfig:

@@ -46,12 +46,12 @@ from __future__ import annotations
 
 import dataclasses
 import itertools
-import json
 
 import numpy as np
 
 from docking.claims import Above, Claim, Equivalent, Gap, ShareAbove
 from docking.design import Cell, Design, Results, yardstick_config
+from docking.design import rules_text as design_rules_text
 from docking.designs.builders import (
     HELDOUT_TRIALS,
     YARDSTICK_LABELS,
@@ -575,60 +575,31 @@ def part(name: str) -> Design:
 
 
 def rules_text() -> str:
-    """Every rule of this edition as canonical text: constants, grids, claims, every cell."""
-    constants = {
-        n: globals()[n]
-        for n in (
-            "SEEDS",
-            "PATH_SEEDS",
-            "YARDSTICK_SEEDS",
-            "PPO_SEEDS",
-            "UNTUNED_PPO_SEEDS",
-            "TUNING_SEEDS",
-            "FIDELITY_SEEDS",
-            "FIDELITY_VIEWS",
-            "FIDELITY_MIN_VIEWS",
-            "ALPHA",
-            "EQUIVALENCE_MARGIN",
-            "ROTATION_SHARE",
-            "ROTATION_MIN_SUCCESS",
-            "BREAK_DROP",
-            "GAP_CLOSED",
-            "LONG",
-            "PPO_STEPS",
-            "GRID_SIZE",
-            "ROUND_2",
-            "GRIDS",
-            "PATH",
-            "BRANCHES",
-            "CONTEST",
-            "VERDICT_WORLDS",
-        )
-    }
-    claims = [
-        dict(
-            key=c.key,
-            words=c.words,
-            source=c.source,
-            compares=c.compares,
-            rule=repr(c.rule),
-            cells={
-                w: [list(e) if not isinstance(e, str) else e for e in v] for w, v in c.cells.items()
-            },
-            measure=c.measure.__name__,
-            judged=c.judged,
-        )
-        for c in CLAIMS
-    ]
-    cell_list = [
-        dict(
-            key=c.key,
-            config=c.config.to_dict(),
-            baseline=c.baseline,
-            seeds=c.seeds,
-            test_world=None if c.test_world is None else dataclasses.asdict(c.test_world),
-        )
-        for c in DESIGN.cells
-    ]
-    text = {"constants": constants, "claims": claims, "cells": cell_list}
-    return json.dumps(text, sort_keys=True, indent=1, default=list)
+    """Every rule of this design as canonical text (:func:`docking.design.rules_text`)."""
+    names = (
+        "SEEDS",
+        "PATH_SEEDS",
+        "YARDSTICK_SEEDS",
+        "PPO_SEEDS",
+        "UNTUNED_PPO_SEEDS",
+        "TUNING_SEEDS",
+        "FIDELITY_SEEDS",
+        "FIDELITY_VIEWS",
+        "FIDELITY_MIN_VIEWS",
+        "ALPHA",
+        "EQUIVALENCE_MARGIN",
+        "ROTATION_SHARE",
+        "ROTATION_MIN_SUCCESS",
+        "BREAK_DROP",
+        "GAP_CLOSED",
+        "LONG",
+        "PPO_STEPS",
+        "GRID_SIZE",
+        "ROUND_2",
+        "GRIDS",
+        "PATH",
+        "BRANCHES",
+        "CONTEST",
+        "VERDICT_WORLDS",
+    )
+    return design_rules_text(DESIGN, {n: globals()[n] for n in names})

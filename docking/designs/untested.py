@@ -50,12 +50,12 @@ from __future__ import annotations
 
 import dataclasses
 import itertools
-import json
 
 import numpy as np
 
 from docking.claims import Above, AtMost, Claim, Equivalent
 from docking.design import Cell, Design, Results, yardstick_config
+from docking.design import rules_text as design_rules_text
 from docking.designs.builders import HELDOUT_TRIALS, net, variant, with_cup
 from docking.experiments import Curriculum, ExperimentConfig
 from docking.presets import EXPERIMENT_2, FLOOR_WORLD, NAO_WORLD, RELOCATIONS
@@ -392,52 +392,19 @@ DESIGN = Design(
 
 
 def rules_text() -> str:
-    """Every rule of this design as canonical text: constants, claims, every cell."""
-    constants = {
-        n: globals()[n]
-        for n in (
-            "SEEDS",
-            "FINDING_SEEDS",
-            "YARDSTICK_SEEDS",
-            "NEGLECT_SEEDS",
-            "ALPHA",
-            "RELOCATION_MARGIN",
-            "REGAIN",
-            "HALF",
-            "CENSORED",
-            "CHECKPOINTS",
-            "BETAS",
-            "PAIRS",
-        )
-    }
-    claims = [
-        dict(
-            key=c.key,
-            words=c.words,
-            source=c.source,
-            compares=c.compares,
-            rule=repr(c.rule),
-            cells={
-                w: [e if isinstance(e, str) else list(e) for e in v] for w, v in c.cells.items()
-            },
-            measure=c.measure.__name__,
-            judged=c.judged,
-        )
-        for c in CLAIMS
-    ]
-    cell_list = [
-        dict(
-            key=c.key,
-            config=c.config.to_dict(),
-            baseline=c.baseline,
-            seeds=c.seeds,
-            test_world=None if c.test_world is None else dataclasses.asdict(c.test_world),
-        )
-        for c in DESIGN.cells
-    ]
-    return json.dumps(
-        {"constants": constants, "claims": claims, "cells": cell_list},
-        sort_keys=True,
-        indent=1,
-        default=list,
+    """Every rule of this design as canonical text (:func:`docking.design.rules_text`)."""
+    names = (
+        "SEEDS",
+        "FINDING_SEEDS",
+        "YARDSTICK_SEEDS",
+        "NEGLECT_SEEDS",
+        "ALPHA",
+        "RELOCATION_MARGIN",
+        "REGAIN",
+        "HALF",
+        "CENSORED",
+        "CHECKPOINTS",
+        "BETAS",
+        "PAIRS",
     )
+    return design_rules_text(DESIGN, {n: globals()[n] for n in names})
