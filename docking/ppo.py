@@ -18,7 +18,10 @@ copy reset in the step that ends its episode), so that one update learns from
 and per update whatever the batch, which with one env would make the 50,000 steps of the
 paper's budget cost about 20 CPU minutes per run; the budget counts the steps of all copies;
 the entropy bonus stays at
-skrl's default 0 (skrl's JAX categorical model does not compute an entropy). skrl draws
+skrl's default 0 (skrl's JAX categorical model does not compute an entropy). In a world with
+continuous actions (the paper's future work) the policy is a Gaussian of learned mean and
+state-free log standard deviation (starting at 1), its samples clipped to [-1, 1], and the
+greedy action its mean. skrl draws
 from a global seed (``skrl.utils.set_seed``: Python's, NumPy's and JAX's), which is set
 from ``SeedSequence([PPO_STREAM, seed])``, as is the training env's seed; the held-out
 streams are children of ``SeedSequence(seed)``, so training never sees them.
@@ -222,7 +225,8 @@ def _quiet_jax() -> None:
 
 def _models(config: PPOConfig, observation_space, action_space, device):
     import flax.linen as nn
-    from skrl.models.jax import CategoricalMixin, DeterministicMixin, Model
+    import jax.numpy as jnp
+    from skrl.models.jax import CategoricalMixin, DeterministicMixin, GaussianMixin, Model
 
     hidden = config.hidden
 
@@ -246,6 +250,26 @@ def _models(config: PPOConfig, observation_space, action_space, device):
         def __call__(self, inputs, role):
             return nn.Dense(self.num_actions)(trunk(inputs["observations"])), {}
 
+    class VectorPolicy(GaussianMixin, Model):
+        """Continuous actions: a Gaussian of learned mean and state-free log std, its
+        samples clipped to the action space."""
+
+        def __init__(self, observation_space, action_space, device=None, **kwargs):
+            Model.__init__(
+                self,
+                observation_space=observation_space,
+                action_space=action_space,
+                device=device,
+                **kwargs,
+            )
+            GaussianMixin.__init__(self, clip_actions=True)
+
+        @nn.compact
+        def __call__(self, inputs, role):
+            mean = nn.Dense(self.num_actions)(trunk(inputs["observations"]))
+            log_std = self.param("log_std", lambda _: jnp.zeros(self.num_actions))
+            return mean, {"log_std": log_std}
+
     class Value(DeterministicMixin, Model):
         def __init__(self, observation_space, action_space, device=None, **kwargs):
             Model.__init__(
@@ -261,8 +285,9 @@ def _models(config: PPOConfig, observation_space, action_space, device):
         def __call__(self, inputs, role):
             return nn.Dense(1)(trunk(inputs["observations"])), {}
 
+    policy = VectorPolicy if config.world.continuous else Policy
     models = {
-        "policy": Policy(observation_space, action_space, device),
+        "policy": policy(observation_space, action_space, device),
         "value": Value(observation_space, action_space, device),
     }
     for role, model in models.items():
@@ -416,9 +441,13 @@ def run_ppo(
     params = policy.state_dict.params
     logits = jax.jit(lambda x: policy.apply(params, {"observations": x}, "policy")[0])
 
-    def greedy(observation, _env) -> int:
+    def greedy(observation, _env):
+        """The most probable action: the largest logit, or the Gaussian's mean (clipped)."""
         x = jnp.asarray(np.asarray(observation, dtype=np.float32).reshape(1, -1))
-        return int(np.argmax(np.asarray(logits(x))[0]))
+        out = np.asarray(logits(x))[0]
+        if config.world.continuous:
+            return np.clip(out.astype(np.float64), -1.0, 1.0)
+        return int(np.argmax(out))
 
     heldout_env = DockingEnv(config.world, _streams(seed)["heldout_world"])
     records = []

@@ -88,6 +88,7 @@ def test_every_notebook_is_on_the_site():
         "03_experiment1.html",
         "04_experiment2.html",
         "06_turning.html",
+        "07_third_edition.html",
     ]
     archived = sorted(p.name for p in (SITE / "archive").glob("*.html"))
     # index.html: the archive's README, saying what each notebook was and how to check it out

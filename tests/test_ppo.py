@@ -8,7 +8,7 @@ import dataclasses
 import numpy as np
 import pytest
 
-from docking.ppo import PPOConfig, trials_in_run
+from docking.ppo import PPOConfig, result_arrays, run_ppo, trials_in_run
 from docking.presets import EXPERIMENT_2
 from docking.store import (
     PPO,
@@ -168,3 +168,17 @@ def test_the_ledger_serves_a_ppo_run_and_refuses_one_of_other_code(tiny_run, tmp
     manifest.write_text(json.dumps(raw))
     with pytest.raises(ledger.StaleLedger, match="ppo runs computed by other code"):
         ledger.load_run(TINY, 0, tmp_path / "empty-store")
+
+
+@pytest.mark.slow
+def test_continuous_actions_take_a_gaussian_policy_and_act_with_its_mean():
+    """A world with a step vector (the paper's future work): PPO learns a Gaussian policy,
+    its greedy held-out actions are vectors in [-1, 1], and a run repeats bit for bit."""
+    from docking.store import content_digest
+
+    world = dataclasses.replace(EXPERIMENT_2.world, actions="continuous")
+    config = dataclasses.replace(TINY, world=world)
+    first, again = run_ppo(config, 3, progress=False), run_ppo(config, 3, progress=False)
+    assert content_digest(result_arrays(first)) == content_digest(result_arrays(again))
+    assert len(first.heldout) == config.heldout_trials
+    assert (first.heldout.actions == -1).all()  # the log's mark of a vector action
