@@ -42,8 +42,9 @@ them; ``tests/test_untested.py`` pins them by a digest of :func:`rules_text`.
   point from the dock's centre) and path (metres walked per docking) each lower with
   continuous actions (paired over seeds), Holm within each claim. The paper's network has
   no natural continuous read-out (its action layer picks one of four units by Eq. 4), so
-  none is added; PPO with continuous actions needs a Gaussian policy, a runner of its own,
-  whose cells join this design as a labelled addendum before their runs.
+  none is added. PPO (a Gaussian policy for the step vector, :mod:`docking.ppo`) learns
+  both, without turns, on :data:`PPO_SEEDS`: its comparisons join the same claims (added
+  before any run of this design, with PPO's continuous actions).
 """
 
 from __future__ import annotations
@@ -58,17 +59,19 @@ from docking.design import Cell, Design, Results, yardstick_config
 from docking.design import rules_text as design_rules_text
 from docking.designs.builders import HELDOUT_TRIALS, net, variant, with_cup
 from docking.experiments import Curriculum, ExperimentConfig
+from docking.ppo import PPOConfig
 from docking.presets import EXPERIMENT_2, FLOOR_WORLD, NAO_WORLD, RELOCATIONS
 
 NAME = "untested"
 #: Fresh seeds (the third edition has 3000-3019 and 3900-3902); findings use the first ten.
 SEEDS = tuple(range(4000, 4020))
-FINDING_SEEDS, YARDSTICK_SEEDS = SEEDS[:10], SEEDS[:5]
+FINDING_SEEDS, YARDSTICK_SEEDS, PPO_SEEDS = SEEDS[:10], SEEDS[:5], SEEDS[:10]
 ALPHA = 0.05
 RELOCATION_MARGIN = 0.05
 REGAIN, HALF = 0.9, 0.5
 CENSORED = 2100  # one curve point beyond the 2000 training trials
 CHECKPOINTS = (250, 1000)
+PPO_STEPS = 2000 * 25
 BETAS = (30.0, 10.0, 3.0)
 PAIRS = (("units576", "local"), ("units576", "epsQ0.3"), ("local", "epsQ0.3"))
 
@@ -240,6 +243,19 @@ def continuous_cells() -> list[Cell]:
                     group, space, config, f"pose oracle, {space} actions", SEEDS, baseline=baseline
                 )
             )
+            if not turning:
+                ppo = PPOConfig(name=NAME, world=w, steps=PPO_STEPS, heldout_trials=HELDOUT_TRIALS)
+                base_ppo = None if space == "discrete" else f"{group}/ppo-discrete"
+                found.append(
+                    _cell(
+                        group,
+                        f"ppo-{space}",
+                        ppo,
+                        f"PPO, {space} actions",
+                        PPO_SEEDS,
+                        baseline=base_ppo,
+                    )
+                )
     return found
 
 
@@ -288,6 +304,11 @@ def metres_per_docking(results: Results, key: str) -> np.ndarray:
 
 P = "paired"
 _CONTINUOUS = ("sideboard", "sideboard-turning", "nao", "nao-turning")
+#: The oracle's comparison in every group, PPO's where it learns (no turns).
+_CONTINUOUS_ENTRIES = {
+    g: (f"{g}/continuous",) + ((f"{g}/ppo-continuous",) if "turning" not in g else ())
+    for g in _CONTINUOUS
+}
 CLAIMS = (
     Claim(
         "relocation",
@@ -313,19 +334,19 @@ CLAIMS = (
         "continuous-accuracy",
         "This should result in even more accuracy",
         "Sec. V",
-        "the final distance from the dock's centre (m) of the pose oracle: discrete minus "
-        "continuous actions",
+        "the final distance from the dock's centre (m) of the pose oracle (and PPO): discrete "
+        "minus continuous actions",
         Above(0.0, method=P),
-        {g: (f"{g}/continuous",) for g in _CONTINUOUS},
+        _CONTINUOUS_ENTRIES,
         measure=final_error_m,
     ),
     Claim(
         "continuous-path",
         "and a shorter path due to exact and oriented movements",
         "Sec. V",
-        "metres walked per docking of the pose oracle: discrete minus continuous actions",
+        "metres walked per docking of the pose oracle (and PPO): discrete minus continuous actions",
         Above(0.0, method=P),
-        {g: (f"{g}/continuous",) for g in _CONTINUOUS},
+        _CONTINUOUS_ENTRIES,
         measure=metres_per_docking,
     ),
     Claim(
