@@ -154,6 +154,8 @@ class Design:
         ``"ends"``, every test and held-out trial's final pose.
       networks: ``{cell key: seeds}``: runs whose W and Q the table keeps besides (as
         ``"networks"`` in :attr:`keep` does for every run).
+      keep_cells: ``{cell key: what}``: what the table keeps of that cell's runs besides
+        :attr:`keep` (e.g. final poses where a measure reads them).
     """
 
     name: str
@@ -168,6 +170,7 @@ class Design:
     whole: dict[str, tuple[int, ...]] = dataclasses.field(default_factory=dict)
     keep: frozenset[str] = frozenset()
     networks: dict[str, tuple[int, ...]] = dataclasses.field(default_factory=dict)
+    keep_cells: dict[str, frozenset[str]] = dataclasses.field(default_factory=dict)
     per_claim: bool = False
 
     def __post_init__(self):
@@ -395,9 +398,9 @@ def ledger_runs(
     found = []
     for c in cells:
         for config, seed in _entries(design, cells, c):
-            keep = design.keep | (
-                {"networks"} if seed in design.networks.get(c.key, ()) else frozenset()
-            )
+            keep = design.keep | design.keep_cells.get(c.key, frozenset())
+            if seed in design.networks.get(c.key, ()):
+                keep |= {"networks"}
             found.append((config, seed, seed in design.whole.get(c.key, ()), keep))
     return found
 

@@ -404,7 +404,8 @@ DESIGN = Design(
     claims=CLAIMS,
     alpha=ALPHA,
     per_claim=True,
-    keep=frozenset({"ends", "lengths"}),
+    # the continuous-actions claims read the final poses and walked distances
+    keep_cells={c.key: frozenset({"ends", "lengths"}) for c in continuous_cells()},
     networks={
         f"sideboard/{k}": NEGLECT_SEEDS
         for k in ("paper", "cup", "trained250", "trained1000", "cup-trained250", "cup-trained1000")
