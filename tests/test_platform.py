@@ -58,6 +58,36 @@ OPENBLAS_CORES = {
 }
 
 
+def _option_configs() -> dict:
+    """Short runs through the world and network options of the third edition and the
+    untested claims: the Nao-like world (its camera height, the whole frame), a forced
+    single winner, a network learning on after a change (``before``), the oracle's
+    continuous steps with turns, and held-out trials in the second room."""
+    from docking.design import yardstick_config
+    from docking.presets import NAO_WORLD
+
+    base = dataclasses.replace(CONFIG, train_trials=40, test_trials=10)
+    winner = dataclasses.replace(base.network, feature_layer="winner", rule="local")
+    changed = dataclasses.replace(base.world, landmark_shape="slab", camera_height=0.42)
+    turning = dataclasses.replace(NAO_WORLD, actions="continuous-turning")
+    return {
+        "nao": dataclasses.replace(base, world=NAO_WORLD),
+        "winner": dataclasses.replace(base, network=winner),
+        "before": dataclasses.replace(base, world=changed, before=base),
+        "continuous": dataclasses.replace(yardstick_config(base, "oracle", 10), world=turning),
+        "second room": dataclasses.replace(
+            base, heldout_world=dataclasses.replace(base.world, room="second")
+        ),
+    }
+
+
+def option_digests() -> dict:
+    return {
+        name: content_digest(result_arrays(run_experiment(c, 5, progress=False)))
+        for name, c in _option_configs().items()
+    }
+
+
 def _libraries() -> dict:
     return {k: v for k, v in module_digests().items() if k.startswith("library ")}
 
@@ -114,6 +144,21 @@ def test_a_run_is_the_same_under_every_openblas_core_type(core):
         pytest.skip(f"not available on this machine: {core}'s kernels need {needs}")
     got = _digest_in_subprocess({"OPENBLAS_CORETYPE": core})
     assert got == recorded["digest"], f"OpenBLAS {core}: another run than the recording"
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("level", ["this process", *sorted(NUMPY_LEVELS)])
+def test_the_options_runs_are_the_same_at_every_numpy_dispatch_level(level):
+    recorded = _recorded()
+    if level == "this process":
+        assert option_digests() == recorded["options"]
+        return
+    features = platform_info.cpu_features()
+    found = [f for f in NUMPY_LEVELS[level] if features.get(f)]
+    if not found:
+        pytest.skip(f"not available on this machine: its CPU has none of {NUMPY_LEVELS[level]}")
+    got = _digest_in_subprocess({"NPY_DISABLE_CPU_FEATURES": " ".join(found)}, "--options")
+    assert json.loads(got) == recorded["options"], f"{level}: other runs than the recording"
 
 
 def test_a_run_is_the_same_without_opencvs_optimised_code():
@@ -196,7 +241,12 @@ if __name__ == "__main__":
             import cv2
 
             cv2.setUseOptimized(False)
-        print(digest())
+        print(json.dumps(option_digests(), sort_keys=True) if "--options" in sys.argv else digest())
     else:  # python tests/test_platform.py: write the recording
-        text = {"python": sys.version.split()[0], "libraries": _libraries(), "digest": digest()}
+        text = {
+            "python": sys.version.split()[0],
+            "libraries": _libraries(),
+            "digest": digest(),
+            "options": option_digests(),
+        }
         RECORDING.write_text(json.dumps(text, indent=1, sort_keys=True) + "\n")
