@@ -897,6 +897,17 @@ def tuning_table(rows: list[dict]) -> str:
     return "\n".join(lines)
 
 
+def paired_over_shared_seeds(results, key: str, baseline: str) -> Interval:
+    """``key`` minus ``baseline`` (per-seed success), paired over the seeds both cells have
+    (their first seeds: every cell of a design draws its seeds from the front of one list),
+    with the paired Student-t interval."""
+    from docking.stats import t_paired_ci
+
+    a, b = results.score(key), results.score(baseline)
+    n = min(len(a), len(b))
+    return t_paired_ci(a[:n], b[:n])
+
+
 @dataclasses.dataclass(frozen=True)
 class ContestGap:
     """The contest's finding in one world: ``other - paper`` (paired over seeds) and what
@@ -911,13 +922,9 @@ class ContestGap:
 def contest_gaps(results, worlds, bound: float, other: str = "linear-tuned") -> list[ContestGap]:
     """Per world: ``other`` minus the tuned paper's learner, paired over the seeds both
     have (Student-t); closed if the interval lies below ``bound``, remains if above it."""
-    from docking.stats import t_paired_ci
-
     found = []
     for world in worlds:
-        a, b = results.score(f"{world}/{other}"), results.score(f"{world}/paper-tuned")
-        n = min(len(a), len(b))
-        ci = t_paired_ci(a[:n], b[:n])
+        ci = paired_over_shared_seeds(results, f"{world}/{other}", f"{world}/paper-tuned")
         verdict = "closed" if ci.high < bound else "remains" if ci.low > bound else "undecided"
         found.append(ContestGap(world, other, ci, verdict))
     return found
@@ -954,13 +961,9 @@ def path_steps(results, steps, bound: float, alpha: float) -> list[PathStep]:
     drop's 95% interval lies below ``bound``, else undecided."""
     from scipy import stats as st
 
-    from docking.stats import holm, t_paired_ci
+    from docking.stats import holm
 
-    drops = []
-    for a, b in steps:
-        x, y = results.score(f"{a}/paper"), results.score(f"{b}/paper")
-        n = min(len(x), len(y))
-        drops.append(t_paired_ci(x[:n], y[:n]))
+    drops = [paired_over_shared_seeds(results, f"{a}/paper", f"{b}/paper") for a, b in steps]
     ps = [
         float(st.t.sf((d.estimate - bound) / d.se, d.df))
         if d.se > 0
