@@ -463,8 +463,7 @@ class Report:
             contest = third_edition.part("contest").run(
                 results_dir=self.results_dir, workers=self.processes
             )
-            names = {w: third_edition.WORLDS[w][0] for w in third_edition.CONTEST}
-            text = report.contest_table(contest, names)
+            text = report.contest_table(contest, report.CONTEST_WORLDS)
             print(text)
             if self.readme is not None:
                 changed |= update_readme(

@@ -389,12 +389,17 @@ def ledger_runs(
     :attr:`Design.keep` and :attr:`Design.networks` say; a stage's cells too (its
     function asked on the runs before it). ``stored_only``: only the cells whose runs the
     results store holds (a design whose runs are under way), and a stage only if the cells
-    before it are all there."""
+    it reads and its own are all there."""
     cells = design.select(full)
     if stored_only:
         cells = [c for c in cells if _stored(design, cells, c, results_dir)]
     if design.stages and len(cells) == len(design.select(full)):
         cells = _with_stages(design, cells, stored_only, results_dir)
+    elif design.stages and stored_only:  # the stages may need only the cells stored so far
+        try:
+            cells = _with_stages(design, cells, stored_only, results_dir)
+        except KeyError:  # a stage asked for a cell not stored yet: none of its cells
+            pass
     found = []
     for c in cells:
         for config, seed in _entries(design, cells, c):

@@ -45,7 +45,6 @@
 # committed rules; their runs come after the contest's.
 
 # %%
-import dataclasses
 
 import numpy as np
 from IPython.display import Image, Markdown, display
@@ -73,12 +72,19 @@ rows = [
     ("camera tilt (deg down)", side.camera.tilt_deg, NAO_WORLD.camera.tilt_deg),
     ("vertical field of view (deg)", side.camera.fovy_deg, NAO_WORLD.camera.fovy_deg),
     ("scene", side.scene, NAO_WORLD.scene),
-    ("docking region, across x deep (m)", f"{side.dock_width:g} x {side.dock_depth:g}",
-     f"{NAO_WORLD.dock_width:g} x {NAO_WORLD.dock_depth:g}"),
+    (
+        "docking region, across x deep (m)",
+        f"{side.dock_width:g} x {side.dock_depth:g}",
+        f"{NAO_WORLD.dock_width:g} x {NAO_WORLD.dock_depth:g}",
+    ),
     ("actions per trial", side.max_steps, NAO_WORLD.max_steps),
 ]
-display(Markdown("| quantity | sideboard world | Nao-like world |\n|---|---|---|\n" + "\n".join(
-    f"| {q} | {a} | {b} |" for q, a, b in rows)))
+display(
+    Markdown(
+        "| quantity | sideboard world | Nao-like world |\n|---|---|---|\n"
+        + "\n".join(f"| {q} | {a} | {b} |" for q, a, b in rows)
+    )
+)
 
 # %% [markdown]
 # The rule fixed with the world: the pose oracle must dock at least 99% of held-out trials
@@ -88,8 +94,10 @@ display(Markdown("| quantity | sideboard world | Nao-like world |\n|---|---|---|
 # %%
 contest = te.part("contest").run(progress=False)
 oracle = contest.score("nao/oracle")
-print(f"pose oracle, Nao-like world, {NAO_WORLD.max_steps} actions: {pct(t_mean_ci(oracle))} "
-      f"per seed {np.round(100 * oracle, 1)}")
+print(
+    f"pose oracle, Nao-like world, {NAO_WORLD.max_steps} actions: {pct(t_mean_ci(oracle))} "
+    f"per seed {np.round(100 * oracle, 1)}"
+)
 assert NAO_WORLD.max_steps == 25 and oracle.mean() >= 0.99  # 25 actions are enough
 
 # %% [markdown]
@@ -113,7 +121,7 @@ for r in tuning:  # the chosen setting is the best of round 2 by its three-seed 
 # task's bound), the one-line centroid rule, always-forward and random actions.
 
 # %%
-names = {w: te.WORLDS[w][0] for w in te.CONTEST}
+names = report.CONTEST_WORLDS  # the worlds' names in tables and figures
 display(Markdown(report.contest_table(contest, names)))
 labels = dict(report.CONTEST_COLUMNS)
 scores = {
@@ -122,8 +130,11 @@ scores = {
     for v, _ in report.CONTEST_COLUMNS
     if f"{w}/{v}" in {c.key for c in contest.cells}
 }
-fig = figures.fig_contest(list(te.CONTEST), [label for _, label in report.CONTEST_COLUMNS],
-                          {(w, label): s for (w, label), s in scores.items()})
+fig = figures.fig_contest(
+    [names[w] for w in te.CONTEST],
+    [label for _, label in report.CONTEST_COLUMNS],
+    {(names[w], label): s for (w, label), s in scores.items()},
+)
 display(Image(save_named(fig, "third_edition_contest")))
 
 # %% [markdown]
@@ -146,11 +157,79 @@ display(Markdown(report.gaps_table(gaps + ppo_gaps)))
 
 # %%
 counts = (5, 10, 20)
-found = {(k, n, b): rule_coverage(k, n, b, seed=n) for k in COVERAGE_KINDS for n in counts
-         for b in (False, True)}
-display(Markdown(
-    "| interval | " + " | ".join(f"n = {n}, {'bimodal' if b else 'Beta'}" for n in counts
-                                   for b in (False, True)) + " |\n|---|" + "---|" * 6 + "\n"
-    + "\n".join(f"| {k} | " + " | ".join(f"{100 * found[k, n, b]:.1f}%" for n in counts
-                                         for b in (False, True)) + " |" for k in COVERAGE_KINDS)))
+found = {
+    (k, n, b): rule_coverage(k, n, b, seed=n)
+    for k in COVERAGE_KINDS
+    for n in counts
+    for b in (False, True)
+}
+display(
+    Markdown(
+        "| interval | "
+        + " | ".join(
+            f"n = {n}, {'bimodal' if b else 'Beta'}" for n in counts for b in (False, True)
+        )
+        + " |\n|---|"
+        + "---|" * 6
+        + "\n"
+        + "\n".join(
+            f"| {k} | "
+            + " | ".join(f"{100 * found[k, n, b]:.1f}%" for n in counts for b in (False, True))
+            + " |"
+            for k in COVERAGE_KINDS
+        )
+    )
+)
 assert all(0.93 <= v <= 0.97 for v in found.values())  # each within 2 points of 95%
+
+# %% [markdown]
+# ## What the contest shows
+#
+# Each sentence below is computed from the runs; the asserts hold what the sentences say.
+
+# %%
+by_world = {g.world: g for g in gaps}
+by_ppo = {g.world: g for g in ppo_gaps}
+mean = lambda key: 100 * float(np.mean(contest.score(key)))  # noqa: E731
+lines = []
+for w in te.CONTEST:
+    chosen = {r["learner"]: r["setting"] for r in tuning if r["world"] == w}
+    lines.append(
+        f"* **{names[w]}:** the paper's learner docks {mean(f'{w}/paper'):.1f}% untuned and "
+        f"{mean(f'{w}/paper-tuned'):.1f}% tuned ({', '.join(f'{k} = {v:g}' for k, v in chosen['paper'].items())}); "
+        f"linear SARSA {mean(f'{w}/linear'):.1f}% and {mean(f'{w}/linear-tuned'):.1f}%; PPO "
+        f"{mean(f'{w}/ppo'):.1f}% and {mean(f'{w}/ppo-tuned'):.1f}%; the pose oracle "
+        f"{mean(f'{w}/oracle'):.1f}%, the centroid rule {mean(f'{w}/centroid'):.1f}%. Tuned linear "
+        f"SARSA minus the tuned paper's learner: {by_world[w].interval.format(unit=' pp')}, the gap "
+        f"**{by_world[w].verdict}**; tuned PPO minus it: {by_ppo[w].interval.format(unit=' pp')}."
+    )
+display(Markdown("\n".join(lines)))
+
+# %% [markdown]
+# **The finding.** Given the same tuning as the others, the paper's learner improves where it
+# was weakest, and in every world the tuned setting has ten times the package's feature
+# learning rate (eps_W = 0.5); but linear SARSA on the same pixels gains as much from the same
+# budget, so tuning does **not** close the gap in the floor world or in the Nao-like world,
+# the one fixed from Nao's published specifications. There, and in the floor world, even the
+# one-line centroid rule docks more often than the tuned paper's learner, while PPO docks in
+# nearly every trial and the pose oracle shows both worlds solvable. Only in the sideboard
+# world, where the package's choices were calibrated, is the gap below the rule's 5 pp, and
+# even there linear SARSA and PPO dock more often.
+
+# %%
+paper_gain = {
+    w: report.paired_over_shared_seeds(contest, f"{w}/paper-tuned", f"{w}/paper")
+    for w in te.CONTEST
+}
+assert paper_gain["floor"].low > 0 and paper_gain["nao"].low > 0  # tuning helps it there
+assert all(r["setting"]["eps_w"] == 0.5 for r in tuning if r["learner"] == "paper")
+assert by_world["floor"].verdict == by_world["nao"].verdict == "remains"
+assert by_world["sideboard"].verdict == "closed" and by_world["sideboard"].interval.low > 0
+assert all(by_ppo[w].interval.low > 0 for w in te.CONTEST)  # PPO ahead everywhere
+for w in ("floor", "nao"):  # the centroid rule ahead of the tuned paper's learner
+    assert (
+        t_mean_ci(contest.score(f"{w}/paper-tuned")).high
+        < t_mean_ci(contest.score(f"{w}/centroid")).low
+    )
+assert min(contest.score(f"{w}/oracle").mean() for w in te.CONTEST) >= 0.99  # solvable
+print({w: paper_gain[w].format(unit=" pp") for w in te.CONTEST})

@@ -64,7 +64,9 @@ def short_built(tmp_path_factory):
     with pytest.MonkeyPatch.context() as mp:
         mp.setenv("DOCKING_LEDGER", "off")
         stored = run_or_load(SHORT, 1, base / "results", progress=False)
-    ledger.update([(SHORT, 1, False, KEEP | {"ends", "lengths"})], base / "ledger", base / "results")
+    ledger.update(
+        [(SHORT, 1, False, KEEP | {"ends", "lengths"})], base / "ledger", base / "results"
+    )
     return base / "ledger", stored
 
 
