@@ -827,26 +827,22 @@ CONTEST_COLUMNS = (
 
 
 def contest_table(results, worlds: dict[str, str]) -> str:
-    """How hard is each world, tuned against tuned (Markdown): per world of ``worlds``
-    (``{key: what it is}``), the held-out success of every column of
-    :data:`CONTEST_COLUMNS` (mean and 95% Student-t interval over its seeds, and how many)."""
+    """How hard is each world, tuned against tuned (Markdown): a row per learner and
+    yardstick of :data:`CONTEST_COLUMNS`, a column per world of ``worlds`` (``{key: its
+    name}``): held-out success, mean and 95% Student-t interval over the row's seeds."""
     from docking.stats import t_mean_ci
 
     run = {c.key for c in results.cells}
     lines = [
-        "| world | " + " | ".join(h for _, h in CONTEST_COLUMNS) + " |",
-        "|---|" + "---|" * len(CONTEST_COLUMNS),
+        "| | seeds | " + " | ".join(worlds.values()) + " |",
+        "|---|---|" + "---|" * len(worlds),
     ]
-    for world, what in worlds.items():
-        values = []
-        for variant, _ in CONTEST_COLUMNS:
-            key = f"{world}/{variant}"
-            if key not in run:
-                values.append("-")
-                continue
-            score = results.score(key)
-            values.append(f"{t_mean_ci(score).format(unit='%')} (n = {len(score)})")
-        lines.append(f"| {what} | " + " | ".join(values) + " |")
+    for variant, label in CONTEST_COLUMNS:
+        keys = [f"{w}/{variant}" for w in worlds]
+        counts = {len(results.score(k)) for k in keys if k in run}
+        values = [t_mean_ci(results.score(k)).format(unit="%") if k in run else "-" for k in keys]
+        seeds = ", ".join(str(n) for n in sorted(counts))
+        lines.append(f"| {label} | {seeds} | " + " | ".join(values) + " |")
     return "\n".join(lines)
 
 
