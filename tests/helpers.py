@@ -19,3 +19,35 @@ TINY = dataclasses.replace(
 )
 #: The seeds of a tiny store.
 SEEDS = (0, 1)
+
+
+def unknown_cells(design) -> list[tuple[str, tuple[str, ...]]]:
+    """The comparisons of ``design``'s claims that name a cell the design does not have:
+    ``[(claim key, the comparison's cells), ...]``."""
+    keys = {c.key for c in design.cells}
+    found = []
+    for claim in design.claims:
+        for entries in claim.cells.values():
+            for entry in entries:
+                names = (entry,) if isinstance(entry, str) else tuple(entry)
+                if not set(names) <= keys:
+                    found.append((claim.key, names))
+    return found
+
+
+def unquoted(claims, paper_text: str, skip=()) -> list[tuple[str, str]]:
+    """The parts (between "...") of each claim's words, a "(finding ...)" prefix left out,
+    that the paper's text does not contain (case and whitespace ignored); claims in
+    ``skip`` are questions of ours, not quotes."""
+    import re
+
+    text = re.sub(r"\s+", " ", paper_text).lower()
+    found = []
+    for claim in claims:
+        if claim.key in skip:
+            continue
+        words = re.sub(r"^\(finding[^)]*\) ", "", claim.words)
+        for part in filter(None, (p.strip() for p in words.split("..."))):
+            if part.lower() not in text:
+                found.append((claim.key, part))
+    return found

@@ -5,11 +5,11 @@ from __future__ import annotations
 
 import dataclasses
 import hashlib
-import re
 from pathlib import Path
 
 import numpy as np
 import pytest
+from helpers import unknown_cells, unquoted
 
 from docking.designs import third_edition, untested
 
@@ -29,12 +29,7 @@ def test_seeds_are_fresh():
 
 
 def test_comparisons_name_cells_of_the_design():
-    keys = {c.key for c in untested.DESIGN.cells}
-    for claim in untested.CLAIMS:
-        for entries in claim.cells.values():
-            for entry in entries:
-                names = (entry,) if isinstance(entry, str) else entry
-                assert set(names) <= keys, (claim.key, names)
+    assert unknown_cells(untested.DESIGN) == []
 
 
 def test_coping_starts_from_the_home_networks_and_shares_their_runs():
@@ -54,13 +49,7 @@ def test_population_holds_eps_w_over_beta_s():
 
 @pytest.mark.skipif(not PAPER.exists(), reason="the paper's text (shared/paper.md) is not here")
 def test_claims_quote_the_paper():
-    text = re.sub(r"\s+", " ", PAPER.read_text()).lower()
-    for claim in untested.CLAIMS:
-        if claim.key in ("mechanism", "coping-linear"):
-            continue  # questions of ours, no sentence of the paper
-        words = re.sub(r"^\(finding[^)]*\) ", "", claim.words)
-        for part in filter(None, (p.strip() for p in words.split("..."))):
-            assert part.lower() in text, (claim.key, part)
+    assert unquoted(untested.CLAIMS, PAPER.read_text(), skip=("mechanism", "coping-linear")) == []
 
 
 @pytest.mark.slow
