@@ -102,6 +102,12 @@ def _cell(group, key, config, label, seeds=None, **kw) -> Cell:
     )
 
 
+def _oracle(group: str, world, label: str) -> Cell:
+    """The pose oracle in ``world`` (yardstick seeds): the proof that the place is solvable."""
+    config = yardstick_config(_base(world), "oracle", HELDOUT_TRIALS)
+    return _cell(group, "oracle", config, label, seeds=YARDSTICK_SEEDS)
+
+
 def relocation_cells() -> list[Cell]:
     home = _base(_HOME, True)  # the networks coping starts from (its learning curve)
     found = [
@@ -121,15 +127,7 @@ def relocation_cells() -> list[Cell]:
                     test_world=world,
                 )
             )
-        found.append(
-            _cell(
-                place,
-                "oracle",
-                yardstick_config(_base(world), "oracle", HELDOUT_TRIALS),
-                f"pose oracle, {place}",
-                seeds=YARDSTICK_SEEDS,
-            )
-        )
+        found.append(_oracle(place, world, f"pose oracle, {place}"))
     return found
 
 
@@ -159,15 +157,7 @@ def coping_cells() -> list[Cell]:
                     test_world=world,
                 )
             )
-        found.append(
-            _cell(
-                change,
-                "oracle",
-                yardstick_config(_base(world), "oracle", HELDOUT_TRIALS),
-                "pose oracle",
-                seeds=YARDSTICK_SEEDS,
-            )
-        )
+        found.append(_oracle(change, world, "pose oracle"))
     return found
 
 
