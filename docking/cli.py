@@ -411,8 +411,9 @@ class Report:
     oracle in every cell), into the README between <!-- experiment3:start --> and
     <!-- experiment3:end -->."""
     third_edition: bool = True
-    """Also the third edition's contest (notebook 07) in the README's summary and its table
-    between <!-- third-edition:start --> and <!-- third-edition:end -->."""
+    """Also the third edition (notebook 07): its contest in the README's summary and its table
+    between <!-- third-edition:start --> and <!-- third-edition:end -->, its verdict table
+    between <!-- verdicts:start --> and <!-- verdicts:end -->."""
     figures: bool = False
     """Also save Figs. 2-5 and the learning curves of Experiments 1 and 2 into figures/
     (or DOCKING_FIGURES)."""
@@ -460,15 +461,18 @@ class Report:
             from docking import report
             from docking.designs import third_edition
 
-            contest = third_edition.part("contest").run(
-                results_dir=self.results_dir, workers=self.processes
-            )
-            text = report.contest_table(contest, report.CONTEST_WORLDS)
-            print(text)
-            if self.readme is not None:
-                changed |= update_readme(
-                    self.readme, text, report.THIRD_EDITION_START, report.THIRD_EDITION_END
-                )
+            contest = third_edition.DESIGN.run(results_dir=self.results_dir, workers=self.processes)
+            for text, start, end in (
+                (
+                    report.contest_table(contest, report.CONTEST_WORLDS),
+                    report.THIRD_EDITION_START,
+                    report.THIRD_EDITION_END,
+                ),
+                (report.design_verdicts(contest), report.VERDICTS_START, report.VERDICTS_END),
+            ):
+                print(text)
+                if self.readme is not None:
+                    changed |= update_readme(self.readme, text, start, end)
         first = rates[comparisons[0].four_key] if comparisons else None
         summary = summary_text(*results, comparisons, first, contest)
         print(summary)
@@ -503,7 +507,7 @@ def _refuse_to_compute(experiment3: bool, results_dir, third_edition: bool = Fal
     from docking.designs import third_edition as te
 
     names = ["paper"] + ["experiment3", "experiment3-oracle"] * experiment3
-    designs = [design(name) for name in names] + [te.part("contest")] * third_edition
+    designs = [design(name) for name in names] + [te.DESIGN] * third_edition
     absent = [job for d in designs for job in absent_runs(d, results_dir)]
     if absent:
         kinds = sorted({j.config.name for j in absent})

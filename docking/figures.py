@@ -1176,3 +1176,60 @@ def fig_contest(
         ax.set_ylim(0, 103)
     axes[0].set_ylabel("held-out success (%), each seed a dot")
     return fig
+
+
+#: A verdict's colour in :func:`fig_verdicts` (anything else, e.g. a finding, is drawn blue).
+VERDICT_COLORS = {
+    "supported": "C2",
+    "contradicted": "C3",
+    "not supported": "0.45",
+    "at the bound": "C1",
+    "not judged": "0.75",
+}
+
+
+def fig_verdicts(panels: list[dict]) -> Figure:
+    """A study's verdicts, one panel per claim: per comparison the 95% interval of its
+    statistic (a bar, the estimate a dot), each seed's paired value (small dots) where the
+    statistic has one per seed, the rule's bound (a dashed line) or margin (shaded), coloured
+    by the decision.
+
+    Args:
+      panels: One dict per claim, top to bottom, with ``title`` (str), ``xlabel`` (the
+        statistic and its unit), ``scale`` (the factor from the statistic to the axis, e.g.
+        100 for a difference of success rates drawn in percentage points), ``bound``
+        (float), ``band`` (``(low, high)`` or None, shaded), and ``rows``: ``(label,
+        interval, verdict, per_seed)`` with a :class:`docking.stats.Interval`, a verdict
+        string (:data:`VERDICT_COLORS`) and the per-seed values or None.
+    """
+    if not panels:
+        raise ValueError("fig_verdicts needs at least one panel")
+    heights = [len(p["rows"]) + 1.6 for p in panels]
+    fig = _new_figure(9.5, 0.36 * sum(heights) + 0.6)
+    axes = np.atleast_1d(fig.subplots(len(panels), 1, height_ratios=heights))
+    for ax, p in zip(axes, panels, strict=True):
+        s, rows = p["scale"], p["rows"]
+        y = np.arange(len(rows))[::-1].astype(float)
+        if p.get("band") is not None:
+            ax.axvspan(s * p["band"][0], s * p["band"][1], color="0.9", zorder=0)
+        ax.axvline(s * p["bound"], color="0.25", lw=0.9, ls="--", zorder=1)
+        for yk, (_, ci, verdict, per_seed) in zip(y, rows, strict=True):
+            color = VERDICT_COLORS.get(verdict, "C0")
+            if per_seed is not None:
+                jitter = np.linspace(-0.2, 0.2, len(per_seed))
+                ax.plot(s * np.asarray(per_seed), yk + jitter, ".", color=color, ms=3, alpha=0.5)
+            ax.plot([s * ci.low, s * ci.high], [yk, yk], color=color, lw=3, solid_capstyle="butt")
+            ax.plot(s * ci.estimate, yk, "o", color=color, ms=6, mec="black", mew=0.6, zorder=3)
+        ax.set_yticks(y, [f"{r[0]}: {r[2]}" for r in rows], fontsize=8)
+        ax.set_ylim(-0.7, len(rows) - 0.3)
+        ax.set_title(p["title"], loc="left", fontsize=9)
+        ax.set_xlabel(p["xlabel"], fontsize=8)
+        ax.tick_params(axis="x", labelsize=8)
+        ax.grid(axis="x", alpha=0.3, lw=0.5)
+    fig.suptitle(
+        "each comparison: its 95% interval (bar), estimate (circle) and seeds (dots), "
+        "coloured by the decision; dashed: the rule's bound; grey: its margin",
+        fontsize=8.5,
+        color="0.3",
+    )
+    return fig

@@ -991,3 +991,104 @@ def path_table(steps: list[PathStep], worlds: dict[str, str]) -> str:
             f"{s.p_adjusted:.2g} | {s.decision} |"
         )
     return "\n".join(lines)
+
+
+#: The markers of the README's verdict table of the third edition (notebook 07).
+VERDICTS_START = "<!-- verdicts:start -->"
+VERDICTS_END = "<!-- verdicts:end -->"
+
+
+def _claim_rows(claims, results, decisions):
+    """Per claim, ``(claim, [(world, interval, verdict), ...])``: a judged claim's
+    comparisons with their decisions in ``decisions``, a finding's with ``"finding"``."""
+    from docking.claims import pair_of
+
+    found = []
+    for claim in claims:
+        rows = []
+        for world, keys in claim.cells.items():
+            for entry in keys:
+                ci, key = claim.interval(results, entry), pair_of(results, entry)[0]
+                verdict = "finding"
+                if claim.judged:
+                    (d,) = [
+                        d
+                        for d in decisions
+                        if d.claim == claim.key and d.world == world and d.key == key
+                    ]
+                    verdict = d.verdict
+                rows.append((world, ci, verdict))
+        found.append((claim, rows))
+    return found
+
+
+def verdict_panels(claims, results, decisions) -> list[dict]:
+    """The panels of :func:`docking.figures.fig_verdicts`, one per claim: each comparison's
+    interval and decision (``decisions``: :func:`docking.claims.judge_family`'s), with the
+    per-seed values where the statistic has them (not for a share of failures)."""
+    from docking.claims import ShareAbove, success
+
+    panels = []
+    for claim, rows in _claim_rows(claims, results, decisions):
+        share, rate = isinstance(claim.rule, ShareAbove), claim.measure is success
+        unit = "% of the failures" if share else " (percentage points)" if rate else ""
+        panels.append(
+            dict(
+                title=f"{claim.key}: {claim.compares}"
+                + ("" if claim.judged else " (a finding, not judged)"),
+                xlabel=(claim.compares.split(":")[0] if not rate else "held-out success") + unit,
+                scale=100.0 if rate else 1.0,
+                bound=claim.rule.bound(),
+                band=claim.rule.band,
+                rows=[(w, ci, v, None if share else ci.values) for w, ci, v in rows],
+            )
+        )
+    return panels
+
+
+def verdicts_table(claims, results, per_claim, family, alpha: float) -> str:
+    """The README's verdict table of a design judged both ways: per claim, the paper's words
+    and section, what is compared, each comparison's paired interval with its decision under
+    Holm within the claim (``per_claim``, the decision rule) and the verdict under one family
+    of every comparison (``family``), at ``alpha``; a finding's intervals, not judged."""
+    from docking.claims import family_verdicts
+
+    within, overall = family_verdicts(claims, per_claim), family_verdicts(claims, family)
+    lines = [
+        f"| the paper's words (section) | compared | per comparison: 95% interval -> decision "
+        f"(Holm within the claim, {alpha:g}) | verdict | verdict, one family |",
+        "|---|---|---|---|---|",
+    ]
+    for claim, rows in _claim_rows(claims, results, per_claim):
+        evidence = "<br>".join(f"{w}: {claim.format(ci)} -> {v}" for w, ci, v in rows)
+        verdicts = (
+            (within[claim.key][0], overall[claim.key][0])
+            if claim.judged
+            else ("finding", "finding")
+        )
+        lines.append(
+            f"| {claim.words} ({claim.source}) | {claim.compares} | {evidence} | "
+            f"{verdicts[0]} | {verdicts[1]} |"
+        )
+    return "\n".join(lines)
+
+
+def design_verdicts(results) -> str:
+    """The verdict table of a design judged by Holm within each claim (``per_claim``)
+    (:func:`verdicts_table`), under the sentence that names its decision rule."""
+    from docking.claims import judge_family
+
+    design = results.design
+    if design.alpha is None or not design.per_claim:
+        raise ValueError(
+            f"design {design.name!r} is not judged by Holm within each claim (alpha "
+            f"{design.alpha}, per_claim {design.per_claim}): its table is verdicts_text's"
+        )
+    family = judge_family(design.claims, results, alpha=design.alpha)
+    per = judge_family(design.claims, results, alpha=design.alpha, per_claim=True)
+    return (
+        "Decision rule, committed before the runs: Holm's adjustment within each claim over "
+        f"its comparisons, at {design.alpha:g}, on paired Student-t intervals over seeds; the "
+        "last column judges the same comparisons as one family.\n\n"
+        + verdicts_table(design.claims, results, per, family, design.alpha)
+    )

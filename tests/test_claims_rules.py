@@ -1,6 +1,9 @@
 """The third edition's rules: the equivalence rule judged against its margin."""
 
+import dataclasses
+
 import numpy as np
+import pytest
 
 from docking import claims
 from docking.stats import Interval
@@ -79,3 +82,31 @@ def test_holm_per_claim_and_one_family_and_the_gate():
     assert sorted(d.p_adjusted for d in per[:2]) == [2 * p[0], max(2 * p[0], p[1])]
     verdicts = claims.family_verdicts([one, gated], per)
     assert verdicts["gated"] == (claims.NOT_JUDGED, {"w": claims.NOT_JUDGED})
+
+
+def test_the_verdict_table_and_figure_show_both_decisions_and_the_findings():
+    from docking import figures, report
+
+    scores = {"a": _seeds(0.9), "a0": _seeds(0.8), "b": _seeds(0.9), "b0": _seeds(0.9)}
+    results = _Results(scores, {"a0": "a", "b0": "b"})
+    rule = claims.Above(0.0, method="paired")
+    one = claims.Claim("one", "the first words", "Sec. I", "a minus a0", rule, {"w1": ("a0",)})
+    two = claims.Claim("two", "more words", "Sec. II", "b minus b0", rule, {"w1": ("b0",)})
+    finding = claims.Claim("f", "(finding) could", "Sec. V", "a minus b0", rule, {"w": ("b0",)})
+    finding = dataclasses.replace(finding, judged=False)
+    found = [one, two, finding]
+    per = claims.judge_family(found, results, per_claim=True)
+    family = claims.judge_family(found, results)
+    table = report.verdicts_table(found, results, per, family, 0.05).splitlines()
+    assert len(table) == 2 + 3  # header, rule, a row per claim
+    assert "w1: 10.0 pp [10.0, 10.0] -> supported | supported | supported |" in table[2]
+    assert table[3].endswith("-> not supported | not supported | not supported |")
+    assert "-> finding | finding | finding |" in table[4]
+    panels = report.verdict_panels(found, results, per)
+    assert [len(p["rows"]) for p in panels] == [1, 1, 1]
+    assert panels[0]["rows"][0][2] == claims.SUPPORTED and panels[0]["scale"] == 100.0
+    assert "not judged" in panels[2]["title"]
+    fig = figures.fig_verdicts(panels)
+    assert len(fig.axes) == 3
+    with pytest.raises(ValueError, match="at least one panel"):
+        figures.fig_verdicts([])
