@@ -66,13 +66,20 @@ __all__ = [
 
 SUPPORTED, NOT_SUPPORTED, CONTRADICTED = "supported", "not supported", "contradicted"
 AT_BOUND = "at the bound"
+NOT_JUDGED = "not judged"
 
 #: How near a deciding interval's end may come to a rule's bound before the verdict is "at
 #: the bound" instead of decided (a fraction: 1 percentage point).
 NEAR_BOUND = 0.01
 
 #: The colour of each verdict in figures (matplotlib colours).
-VERDICT_COLOURS = {SUPPORTED: "C2", NOT_SUPPORTED: "0.45", CONTRADICTED: "C3", AT_BOUND: "C1"}
+VERDICT_COLOURS = {
+    SUPPORTED: "C2",
+    NOT_SUPPORTED: "0.45",
+    CONTRADICTED: "C3",
+    AT_BOUND: "C1",
+    NOT_JUDGED: "0.75",
+}
 
 
 class Rule:
@@ -429,9 +436,6 @@ class Decision:
     p: float
     p_adjusted: float
     verdict: str
-
-
-NOT_JUDGED = "not judged"
 
 
 def judge_family(claims, results, alpha: float = 0.05, per_claim: bool = False) -> list[Decision]:

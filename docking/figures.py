@@ -1178,16 +1178,6 @@ def fig_contest(
     return fig
 
 
-#: A verdict's colour in :func:`fig_verdicts` (anything else, e.g. a finding, is drawn blue).
-VERDICT_COLORS = {
-    "supported": "C2",
-    "contradicted": "C3",
-    "not supported": "0.45",
-    "at the bound": "C1",
-    "not judged": "0.75",
-}
-
-
 def fig_verdicts(panels: list[dict]) -> Figure:
     """A study's verdicts, one panel per claim: per comparison the 95% interval of its
     statistic (a bar, the estimate a dot), each seed's paired value (small dots) where the
@@ -1200,8 +1190,11 @@ def fig_verdicts(panels: list[dict]) -> Figure:
         100 for a difference of success rates drawn in percentage points), ``bound``
         (float), ``band`` (``(low, high)`` or None, shaded), and ``rows``: ``(label,
         interval, verdict, per_seed)`` with a :class:`docking.stats.Interval`, a verdict
-        string (:data:`VERDICT_COLORS`) and the per-seed values or None.
+        string (:data:`docking.claims.VERDICT_COLOURS`; a finding is blue) and the per-seed
+        values or None.
     """
+    from docking.claims import VERDICT_COLOURS
+
     if not panels:
         raise ValueError("fig_verdicts needs at least one panel")
     heights = [len(p["rows"]) + 1.6 for p in panels]
@@ -1214,7 +1207,7 @@ def fig_verdicts(panels: list[dict]) -> Figure:
             ax.axvspan(s * p["band"][0], s * p["band"][1], color="0.9", zorder=0)
         ax.axvline(s * p["bound"], color="0.25", lw=0.9, ls="--", zorder=1)
         for yk, (_, ci, verdict, per_seed) in zip(y, rows, strict=True):
-            color = VERDICT_COLORS.get(verdict, "C0")
+            color = VERDICT_COLOURS.get(verdict, "C0")
             if per_seed is not None:
                 jitter = np.linspace(-0.2, 0.2, len(per_seed))
                 ax.plot(s * np.asarray(per_seed), yk + jitter, ".", color=color, ms=3, alpha=0.5)

@@ -42,14 +42,23 @@
 #   lies below 5 pp, *remains* if it lies above, else undecided.
 #
 # The claims of the paper (the verdicts) are the other part of this edition, under the same
-# committed rules; their runs come after the contest's.
+# committed rules; their runs came after the contest's (second half of this notebook).
+#
+# One label of the rules was corrected after the sideboard world's runs (an erratum, not a
+# rule): the distractor-unseen claim's description named its difference with the wrong sign
+# ("with a red cup minus without"; the statistic is without minus with). Its rule's margin is
+# symmetric, so no decision can move; `tests/test_third_edition.py` checks that this label is
+# the only difference from the committed digest.
 
 # %%
+
+from itertools import pairwise
 
 import numpy as np
 from IPython.display import Image, Markdown, display
 
 from docking import figures, report
+from docking.claims import judge_family
 from docking.designs import third_edition as te
 from docking.presets import NAO_WORLD
 from docking.report import save_named
@@ -92,7 +101,7 @@ display(
 # runs in it:
 
 # %%
-contest = te.part("contest").run(progress=False)
+contest = te.DESIGN.run(progress=False)  # every cell of the edition, the contest's and the claims'
 oracle = contest.score("nao/oracle")
 print(
     f"pose oracle, Nao-like world, {NAO_WORLD.max_steps} actions: {pct(t_mean_ci(oracle))} "
@@ -233,3 +242,96 @@ for w in ("floor", "nao"):  # the centroid rule ahead of the tuned paper's learn
     )
 assert min(contest.score(f"{w}/oracle").mean() for w in te.CONTEST) >= 0.99  # solvable
 print({w: paper_gain[w].format(unit=" pp") for w in te.CONTEST})
+
+
+# %% [markdown]
+# ## The paper's claims: the verdicts
+#
+# Each claim quotes the paper with its section. Every comparison pairs two arms that share
+# each seed's networks or held-out streams, by seed (Student-t over the per-seed
+# differences). **The decision rule, committed before the runs:** Holm's adjustment within
+# each claim over its comparisons (its worlds) at 0.05; a comparison is *supported* or
+# *contradicted* when its adjusted p-value is below 0.05, on the side its interval lies, and
+# *at the bound* when the deciding end of its interval lies within 0.5 pp of the rule's
+# bound. The reason: the claims are separate sentences of the paper, each a question of its
+# own, and one family of every comparison would let the number of other questions decide
+# each one. Beside it, one family of every comparison (Holm over all of them). Rotation is
+# judged only where the paper's learner docks at least 80% (elsewhere its failures have
+# other causes: *not judged*). The SOM and the non-local terms are **findings**: the paper
+# says a SOM "could be used" and that the non-local terms were included "mostly because of
+# the necessity when performing vanilla gradient descent"; neither sentence claims that one
+# is better, so both are measured and shown, not judged.
+
+# %%
+results = contest
+per_claim = judge_family(te.CLAIMS, results, alpha=te.ALPHA, per_claim=True)
+family = judge_family(te.CLAIMS, results, alpha=te.ALPHA)
+display(Markdown(report.design_verdicts(results)))
+fig = figures.fig_verdicts(report.verdict_panels(te.CLAIMS, results, per_claim))
+display(Image(save_named(fig, "third_edition_verdicts")))
+
+# %% [markdown]
+# ## Interpretability, in Experiment 1 too
+#
+# Per network, each winning unit's weights correlated with the mean of the start views it
+# wins (units that win at least 20 of 1500 views), averaged over its units: learned W against
+# the same seed's random start (W frozen). Mean over seeds, 95% interval:
+
+# %%
+fid = {
+    w: (te.fidelity(results, f"{w}/paper"), te.fidelity(results, f"{w}/frozen"))
+    for w in ("experiment1", *te.VERDICT_WORLDS)
+}
+display(
+    Markdown(
+        "| world | seeds | learned W | W frozen (its random start) |\n|---|---|---|---|\n"
+        + "\n".join(
+            f"| {w} | {len(a)} | {t_mean_ci(a).format(scale=1.0, digits=3)} | "
+            f"{t_mean_ci(b).format(scale=1.0, digits=3)} |"
+            for w, (a, b) in fid.items()
+        )
+    )
+)
+
+# %% [markdown]
+# ## Turning: the paper's prediction, on accuracy and path length
+#
+# Six actions (turn left and right added), trained 4x as long as the four-action learner, in
+# the sideboard world: over the held-out trials that docked, the |heading error| at docking
+# and the actions per docking, beside held-out success.
+
+# %%
+turning = {
+    k: (
+        results.score(k),
+        te.heading_error_deg(results, k),
+        te.actions_per_docking(results, k),
+    )
+    for k in ("sideboard/paper", "sideboard/six-long")
+}
+display(
+    Markdown(
+        "| learner | held-out success | abs. heading error at docking (deg) | actions per docking |\n"
+        "|---|---|---|---|\n"
+        + "\n".join(
+            f"| {k} | {pct(t_mean_ci(s))} | {t_mean_ci(h).format(scale=1.0, digits=2)} | "
+            f"{t_mean_ci(a).format(scale=1.0, digits=2)} |"
+            for k, (s, h, a) in turning.items()
+        )
+    )
+)
+
+# %% [markdown]
+# ## The path from the sideboard world to the floor world, one factor at a time
+#
+# The paper's learner (untuned) in each world, and its drop from one world to the next,
+# paired by seed (10 seeds). A factor *breaks* the learner if Holm's p-value for "the drop
+# exceeds 5 pp" (over the four steps; the two branches towards 8 cm steps a family of their
+# own) is below 0.05; it *does not* if the drop's interval lies below 5 pp; else undecided.
+
+# %%
+what = {k: v[0] for k, v in te.WORLDS.items()}
+steps = report.path_steps(results, list(pairwise(te.PATH)), te.BREAK_DROP, te.ALPHA)
+branches = report.path_steps(results, te.BRANCHES, te.BREAK_DROP, te.ALPHA)
+display(Markdown(report.path_table(steps + branches, what)))
+print({w: pct(t_mean_ci(results.score(f"{w}/paper")[: len(te.PATH_SEEDS)])) for w in te.WORLDS})

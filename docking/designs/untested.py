@@ -305,7 +305,7 @@ CLAIMS = (
         "the robot is able to navigate to any position, where a landmark with the same "
         "geometrical properties is located",
         "Sec. IV",
-        "held-out success of the home networks in the new place minus at home",
+        "held-out success of the home networks at home minus in the new place",
         Equivalent(RELOCATION_MARGIN, method=P),
         {place: (f"{place}/paper",) for place in RELOCATIONS},
     ),
