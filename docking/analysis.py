@@ -691,3 +691,95 @@ def path_drops(success: list[np.ndarray]) -> list:
     if len(success) < 2:
         raise ValueError("a path needs at least two worlds")
     return [t_difference_ci(a, b) for a, b in zip(success[:-1], success[1:], strict=True)]
+
+
+class Ambiguity(NamedTuple):
+    """What one 32x10 input cannot tell apart (:func:`ambiguous_views`): of ``views`` start
+    views, ``shared`` have an input that at least one other start view has too;
+    ``ambiguous`` are in such a group whose poses the pose oracle answers with different
+    actions (no policy of the input alone can act as the oracle on all of them); ``groups``
+    holds the poses (``(m, 3)``) of each such group."""
+
+    views: int
+    shared: int
+    ambiguous: int
+    groups: tuple[np.ndarray, ...]
+
+
+def ambiguous_views(world: WorldConfig, n: int = 1500, seed: int = 0) -> Ambiguity:
+    """Count the start views of ``world`` whose network input (the 10x32 observation, byte
+    for byte) another start view shares while the pose oracle
+    (:func:`docking.oracle.oracle_action`) acts differently at the two poses: the
+    ambiguities that the paper's "population" coding "might be useful for resolving" (Sec.
+    III). ``n`` start poses from ``DockingEnv(world, seed).reset()`` (every start view shows
+    the landmark)."""
+    from docking.oracle import oracle_action
+    from docking.world import DockingEnv
+
+    if n < 2:
+        raise ValueError(f"ambiguous_views needs n >= 2 views, got {n}")
+    env = DockingEnv(world, seed=seed)
+    groups: dict[bytes, list[np.ndarray]] = {}
+    for _ in range(n):
+        obs = np.ascontiguousarray(env.reset().observation)
+        groups.setdefault(obs.tobytes(), []).append(env.pose.copy())
+    env.close()
+    shared = sum(len(g) for g in groups.values() if len(g) > 1)
+    mixed = tuple(
+        np.array(g) for g in groups.values() if len({oracle_action(p, world) for p in g}) > 1
+    )
+    return Ambiguity(n, shared, sum(len(g) for g in mixed), mixed)
+
+
+#: The parts of a view that :func:`weight_mass` tells apart.
+MASS_PARTS = ("landmark", "distractor", "background")
+
+
+def weight_mass(
+    net: Network,
+    world: WorldConfig,
+    n: int = 1500,
+    seed: int = 0,
+    min_views: int = 20,
+) -> np.ndarray:
+    """Where the winning feature units put their weight: the shares of ``|W_j|`` on the
+    landmark's pixels, the distractor's and the background's (:data:`MASS_PARTS`), averaged
+    over the units that win at least ``min_views`` of ``n`` start views of ``world`` (the
+    world with the distractor), weighted by the views each wins.
+
+    A block of the 32x10 input is the landmark's in a view by its red fraction in the same
+    world without its distractors, rendered at the same pose; the distractor's by what the
+    distractors add; the rest is background. Per unit the parts are the means over
+    the views it wins, so a unit's shares are ``sum |W_j| * part / sum |W_j|``. At W's random
+    start the shares are the parts' areas; a unit that learns to neglect the distractor moves
+    mass onto the landmark and off the distractor. NaN shares if no unit wins ``min_views``."""
+    from docking.world import DockingEnv
+
+    if n < 1 or min_views < 1:
+        raise ValueError(f"weight_mass needs n >= 1 and min_views >= 1, got {n}, {min_views}")
+    if not world.distractors:
+        raise ValueError("weight_mass needs a world with a distractor (WorldConfig.distractors)")
+    without = dataclasses.replace(world, distractors=())
+    env, bare = DockingEnv(world, seed=seed), DockingEnv(without, seed=seed)
+    shape = (net.config.n_features,) + world.camera.input_shape
+    sums = {p: np.zeros(shape) for p in MASS_PARTS[:2]}
+    counts = np.zeros(net.config.n_features, dtype=np.int64)
+    for _ in range(n):
+        obs = env.reset().observation
+        landmark = np.minimum(bare.reset_to(env.pose).observation, obs)
+        j = int(np.argmax(net.features(net.prepare(obs))))
+        sums["landmark"][j] += landmark
+        sums["distractor"][j] += obs - landmark
+        counts[j] += 1
+    env.close()
+    bare.close()
+    units = np.flatnonzero(counts >= min_views)
+    if not len(units):
+        return np.full(len(MASS_PARTS), np.nan)
+    weights = np.abs(net.W[units])  # (units, inputs)
+    shares = []
+    for part in MASS_PARTS[:2]:
+        mean = (sums[part][units] / counts[units, None, None]).reshape(len(units), -1)
+        shares.append((weights * mean).sum(axis=1) / weights.sum(axis=1))
+    shares.append(1.0 - shares[0] - shares[1])
+    return np.average(np.stack(shares, axis=1), axis=0, weights=counts[units])

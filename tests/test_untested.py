@@ -73,3 +73,48 @@ def test_relocations_change_no_view_and_the_changes_do():
     for change, world in untested.CHANGES.items():
         if change != "actuator":  # a step length changes no view
             assert (views(world) != at_home).any(axis=(1, 2)).mean() > 0.9, change
+
+
+def test_ambiguous_views_are_poses_with_one_input_and_different_oracle_actions():
+    """Each group of ambiguous start views re-renders to one input byte for byte, and the
+    pose oracle acts differently on its poses."""
+    from docking.analysis import ambiguous_views
+    from docking.oracle import oracle_action
+    from docking.presets import EXPERIMENT_2
+    from docking.world import DockingEnv
+
+    world = EXPERIMENT_2.world
+    found = ambiguous_views(world, n=300)
+    assert found.views == 300 and found.ambiguous <= found.shared <= found.views
+    assert found.groups and found.ambiguous == sum(len(g) for g in found.groups)
+    env = DockingEnv(world, seed=1)
+    for poses in found.groups:
+        inputs = {env.reset_to(p).observation.tobytes() for p in poses}
+        assert len(inputs) == 1 and len({oracle_action(p, world) for p in poses}) > 1
+    env.close()
+    with pytest.raises(ValueError, match="n >= 2"):
+        ambiguous_views(world, n=1)
+
+
+def test_weight_mass_moves_onto_the_landmark_when_W_draws_it():
+    """At W's random start the shares are the parts' areas; with every unit's weights set to
+    the mean landmark view it wins, the landmark's share rises and the distractor's falls."""
+    from docking.analysis import MASS_PARTS, mean_winning_inputs, weight_mass
+    from docking.designs.builders import with_cup
+    from docking.experiments import initial_network
+    from docking.presets import EXPERIMENT_2
+
+    world = with_cup(EXPERIMENT_2.world)
+    net = initial_network(EXPERIMENT_2, 0)
+    start = weight_mass(net, world, n=150, min_views=3)
+    assert start.shape == (len(MASS_PARTS),) and abs(start.sum() - 1) < 1e-12
+    assert (start >= 0).all() and start[2] > start[0]  # mostly background
+    views = mean_winning_inputs(net, EXPERIMENT_2.world, n=150, seed=0)
+    drawn = net.W.copy()
+    won = views.unit_counts > 0
+    drawn[won] = views.unit_mean[won].reshape(int(won.sum()), -1) + 1e-6
+    net.W[:] = drawn
+    learned = weight_mass(net, world, n=150, min_views=3)
+    assert learned[0] > 2 * start[0] and learned[1] < start[1]
+    with pytest.raises(ValueError, match="distractor"):
+        weight_mass(net, EXPERIMENT_2.world, n=10)
