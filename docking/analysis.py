@@ -19,6 +19,7 @@ it. Nothing here draws or writes files.
 from __future__ import annotations
 
 import dataclasses
+import functools
 import warnings
 from typing import TYPE_CHECKING, NamedTuple
 
@@ -181,9 +182,11 @@ def decisions(net: Network, observations) -> Decisions:
     )
 
 
+@functools.lru_cache(maxsize=8)
 def start_views(world: WorldConfig, n: int, seed: int) -> np.ndarray:
     """``(n, rows, cols)`` network inputs at ``n`` start poses of ``world``'s start region
-    (``DockingEnv(world, seed).reset()``, one rendered frame each)."""
+    (``DockingEnv(world, seed).reset()``, one rendered frame each), read-only: kept for the
+    last few worlds asked for, since every network of a world is read on the same views."""
     from docking.world import DockingEnv
 
     if n < 1:
@@ -191,6 +194,7 @@ def start_views(world: WorldConfig, n: int, seed: int) -> np.ndarray:
     env = DockingEnv(world, seed=seed)
     views = np.array([env.reset().observation for _ in range(n)])
     env.close()
+    views.flags.writeable = False
     return views
 
 
@@ -263,6 +267,16 @@ class MeanInputs(NamedTuple):
     unit_counts: np.ndarray  # (n_features,) int64
 
 
+def _views_at(world: WorldConfig, poses: np.ndarray) -> np.ndarray:
+    """The observations of ``world`` at each of ``poses``."""
+    from docking.world import DockingEnv
+
+    env = DockingEnv(world, seed=0)
+    views = np.array([env.reset_to(p).observation for p in poses])
+    env.close()
+    return views
+
+
 def mean_winning_inputs(
     net: Network, world: WorldConfig, n: int = 1500, seed: int = 0, poses=None
 ) -> MeanInputs:
@@ -274,29 +288,27 @@ def mean_winning_inputs(
     action (``argmax_i h_i``, Eq. 3). With ``poses`` (``(m, 3)``, e.g. every pose of logged
     trials) the views are those at ``poses`` instead, and ``n`` and ``seed`` are not used.
     """
-    from docking.world import DockingEnv
-
     if poses is not None:
         poses = np.asarray(poses, dtype=np.float64)
         if poses.ndim != 2 or poses.shape[1] != 3 or len(poses) == 0:
             raise ValueError(f"poses must be a non-empty (m, 3) array, got shape {poses.shape}")
+        views = _views_at(world, poses)
     elif n < 1:
         raise ValueError(f"n must be >= 1, got {n}")
-    env = DockingEnv(world, seed=seed)
+    else:
+        views = start_views(world, n, seed)
     shape = world.camera.input_shape
     n_act, n_feat = net.config.n_actions, net.config.n_features
     action_sum, unit_sum = np.zeros((n_act,) + shape), np.zeros((n_feat,) + shape)
     action_counts = np.zeros(n_act, dtype=np.int64)
     unit_counts = np.zeros(n_feat, dtype=np.int64)
-    for k in range(n if poses is None else len(poses)):
-        obs = (env.reset() if poses is None else env.reset_to(poses[k])).observation
+    for obs in views:
         s = net.features(net.prepare(obs))
         j, i = int(np.argmax(s)), int(np.argmax(arith.matvec(net.Q, s)))
         unit_sum[j] += obs
         unit_counts[j] += 1
         action_sum[i] += obs
         action_counts[i] += 1
-    env.close()
     with np.errstate(invalid="ignore", divide="ignore"):
         action_mean = np.nan_to_num(action_sum / action_counts[:, None, None])
         unit_mean = np.nan_to_num(unit_sum / unit_counts[:, None, None])

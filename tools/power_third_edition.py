@@ -68,7 +68,8 @@ def main() -> None:
     t = stats.t.ppf(0.975, 18)
     print(
         "| claim | world | 2nd ed. estimate (pp) | per-seed sd (pp) | effect targeted (pp) "
-        "| level | seeds | power at 10 seeds |\n|---|---|---|---|---|---|---|---|"
+        "| level | seeds for the power | power at 10 seeds | at 20 seeds |\n"
+        "|---|---|---|---|---|---|---|---|---|"
     )
     for claim, comparisons in verdict_rows():
         alpha = 0.05 / len(comparisons)
@@ -79,7 +80,8 @@ def main() -> None:
             shown = f"> {args.most}" if seeds is None else str(seeds)
             print(
                 f"| {claim[:60]} | {world} | {estimate:+.1f} | {sd:.1f} | {effect:.1f} | "
-                f"{alpha:.3g} | {shown} | {power(10, effect, sd, alpha):.2f} |"
+                f"{alpha:.3g} | {shown} | {power(10, effect, sd, alpha):.2f} | "
+                f"{power(20, effect, sd, alpha):.2f} |"
             )
 
 
