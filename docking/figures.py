@@ -1191,7 +1191,8 @@ def fig_verdicts(panels: list[dict]) -> Figure:
         (float), ``band`` (``(low, high)`` or None, shaded), and ``rows``: ``(label,
         interval, verdict, per_seed)`` with a :class:`docking.stats.Interval`, a verdict
         string (:data:`docking.claims.VERDICT_COLOURS`; a finding is blue) and the per-seed
-        values or None.
+        values or None; optionally ``reference``, ``(value, label)``, drawn dotted (e.g.
+        where another learner stands).
     """
     from docking.claims import VERDICT_COLOURS
 
@@ -1206,6 +1207,18 @@ def fig_verdicts(panels: list[dict]) -> Figure:
         if p.get("band") is not None:
             ax.axvspan(s * p["band"][0], s * p["band"][1], color="0.9", zorder=0)
         ax.axvline(s * p["bound"], color="0.25", lw=0.9, ls="--", zorder=1)
+        if p.get("reference") is not None:  # (value, label): e.g. another learner's level
+            value, label = p["reference"]
+            ax.axvline(s * value, color="C0", lw=1.2, ls=":", zorder=1)
+            ax.annotate(
+                label,
+                (s * value, 1.0),
+                xycoords=("data", "axes fraction"),
+                xytext=(3, -9),
+                textcoords="offset points",
+                fontsize=7,
+                color="C0",
+            )
         for yk, (_, ci, verdict, per_seed) in zip(y, rows, strict=True):
             color = VERDICT_COLOURS.get(verdict, "C0")
             if per_seed is not None:
@@ -1225,4 +1238,48 @@ def fig_verdicts(panels: list[dict]) -> Figure:
         fontsize=8.5,
         color="0.3",
     )
+    return fig
+
+
+def fig_coping(
+    changes: list[str],
+    curves: dict[tuple[str, str, str], tuple[np.ndarray, np.ndarray]],
+    levels: dict[str, float],
+) -> Figure:
+    """Coping with change: per change (one panel each), the learning curves (greedy test
+    success against training trials, mean over seeds) of a fresh network (dashed) and of the
+    home network learning on (solid), per learner (a colour each), with the level each
+    learner must regain (dotted: a share of its home success).
+
+    Args:
+      changes: Panel titles, left to right.
+      curves: ``{(change, learner, "fresh" | "relearn"): (trials, success)}`` with
+        ``success`` of shape ``(seeds, points)``.
+      levels: ``{learner: the level to regain}`` (fractions).
+    """
+    if not changes or not curves:
+        raise ValueError("fig_coping needs at least one change and one curve")
+    fig = _new_figure(3.8 * len(changes) + 0.4, 3.6)
+    axes = np.atleast_1d(fig.subplots(1, len(changes), sharey=True))
+    colours = {learner: f"C{k}" for k, learner in enumerate(levels)}
+    for ax, change in zip(axes, changes, strict=True):
+        for (c, learner, kind), (trials, success) in curves.items():
+            if c != change:
+                continue
+            ax.plot(
+                trials,
+                100 * np.mean(success, axis=0),
+                color=colours[learner],
+                ls="-" if kind == "relearn" else "--",
+                lw=1.6,
+                label=f"{learner}, {'home network learning on' if kind == 'relearn' else 'fresh'}",
+            )
+        for learner, level in levels.items():
+            ax.axhline(100 * level, color=colours[learner], lw=0.8, ls=":")
+        ax.set_title(change, fontsize=10)
+        ax.set_xlabel("training trials in the changed world")
+        ax.grid(alpha=0.3, lw=0.5)
+        ax.set_ylim(0, 103)
+    axes[0].set_ylabel("greedy test success (%), mean over seeds")
+    axes[0].legend(fontsize=7, loc="lower right")
     return fig

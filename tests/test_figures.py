@@ -257,3 +257,32 @@ def test_the_summary_quotes_the_runs_and_the_world_they_hold_in(result1, result2
     assert "in 2 of Experiment 3's 2 cells; six minus four actions ranges from -20.0 to" in text
     text = report.summary_text([result1], [result2], [Pair(-0.2), Pair(0.01)])
     assert "**Mixed.**" in text and "in 1 of Experiment 3's 2 cells" in text
+
+
+def test_fig_coping_draws_fresh_and_relearning_curves_per_change():
+    trials = np.arange(0, 2001, 100)
+    rise = np.clip(trials / 1000, 0, 1)
+    curves = {
+        (c, learner, kind): (trials, np.vstack([rise * (0.9 if kind == "fresh" else 1.0)] * 3))
+        for c in ("object", "sensor")
+        for learner in ("paper", "linear")
+        for kind in ("fresh", "relearn")
+    }
+    fig = figures.fig_coping(["object", "sensor"], curves, {"paper": 0.85, "linear": 0.9})
+    assert len(fig.axes) == 2
+    assert len(fig.axes[0].lines) == 4 + 2  # four curves, two levels
+    with pytest.raises(ValueError, match="at least one change"):
+        figures.fig_coping([], curves, {})
+
+
+def test_fig_verdicts_draws_a_reference_where_asked():
+    from docking.stats import t_paired_ci
+
+    ci = t_paired_ci([0.5, 0.6, 0.7], [0.4, 0.4, 0.5])
+    panel = dict(title="t", xlabel="x", scale=100.0, bound=0.0, band=None)
+    bare = figures.fig_verdicts([dict(panel, rows=[("w", ci, "finding", ci.values)])])
+    drawn = figures.fig_verdicts(
+        [dict(panel, rows=[("w", ci, "finding", ci.values)], reference=(0.3, "linear SARSA"))]
+    )
+    assert len(drawn.axes[0].lines) == len(bare.axes[0].lines) + 1
+    assert any(t.get_text() == "linear SARSA" for t in drawn.axes[0].texts)
