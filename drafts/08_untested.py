@@ -33,6 +33,7 @@ from IPython.display import Image, Markdown, display
 
 from docking import analysis, figures, report
 from docking.claims import judge_family
+from docking.designs import measures
 from docking.designs import untested as ut
 from docking.presets import EXPERIMENT_2
 from docking.report import save_named
@@ -234,8 +235,8 @@ for g in groups:
                 continue
             lines.append(
                 f"| {g} | {learner} | {space} | {pct(mean(key))} | "
-                f"{t_mean_ci(ut.final_error_m(results, key)).format(scale=100.0)} | "
-                f"{t_mean_ci(ut.metres_per_docking(results, key)).format(scale=1.0, digits=2)} |"
+                f"{t_mean_ci(measures.final_error_m(results, key)).format(scale=100.0)} | "
+                f"{t_mean_ci(measures.metres_per_docking(results, key)).format(scale=1.0, digits=2)} |"
             )
 display(Markdown("\n".join(lines)))
 

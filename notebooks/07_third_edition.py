@@ -59,6 +59,7 @@ from IPython.display import Image, Markdown, display
 
 from docking import figures, report
 from docking.claims import judge_family
+from docking.designs import measures
 from docking.designs import third_edition as te
 from docking.presets import NAO_WORLD
 from docking.report import save_named
@@ -117,7 +118,7 @@ assert NAO_WORLD.max_steps == 25 and oracle.mean() >= 0.99  # 25 actions are eno
 # (`#0` is each learner's default).
 
 # %%
-tuning = report.tuning_rows(contest, te.CONTEST, te.LEARNERS, te.GRIDS, te.tuned_setting)
+tuning = report.tuning_rows(contest, te.CONTEST, te.LEARNERS, te.GRIDS, te.TUNING.tuned_setting)
 display(Markdown(report.tuning_table(tuning)))
 for r in tuning:  # the chosen setting is the best of round 2 by its three-seed mean
     assert r["chosen"] in r["round2"] and r["round2"][r["chosen"]] == max(r["round2"].values())
@@ -332,8 +333,8 @@ display(
 turning = {
     k: (
         results.score(k),
-        te.heading_error_deg(results, k),
-        te.actions_per_docking(results, k),
+        measures.heading_error_deg(results, k),
+        measures.actions_per_docking(results, k),
     )
     for k in ("sideboard/paper", "sideboard/six-long")
 }

@@ -61,3 +61,51 @@ def test_a_design_under_way_writes_what_is_stored(store):
     assert [(c.network.eps_q, s) for c, s, _, _ in found] == [(0.1, 0)]  # no stage yet
     with pytest.raises(LookupError, match="cell 'b'.*--under-way tiny-stages"):
         ledger_runs(DESIGN)
+
+
+def test_tuning_keeps_the_best_settings_and_tunes_to_the_best_mean():
+    """Round 2 keeps the best ``keep`` settings of round 1 (ties in grid order); the tuned
+    setting is the best mean over every tuning seed, which round 2 can reorder."""
+    import dataclasses
+
+    import numpy as np
+
+    from docking.design import Cell
+    from docking.designs.builders import Tuning
+    from docking.presets import EXPERIMENT_1
+
+    def make(world, learner, **setting):
+        network = dataclasses.replace(EXPERIMENT_1.network, **setting)
+        return dataclasses.replace(EXPERIMENT_1, network=network)
+
+    def cell(world, key, config, label, seeds=None):
+        return Cell(f"{world}/{key}", config, {"world": world, "variant": key}, label, seeds=seeds)
+
+    grids = {"paper": [dict(eps_q=q) for q in (0.1, 0.2, 0.3, 0.4)]}
+    tuning = Tuning(("w",), grids, (7, 8, 9), 2, make, cell, judged_seeds={"paper": (1, 2)})
+    assert tuning.runs == 4 + 2 * 2
+    round1 = tuning.round1("w", "paper")
+    assert [c.key for c in round1] == [f"w/tune-paper-{i}" for i in range(4)]
+    assert all(c.seeds == (7,) for c in round1)
+    scores = {"w/tune-paper-0": [0.5], "w/tune-paper-1": [0.9], "w/tune-paper-2": [0.9]}
+    scores["w/tune-paper-3"] = [0.1]
+
+    class Results:
+        def __init__(self, cells):
+            self.cells = cells
+
+        def cell(self, key):
+            return next(c for c in self.cells if c.key == key)
+
+        def score(self, key):
+            return np.array(scores[key])
+
+    round2 = tuning.stages()[0](Results(round1))
+    assert [c.key for c in round2] == ["w/tune-paper-1/round2", "w/tune-paper-2/round2"]
+    assert all(c.seeds == (8, 9) for c in round2)
+    scores.update({"w/tune-paper-1/round2": [0.5, 0.5], "w/tune-paper-2/round2": [0.8, 0.9]})
+    results = Results(round1 + round2)
+    assert tuning.tuned_setting(results, "w", "paper") == 2
+    (tuned,) = tuning.stages()[1](results)
+    assert tuned.key == "w/paper-tuned" and tuned.seeds == (1, 2)
+    assert tuned.config.network.eps_q == 0.3

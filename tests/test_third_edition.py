@@ -50,7 +50,7 @@ def test_every_learner_gets_the_same_tuning_budget():
             tuning = [c for c in cells if c.key.startswith(f"{world}/tune-{learner}-")]
             assert len(tuning) == te.GRID_SIZE
             assert all(c.seeds == te.TUNING_SEEDS[:1] for c in tuning)
-    assert te.TUNING_RUNS == 15
+    assert te.TUNING.runs == 15
 
 
 def test_each_grid_starts_with_the_untuned_setting():

@@ -1,45 +1,17 @@
 """The study, third edition: confirmatory, on fresh seeds, in a fair contest (issue 30).
 
-**These rules are committed before any run of this edition** (the git history shows the
-order) and are not changed after seeing its runs; a new rule is a new, labelled analysis.
-``tests/test_third_edition.py`` pins them by a digest of :func:`rules_text`.
-
-* Fresh seeds (:data:`SEEDS`): no earlier run of the package used a seed above 9.
-* Worlds: the sideboard world (tuned towards the paper's numbers), the floor world, and the
-  Nao-like world fixed from Nao's published specifications (docs/guide/nao_world.md;
-  :data:`~docking.presets.NAO_WORLD`). Its trial length stays the paper's 25 actions: the
-  rule fixed there asks the pose oracle for 99% first, and it docked 2499 of 2500 held-out
-  trials (seeds 3000-3004) at 25 actions, before any learner ran in it.
-* The contest (:func:`contest_cells`, :func:`tuning_stages`): in each of :data:`CONTEST`,
-  the paper's learner, linear SARSA and PPO each get the same tuning budget, a successive
-  halving over a grid of :data:`GRID_SIZE` settings (:data:`GRIDS`, each learner's default
-  first): every setting trained once on tuning seed :data:`TUNING_SEEDS` [0], the best
-  :data:`ROUND_2` (held-out success on the tuning seeds' own held-out streams, which no
-  judged run uses; ties: grid order) on the other two tuning seeds, and the best mean over
-  the three is the tuned setting: :data:`TUNING_RUNS` full training runs per learner and
-  world. Tuned and untuned learners are then judged on :data:`SEEDS`.
-* Claims (:data:`CLAIMS`), each quoting the paper: paired Student-t intervals over seeds
-  wherever two arms share a seed's networks or held-out streams (every comparison here);
-  the decision rule is **Holm's adjustment within each claim over its comparisons** at
-  :data:`ALPHA`, with one family of every judged comparison reported beside it. Contradicted
-  only where the interval excludes what the sentence says. Rotation is judged only in a
-  world where the paper's learner docks at least :data:`ROTATION_MIN_SUCCESS`.
-* The path (:data:`PATH`): the paper's learner's drop from each world to the next, paired
-  over :data:`PATH_SEEDS`; a factor *breaks* the learner if Holm's p-value (over the four
-  steps; the two branches a family of their own) for "the drop exceeds :data:`BREAK_DROP`"
-  is below :data:`ALPHA`, *does not* if the drop's interval lies below it, else undecided.
-* The contest's finding (a finding about the learners, not a verdict on a sentence of the
-  paper): in each contest world the gap is tuned linear SARSA minus the tuned paper's
-  learner (paired over :data:`SEEDS`); *closed* if its 95% interval lies below
-  :data:`GAP_CLOSED`, *remains* if it lies above it, else undecided.
-* Interpretability (:func:`fidelity`): per network, each winning unit's weights against the
-  mean of the views it wins (:data:`FIDELITY_VIEWS` start views of the world, the same for
-  every network; a unit counts if it wins :data:`FIDELITY_MIN_VIEWS`), learned against the
-  same seed's random start. Turning (Sec. V's prediction): the |heading error| at docking
-  and the actions per docking of the held-out trials that docked.
-* Not asked again here (the budget): the learning curves and sample efficiency, near-only
-  and competitive-learning two-stage findings, eps_W x10 and x100, linear SARSA and PPO in
-  the path's intermediate worlds (the yardstick rules are there).
+**These rules were committed before any run of this edition** and are not changed after
+seeing its runs (``tests/test_third_edition.py`` pins them by a digest of :func:`rules_text`).
+The question: do the paper's claims hold on seeds no run used before, judged by paired
+intervals and Holm within each claim (one family beside it); and given the same tuning
+budget in each world (:class:`~docking.designs.builders.Tuning`), does the paper's learner
+close its gap to linear SARSA on the same pixels (closed if the interval of the gap lies
+below :data:`GAP_CLOSED`)? Worlds: the sideboard world (tuned towards the paper's numbers),
+the floor world, and the Nao-like world fixed from Nao's specifications before any run
+(docs/guide/nao_world.md; the pose oracle docked 2499 of 2500 trials there at 25 actions).
+The path from the sideboard to the floor world is decided by intervals (a factor breaks the
+learner if its drop exceeds :data:`BREAK_DROP`). Not asked again (the budget): learning
+curves, near-only and two-stage findings, eps_W x10 and x100, other learners in the path.
 """
 
 from __future__ import annotations
@@ -47,18 +19,18 @@ from __future__ import annotations
 import dataclasses
 import itertools
 
-import numpy as np
-
 from docking.claims import Above, Claim, Equivalent, Gap, ShareAbove
-from docking.design import Cell, Design, Results, yardstick_config
+from docking.design import Cell, Design, yardstick_config
 from docking.design import rules_text as design_rules_text
 from docking.designs.builders import (
     HELDOUT_TRIALS,
     YARDSTICK_LABELS,
+    Tuning,
     net,
     variant,
     with_cup,
 )
+from docking.designs.measures import actions_per_docking, heading_error_deg, interpretability
 from docking.experiments import Curriculum, ExperimentConfig
 from docking.ppo import PPOConfig
 from docking.presets import EXPERIMENT_1, EXPERIMENT_2, FLOOR_WORLD, NAO_WORLD
@@ -86,7 +58,6 @@ BREAK_DROP = GAP_CLOSED = 0.05
 LONG = 4
 PPO_STEPS = 2000 * 25
 GRID_SIZE, ROUND_2 = 9, 3
-TUNING_RUNS = GRID_SIZE + ROUND_2 * (len(TUNING_SEEDS) - 1)
 LEARNERS = ("paper", "linear", "ppo")
 CONTEST = ("sideboard", "floor", "nao")
 
@@ -149,6 +120,17 @@ def _cell(world, variant_key, config, label, **kw) -> Cell:
     )
 
 
+TUNING = Tuning(
+    CONTEST,
+    GRIDS,
+    TUNING_SEEDS,
+    ROUND_2,
+    make=_learner,
+    cell=_cell,
+    judged_seeds={"ppo": PPO_SEEDS},
+)
+
+
 def contest_cells() -> list[Cell]:
     """Per world of :data:`CONTEST`: the untuned learners, the yardsticks, and tuning round 1."""
     found = []
@@ -157,72 +139,8 @@ def contest_cells() -> list[Cell]:
         found.append(
             _cell(world, learner, _learner(world, learner), f"{learner}, untuned", seeds=seeds)
         )
-        for i, setting in enumerate(GRIDS[learner]):
-            found.append(
-                _cell(
-                    world,
-                    f"tune-{learner}-{i}",
-                    _learner(world, learner, **setting),
-                    f"{learner} {setting}",
-                    seeds=TUNING_SEEDS[:1],
-                )
-            )
+        found += TUNING.round1(world, learner)
     return found
-
-
-def _ranked(results: Results, world: str, learner: str, keys) -> list[str]:
-    """``keys`` (tuning cells) best first by mean held-out success, ties in grid order."""
-    return sorted(keys, key=lambda k: (-float(np.mean(results.score(k))), int(k.rsplit("-", 1)[1])))
-
-
-def _round_2(results: Results) -> list[Cell]:
-    found = []
-    for world, learner in itertools.product(CONTEST, LEARNERS):
-        keys = [f"{world}/tune-{learner}-{i}" for i in range(GRID_SIZE)]
-        for key in _ranked(results, world, learner, keys)[:ROUND_2]:
-            c = results.cell(key)
-            found.append(dataclasses.replace(c, key=f"{key}/round2", seeds=TUNING_SEEDS[1:]))
-    return found
-
-
-def tuned_setting(results: Results, world: str, learner: str) -> int:
-    """The index in :data:`GRIDS` of the tuned setting: the best mean over the three tuning
-    seeds among round 2's settings."""
-    keys = [
-        c.key[: -len("/round2")]
-        for c in results.cells
-        if c.key.endswith("/round2")
-        and c["world"] == world
-        and c["variant"].startswith(f"tune-{learner}-")
-    ]
-
-    def mean3(k):
-        return float(np.mean(np.concatenate([results.score(k), results.score(f"{k}/round2")])))
-
-    best = sorted(keys, key=lambda k: (-mean3(k), int(k.rsplit("-", 1)[1])))[0]
-    return int(best.rsplit("-", 1)[1])
-
-
-def _tuned(results: Results) -> list[Cell]:
-    found = []
-    for world, learner in itertools.product(CONTEST, LEARNERS):
-        setting = GRIDS[learner][tuned_setting(results, world, learner)]
-        seeds = PPO_SEEDS if learner == "ppo" else None
-        found.append(
-            _cell(
-                world,
-                f"{learner}-tuned",
-                _learner(world, learner, **setting),
-                f"{learner}, tuned: {setting}",
-                seeds=seeds,
-            )
-        )
-    return found
-
-
-def tuning_stages():
-    """The contest's stages: round 2 of the successive halving, then the tuned learners."""
-    return (_round_2, _tuned)
 
 
 def _yardsticks() -> list[Cell]:
@@ -372,42 +290,13 @@ def _both(v):
 
 #: Interpretability's views: start views of the cell's world (the same for every network).
 FIDELITY_VIEWS, FIDELITY_MIN_VIEWS = 1500, 20
-
-
-def fidelity(results: Results, key: str) -> np.ndarray:
-    """Per seed (:data:`FIDELITY_SEEDS`; Experiment 1: every seed), the interpretability of
-    cell ``key``'s networks (:func:`docking.analysis.feature_fidelity` over
-    :data:`FIDELITY_VIEWS` start views); a frozen network is its random start."""
-    return results.measured(_fidelity, key)
-
-
-def _fidelity(results: Results, key: str) -> np.ndarray:
-    from docking.analysis import feature_fidelity, mean_winning_inputs
-    from docking.experiments import initial_network
-
-    cell = results.cell(key)
-    seeds = SEEDS if cell["world"] == "experiment1" else FIDELITY_SEEDS
-    out = []
-    for run in results.runs[key][: len(seeds)]:
-        frozen = run.config.network.eps_w == 0
-        network = initial_network(run.config, run.seed) if frozen else run.network
-        views = mean_winning_inputs(network, cell.world, n=FIDELITY_VIEWS, seed=0)
-        out.append(feature_fidelity(network, views, FIDELITY_MIN_VIEWS))
-    return np.array(out)
-
-
-def heading_error_deg(results: Results, key: str) -> np.ndarray:
-    """Per seed, the mean |heading error| (deg) at docking in the held-out trials."""
-    from docking.analysis import docked_heading_error_deg
-
-    return np.array([docked_heading_error_deg(log) for log in results.logs[key]])
-
-
-def actions_per_docking(results: Results, key: str) -> np.ndarray:
-    """Per seed, the mean actions of the docked held-out trials."""
-    from docking.analysis import actions_per_docking as per_log
-
-    return np.array([per_log(log) for log in results.logs[key]])
+#: Per seed, the interpretability of a cell's networks: its first ten seeds (every seed in
+#: Experiment 1, whose networks are kept whole).
+fidelity = interpretability(
+    lambda cell: len(SEEDS if cell["world"] == "experiment1" else FIDELITY_SEEDS),
+    FIDELITY_VIEWS,
+    FIDELITY_MIN_VIEWS,
+)
 
 
 P = "paired"
@@ -548,7 +437,7 @@ DESIGN = Design(
     seeds=SEEDS,
     measure="heldout",
     claims=CLAIMS,
-    stages=tuning_stages(),
+    stages=TUNING.stages(),
     alpha=ALPHA,
     per_claim=True,
     # the turning claims read the final poses of the held-out trials
@@ -579,32 +468,15 @@ def part(name: str) -> Design:
     raise ValueError(f"part must be 'contest' or 'rest', got {name!r}")
 
 
+#: The constants that are rules (in :func:`rules_text`).
+RULES = (
+    "SEEDS PATH_SEEDS YARDSTICK_SEEDS PPO_SEEDS UNTUNED_PPO_SEEDS TUNING_SEEDS FIDELITY_SEEDS "
+    "FIDELITY_VIEWS FIDELITY_MIN_VIEWS ALPHA EQUIVALENCE_MARGIN ROTATION_SHARE "
+    "ROTATION_MIN_SUCCESS BREAK_DROP GAP_CLOSED LONG PPO_STEPS GRID_SIZE ROUND_2 GRIDS PATH "
+    "BRANCHES CONTEST VERDICT_WORLDS"
+).split()
+
+
 def rules_text() -> str:
     """Every rule of this design as canonical text (:func:`docking.design.rules_text`)."""
-    names = (
-        "SEEDS",
-        "PATH_SEEDS",
-        "YARDSTICK_SEEDS",
-        "PPO_SEEDS",
-        "UNTUNED_PPO_SEEDS",
-        "TUNING_SEEDS",
-        "FIDELITY_SEEDS",
-        "FIDELITY_VIEWS",
-        "FIDELITY_MIN_VIEWS",
-        "ALPHA",
-        "EQUIVALENCE_MARGIN",
-        "ROTATION_SHARE",
-        "ROTATION_MIN_SUCCESS",
-        "BREAK_DROP",
-        "GAP_CLOSED",
-        "LONG",
-        "PPO_STEPS",
-        "GRID_SIZE",
-        "ROUND_2",
-        "GRIDS",
-        "PATH",
-        "BRANCHES",
-        "CONTEST",
-        "VERDICT_WORLDS",
-    )
-    return design_rules_text(DESIGN, {n: globals()[n] for n in names})
+    return design_rules_text(DESIGN, {n: globals()[n] for n in RULES})

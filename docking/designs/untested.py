@@ -52,12 +52,11 @@ from __future__ import annotations
 import dataclasses
 import itertools
 
-import numpy as np
-
 from docking.claims import Above, AtMost, Claim, Equivalent
-from docking.design import Cell, Design, Results, yardstick_config
+from docking.design import Cell, Design, yardstick_config
 from docking.design import rules_text as design_rules_text
 from docking.designs.builders import HELDOUT_TRIALS, net, variant, with_cup
+from docking.designs.measures import final_error_m, metres_per_docking, regain
 from docking.experiments import Curriculum, ExperimentConfig
 from docking.ppo import PPOConfig
 from docking.presets import EXPERIMENT_2, FLOOR_WORLD, NAO_WORLD, RELOCATIONS
@@ -253,43 +252,9 @@ def cells() -> list[Cell]:
     return relocation_cells() + coping_cells() + finding_cells() + continuous_cells()
 
 
-def regain_trials(results: Results, key: str) -> np.ndarray:
-    """Per seed, the training trials until cell ``key``'s learning curve reaches
-    :data:`REGAIN` of the same seed's held-out success at home (its learner's home cell);
-    :data:`CENSORED` if it never does."""
-    learner = results.cell(key)["variant"].split("-")[0]
-    home = results.score(f"home/{learner}")
-    out = []
-    for run, level in zip(results.runs[key], REGAIN * home, strict=True):
-        hits = np.flatnonzero(run.curve_success >= level)
-        out.append(float(run.curve_trials[hits[0]]) if len(hits) else float(CENSORED))
-    return np.array(out)
-
-
-def final_error_m(results: Results, key: str) -> np.ndarray:
-    """Per seed, the mean distance (m) of the final reference point from the docking
-    region's centre, over the docked held-out trials."""
-    from docking.ledger import final_poses
-
-    centre = -results.cell(key).world.dock_center
-    out = []
-    for log in results.logs[key]:
-        ends = final_poses(log)[np.asarray(log.success, dtype=bool)]
-        out.append(
-            float(np.mean(np.hypot(ends[:, 0] - centre, ends[:, 1]))) if len(ends) else np.nan
-        )
-    return np.array(out)
-
-
-def metres_per_docking(results: Results, key: str) -> np.ndarray:
-    """Per seed, the mean distance walked (m) in the docked held-out trials."""
-    from docking.ledger import path_lengths
-
-    out = []
-    for log in results.logs[key]:
-        walked = path_lengths(log)[np.asarray(log.success, dtype=bool)]
-        out.append(float(np.mean(walked)) if len(walked) else np.nan)
-    return np.array(out)
+#: Per seed, the training trials until a cell's curve regains :data:`REGAIN` of its seed's
+#: success at home (:func:`~docking.designs.measures.regain`).
+regain_trials = regain(REGAIN, CENSORED)
 
 
 P = "paired"
@@ -403,20 +368,13 @@ DESIGN = Design(
 )
 
 
+#: The constants that are rules (in :func:`rules_text`).
+RULES = (
+    "SEEDS FINDING_SEEDS YARDSTICK_SEEDS NEGLECT_SEEDS ALPHA RELOCATION_MARGIN REGAIN HALF "
+    "CENSORED CHECKPOINTS BETAS PAIRS"
+).split()
+
+
 def rules_text() -> str:
     """Every rule of this design as canonical text (:func:`docking.design.rules_text`)."""
-    names = (
-        "SEEDS",
-        "FINDING_SEEDS",
-        "YARDSTICK_SEEDS",
-        "NEGLECT_SEEDS",
-        "ALPHA",
-        "RELOCATION_MARGIN",
-        "REGAIN",
-        "HALF",
-        "CENSORED",
-        "CHECKPOINTS",
-        "BETAS",
-        "PAIRS",
-    )
-    return design_rules_text(DESIGN, {n: globals()[n] for n in names})
+    return design_rules_text(DESIGN, {n: globals()[n] for n in RULES})
