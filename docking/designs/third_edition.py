@@ -16,8 +16,8 @@ curves, near-only and two-stage findings, eps_W x10 and x100, other learners in 
 
 from __future__ import annotations
 
-import dataclasses
 import itertools
+from dataclasses import replace
 
 from docking.claims import Above, Claim, Equivalent, Gap, ShareAbove
 from docking.design import Cell, Design, yardstick_config
@@ -65,13 +65,13 @@ CONTEST = ("sideboard", "floor", "nao")
 def _base(world, name: str = NAME) -> ExperimentConfig:
     """Experiment 2 in ``world``, its curriculum from 0.12 m beyond the near edge."""
     curriculum = Curriculum(far_initial=world.start_near + 0.12, grow_trials=1400)
-    return dataclasses.replace(EXPERIMENT_2, name=name, world=world, curriculum=curriculum)
+    return replace(EXPERIMENT_2, name=name, world=world, curriculum=curriculum)
 
 
 _SIDEBOARD = EXPERIMENT_2.world
-_FLOOR_VIEW = dataclasses.replace(_SIDEBOARD, scene="floor", camera=FLOOR_WORLD.camera)
-_DOCK = dataclasses.replace(_FLOOR_VIEW, dock_width=0.08, dock_depth=0.20, start_near=0.62)
-_SIDESTEP = dataclasses.replace(_DOCK, step_side=0.05)
+_FLOOR_VIEW = replace(_SIDEBOARD, scene="floor", camera=FLOOR_WORLD.camera)
+_DOCK = replace(_FLOOR_VIEW, dock_width=0.08, dock_depth=0.20, start_near=0.62)
+_SIDESTEP = replace(_DOCK, step_side=0.05)
 #: ``{key: (what changes, world)}``: the path from the sideboard to the floor world, one
 #: factor at a time, its two branches towards 8 cm steps, and the Nao-like world.
 WORLDS = {
@@ -80,10 +80,10 @@ WORLDS = {
     "dock": ("+ dock 8 cm across", _DOCK),
     "sidestep": ("+ 5 cm sidesteps", _SIDESTEP),
     "floor": ("+ ±20° start wedge: the floor world", FLOOR_WORLD),
-    "floor-step8": ("floor world, 8 cm steps", dataclasses.replace(FLOOR_WORLD, step_forward=0.08)),
+    "floor-step8": ("floor world, 8 cm steps", replace(FLOOR_WORLD, step_forward=0.08)),
     "sideboard-step8": (
         "sideboard world, 8 cm steps",
-        dataclasses.replace(_SIDEBOARD, step_forward=0.08),
+        replace(_SIDEBOARD, step_forward=0.08),
     ),
     "nao": ("the Nao-like world (Nao's published steps and camera)", NAO_WORLD),
 }
@@ -167,113 +167,75 @@ def _path_cells() -> list[Cell]:
 
 
 def _verdict_cells(world: str) -> list[Cell]:
+    """The claims' variants of the paper's learner in ``world``, trained or tested only."""
     base, paper = _base(WORLDS[world][1]), f"{world}/paper"
-    frozen, cup = net(base, eps_w=0.0), with_cup(base.world)
-
-    def cell(key, label, config=None, **kw):
-        return _cell(world, key, config, label, baseline=kw.pop("baseline", paper), **kw)
-
-    untuned = _learner(world, "paper")
-    return [
-        cell("frozen", "W frozen (eps_W = 0)", variant(base, NAME, network=frozen)),
-        cell("local", "local rule", variant(base, NAME, network=net(base, rule="local"))),
-        cell(
-            "permuted",
-            "Eq. 8 with a permuted delta",
-            variant(base, NAME, network=net(base, permute_delta=True)),
-        ),
-        cell(
-            "none",
-            "no curriculum",
-            variant(base, NAME, curriculum=Curriculum(base.curriculum.far_initial)),
-        ),
-        cell(
-            "som",
+    frozen, cup, home = net(base, eps_w=0.0), with_cup(base.world), base.world
+    trained = {  # key: (label, the variant's changes)
+        "frozen": ("W frozen (eps_W = 0)", dict(network=frozen)),
+        "local": ("local rule", dict(network=net(base, rule="local"))),
+        "permuted": ("Eq. 8 with a permuted delta", dict(network=net(base, permute_delta=True))),
+        "none": ("no curriculum", dict(curriculum=Curriculum(base.curriculum.far_initial))),
+        "som": (
             "a SOM first, then SARSA",
-            variant(base, NAME, network=frozen, pretrain_trials=200, pretrain_rule="som"),
+            dict(network=frozen, pretrain_trials=200, pretrain_rule="som"),
         ),
-        cell("cup", "a red cup in training and test", variant(base, NAME, world=cup)),
-        cell(
-            "cup-frozen",
-            "a red cup, W frozen",
-            variant(base, NAME, world=cup, network=frozen),
-            baseline=f"{world}/frozen",
-        ),
-        cell("cup-test", "a red cup never seen in training", untuned, test_world=cup),
-        cell(
-            "no-yaw-noise",
-            "tested without heading noise",
-            untuned,
-            test_world=dataclasses.replace(base.world, step_noise_yaw_deg=0.0),
-        ),
-        cell(
-            "hold",
-            "a scripted heading hold",
-            untuned,
-            test_world=dataclasses.replace(base.world, heading_hold=True),
-        ),
+        "cup": ("a red cup in training and test", dict(world=cup)),
+        "cup-frozen": ("a red cup, W frozen", dict(world=cup, network=frozen)),
+    }
+    tested = {  # key: (label, the world the untuned networks are tested in)
+        "cup-test": ("a red cup never seen in training", cup),
+        "no-yaw-noise": ("tested without heading noise", replace(home, step_noise_yaw_deg=0.0)),
+        "hold": ("a scripted heading hold", replace(home, heading_hold=True)),
+    }
+    found = [
+        _cell(world, k, variant(base, NAME, **changes), label, baseline=paper)
+        for k, (label, changes) in trained.items()
+    ]
+    found[-1] = replace(found[-1], baseline=f"{world}/frozen")  # cup-frozen
+    untuned = _learner(world, "paper")
+    return found + [
+        _cell(world, k, untuned, label, baseline=paper, test_world=w)
+        for k, (label, w) in tested.items()
     ]
 
 
 def _rotation_and_turning_cells() -> list[Cell]:
+    """The paper's learner at 4 and 6 deg of heading noise (trained, then tested without
+    it and with a heading hold), six actions trained :data:`LONG` times as long, and
+    Experiment 1 with W learned and frozen."""
     found = []
     for noise in (4.0, 6.0):
-        w = dataclasses.replace(_SIDEBOARD, step_noise_yaw_deg=noise)
+        w = replace(_SIDEBOARD, step_noise_yaw_deg=noise)
         key, trained = f"sideboard-{noise:g}deg", variant(_base(w), NAME)
-        found.append(
-            Cell(
-                f"{key}/paper",
-                trained,
-                {"world": key, "variant": "paper"},
-                f"paper at {noise:g} deg",
-            )
-        )
+        found.append(_cell(key, "paper", trained, f"paper at {noise:g} deg"))
         for v, change in (
             ("no-yaw-noise", dict(step_noise_yaw_deg=0.0)),
             ("hold", dict(heading_hold=True)),
         ):
             found.append(
-                Cell(
-                    f"{key}/{v}",
-                    trained,
-                    {"world": key, "variant": v},
-                    v,
-                    f"{key}/paper",
-                    dataclasses.replace(w, **change),
-                )
+                _cell(key, v, trained, v, baseline=f"{key}/paper", test_world=replace(w, **change))
             )
-    six_world = dataclasses.replace(_SIDEBOARD, actions="turning")
     four = _base(_SIDEBOARD)
-    six = dataclasses.replace(
+    longer = replace(four.curriculum, grow_trials=LONG * four.curriculum.grow_trials)
+    six = replace(
         four,
-        world=six_world,
-        network=net(four, n_actions=six_world.n_actions),
+        world=replace(_SIDEBOARD, actions="turning"),
+        network=net(four, n_actions=replace(_SIDEBOARD, actions="turning").n_actions),
         train_trials=LONG * four.train_trials,
-        curriculum=dataclasses.replace(
-            four.curriculum, grow_trials=LONG * four.curriculum.grow_trials
-        ),
+        curriculum=longer,
     )
+    label = f"six actions, {LONG}x training"
     found.append(
-        _cell(
-            "sideboard",
-            "six-long",
-            variant(six, NAME),
-            f"six actions, {LONG}x training",
-            baseline="sideboard/paper",
-        )
+        _cell("sideboard", "six-long", variant(six, NAME), label, baseline="sideboard/paper")
     )
     exp1 = variant(EXPERIMENT_1, NAME)
-    found.append(_cell("experiment1", "paper", exp1, "Experiment 1"))
-    found.append(
+    frozen = replace(exp1, network=net(exp1, eps_w=0.0))
+    return found + [
+        _cell("experiment1", "paper", exp1, "Experiment 1"),
         _cell(
-            "experiment1",
-            "frozen",
-            dataclasses.replace(exp1, network=net(exp1, eps_w=0.0)),
-            "Experiment 1, W frozen",
-            baseline="experiment1/paper",
-        )
-    )
-    return found
+            "experiment1", "frozen", frozen, "Experiment 1, W frozen", baseline="experiment1/paper"
+        ),
+    ]
 
 
 def cells() -> list[Cell]:
@@ -459,12 +421,12 @@ def part(name: str) -> Design:
         c for c in DESIGN.cells if c["world"] in CONTEST and c.baseline is None and c.trained
     ]
     if name == "contest":
-        return dataclasses.replace(DESIGN, cells=tuple(contest), claims=())
+        return replace(DESIGN, cells=tuple(contest), claims=())
     if name == "rest":
         rest = [c for c in DESIGN.cells if c not in contest or c.baseline is not None]
         needed = {c.baseline for c in rest if not c.trained}
         cells = tuple(c for c in DESIGN.cells if c in rest or c.key in needed)
-        return dataclasses.replace(DESIGN, cells=cells, claims=(), stages=())
+        return replace(DESIGN, cells=cells, claims=(), stages=())
     raise ValueError(f"part must be 'contest' or 'rest', got {name!r}")
 
 
