@@ -747,6 +747,26 @@ def ambiguous_views(world: WorldConfig, n: int = 1500, seed: int = 0) -> Ambigui
 MASS_PARTS = ("landmark", "distractor", "background")
 
 
+@functools.lru_cache(maxsize=4)
+def _parted_views(world: WorldConfig, n: int, seed: int) -> tuple[np.ndarray, np.ndarray]:
+    """``n`` start views of ``world`` (with its distractors) and, per view, the landmark's
+    part: the same pose's view without the distractors, where the view has it too."""
+    from docking.world import DockingEnv
+
+    env = DockingEnv(world, seed=seed)
+    bare = DockingEnv(dataclasses.replace(world, distractors=()), seed=seed)
+    views, landmark = [], []
+    for _ in range(n):
+        obs = env.reset().observation
+        views.append(obs)
+        landmark.append(np.minimum(bare.reset_to(env.pose).observation, obs))
+    env.close()
+    bare.close()
+    views, landmark = np.array(views), np.array(landmark)
+    views.flags.writeable = landmark.flags.writeable = False
+    return views, landmark
+
+
 def weight_mass(
     net: Network,
     world: WorldConfig,
@@ -765,26 +785,19 @@ def weight_mass(
     the views it wins, so a unit's shares are ``sum |W_j| * part / sum |W_j|``. At W's random
     start the shares are the parts' areas; a unit that learns to neglect the distractor moves
     mass onto the landmark and off the distractor. NaN shares if no unit wins ``min_views``."""
-    from docking.world import DockingEnv
-
     if n < 1 or min_views < 1:
         raise ValueError(f"weight_mass needs n >= 1 and min_views >= 1, got {n}, {min_views}")
     if not world.distractors:
         raise ValueError("weight_mass needs a world with a distractor (WorldConfig.distractors)")
-    without = dataclasses.replace(world, distractors=())
-    env, bare = DockingEnv(world, seed=seed), DockingEnv(without, seed=seed)
+    views, landmark = _parted_views(world, n, seed)
     shape = (net.config.n_features,) + world.camera.input_shape
     sums = {p: np.zeros(shape) for p in MASS_PARTS[:2]}
     counts = np.zeros(net.config.n_features, dtype=np.int64)
-    for _ in range(n):
-        obs = env.reset().observation
-        landmark = np.minimum(bare.reset_to(env.pose).observation, obs)
+    for obs, mark in zip(views, landmark, strict=True):
         j = int(np.argmax(net.features(net.prepare(obs))))
-        sums["landmark"][j] += landmark
-        sums["distractor"][j] += obs - landmark
+        sums["landmark"][j] += mark
+        sums["distractor"][j] += obs - mark
         counts[j] += 1
-    env.close()
-    bare.close()
     units = np.flatnonzero(counts >= min_views)
     if not len(units):
         return np.full(len(MASS_PARTS), np.nan)
