@@ -474,7 +474,14 @@ class Report:
                 if self.readme is not None:
                     changed |= update_readme(self.readme, text, start, end)
         first = rates[comparisons[0].four_key] if comparisons else None
-        summary = summary_text(*results, comparisons, first, contest)
+        claims = None
+        if contest is not None:
+            from docking.claims import judge_family
+
+            design = contest.design
+            decisions = judge_family(design.claims, contest, alpha=design.alpha, per_claim=True)
+            claims = report.claims_summary(design.claims, decisions)
+        summary = summary_text(*results, comparisons, first, contest, claims)
         print(summary)
         if self.readme is not None:
             changed |= update_readme(self.readme, summary, SUMMARY_START, SUMMARY_END)

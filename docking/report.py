@@ -363,13 +363,15 @@ def summary_text(
     comparisons: list | None = None,
     oracle: float | None = None,
     contest=None,
+    claims: str | None = None,
 ) -> str:
     """The README's first screen: what was reproduced, under what choices, what held up and
     what did not, in a few sentences whose numbers come from the runs: Experiments 1 and 2
     (``results1``, ``results2``) and, if given, Experiment 3's four-against-six comparisons
     (:func:`turning_comparisons`), the pose oracle's held-out success in the world of the
-    first one's four-action cell (the paper's task and noise), and the third edition's
-    contest (its results, :func:`contest_summary`)."""
+    first one's four-action cell (the paper's task and noise), the third edition's
+    contest (its results, :func:`contest_summary`) and its claims' sentence
+    (:func:`claims_summary`)."""
     h1, h2 = headline(results1), headline(results2)
     rate1 = np.array([r.test.success.mean() for r in results1])
     rate2 = np.array([r.test.success.mean() for r in results2])
@@ -406,6 +408,11 @@ def summary_text(
             f"{100 * max(gains):.1f} percentage points{oracle_note} (notebook 06)."
         )
     text.append(contest_summary(contest) if contest is not None else _ARCHIVED_FINDING)
+    if claims is not None:
+        text.append(
+            "**The paper's claims** (the third edition, notebook 07: fresh seeds, paired "
+            f"intervals, Holm within each claim; the verdict table below). {claims}"
+        )
     return "\n\n".join(text)
 
 
@@ -1067,10 +1074,53 @@ def verdicts_table(claims, results, per_claim, family, alpha: float) -> str:
             else ("finding", "finding")
         )
         lines.append(
-            f"| {claim.words} ({claim.source}) | {claim.compares} | {evidence} | "
-            f"{verdicts[0]} | {verdicts[1]} |"
+            f"| **{claim.key}**: {claim.words} ({claim.source}) | {claim.compares} | "
+            f"{evidence} | {verdicts[0]} | {verdicts[1]} |"
         )
     return "\n".join(lines)
+
+
+def claims_summary(claims, decisions) -> str:
+    """One sentence on a judged design's claims (``decisions``: Holm within each claim,
+    :func:`docking.claims.judge_family`): how many hold in every comparison judged, in some
+    only, are contradicted somewhere, are not supported, or are findings; each named by its
+    key (the verdict table's first column)."""
+    from docking.claims import AT_BOUND, CONTRADICTED, NOT_JUDGED, SUPPORTED, family_verdicts
+
+    groups: dict[str, list[str]] = {}
+    for key, (_, per_world) in family_verdicts(claims, decisions).items():
+        found = {v for v in per_world.values() if v != NOT_JUDGED}
+        if CONTRADICTED in found:
+            group = "contradicted in at least one world"
+        elif found == {SUPPORTED}:
+            group = "supported wherever judged"
+        elif SUPPORTED in found:
+            group = "supported in some worlds only"
+        elif AT_BOUND in found:
+            group = "at the bound (decided, but within a point of it)"
+        else:
+            group = "not supported in any world"
+        groups.setdefault(group, []).append(key)
+    findings = [c.key for c in claims if not c.judged]
+    order = (
+        "supported wherever judged",
+        "supported in some worlds only",
+        "at the bound (decided, but within a point of it)",
+        "not supported in any world",
+        "contradicted in at least one world",
+    )
+    parts = [f"{len(groups[g])} {g} ({', '.join(groups[g])})" for g in order if g in groups]
+    judged = sum(len(v) for v in groups.values())
+    return (
+        f"Of the paper's {judged} claims judged: "
+        + "; ".join(parts)
+        + (
+            f"; and {len(findings)} findings, measured, not judged ({', '.join(findings)})"
+            if findings
+            else ""
+        )
+        + "."
+    )
 
 
 def design_verdicts(results) -> str:

@@ -110,3 +110,26 @@ def test_the_verdict_table_and_figure_show_both_decisions_and_the_findings():
     assert len(fig.axes) == 3
     with pytest.raises(ValueError, match="at least one panel"):
         figures.fig_verdicts([])
+
+
+def test_the_claims_sentence_counts_and_names_each_group():
+    from docking import report
+
+    scores = {"a": _seeds(0.9), "a0": _seeds(0.8), "b": _seeds(0.9), "b0": _seeds(0.9)}
+    scores.update({"c": _seeds(0.8), "c0": _seeds(0.9)})
+    results = _Results(scores, {"a0": "a", "b0": "b", "c0": "c"})
+    rule = claims.Above(0.0, method="paired")
+    found = [
+        claims.Claim("good", "w", "s", "x", rule, {"w1": ("a0",)}),
+        claims.Claim("some", "w", "s", "x", rule, {"w1": ("a0",), "w2": ("b0",)}),
+        claims.Claim("none", "w", "s", "x", rule, {"w1": ("b0",)}),
+        claims.Claim("against", "w", "s", "x", rule, {"w1": ("c0",)}),
+        dataclasses.replace(claims.Claim("f", "w", "s", "x", rule, {"w": ("a0",)}), judged=False),
+    ]
+    decisions = claims.judge_family(found, results, per_claim=True)
+    text = report.claims_summary(found, decisions)
+    assert text == (
+        "Of the paper's 4 claims judged: 1 supported wherever judged (good); 1 supported in "
+        "some worlds only (some); 1 not supported in any world (none); 1 contradicted in at "
+        "least one world (against); and 1 findings, measured, not judged (f)."
+    )
