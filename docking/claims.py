@@ -528,8 +528,9 @@ def family_table(claims, decisions: list[Decision]) -> str:
             for d in decisions
             if d.claim == claim.key
         ]
+        words, test = (t.replace("|", "\\|") for t in (claim.words, claim.test))
         lines.append(
-            f"| {claim.words} ({claim.source}) | {verdicts[claim.key][0]} | {claim.test} | "
+            f"| {words} ({claim.source}) | {verdicts[claim.key][0]} | {test} | "
             + "<br>".join(found)
             + " |"
         )

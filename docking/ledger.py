@@ -342,7 +342,11 @@ def load_run(config, seed: int, results_dir: Path | str | None = None):
         config=config,
         seed=seed,
         network=(
-            Network.from_weights(config.network, arrays["W"], arrays["Q"])
+            Network.from_weights(
+                config.network,
+                arrays["W"].reshape(config.network.n_features, -1),
+                arrays["Q"].reshape(config.network.n_actions, -1),
+            )
             if "W" in arrays
             else NotKept(f"{what}: its network")
         ),
@@ -416,7 +420,8 @@ def _npz(arrays: dict[str, np.ndarray]) -> bytes:
 
 def _row(arrays: dict, keep: frozenset) -> dict[str, np.ndarray]:
     """What a table keeps of a run's stored ``arrays``: every per-trial and per-run array;
-    with ``"starts"`` each trial's start pose, ``"networks"`` W and Q, ``"winners"`` the test
+    with ``"starts"`` each trial's start pose, ``"networks"`` W and Q (flat; read back in
+    the configuration's shapes), ``"winners"`` the test
     and held-out steps' winning units; never ``meta`` or another per-step array."""
     row = {}
     for name, array in arrays.items():
@@ -427,7 +432,8 @@ def _row(arrays: dict, keep: frozenset) -> dict[str, np.ndarray]:
             continue
         if field == "winners" and name.startswith("train."):
             continue
-        row[name] = np.atleast_1d(array)
+        # W and Q flat: a design's networks differ in shape (Experiment 1 has 4 units)
+        row[name] = np.ravel(array) if name in NETWORK else np.atleast_1d(array)
     for part in PARTS:
         if "starts" in keep and f"{part}.poses" in arrays:
             row[f"{part}.starts"] = _stored_log(arrays, part).starts

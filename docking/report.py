@@ -1038,12 +1038,17 @@ def verdict_panels(claims, results, decisions) -> list[dict]:
     panels = []
     for claim, rows in _claim_rows(claims, results, decisions):
         share, rate = isinstance(claim.rule, ShareAbove), claim.measure is success
-        unit = "% of the failures" if share else " (percentage points)" if rate else ""
+        if share:
+            xlabel = "share of the held-out failures gone (%)"
+        elif rate:
+            xlabel = "difference of held-out success (percentage points)"
+        else:
+            xlabel = f"difference of {claim.compares.split(':')[0]}"
         panels.append(
             dict(
                 title=f"{claim.key}: {claim.compares}"
                 + ("" if claim.judged else " (a finding, not judged)"),
-                xlabel=(claim.compares.split(":")[0] if not rate else "held-out success") + unit,
+                xlabel=xlabel,
                 scale=100.0 if rate else 1.0,
                 bound=claim.rule.bound(),
                 band=claim.rule.band,
@@ -1073,8 +1078,9 @@ def verdicts_table(claims, results, per_claim, family, alpha: float) -> str:
             if claim.judged
             else ("finding", "finding")
         )
+        words, compares = (t.replace("|", "\\|") for t in (claim.words, claim.compares))
         lines.append(
-            f"| **{claim.key}**: {claim.words} ({claim.source}) | {claim.compares} | "
+            f"| **{claim.key}**: {words} ({claim.source}) | {compares} | "
             f"{evidence} | {verdicts[0]} | {verdicts[1]} |"
         )
     return "\n".join(lines)
@@ -1097,7 +1103,7 @@ def claims_summary(claims, decisions) -> str:
         elif SUPPORTED in found:
             group = "supported in some worlds only"
         elif AT_BOUND in found:
-            group = "at the bound (decided, but within a point of it)"
+            group = "decided, but at the bound"
         else:
             group = "not supported in any world"
         groups.setdefault(group, []).append(key)
@@ -1105,7 +1111,7 @@ def claims_summary(claims, decisions) -> str:
     order = (
         "supported wherever judged",
         "supported in some worlds only",
-        "at the bound (decided, but within a point of it)",
+        "decided, but at the bound",
         "not supported in any world",
         "contradicted in at least one world",
     )

@@ -52,7 +52,10 @@
 
 # %%
 
+import subprocess
+import sys
 from itertools import pairwise
+from pathlib import Path
 
 import numpy as np
 from IPython.display import Image, Markdown, display
@@ -253,15 +256,17 @@ print({w: paper_gain[w].format(unit=" pp") for w in te.CONTEST})
 # differences). **The decision rule, committed before the runs:** Holm's adjustment within
 # each claim over its comparisons (its worlds) at 0.05; a comparison is *supported* or
 # *contradicted* when its adjusted p-value is below 0.05, on the side its interval lies, and
-# *at the bound* when the deciding end of its interval lies within 0.5 pp of the rule's
-# bound. The reason: the claims are separate sentences of the paper, each a question of its
+# *at the bound* when it is decided but the deciding end of its interval lies within 0.01 of
+# the rule's bound in the statistic's units (1 pp of success; 0.01 of a correlation, a degree
+# or an action). The reason: the claims are separate sentences of the paper, each a question of its
 # own, and one family of every comparison would let the number of other questions decide
 # each one. Beside it, one family of every comparison (Holm over all of them). Rotation is
 # judged only where the paper's learner docks at least 80% (elsewhere its failures have
 # other causes: *not judged*). The SOM and the non-local terms are **findings**: the paper
 # says a SOM "could be used" and that the non-local terms were included "mostly because of
 # the necessity when performing vanilla gradient descent"; neither sentence claims that one
-# is better, so both are measured and shown, not judged.
+# is better, so both are measured and shown, not judged. No row re-uses data seen before its
+# rules: every run of this edition is on its own fresh seeds.
 
 # %% [markdown]
 # **How many seeds.** The seeds per row came from a power analysis on the second edition's
@@ -277,12 +282,8 @@ print({w: paper_gain[w].format(unit=" pp") for w in te.CONTEST})
 # worlds got 10 seeds: the second edition measured their drops as large.
 
 # %%
-import subprocess  # noqa: E402
-import sys  # noqa: E402
-
-power = subprocess.run(
-    [sys.executable, "../tools/power_third_edition.py"], capture_output=True, text=True, check=True
-)
+tool = Path(te.__file__).resolve().parents[2] / "tools" / "power_third_edition.py"
+power = subprocess.run([sys.executable, tool], capture_output=True, text=True, check=True)
 display(Markdown(power.stdout))
 needed = {}  # (world, row) -> seeds for 80% power ("> 60": None)
 for k, line in enumerate(power.stdout.splitlines()[2:]):
@@ -364,3 +365,97 @@ steps = report.path_steps(results, list(pairwise(te.PATH)), te.BREAK_DROP, te.AL
 branches = report.path_steps(results, te.BRANCHES, te.BREAK_DROP, te.ALPHA)
 display(Markdown(report.path_table(steps + branches, what)))
 print({w: pct(t_mean_ci(results.score(f"{w}/paper")[: len(te.PATH_SEEDS)])) for w in te.WORLDS})
+
+# %% [markdown]
+# ## What the verdicts show
+#
+# Each sentence below is computed from the runs; the asserts hold the decisions (Holm within
+# each claim) and the path's, as the tables above show them.
+
+# %%
+decided = {(d.claim, d.world): d.verdict for d in per_claim}
+S, C, NS, B, NJ = "supported", "contradicted", "not supported", "at the bound", "not judged"
+assert decided == {
+    ("features-success", "sideboard"): S,
+    ("features-success", "floor"): S,
+    ("features-interpretable", "experiment1"): S,
+    ("features-interpretable", "sideboard"): B,
+    ("features-interpretable", "floor"): NS,
+    ("delta", "sideboard"): S,
+    ("delta", "floor"): S,
+    ("curriculum", "sideboard"): B,
+    ("curriculum", "floor"): S,
+    ("rotation-most", "sideboard, 2°"): C,
+    ("rotation-most", "sideboard, 4°"): C,
+    ("rotation-most", "sideboard, 6°"): NS,
+    ("rotation-most", "floor, 2°"): NJ,
+    ("rotation-compensated", "sideboard, 2°"): C,
+    ("rotation-compensated", "sideboard, 4°"): C,
+    ("rotation-compensated", "sideboard, 6°"): C,
+    ("rotation-compensated", "floor, 2°"): NJ,
+    ("turning-accuracy", "sideboard"): C,
+    ("turning-path", "sideboard"): B,
+    ("distractor-mechanism", "sideboard"): NS,
+    ("distractor-mechanism", "floor"): NS,
+    ("distractor-unseen", "sideboard"): C,
+    ("distractor-unseen", "floor"): B,
+}
+assert [s.decision for s in steps] == ["breaks", "undecided", "undecided", "breaks"]
+assert [s.decision for s in branches] == ["breaks", "breaks"]
+ci = {(d.claim, d.world): d.interval for d in per_claim}
+finding = {  # the findings' intervals (not judged)
+    (c.key, w): c.interval(results, k)
+    for c in te.CLAIMS
+    if not c.judged
+    for w, (k,) in c.cells.items()
+}
+pp = lambda i: i.format(unit=" pp")  # noqa: E731
+share = lambda i: i.format(unit="%")  # noqa: E731
+fi = {w: (a.mean(), b.mean()) for w, (a, b) in fid.items()}
+lines = [
+    f"* **Feature learning pays, and δ is what makes it pay.** Freezing W at its random start "
+    f"costs {pp(ci['features-success', 'sideboard'])} in the sideboard world and "
+    f"{pp(ci['features-success', 'floor'])} in the floor world; Eq. 8 with δ permuted across "
+    f"the trial costs {pp(ci['delta', 'sideboard'])} and {pp(ci['delta', 'floor'])}.",
+    f"* **Interpretable features: Experiment 1 yes, Experiment 2 no.** In Experiment 1 the "
+    f"learned units look like the views they win (correlation {fi['experiment1'][0]:.2f}, "
+    f"against {fi['experiment1'][1]:.2f} at their random start), as the paper's Fig. 3 shows; "
+    f"in Experiment 2's worlds they do not ({fi['sideboard'][0]:.2f} against "
+    f"{fi['sideboard'][1]:.2f} in the sideboard world, at the bound; {fi['floor'][0]:.2f} "
+    f"against {fi['floor'][1]:.2f} in the floor world).",
+    f"* **The curriculum** helps in the floor world ({pp(ci['curriculum', 'floor'])}); in the "
+    f"sideboard world its gain is {pp(ci['curriculum', 'sideboard'])}, at the bound.",
+    f"* **Rotation is not the reason for most failures.** Without heading noise, the same "
+    f"networks lose {share(ci['rotation-most', 'sideboard, 2°'])} of their failures at the "
+    f"paper's 2° (contradicted: the interval lies below half) and "
+    f"{share(ci['rotation-most', 'sideboard, 4°'])} at 4°; a scripted heading hold removes "
+    f"{share(ci['rotation-compensated', 'sideboard, 2°'])}, "
+    f"{share(ci['rotation-compensated', 'sideboard, 4°'])} and "
+    f"{share(ci['rotation-compensated', 'sideboard, 6°'])} at 2°, 4° and 6°. In the floor "
+    f"world the learner docks too rarely for its failures to be judged.",
+    f"* **Turning does not bring accuracy.** Six actions, trained four times as long, dock "
+    f"{mean('sideboard/six-long'):.1f}% against {mean('sideboard/paper'):.1f}%, and where they "
+    f"dock they face the landmark *less* well: four minus six actions' |heading error| is "
+    f"{ci['turning-accuracy', 'sideboard'].format(scale=1.0, unit=' deg', digits=2)} "
+    f"(contradicted); nor is their path shorter: four minus six actions per docking is "
+    f"{ci['turning-path', 'sideboard'].format(scale=1.0, unit=' actions', digits=2)} (six take "
+    f"more; at the bound).",
+    f"* **Distractors do affect performance.** A red cup never seen in training costs the "
+    f"paper's networks {pp(ci['distractor-unseen', 'sideboard'])} in the sideboard world "
+    f"(contradicted: the interval lies wholly outside ±2 pp) and "
+    f"{pp(ci['distractor-unseen', 'floor'])} in the floor world; that a cup in training costs "
+    f"frozen W more than learned W is not shown "
+    f"({pp(ci['distractor-mechanism', 'sideboard'])}, {pp(ci['distractor-mechanism', 'floor'])}).",
+    f"* **Findings.** The SOM first, then SARSA, docks less often than the paper's network in "
+    f"the sideboard world ({pp(finding['som', 'sideboard'])}) and is not distinguishable in the "
+    f"floor world ({pp(finding['som', 'floor'])}); the local rule is behind the paper's in the "
+    f"sideboard world ({pp(finding['nonlocal', 'sideboard'])}) but far ahead in the floor world "
+    f"({pp(finding['nonlocal', 'floor'])}: the paper's rule minus the local rule).",
+    f"* **The path.** Two factors break the learner: the landmark on the floor seen from a "
+    f"camera 30° down ({pp(steps[0].drop)}) and the ±20° start wedge ({pp(steps[3].drop)}); the "
+    f"8 cm dock and the 5 cm sidesteps are undecided; 8 cm steps break it in both worlds "
+    f"({pp(branches[0].drop)} and {pp(branches[1].drop)}).",
+]
+display(Markdown("\n".join(lines)))
+assert fi["experiment1"][0] > 0.4 > fi["sideboard"][0] and finding["nonlocal", "floor"].high < 0
+assert ci["rotation-most", "sideboard, 2°"].high < te.ROTATION_SHARE

@@ -133,3 +133,18 @@ def test_the_claims_sentence_counts_and_names_each_group():
         "some worlds only (some); 1 not supported in any world (none); 1 contradicted in at "
         "least one world (against); and 1 findings, measured, not judged (f)."
     )
+
+
+def test_a_pipe_in_a_claims_words_does_not_split_its_table_row():
+    from docking import report
+
+    results = _Results({"a": _seeds(0.9), "a0": _seeds(0.8)}, {"a0": "a"})
+    rule = claims.Above(0.0, method="paired")
+    one = claims.Claim("one", "w", "s", "|heading error| at docking", rule, {"w1": ("a0",)})
+    per = claims.judge_family([one], results, per_claim=True)
+    for table in (
+        report.verdicts_table([one], results, per, per, 0.05),
+        claims.family_table([one], per),
+    ):
+        header, _, row = table.splitlines()
+        assert row.replace("\\|", "").count("|") == header.count("|")

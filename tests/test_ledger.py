@@ -444,3 +444,21 @@ def test_a_test_only_cell_is_stored_as_the_run_it_equals(tmp_path, monkeypatch):
     monkeypatch.setattr("docking.design.heldout_trials", _refuse)
     again = tested_in(base, other, tmp_path)
     np.testing.assert_array_equal(again.heldout.success, derived.heldout.success)
+
+
+def test_one_table_keeps_networks_of_different_shapes(tmp_path, monkeypatch):
+    """A design's networks may differ in shape (Experiment 1's 4 feature units beside 36):
+    one table keeps both, and each is served back bit for bit in its configuration's shape."""
+    wide = dataclasses.replace(TINY, network=dataclasses.replace(TINY.network, n_features=9))
+    assert wide.network.n_features != TINY.network.n_features and wide.name == TINY.name
+    monkeypatch.setenv("DOCKING_LEDGER", "off")
+    stored = [run_or_load(c, 0, tmp_path / "results", progress=False) for c in (TINY, wide)]
+    keep = frozenset({"networks"})
+    ledger.update(
+        [(TINY, 0, False, keep), (wide, 0, False, keep)], tmp_path / "ledger", tmp_path / "results"
+    )
+    for config, whole in zip((TINY, wide), stored, strict=True):
+        served = _served(monkeypatch, tmp_path / "ledger", 0, config).network
+        assert served.W.shape == whole.network.W.shape and served.Q.shape == whole.network.Q.shape
+        assert served.W.tobytes() == whole.network.W.tobytes()
+        assert served.Q.tobytes() == whole.network.Q.tobytes()
