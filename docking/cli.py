@@ -468,7 +468,11 @@ class Report:
                     report.THIRD_EDITION_START,
                     report.THIRD_EDITION_END,
                 ),
-                (report.design_verdicts(contest), report.VERDICTS_START, report.VERDICTS_END),
+                (
+                    report.design_verdicts(contest, *self._untested()),
+                    report.VERDICTS_START,
+                    report.VERDICTS_END,
+                ),
             ):
                 print(text)
                 if self.readme is not None:
@@ -490,6 +494,19 @@ class Report:
         if self.readme is not None:
             print(f"{self.readme}: {'updated' if changed else 'already up to date'}")
         return 0
+
+    def _untested(self) -> list:
+        """The untested claims' design's rows of the verdict table
+        (:data:`docking.report.UNTESTED_IN_README`), once every one of its runs is stored
+        or in the ledger; none before."""
+        from docking.design import absent_runs
+        from docking.designs import untested
+        from docking.report import UNTESTED_IN_README
+
+        if absent_runs(untested.DESIGN, self.results_dir):
+            return []
+        found = untested.DESIGN.run(results_dir=self.results_dir, workers=self.processes)
+        return [(found, UNTESTED_IN_README)]
 
 
 def _write_timings(readme: Path) -> bool:

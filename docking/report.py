@@ -1000,6 +1000,10 @@ def path_table(steps: list[PathStep], worlds: dict[str, str]) -> str:
     return "\n".join(lines)
 
 
+#: The claims of the untested claims' design (notebook 08) that join the README's verdict
+#: table: relocation and coping with change, the paper's claims of Sec. IV.
+UNTESTED_IN_README = ("relocation", "coping")
+
 #: The markers of the README's verdict table of the third edition (notebook 07).
 VERDICTS_START = "<!-- verdicts:start -->"
 VERDICTS_END = "<!-- verdicts:end -->"
@@ -1129,22 +1133,34 @@ def claims_summary(claims, decisions) -> str:
     )
 
 
-def design_verdicts(results) -> str:
-    """The verdict table of a design judged by Holm within each claim (``per_claim``)
-    (:func:`verdicts_table`), under the sentence that names its decision rule."""
+def design_verdicts(*judged) -> str:
+    """The verdict table of one or more designs judged by Holm within each claim
+    (``per_claim``) (:func:`verdicts_table`), under the sentence that names the decision
+    rule: ``judged`` is ``results`` (every claim of its design) or ``(results, keys)`` (the
+    claims named), each design's rows judged within its own claims and its own family."""
     from docking.claims import judge_family
 
-    design = results.design
-    if design.alpha is None or not design.per_claim:
-        raise ValueError(
-            f"design {design.name!r} is not judged by Holm within each claim (alpha "
-            f"{design.alpha}, per_claim {design.per_claim}): its table is verdicts_text's"
-        )
-    family = judge_family(design.claims, results, alpha=design.alpha)
-    per = judge_family(design.claims, results, alpha=design.alpha, per_claim=True)
+    rows, alphas = [], set()
+    for entry in judged:
+        results, keys = entry if isinstance(entry, tuple) else (entry, None)
+        design = results.design
+        if design.alpha is None or not design.per_claim:
+            raise ValueError(
+                f"design {design.name!r} is not judged by Holm within each claim (alpha "
+                f"{design.alpha}, per_claim {design.per_claim}): its table is verdicts_text's"
+            )
+        alphas.add(design.alpha)
+        family = judge_family(design.claims, results, alpha=design.alpha)
+        per = judge_family(design.claims, results, alpha=design.alpha, per_claim=True)
+        claims = [c for c in design.claims if keys is None or c.key in keys]
+        rows += verdicts_table(claims, results, per, family, design.alpha).splitlines()[2:]
+    if len(alphas) != 1:
+        raise ValueError(f"design_verdicts: the designs judge at different levels {alphas}")
+    (alpha,) = alphas
+    header = verdicts_table([], None, [], [], alpha).splitlines()
     return (
         "Decision rule, committed before the runs: Holm's adjustment within each claim over "
-        f"its comparisons, at {design.alpha:g}, on paired Student-t intervals over seeds; the "
-        "last column judges the same comparisons as one family.\n\n"
-        + verdicts_table(design.claims, results, per, family, design.alpha)
+        f"its comparisons, at {alpha:g}, on paired Student-t intervals over seeds; the last column "
+        "judges the same comparisons as one family of their design's comparisons.\n\n"
+        + "\n".join(header + rows)
     )

@@ -148,3 +148,31 @@ def test_a_pipe_in_a_claims_words_does_not_split_its_table_row():
     ):
         header, _, row = table.splitlines()
         assert row.replace("\\|", "").count("|") == header.count("|")
+
+
+def test_one_verdict_table_of_two_designs_keeps_each_designs_family():
+    """Rows of a second design join the first's table, each judged in its own design; only
+    the claims named join; designs judged another way are refused."""
+    import types
+
+    from docking import report
+
+    rule = claims.Above(0.0, method="paired")
+    scores = {"a": _seeds(0.9), "a0": _seeds(0.8), "b": _seeds(0.9), "b0": _seeds(0.85)}
+
+    def judged(name, found, per_claim=True):
+        results = _Results(scores, {"a0": "a", "b0": "b"})
+        results.design = types.SimpleNamespace(
+            name=name, claims=tuple(found), alpha=0.05, per_claim=per_claim
+        )
+        return results
+
+    one = claims.Claim("one", "w", "s", "x", rule, {"w1": ("a0",)})
+    two = claims.Claim("two", "w", "s", "x", rule, {"w1": ("b0",)})
+    three = claims.Claim("three", "w", "s", "x", rule, {"w1": ("a0",)})
+    text = report.design_verdicts(judged("d1", [one]), (judged("d2", [two, three]), ("two",)))
+    table = text.split("\n\n")[1].splitlines()
+    assert len(table) == 2 + 2 and "**one**" in table[2] and "**two**" in table[3]
+    assert "Holm's adjustment within each claim" in text
+    with pytest.raises(ValueError, match="not judged by Holm within each claim"):
+        report.design_verdicts(judged("d3", [one], per_claim=False))
