@@ -1009,16 +1009,29 @@ VERDICTS_START = "<!-- verdicts:start -->"
 VERDICTS_END = "<!-- verdicts:end -->"
 
 
+def _labels(results, world: str, entries) -> list[str]:
+    """A label per comparison of one world: the world, and where the world has several
+    comparisons, what tells them apart (the variant part of the cell keys that differ)."""
+    from docking.claims import pair_of
+
+    if len(entries) == 1:
+        return [world]
+    pairs = [pair_of(results, e) for e in entries]
+    differ = [i for i in range(len(pairs[0])) if len({p[i] for p in pairs}) > 1]
+    return [f"{world}: {'/'.join(p[i].rsplit('/', 1)[-1] for i in differ)}" for p in pairs]
+
+
 def _claim_rows(claims, results, decisions):
-    """Per claim, ``(claim, [(world, interval, verdict), ...])``: a judged claim's
-    comparisons with their decisions in ``decisions``, a finding's with ``"finding"``."""
+    """Per claim, ``(claim, [(label, interval, verdict), ...])``: a judged claim's
+    comparisons with their decisions in ``decisions``, a finding's with ``"finding"``; each
+    labelled by its world (:func:`_labels`)."""
     from docking.claims import pair_of
 
     found = []
     for claim in claims:
         rows = []
         for world, keys in claim.cells.items():
-            for entry in keys:
+            for entry, label in zip(keys, _labels(results, world, keys), strict=True):
                 ci, key = claim.interval(results, entry), pair_of(results, entry)[0]
                 verdict = "finding"
                 if claim.judged:
@@ -1028,7 +1041,7 @@ def _claim_rows(claims, results, decisions):
                         if d.claim == claim.key and d.world == world and d.key == key
                     ]
                     verdict = d.verdict
-                rows.append((world, ci, verdict))
+                rows.append((label, ci, verdict))
         found.append((claim, rows))
     return found
 

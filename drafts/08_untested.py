@@ -211,7 +211,7 @@ panels = report.verdict_panels([mechanism], results, [])
 # one panel per world, each with linear SARSA's lead over the paper's learner as reference
 by_world = []
 for w in ut.WORLDS:
-    rows = [r for r in panels[0]["rows"] if r[0] == w]
+    rows = [r for r in panels[0]["rows"] if r[0].startswith(f"{w}:")]
     lead = float(np.mean(results.score(f"{w}/linear") - results.score(f"{w}/paper")))
     by_world.append(
         dict(panels[0], title=f"{w} world", rows=rows, reference=(lead, "linear SARSA"))

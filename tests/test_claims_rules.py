@@ -176,3 +176,19 @@ def test_one_verdict_table_of_two_designs_keeps_each_designs_family():
     assert "Holm's adjustment within each claim" in text
     with pytest.raises(ValueError, match="not judged by Holm within each claim"):
         report.design_verdicts(judged("d3", [one], per_claim=False))
+
+
+def test_several_comparisons_of_one_world_are_labelled_by_what_tells_them_apart():
+    from docking import report
+
+    scores = {k: _seeds(0.8) for k in ("w/paper", "w/units144", "w/units576", "v/paper")}
+    scores["v/units144"] = _seeds(0.9)
+    results = _Results(scores, {})
+    entries = {
+        "w": (("w/paper", "w/units144"), ("w/paper", "w/units576")),
+        "v": (("v/paper", "v/units144"),),
+    }
+    finding = claims.Claim("m", "w", "s", "x", claims.Above(0.0, method="paired"), entries)
+    finding = dataclasses.replace(finding, judged=False)
+    (panel,) = report.verdict_panels([finding], results, [])
+    assert [r[0] for r in panel["rows"]] == ["w: units144", "w: units576", "v"]
