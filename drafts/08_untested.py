@@ -93,6 +93,12 @@ assert moved["along the wall", "paper"][1] > 0  # there the walk itself differs
 # training trials until the learning curve reaches 90% of the same seed's held-out success
 # at home (never: 2100). Rule: "easily" is re-learning in at most half the fresh network's
 # trials.
+#
+# The measure's resolution is the learning curve's: a point every 100 training trials. In
+# the sideboard world a fresh network of either learner passes 90% of the home success at
+# its first point (the world is easy: see notebook 07's contest), so a network that
+# transfers without learning scores 0 against the fresh one's 100, and the rule passes at
+# its floor. Where that happens the table says so; the figure shows the curves.
 
 # %%
 lines = [
