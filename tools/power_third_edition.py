@@ -23,6 +23,7 @@ from __future__ import annotations
 import argparse
 import json
 import re
+import textwrap
 from pathlib import Path
 
 import numpy as np
@@ -78,8 +79,9 @@ def main() -> None:
             effect = max(abs(estimate), args.least_effect)
             seeds = seeds_for_power(effect, sd, alpha, args.power, most=args.most)
             shown = f"> {args.most}" if seeds is None else str(seeds)
+            words = textwrap.shorten(claim, 70, placeholder=" ...")
             print(
-                f"| {claim[:60]} | {world} | {estimate:+.1f} | {sd:.1f} | {effect:.1f} | "
+                f"| {words} | {world} | {estimate:+.1f} | {sd:.1f} | {effect:.1f} | "
                 f"{alpha:.3g} | {shown} | {power(10, effect, sd, alpha):.2f} | "
                 f"{power(20, effect, sd, alpha):.2f} |"
             )
