@@ -66,6 +66,9 @@ PARTS = ("train", "test", "heldout")
 #: only as a design's ``keep`` asks.
 STEP_FIELDS = ("poses", "actions", "winners", "deltas")
 NETWORK = ("W", "Q")
+#: A design's ``keep`` with this: its table leaves out each training trial's outcome (a
+#: design none of whose analyses reads them; its learning curves are per-run arrays, kept).
+NO_TRAIN = "no-train"
 _RECOMPUTE = "make reproduce (recomputes the runs, then python -m docking ledger update)"
 _RESTORE = "check out the committed ledger again (git checkout -- ledger)"
 #: The values of ``DOCKING_LEDGER`` that turn the ledger off (in any case).
@@ -335,7 +338,10 @@ def load_run(config, seed: int, results_dir: Path | str | None = None):
     logs = {p: _log(table, arrays, rows, p, what) for p in PARTS if f"{p}.start_far" in arrays}
     walls = record["wall_time_train"], record["wall_time_test"]
     if runner is store.PPO:
-        train = arrays["train.success"], arrays["train.steps"]
+        train = [
+            arrays[f"train.{f}"] if f"train.{f}" in arrays else NotKept(f"{what}: its training")
+            for f in ("success", "steps")
+        ]
         return ppo.PPOResult(config, seed, *train, logs["heldout"], *walls)
     curves = {k: arrays[k] for k in ("curve_trials", "curve_success", "curve_steps")}
     return ExperimentResult(
@@ -350,7 +356,7 @@ def load_run(config, seed: int, results_dir: Path | str | None = None):
             if "W" in arrays
             else NotKept(f"{what}: its network")
         ),
-        train=logs["train"],
+        train=logs["train"] if "train" in logs else NotKept(f"{what}: its training trials"),
         test=logs["test"],
         **curves,
         curve_rewarded=arrays["curve_rewarded"],
@@ -422,11 +428,14 @@ def _row(arrays: dict, keep: frozenset) -> dict[str, np.ndarray]:
     """What a table keeps of a run's stored ``arrays``: every per-trial and per-run array;
     with ``"starts"`` each trial's start pose, ``"networks"`` W and Q (flat; read back in
     the configuration's shapes), ``"winners"`` the test
-    and held-out steps' winning units; never ``meta`` or another per-step array."""
+    and held-out steps' winning units; with :data:`NO_TRAIN` no training trial; never
+    ``meta`` or another per-step array."""
     row = {}
     for name, array in arrays.items():
         field = name.rpartition(".")[2]
         if name == "meta" or (name in NETWORK and "networks" not in keep):
+            continue
+        if name.startswith("train.") and NO_TRAIN in keep:
             continue
         if field in STEP_FIELDS and not (field == "winners" and "winners" in keep):
             continue
@@ -435,6 +444,8 @@ def _row(arrays: dict, keep: frozenset) -> dict[str, np.ndarray]:
         # W and Q flat: a design's networks differ in shape (Experiment 1 has 4 units)
         row[name] = np.ravel(array) if name in NETWORK else np.atleast_1d(array)
     for part in PARTS:
+        if part == "train" and NO_TRAIN in keep:
+            continue
         if "starts" in keep and f"{part}.poses" in arrays:
             row[f"{part}.starts"] = _stored_log(arrays, part).starts
         if "ends" in keep and part != "train" and f"{part}.poses" in arrays:

@@ -462,3 +462,19 @@ def test_one_table_keeps_networks_of_different_shapes(tmp_path, monkeypatch):
         assert served.W.shape == whole.network.W.shape and served.Q.shape == whole.network.Q.shape
         assert served.W.tobytes() == whole.network.W.tobytes()
         assert served.Q.tobytes() == whole.network.Q.tobytes()
+
+
+def test_a_table_without_training_trials_serves_the_rest_and_refuses_them(
+    built, tmp_path, monkeypatch
+):
+    """``no-train`` leaves each training trial's outcome out of the table: the held-out
+    trials and the learning curve are served as before, the training trials refused."""
+    folder, _, full, results = built
+    ledger.update([(TINY, 1, False, frozenset({ledger.NO_TRAIN}))], tmp_path / "ledger", results)
+    with zipfile.ZipFile(tmp_path / "ledger" / "tables" / f"{TINY.name}.npz") as z:
+        assert not [n for n in z.namelist() if n.startswith("train.")]
+    served = _served(monkeypatch, tmp_path / "ledger", 1)
+    assert served.heldout.success.tobytes() == full[1].heldout.success.tobytes()
+    assert served.curve_success.tobytes() == full[1].curve_success.tobytes()
+    with pytest.raises(ledger.NotInLedger, match="training trials"):
+        _ = served.train.success
