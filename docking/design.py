@@ -158,6 +158,8 @@ class Design:
         ``"networks"`` in :attr:`keep` does for every run).
       keep_cells: ``{cell key: what}``: what the table keeps of that cell's runs besides
         :attr:`keep` (e.g. final poses where a measure reads them).
+      kept_seeds: ``{what: seeds}``: what of :attr:`keep` the table keeps only for these
+        seeds (e.g. the failures' paths of the seeds an analysis pools).
     """
 
     name: str
@@ -173,6 +175,7 @@ class Design:
     keep: frozenset[str] = frozenset()
     networks: dict[str, tuple[int, ...]] = dataclasses.field(default_factory=dict)
     keep_cells: dict[str, frozenset[str]] = dataclasses.field(default_factory=dict)
+    kept_seeds: dict[str, tuple[int, ...]] = dataclasses.field(default_factory=dict)
     per_claim: bool = False
 
     def __post_init__(self):
@@ -408,6 +411,7 @@ def ledger_runs(
             keep = design.keep | design.keep_cells.get(c.key, frozenset())
             if seed in design.networks.get(c.key, ()):
                 keep |= {"networks"}
+            keep -= {what for what, seeds in design.kept_seeds.items() if seed not in seeds}
             found.append((config, seed, seed in design.whole.get(c.key, ()), keep))
     return found
 

@@ -664,9 +664,12 @@ def rotation_verdict(comparisons: list[Comparison], rule) -> tuple[str, Interval
     return rule.decide(found.removed), found.removed
 
 
-def failure_shares(results, keys: list[str]) -> tuple[np.ndarray, list[int]]:
+def failure_shares(
+    results, keys: list[str], n_seeds: int | None = None
+) -> tuple[np.ndarray, list[int]]:
     """The failure taxonomy (:func:`docking.analysis.failure_taxonomy`) of the held-out
-    failures of each cell in ``keys``, all seeds pooled: ``(shares, failures)`` with
+    failures of each cell in ``keys``, its first ``n_seeds`` seeds (None: all) pooled:
+    ``(shares, failures)`` with
     ``shares[k, c]`` the share of cell ``k``'s failed trials in class ``c`` (classes in the
     order of :data:`docking.analysis.FAILURE_CLASSES`; NaN for a cell without failures)."""
     from docking.analysis import FAILURE_CLASSES, failure_taxonomy
@@ -676,7 +679,7 @@ def failure_shares(results, keys: list[str]) -> tuple[np.ndarray, list[int]]:
     for k, key in enumerate(keys):
         env = DockingEnv(results.cell(key).config.world, seed=0)
         counts, n = np.zeros(len(FAILURE_CLASSES)), 0
-        for log in results.heldout[key]:
+        for log in results.heldout[key][:n_seeds]:
             failed = ~log.success
             flags = failure_taxonomy(log, env, trials=np.flatnonzero(failed))
             n += int(failed.sum())
@@ -688,12 +691,12 @@ def failure_shares(results, keys: list[str]) -> tuple[np.ndarray, list[int]]:
     return shares, failures
 
 
-def final_headings(results, key: str) -> np.ndarray:
+def final_headings(results, key: str, n_seeds: int | None = None) -> np.ndarray:
     """``|yaw|`` (deg; 0 = facing the landmark's wall) at the end of every failed held-out
-    trial of cell ``key``, all seeds pooled."""
+    trial of cell ``key``, its first ``n_seeds`` seeds (None: all) pooled."""
     out = [
         abs(np.degrees(log.trial_poses(k)[-1][2]))
-        for log in results.heldout[key]
+        for log in results.heldout[key][:n_seeds]
         for k in np.flatnonzero(~log.success)
     ]
     return np.array(out, dtype=np.float64)

@@ -203,14 +203,16 @@ assert verdict == "contradicted" and removed.high < 0
 # ## Where the failures go: the failure taxonomy of every cell
 #
 # The study's taxonomy (notebook 05, `docking.analysis.FAILURE_CLASSES`) of every cell's
-# held-out failures, all seeds pooled; a trial can be in several classes. "Heading off in
+# held-out failures, its first five seeds pooled (`experiment3.TAXONOMY_SEEDS`: the ledger
+# keeps their failures' paths); a trial can be in several classes. "Heading off in
 # region" exists only with precision docking: the reference point reached the region, but the
 # heading was outside the tolerance there. Heading drift is measured against facing the
 # landmark's wall (yaw 0), so with six actions it includes the robot's own turns.
 
 # %%
 keys = [c.key for c in results.cells]
-shares, failures = report.failure_shares(results, keys)
+n_taxonomy = len(experiment3.TAXONOMY_SEEDS)
+shares, failures = report.failure_shares(results, keys, n_taxonomy)
 classes = list(FAILURE_CLASSES)
 display(
     Image(
@@ -235,8 +237,8 @@ lines = []
 for c in found.values():
     k4 = experiment3.cell_key("paper", c.task, c.noise)
     k6 = experiment3.cell_key("turning", c.task, c.noise)
-    yaw4 = np.median(report.final_headings(results, k4))
-    yaw6 = np.median(report.final_headings(results, k6))
+    yaw4 = np.median(report.final_headings(results, k4, n_taxonomy))
+    yaw6 = np.median(report.final_headings(results, k6, n_taxonomy))
     rewarded = difference_ci(
         analysis.rewarded_share(results.runs[k6]), analysis.rewarded_share(results.runs[k4])
     )

@@ -109,3 +109,20 @@ def test_tuning_keeps_the_best_settings_and_tunes_to_the_best_mean():
     (tuned,) = tuning.stages()[1](results)
     assert tuned.key == "w/paper-tuned" and tuned.seeds == (1, 2)
     assert tuned.config.network.eps_q == 0.3
+
+
+def test_the_ledger_keeps_what_kept_seeds_names_only_for_those_seeds():
+    from docking.design import Cell, Design, ledger_runs
+    from docking.presets import EXPERIMENT_1
+
+    cell = Cell("a", EXPERIMENT_1, {"x": 1}, "a")
+    design = Design(
+        "kept",
+        "t",
+        (cell,),
+        (0, 1, 2),
+        keep=frozenset({"paths", "starts"}),
+        kept_seeds={"paths": (0, 2)},
+    )
+    keeps = {seed: keep for _, seed, _, keep in ledger_runs(design)}
+    assert keeps == {0: {"paths", "starts"}, 1: {"starts"}, 2: {"paths", "starts"}}
