@@ -508,6 +508,12 @@ def family_verdicts(claims, decisions: list[Decision]) -> dict[str, tuple[str, d
     return out
 
 
+def markdown_cell(text: str) -> str:
+    """``text`` for a cell of a Markdown table: its pipes escaped, so that one such as
+    "|heading error|" does not split the row."""
+    return text.replace("|", "\\|")
+
+
 def family_table(claims, decisions: list[Decision]) -> str:
     """The Markdown table of a judged family: per judged claim, the paper's words, the
     overall verdict (:func:`family_verdicts`), what is compared and by which rule, and per
@@ -528,7 +534,7 @@ def family_table(claims, decisions: list[Decision]) -> str:
             for d in decisions
             if d.claim == claim.key
         ]
-        words, test = (t.replace("|", "\\|") for t in (claim.words, claim.test))
+        words, test = markdown_cell(claim.words), markdown_cell(claim.test)
         lines.append(
             f"| {words} ({claim.source}) | {verdicts[claim.key][0]} | {test} | "
             + "<br>".join(found)

@@ -423,11 +423,20 @@ _ARCHIVED_FINDING = (
     "none of the paper's claims was supported there."
 )
 
-#: What the summary calls the contest's worlds.
-CONTEST_WORLDS = {
-    "sideboard": "the sideboard world (calibrated towards the paper's numbers)",
+#: What the summary calls the contest's worlds, and what it says of a world in brackets.
+CONTEST_NAMES = {
+    "sideboard": "the sideboard world",
     "floor": "the floor world",
-    "nao": "the Nao-like world (Nao's published steps and camera)",
+    "nao": "the Nao-like world",
+}
+_CONTEST_NOTES = {
+    "sideboard": "calibrated towards the paper's numbers",
+    "nao": "Nao's published steps and camera",
+}
+#: The contest's worlds as tables and the summary's sentences name them, with the note.
+CONTEST_WORLDS = {
+    k: f"{name} ({_CONTEST_NOTES[k]})" if k in _CONTEST_NOTES else name
+    for k, name in CONTEST_NAMES.items()
 }
 
 
@@ -455,7 +464,7 @@ def contest_summary(contest) -> str:
             f"linear SARSA's lead is {gaps[world].interval.format(unit=' pp')}"
         )
     by_verdict = {
-        v: [CONTEST_WORLDS[w].split(" (")[0] for w, g in gaps.items() if g.verdict == v]
+        v: [CONTEST_NAMES[w] for w, g in gaps.items() if g.verdict == v]
         for v in ("closed", "remains", "undecided")
     }
     verdicts = "; ".join(f"{v} in {' and '.join(ws)}" for v, ws in by_verdict.items() if ws)
@@ -1078,19 +1087,24 @@ def verdict_panels(claims, results, decisions) -> list[dict]:
     return panels
 
 
+def _verdicts_header(alpha: float) -> list[str]:
+    """The header lines of :func:`verdicts_table`."""
+    return [
+        f"| the paper's words (section) | compared | per comparison: 95% interval -> decision "
+        f"(Holm within the claim, {alpha:g}) | verdict | verdict, one family |",
+        "|---|---|---|---|---|",
+    ]
+
+
 def verdicts_table(claims, results, per_claim, family, alpha: float) -> str:
     """The README's verdict table of a design judged both ways: per claim, the paper's words
     and section, what is compared, each comparison's paired interval with its decision under
     Holm within the claim (``per_claim``, the decision rule) and the verdict under one family
     of every comparison (``family``), at ``alpha``; a finding's intervals, not judged."""
-    from docking.claims import family_verdicts
+    from docking.claims import family_verdicts, markdown_cell
 
     within, overall = family_verdicts(claims, per_claim), family_verdicts(claims, family)
-    lines = [
-        f"| the paper's words (section) | compared | per comparison: 95% interval -> decision "
-        f"(Holm within the claim, {alpha:g}) | verdict | verdict, one family |",
-        "|---|---|---|---|---|",
-    ]
+    lines = _verdicts_header(alpha)
     for claim, rows in _claim_rows(claims, results, per_claim):
         evidence = "<br>".join(f"{w}: {claim.format(ci)} -> {v}" for w, ci, v in rows)
         verdicts = (
@@ -1098,7 +1112,7 @@ def verdicts_table(claims, results, per_claim, family, alpha: float) -> str:
             if claim.judged
             else ("finding", "finding")
         )
-        words, compares = (t.replace("|", "\\|") for t in (claim.words, claim.compares))
+        words, compares = markdown_cell(claim.words), markdown_cell(claim.compares)
         lines.append(
             f"| **{claim.key}**: {words} ({claim.source}) | {compares} | "
             f"{evidence} | {verdicts[0]} | {verdicts[1]} |"
@@ -1169,11 +1183,12 @@ def design_verdicts(*judged) -> str:
         family = judge_family(design.claims, results, alpha=design.alpha)
         per = judge_family(design.claims, results, alpha=design.alpha, per_claim=True)
         claims = [c for c in design.claims if keys is None or c.key in keys]
-        rows += verdicts_table(claims, results, per, family, design.alpha).splitlines()[2:]
+        table = verdicts_table(claims, results, per, family, design.alpha).splitlines()
+        rows += table[len(_verdicts_header(design.alpha)) :]
     if len(alphas) != 1:
         raise ValueError(f"design_verdicts: the designs judge at different levels {alphas}")
     (alpha,) = alphas
-    header = verdicts_table([], None, [], [], alpha).splitlines()
+    header = _verdicts_header(alpha)
     return (
         "Decision rule, committed before the runs: Holm's adjustment within each claim over "
         f"its comparisons, at {alpha:g}, on paired Student-t intervals over seeds; the last column "
