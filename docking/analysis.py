@@ -45,11 +45,8 @@ if TYPE_CHECKING:  # the task renders (OpenGL): imported where a function needs 
     from docking.world import DockingEnv
 
 __all__ = [
-    "curve_flatness",
     "feature_fidelity",
-    "path_drops",
     "trials_to_level",
-    "first_trials_poses",
     "rewarded_share",
     "VIEW_POSES",
     "FAILURE_CLASSES",
@@ -348,15 +345,6 @@ def actions_per_docking(log: TrialLog) -> float:
     """The mean number of actions of the docked trials of ``log`` (NaN if none docked)."""
     docked = np.asarray(log.steps)[np.asarray(log.success, dtype=bool)]
     return float(np.mean(docked)) if len(docked) else float("nan")
-
-
-def first_trials_poses(log: TrialLog, n_trials: int) -> np.ndarray:
-    """Every pose of the first ``n_trials`` trials of ``log``, ``(m, 3)`` (read trial by
-    trial, so a ledger keeps only these trials' poses)."""
-    n = min(int(n_trials), len(log))
-    if n < 1:
-        raise ValueError(f"first_trials_poses needs at least one trial, got {n_trials}")
-    return np.concatenate([log.trial_poses(k) for k in range(n)])
 
 
 # ------------------------------------------------------------------------------------------
@@ -682,27 +670,6 @@ def trials_to_level(runs: list[ExperimentResult], level: float) -> np.ndarray:
         hits = np.flatnonzero(r.curve_success >= level)
         out.append(float(r.curve_trials[hits[0]]) if len(hits) else np.nan)
     return np.array(out)
-
-
-def curve_flatness(runs: list[ExperimentResult]) -> float:
-    """How much the mean learning curve still rises at its end: the mean greedy success of
-    its last quarter of points minus that of its third quarter (seeds pooled)."""
-    curves = np.array([r.curve_success for r in runs])
-    if curves.ndim != 2 or curves.shape[1] < 4:
-        raise ValueError("curve_flatness needs runs with learning curves of at least 4 points")
-    q = curves.shape[1] // 4
-    return float(curves[:, -q:].mean() - curves[:, -2 * q : -q].mean())
-
-
-def path_drops(success: list[np.ndarray]) -> list:
-    """For consecutive worlds of a path, per-seed success ``success[k]`` of a learner: the
-    drop from world ``k`` to ``k + 1`` (Welch's t interval, :func:`docking.stats.t_difference_ci`
-    of ``success[k] - success[k + 1]``)."""
-    from docking.stats import t_difference_ci
-
-    if len(success) < 2:
-        raise ValueError("a path needs at least two worlds")
-    return [t_difference_ci(a, b) for a, b in zip(success[:-1], success[1:], strict=True)]
 
 
 class Ambiguity(NamedTuple):

@@ -877,104 +877,8 @@ def fig_rewards(curves: LearningCurves, headline_seed: int, paper_rewards: float
 
 
 # ------------------------------------------------------------------------------------------
-# The study (notebook 05).
+# Experiment 3 (notebook 06).
 # ------------------------------------------------------------------------------------------
-
-
-def fig_forest(
-    labels: list[str],
-    groups: list[str],
-    seeds: list[np.ndarray],
-    success: np.ndarray,
-    difference: np.ndarray,
-    margins=None,
-    decided=None,
-    difference_label: str = "its baseline minus the cell\n(percentage points, 95% interval)",
-) -> Figure:
-    """Every cell of a study as intervals (a forest plot).
-
-    Args:
-      labels: One label per cell (top to bottom).
-      groups: One group name per cell (e.g. the world and experiment); a new group starts a
-        new block under a title row of its own.
-      seeds: Per cell, the held-out success of each seed (drawn as dots).
-      success: ``(cells, 3)``: mean, low, high of the held-out success (left panel).
-      difference: ``(cells, 3)``: the comparison of the cell with its baseline, in the sign
-        that ``difference_label`` names (by default the baseline minus the cell: positive
-        where the paper's configuration does better), mean, low, high; NaN rows for the
-        baselines themselves (right panel).
-      margins: Per cell, the +-margin of "no effect" where the rule of its claim uses one
-        (shaded behind that row only), else None or NaN. None: no row has one.
-      decided: Per cell, whether the rule of its claim decides its comparison (drawn red;
-        grey otherwise). Default: where the difference's interval excludes 0.
-      difference_label: The right panel's axis label.
-    """
-    n = len(labels)
-    if not (len(groups) == len(seeds) == len(success) == len(difference) == n):
-        raise ValueError("fig_forest: labels, groups, seeds and intervals differ in length")
-    if margins is not None and len(margins) != n:
-        raise ValueError("fig_forest: margins must have one entry per cell")
-    starts = [k for k in range(n) if k == 0 or groups[k] != groups[k - 1]]
-    slots = n + len(starts)  # a title row above each group
-    fig = _new_figure(11.0, 0.32 * slots + 1.6)
-    left, right = fig.subplots(1, 2, sharey=True, width_ratios=(1.15, 1))
-    y, position = np.zeros(n), slots - 1.0
-    for k in range(n):
-        if k in starts:
-            position -= 1.0  # the title's row
-        y[k], position = position, position - 1.0
-    for k in range(n):
-        color = "0.15" if np.isnan(difference[k, 0]) else "C0"
-        left.plot(success[k, 1:] * 100, [y[k]] * 2, color=color, lw=2.2, solid_capstyle="butt")
-        left.plot(success[k, 0] * 100, y[k], "o", color=color, markersize=5, zorder=3)
-        jitter = np.linspace(-0.18, 0.18, len(seeds[k]))
-        left.plot(100 * np.asarray(seeds[k]), y[k] + jitter, ".", color="C1", ms=3, alpha=0.7)
-        margin = None if margins is None else margins[k]
-        if margin is not None and np.isfinite(margin):
-            right.fill_betweenx(
-                [y[k] - 0.45, y[k] + 0.45], -100 * margin, 100 * margin, color="0.88", zorder=0
-            )
-        if not np.isnan(difference[k, 0]):
-            d = 100 * difference[k]
-            red = (d[1] > 0 or d[2] < 0) if decided is None else bool(decided[k])
-            c = "C3" if red else "0.45"
-            right.plot(d[1:], [y[k]] * 2, color=c, lw=2.2, solid_capstyle="butt")
-            right.plot(d[0], y[k], "o", color=c, markersize=5, zorder=3)
-    right.axvline(0, color="0.2", lw=0.8)
-    for k in starts:
-        title_y = y[k] + 1.0
-        if k:
-            for ax in (left, right):
-                ax.axhline(title_y + 0.5, color="0.6", lw=0.6)
-        left.text(
-            0.01,
-            title_y,
-            groups[k],
-            transform=left.get_yaxis_transform(),
-            fontsize=8.5,
-            fontweight="bold",
-            va="center",
-            ha="left",
-            color="0.2",
-        )
-    left.set_yticks(y, labels, fontsize=8)
-    left.set_ylim(-0.7, slots - 0.45)
-    left.set_xlabel("held-out success (%)\nmean, 95% interval, seeds (dots)")
-    right.set_xlabel(difference_label)
-    left.set_title("A", loc="left", fontweight="bold")
-    right.set_title("B", loc="left", fontweight="bold")
-    for ax in (left, right):
-        ax.grid(axis="x", alpha=0.3, lw=0.5)
-    if margins is not None and any(m is not None and np.isfinite(m) for m in margins):
-        from matplotlib.patches import Patch
-
-        right.legend(
-            handles=[Patch(color="0.88", label="the margin of its rule (rows with one)")],
-            fontsize=7,
-            loc="upper right",  # in the first group's title row, clear of every interval
-            frameon=False,
-        )
-    return fig
 
 
 def fig_experiment3(
@@ -1118,7 +1022,7 @@ def fig_action_fields(
 
 
 # ------------------------------------------------------------------------------------------
-# The study's second edition.
+# The study's third edition and the untested claims (notebooks 07 and 08).
 # ------------------------------------------------------------------------------------------
 
 

@@ -181,31 +181,6 @@ def test_paper_action_order_is_L_R_F_B():
     assert [ACTION_LETTERS[i] for i in figures.PAPER_ACTION_ORDER] == list("LRFB")
 
 
-def test_forest_plot_titles_its_groups_on_rows_of_their_own_and_shades_only_margin_rows():
-    nan3 = [np.nan] * 3
-    fig = _drawn(
-        figures.fig_forest(
-            labels=["base", "variant", "base", "variant"],
-            groups=["world A", "world A", "world B", "world B"],
-            seeds=[np.array([0.9, 1.0])] * 4,
-            success=np.array([[0.95, 0.9, 1.0]] * 4),
-            difference=np.array([nan3, [0.02, 0.01, 0.03], nan3, [-0.01, -0.02, 0.0]]),
-            margins=[None, 0.02, None, None],
-        )
-    )
-    left, right = fig.axes[:2]
-    rows = sorted(left.get_yticks())
-    titles = [t for t in left.texts if t.get_text().startswith("world")]
-    assert len(titles) == 2
-    for title in titles:  # a title sits between rows, on a row of its own
-        y = title.get_position()[1]
-        assert min(abs(y - r) for r in rows) >= 0.99
-    assert len(right.collections) == 1  # one shaded margin: the one row whose rule has one
-    assert "baseline minus the cell" in right.get_xlabel()
-    with pytest.raises(ValueError, match="margins"):
-        figures.fig_forest(["a"], ["g"], [np.ones(2)], np.ones((1, 3)), np.ones((1, 3)), [0.1, 0.1])
-
-
 @pytest.mark.slow
 def test_fig4_draws_the_random_start_beside_the_learned_weights(result2):
     from docking.experiments import initial_network
