@@ -359,9 +359,10 @@ class Claim:
     def format(self, ci: Interval) -> str:
         """An interval of this claim's statistic as text: percentage points of success, a
         per cent share of failures, or (for a measure other than success) the raw
-        difference to three decimals."""
+        difference in the measure's ``unit`` (its text and decimals; none: three decimals)."""
         if self.measure is not success:
-            return ci.format(scale=1.0, digits=3)
+            unit, digits = getattr(self.measure, "unit", ("", 3))
+            return ci.format(scale=1.0, unit=unit, digits=digits)
         return ci.format(unit="%" if isinstance(self.rule, ShareAbove) else " pp")
 
     def evidence(self, results, entry) -> str:

@@ -496,16 +496,17 @@ class Report:
         return 0
 
     def _untested(self) -> list:
-        """The untested claims' design's rows of the verdict table
-        (:data:`docking.report.UNTESTED_IN_README`), once every one of its runs is stored
-        or in the ledger; none before."""
+        """The untested claims' rows of the verdict table
+        (:data:`docking.report.UNTESTED_IN_README`), once every run of their judged part
+        (``untested.part("judged")``) is stored or in the ledger; none before."""
         from docking.design import absent_runs
         from docking.designs import untested
         from docking.report import UNTESTED_IN_README
 
-        if absent_runs(untested.DESIGN, self.results_dir):
+        judged = untested.part("judged")
+        if absent_runs(judged, self.results_dir):
             return []
-        found = untested.DESIGN.run(results_dir=self.results_dir, workers=self.processes)
+        found = judged.run(results_dir=self.results_dir, workers=self.processes)
         return [(found, UNTESTED_IN_README)]
 
 

@@ -34,6 +34,16 @@ def test_comparisons_name_cells_of_the_design():
     assert unknown_cells(untested.DESIGN) == []
 
 
+def test_its_parts_split_the_cells_and_the_judged_part_holds_the_judged_claims():
+    judged, findings = untested.part("judged"), untested.part("findings")
+    keys = [c.key for c in judged.cells] + [c.key for c in findings.cells]
+    assert sorted(keys) == sorted(c.key for c in untested.DESIGN.cells)
+    assert unknown_cells(judged) == [] and findings.claims == ()
+    assert {c.key for c in untested.DESIGN.claims if c.judged} <= {c.key for c in judged.claims}
+    with pytest.raises(ValueError, match="judged"):
+        untested.part("all")
+
+
 def test_coping_starts_from_the_home_networks_and_shares_their_runs():
     home = untested.DESIGN.cell("home/paper").config
     for change in untested.CHANGES:
@@ -119,3 +129,12 @@ def test_weight_mass_moves_onto_the_landmark_when_W_draws_it():
     assert learned[0] > 2 * start[0] and learned[1] < start[1]
     with pytest.raises(ValueError, match="distractor"):
         weight_mass(net, EXPERIMENT_2.world, n=10)
+
+
+def test_a_measures_statistic_is_shown_in_its_unit():
+    from docking.stats import Interval
+
+    shown = {c.key: c.format(Interval(45.0, 34.5, 55.5, ())) for c in untested.CLAIMS}
+    assert shown["coping"] == "45 trials [34, 56]"  # trials, whole
+    assert shown["continuous-path"] == "45.000 m [34.500, 55.500]"
+    assert shown["relocation"] == "4500.0 pp [3450.0, 5550.0]"  # a success difference

@@ -2,7 +2,9 @@
 (:func:`docking.claims.success`): each is ``measure(results, key) -> (seeds,)``.
 
 A design's rules text names a claim's measure by its function's ``__name__``; the measures
-built from a design's constants (:func:`interpretability`, :func:`regain`) keep theirs.
+built from a design's constants (:func:`interpretability`, :func:`regain`) keep theirs. A
+measure's ``unit`` (:func:`_unit`: its unit's text and the decimals it is shown with) is
+display only, read by :meth:`docking.claims.Claim.format`; without one, three decimals.
 """
 
 from __future__ import annotations
@@ -12,6 +14,16 @@ from collections.abc import Callable
 import numpy as np
 
 Measure = Callable[..., np.ndarray]
+
+
+def _unit(text: str, digits: int) -> Callable[[Measure], Measure]:
+    """Mark a measure's values as shown in ``text`` (e.g. ``" m"``) to ``digits`` decimals."""
+
+    def mark(measure: Measure) -> Measure:
+        measure.unit = (text, digits)
+        return measure
+
+    return mark
 
 
 def interpretability(n_seeds: Callable, views: int, min_views: int) -> Measure:
@@ -40,6 +52,7 @@ def interpretability(n_seeds: Callable, views: int, min_views: int) -> Measure:
     return fidelity
 
 
+@_unit("°", 2)
 def heading_error_deg(results, key: str) -> np.ndarray:
     """Per seed, the mean |heading error| (deg) at docking in the held-out trials."""
     from docking.analysis import docked_heading_error_deg
@@ -47,6 +60,7 @@ def heading_error_deg(results, key: str) -> np.ndarray:
     return np.array([docked_heading_error_deg(log) for log in results.logs[key]])
 
 
+@_unit(" actions", 2)
 def actions_per_docking(results, key: str) -> np.ndarray:
     """Per seed, the mean actions of the docked held-out trials."""
     from docking.analysis import actions_per_docking as per_log
@@ -69,9 +83,10 @@ def regain(level: float, censored: float) -> Measure:
             out.append(float(run.curve_trials[hits[0]]) if len(hits) else float(censored))
         return np.array(out)
 
-    return regain_trials
+    return _unit(" trials", 0)(regain_trials)
 
 
+@_unit(" m", 4)
 def final_error_m(results, key: str) -> np.ndarray:
     """Per seed, the mean distance (m) of the final reference point from the docking
     region's centre, over the docked held-out trials."""
@@ -87,6 +102,7 @@ def final_error_m(results, key: str) -> np.ndarray:
     return np.array(out)
 
 
+@_unit(" m", 3)
 def metres_per_docking(results, key: str) -> np.ndarray:
     """Per seed, the mean distance walked (m) in the docked held-out trials."""
     from docking.ledger import path_lengths

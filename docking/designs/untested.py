@@ -267,11 +267,11 @@ regain_trials = regain(REGAIN, CENSORED)
 
 
 P = "paired"
-_CONTINUOUS = ("sideboard", "sideboard-turning", "nao", "nao-turning")
+CONTINUOUS_GROUPS = ("sideboard", "sideboard-turning", "nao", "nao-turning")
 #: The oracle's comparison in every group, PPO's where it learns (no turns).
 _CONTINUOUS_ENTRIES = {
     g: (f"{g}/continuous",) + ((f"{g}/ppo-continuous",) if "turning" not in g else ())
-    for g in _CONTINUOUS
+    for g in CONTINUOUS_GROUPS
 }
 CLAIMS = (
     Claim(
@@ -376,6 +376,26 @@ DESIGN = Design(
         for k in ("paper", "cup", "trained250", "trained1000", "cup-trained250", "cup-trained1000")
     },
 )
+
+
+#: The claims :func:`part` ``"judged"`` holds: the judged ones and linear SARSA's coping.
+JUDGED = ("relocation", "coping", "continuous-accuracy", "continuous-path", "coping-linear")
+
+
+def part(name: str) -> Design:
+    """A part of :data:`DESIGN` that runs on its own (the same cells, so the same runs):
+    ``"judged"``, the cells and claims of relocation, coping and continuous actions (the
+    rows the README's verdict table carries); ``"findings"``, population coding, neglect
+    and the mechanism, without claims to judge."""
+    judged = [c for c in CLAIMS if c.key in JUDGED]
+    findings = {c.key for c in finding_cells()}
+    if name == "judged":
+        cells = tuple(c for c in DESIGN.cells if c.key not in findings)
+        return dataclasses.replace(DESIGN, cells=cells, claims=tuple(judged))
+    if name == "findings":
+        cells = tuple(c for c in DESIGN.cells if c.key in findings)
+        return dataclasses.replace(DESIGN, cells=cells, claims=())
+    raise ValueError(f"part must be 'judged' or 'findings', got {name!r}")
 
 
 #: The constants that are rules (in :func:`rules_text`).
