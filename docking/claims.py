@@ -132,6 +132,10 @@ class Rule:
     def describe(self) -> str:
         raise NotImplementedError
 
+    def axis(self, what: str) -> str:
+        """The statistic of ``what`` (the measure in words), for an axis."""
+        return f"difference of {what}"
+
     @property
     def band(self) -> tuple[float, float] | None:
         """The band a figure shades for this rule (as fractions), or None."""
@@ -300,6 +304,9 @@ class AtMost(Rule):
 
     def describe(self) -> str:
         return f"supported if the interval of {self.fraction:g} x baseline - cell lies above 0"
+
+    def axis(self, what: str) -> str:
+        return f"{self.fraction:g} x the baseline's {what} minus the cell's"
 
 
 def success(results, key: str) -> np.ndarray:

@@ -1071,8 +1071,10 @@ def verdict_panels(claims, results, decisions) -> list[dict]:
             xlabel = "share of the held-out failures gone (%)"
         elif rate:
             xlabel = "difference of held-out success (percentage points)"
-        else:
-            xlabel = f"difference of {claim.compares.split(':')[0]}"
+        else:  # the measure's statistic, in its unit (docking.designs.measures)
+            unit = getattr(claim.measure, "unit", ("", 3))[0].strip()
+            what = getattr(claim.measure, "label", claim.compares.split(":")[0])
+            xlabel = claim.rule.axis(what) + (f" ({unit})" if unit else "")
         panels.append(
             dict(
                 title=f"{claim.key}: {claim.compares}"

@@ -16,11 +16,12 @@ import numpy as np
 Measure = Callable[..., np.ndarray]
 
 
-def _unit(text: str, digits: int) -> Callable[[Measure], Measure]:
-    """Mark a measure's values as shown in ``text`` (e.g. ``" m"``) to ``digits`` decimals."""
+def _unit(text: str, digits: int, label: str) -> Callable[[Measure], Measure]:
+    """Mark a measure's values as shown in ``text`` (e.g. ``" m"``) to ``digits`` decimals,
+    and named ``label`` on a figure's axis."""
 
     def mark(measure: Measure) -> Measure:
-        measure.unit = (text, digits)
+        measure.unit, measure.label = (text, digits), label
         return measure
 
     return mark
@@ -52,7 +53,7 @@ def interpretability(n_seeds: Callable, views: int, min_views: int) -> Measure:
     return fidelity
 
 
-@_unit("°", 2)
+@_unit("°", 2, "|heading error| at docking")
 def heading_error_deg(results, key: str) -> np.ndarray:
     """Per seed, the mean |heading error| (deg) at docking in the held-out trials."""
     from docking.analysis import docked_heading_error_deg
@@ -60,7 +61,7 @@ def heading_error_deg(results, key: str) -> np.ndarray:
     return np.array([docked_heading_error_deg(log) for log in results.logs[key]])
 
 
-@_unit(" actions", 2)
+@_unit(" actions", 2, "actions per docking")
 def actions_per_docking(results, key: str) -> np.ndarray:
     """Per seed, the mean actions of the docked held-out trials."""
     from docking.analysis import actions_per_docking as per_log
@@ -83,10 +84,10 @@ def regain(level: float, censored: float) -> Measure:
             out.append(float(run.curve_trials[hits[0]]) if len(hits) else float(censored))
         return np.array(out)
 
-    return _unit(" trials", 0)(regain_trials)
+    return _unit(" trials", 0, f"training trials to regain {level:.0%}")(regain_trials)
 
 
-@_unit(" m", 4)
+@_unit(" m", 4, "final distance from the dock's centre")
 def final_error_m(results, key: str) -> np.ndarray:
     """Per seed, the mean distance (m) of the final reference point from the docking
     region's centre, over the docked held-out trials."""
@@ -102,7 +103,7 @@ def final_error_m(results, key: str) -> np.ndarray:
     return np.array(out)
 
 
-@_unit(" m", 3)
+@_unit(" m", 3, "metres walked per docking")
 def metres_per_docking(results, key: str) -> np.ndarray:
     """Per seed, the mean distance walked (m) in the docked held-out trials."""
     from docking.ledger import path_lengths
