@@ -20,11 +20,13 @@ paper's budget cost about 20 CPU minutes per run; the budget counts the steps of
 the entropy bonus stays at
 skrl's default 0 (skrl's JAX categorical model does not compute an entropy). In a world with
 continuous actions (the paper's future work) the policy is a Gaussian of learned mean and
-state-free log standard deviation (starting at 1), its samples clipped to [-1, 1], and the
-greedy action its mean. skrl draws
-from a global seed (``skrl.utils.set_seed``: Python's, NumPy's and JAX's), which is set
-from ``SeedSequence([PPO_STREAM, seed])``, as is the training env's seed; the held-out
-streams are children of ``SeedSequence(seed)``, so training never sees them.
+state-free log standard deviation (starting at 1); its samples are clipped to [-1, 1] on their
+way to the world (``gymnasium.wrappers.ClipAction``) but learned from as drawn (clipped
+samples, whose log-probability far from the mean can make PPO's ratio overflow, stopped
+a run of the untested claims' design on NaN actions); the greedy action is the mean,
+clipped. skrl draws from a global seed (``skrl.utils.set_seed``: Python's, NumPy's and
+JAX's), which is set from ``SeedSequence([PPO_STREAM, seed])``, as is the training env's
+seed; the held-out streams are children of ``SeedSequence(seed)``, so training never sees them.
 
 Runs are stored by the one results store (:mod:`docking.store`, whose runner ``"ppo"`` is
 this module's): under ``<results>/<config.name>/<key[:16]>/seed<k>.npz``, keyed by the
@@ -252,7 +254,7 @@ def _models(config: PPOConfig, observation_space, action_space, device):
 
     class VectorPolicy(GaussianMixin, Model):
         """Continuous actions: a Gaussian of learned mean and state-free log std, its
-        samples clipped to the action space."""
+        samples learned from unclipped (the world's wrapper clips them)."""
 
         def __init__(self, observation_space, action_space, device=None, **kwargs):
             Model.__init__(
@@ -262,7 +264,7 @@ def _models(config: PPOConfig, observation_space, action_space, device):
                 device=device,
                 **kwargs,
             )
-            GaussianMixin.__init__(self, clip_actions=True)
+            GaussianMixin.__init__(self, clip_actions=False)
 
         @nn.compact
         def __call__(self, inputs, role):
@@ -379,8 +381,15 @@ def run_ppo(
 
     def make(k: int):
         def env():
-            one = DockingGymEnv(seed=env_seed + k, **_world_kwargs(config.world))
-            return gymnasium.wrappers.FlattenObservation(_EpisodeLog(one, success, steps, budget))
+            one = _EpisodeLog(
+                DockingGymEnv(seed=env_seed + k, **_world_kwargs(config.world)),
+                success,
+                steps,
+                budget,
+            )
+            if config.world.continuous:  # the world takes [-1, 1]; PPO learns the raw sample
+                one = gymnasium.wrappers.ClipAction(one)
+            return gymnasium.wrappers.FlattenObservation(one)
 
         return env
 

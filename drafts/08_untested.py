@@ -115,26 +115,32 @@ display(
 )
 
 # %% [markdown]
-# **What the runs show.** The paper's sentence holds in all three places, and the pose
-# oracle docks everywhere, so each place is solvable. But it holds on an input that can hardly
-# tell the places apart. Against another wall and in the second room every held-out trial of
-# both learners is the trial at home, bit for bit: nothing the robot computes changes. Along
-# the wall the walk itself differs (another number of actions in about a third of the trials),
-# yet success stays within a point. The "clear advantage compared to models that rely on a
-# world model" is therefore structural: the input carries nothing of the surroundings, so no
-# learner of these pixels, the paper's or linear SARSA, can be confused by them.
+# **What the runs show** (each sentence computed from the runs; the asserts hold it):
 
 # %%
+other, along = moved["along the wall", "paper"][1:], decided["relocation", "along the wall"]
+display(
+    Markdown(
+        "The paper's sentence holds in all three places, and the pose oracle docks in each "
+        f"(at least {100 * min(mean(f'{p}/oracle').estimate for p in ut.RELOCATIONS):.1f}%), "
+        "so each place is solvable. But it holds on an input that cannot tell the places "
+        "apart. Against another wall and in the second room every held-out trial of both "
+        "learners is the trial at home, bit for bit: nothing the robot computes changes. "
+        f"Along the wall the walk itself differs ({other[0]} of {other[1]} trials take "
+        f"another number of actions), yet success moves by {pp(along.interval)}. The "
+        '"clear advantage compared to models that rely on a world model" is therefore '
+        "structural: the input carries nothing of the surroundings, so no learner of these "
+        "pixels, the paper's or linear SARSA, can be confused by them. What the sentence "
+        "would need to be tested against, a place whose surroundings reach the input (other "
+        "red objects, another light), is the distractor claim of notebook 07."
+    )
+)
 for place in ut.RELOCATIONS:
     assert decided["relocation", place].verdict == "supported"
-    assert results.score(f"{place}/oracle").mean() >= 0.99  # the place is solvable
+    assert mean(f"{place}/oracle").estimate >= 0.99  # the place is solvable
 for place in ("another wall", "second room"):  # the runs at home, bit for bit
     assert all(moved[place, learner][:2] == (0, 0) for learner in ("paper", "linear"))
-walked, ended = moved["along the wall", "paper"][1:], moved["along the wall", "paper"][0]
-assert (
-    walked[0] > 0.2 * walked[1]
-    and abs(decided["relocation", "along the wall"].interval.estimate) < 0.01
-)
+assert other[0] > 0.2 * other[1] and abs(along.interval.estimate) < 0.01
 
 # %% [markdown]
 # ## 2. Coping with change
@@ -161,6 +167,7 @@ assert (
 # its floor. The table says how often.
 
 # %%
+coping = {change: decided["coping", change] for change in ut.CHANGES}
 lines = [
     "| change | learner | home network, no learning | fresh: trials to regain | home network "
     "learning on: trials | half the fresh minus learning on | verdict |",
@@ -204,10 +211,61 @@ levels = {
 display(Image(save_named(figures.fig_coping(list(ut.CHANGES), curves, levels), "untested_coping")))
 
 # %% [markdown]
-# **What the runs show.** TODO after the runs.
+# **What the runs show** (computed; the asserts hold each sentence). Beside the rule, the
+# held-out success after the 2000 training trials in the changed world: learning on is not
+# free.
 
 # %%
-coping = {change: decided["coping", change] for change in ut.CHANGES}
+from docking.stats import t_paired_ci  # noqa: E402
+
+home = {learner: mean(f"home/{learner}").estimate for learner in ("paper", "linear")}
+transfer = {(c, learner): mean(f"{c}/{learner}-transfer") for c in ut.CHANGES for learner in home}
+after = {  # held-out success after learning on, minus without learning (paired by seed)
+    (c, learner, kind): t_paired_ci(
+        results.score(f"{c}/{learner}-{kind}"), results.score(f"{c}/{learner}-transfer")
+    )
+    for c in ut.CHANGES
+    for learner in home
+    for kind in ("relearn", "fresh")
+}
+fresh_s, on_s = regained["sensor", "paper"]
+display(
+    Markdown(
+        f"* **Object and actuators.** The home networks transfer without learning "
+        f"({pct(transfer['object', 'paper'])} and {pct(transfer['actuator', 'paper'])}, "
+        f"against {100 * home['paper']:.1f}% at home), above the level to regain, so they score "
+        "0 trials, and the rule passes at its floor: it says the changes are small for this "
+        "learner, not that it re-learns fast.\n"
+        f"* **Sensor.** The camera 6 cm lower is a real change (transfer "
+        f"{pct(transfer['sensor', 'paper'])}). Learning on, the home network regains in "
+        f"{on_s.mean():.0f} trials on average, a fresh network in {fresh_s.mean():.0f}; both "
+        f"within {max(on_s.max(), fresh_s.max()):.0f}. Re-learning is not faster than half the "
+        "fresh learner's trials: **contradicted** by the committed rule, at a resolution of "
+        "one curve point per 100 trials. The world is learnt from scratch almost as fast as "
+        "it is re-learnt.\n"
+        f"* **Learning on can cost.** With 10 cm steps, the home network's held-out success "
+        f"after 2000 more training trials is {pp(after['actuator', 'paper', 'relearn'])} "
+        f"against not learning at all, and a fresh network's after 2000 trials "
+        f"{pp(after['actuator', 'paper', 'fresh'])}; linear SARSA's "
+        f"{pp(after['actuator', 'linear', 'relearn'])} and "
+        f"{pp(after['actuator', 'linear', 'fresh'])}. The figure's curves peak within the "
+        "first few hundred trials and fall as training goes on, while the curriculum adds "
+        "the far starts, which need more of the shorter steps (the curve is measured on the "
+        "whole start region throughout).\n"
+        '* So "cope easily" holds for what does not change the input much, and not beyond '
+        "it: where the input changes, the old network is no head start at the measure's "
+        "resolution."
+    )
+)
+assert [coping[c].verdict for c in ut.CHANGES] == ["supported", "contradicted", "supported"]
+for c in ("object", "actuator"):  # at the floor: the home network needs no learning
+    assert transfer[c, "paper"].estimate >= ut.REGAIN * home["paper"]
+    assert np.median(regained[c, "paper"][1]) == 0
+assert transfer["sensor", "paper"].high < ut.REGAIN * home["paper"]  # a real change
+assert max(on_s.max(), fresh_s.max()) <= 200
+assert (
+    after["actuator", "paper", "relearn"].high < 0 and after["actuator", "paper", "fresh"].high < 0
+)
 
 # %% [markdown]
 # ## 3. Continuous actions, the paper's next step

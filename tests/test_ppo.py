@@ -171,14 +171,28 @@ def test_the_ledger_serves_a_ppo_run_and_refuses_one_of_other_code(tiny_run, tmp
 
 
 @pytest.mark.slow
-def test_continuous_actions_take_a_gaussian_policy_and_act_with_its_mean():
-    """A world with a step vector (the paper's future work): PPO learns a Gaussian policy,
-    its greedy held-out actions are vectors in [-1, 1], and a run repeats bit for bit."""
+def test_continuous_actions_take_a_gaussian_policy_and_act_with_its_mean(monkeypatch):
+    """A world with a step vector (the paper's future work): PPO learns a Gaussian policy
+    from its samples as drawn (some beyond [-1, 1]) while the world gets them clipped, its
+    greedy held-out actions are vectors in [-1, 1], and a run repeats bit for bit."""
+    import gymnasium
+
     from docking.store import content_digest
 
+    seen = {"drawn": [], "sent": []}
+    clip = gymnasium.wrappers.ClipAction.action
+
+    def action(self, a):
+        seen["drawn"].append(np.array(a))
+        seen["sent"].append(clip(self, a))
+        return seen["sent"][-1]
+
+    monkeypatch.setattr(gymnasium.wrappers.ClipAction, "action", action)
     world = dataclasses.replace(EXPERIMENT_2.world, actions="continuous")
     config = dataclasses.replace(TINY, world=world)
     first, again = run_ppo(config, 3, progress=False), run_ppo(config, 3, progress=False)
+    drawn, sent = np.abs(seen["drawn"]), np.abs(seen["sent"])
+    assert drawn.max() > 1 and sent.max() <= 1 and np.isfinite(drawn).all()
     assert content_digest(result_arrays(first)) == content_digest(result_arrays(again))
     assert len(first.heldout) == config.heldout_trials
     assert (first.heldout.actions == -1).all()  # the log's mark of a vector action
