@@ -423,77 +423,76 @@ class Report:
     report refuses to start a computation: Experiment 3 is hours on 2 cores)."""
 
     def execute(self) -> int:
+        from docking import report
         from docking.presets import EXPERIMENT_1, EXPERIMENT_2
+        from docking.sweep import run_seeds
 
         if not self.compute:
             _refuse_to_compute(self.experiment3, self.results_dir, self.third_edition)
-        from docking.report import results_table, update_readme
-        from docking.sweep import run_seeds
-
         results = [
             run_seeds(c, SEEDS[c.name], self.results_dir, processes=self.processes)
             for c in (EXPERIMENT_1, EXPERIMENT_2)
         ]
         if self.figures:
-            from docking.report import save_figures
-
-            save_figures(*results)
-        table = results_table(*results)
-        print(table)
-        changed = self.readme is not None and update_readme(self.readme, table)
-        comparisons, rates = None, None
+            report.save_figures(*results)
+        changed = self._write(report.results_table(*results))
+        comparisons, first = None, None
         if self.experiment3:
-            from docking import report
-            from docking.designs import experiment3
-            from docking.report import EXPERIMENT3_END, EXPERIMENT3_START
-
-            found = experiment3.run(results_dir=self.results_dir, workers=self.processes)
-            oracle = experiment3.ORACLE.run(results_dir=self.results_dir, workers=self.processes)
-            comparisons, rates = report.turning_comparisons(found), report.oracle_rates(oracle)
-            text = report.turning_table(comparisons, rates)
-            print(text)
-            if self.readme is not None:
-                changed |= update_readme(self.readme, text, EXPERIMENT3_START, EXPERIMENT3_END)
-        from docking.report import SUMMARY_END, SUMMARY_START, summary_text
-
-        contest = None
+            comparisons, rates, text = self._experiment3()
+            changed |= self._write(text, report.EXPERIMENT3_START, report.EXPERIMENT3_END)
+            first = rates[comparisons[0].four_key]
+        contest, claims, untested = None, None, []
         if self.third_edition:
-            from docking import report
-            from docking.designs import third_edition
-
-            contest = third_edition.DESIGN.run(results_dir=self.results_dir, workers=self.processes)
-            for text, start, end in (
-                (
-                    report.contest_table(contest, report.CONTEST_WORLDS),
-                    report.THIRD_EDITION_START,
-                    report.THIRD_EDITION_END,
-                ),
-                (
-                    report.design_verdicts(contest, *self._untested()),
-                    report.VERDICTS_START,
-                    report.VERDICTS_END,
-                ),
-            ):
-                print(text)
-                if self.readme is not None:
-                    changed |= update_readme(self.readme, text, start, end)
-        first = rates[comparisons[0].four_key] if comparisons else None
-        claims = None
-        if contest is not None:
-            from docking.claims import judge_family
-
-            design = contest.design
-            decisions = judge_family(design.claims, contest, alpha=design.alpha, per_claim=True)
-            claims = report.claims_summary(design.claims, decisions)
-        summary = summary_text(*results, comparisons, first, contest, claims)
-        print(summary)
-        if self.readme is not None:
-            changed |= update_readme(self.readme, summary, SUMMARY_START, SUMMARY_END)
+            contest, claims, untested, changed_here = self._third_edition()
+            changed |= changed_here
+        summary = report.summary_text(*results, comparisons, first, contest, claims)
+        if untested:
+            summary += "\n\n" + report.untested_summary(untested[0][0])
+        changed |= self._write(summary, report.SUMMARY_START, report.SUMMARY_END)
         if self.readme is not None:
             changed |= _write_timings(self.readme)
-        if self.readme is not None:
             print(f"{self.readme}: {'updated' if changed else 'already up to date'}")
         return 0
+
+    def _write(self, text: str, *markers: str) -> bool:
+        """Print ``text`` and write it into the README between ``markers`` (default: the
+        results table's); whether the README changed."""
+        from docking.report import update_readme
+
+        print(text)
+        return self.readme is not None and update_readme(self.readme, text, *markers)
+
+    def _experiment3(self) -> tuple:
+        """Experiment 3's four-against-six comparisons, the oracle's rates and its table."""
+        from docking import report
+        from docking.designs import experiment3
+
+        found = experiment3.run(results_dir=self.results_dir, workers=self.processes)
+        oracle = experiment3.ORACLE.run(results_dir=self.results_dir, workers=self.processes)
+        comparisons, rates = report.turning_comparisons(found), report.oracle_rates(oracle)
+        return comparisons, rates, report.turning_table(comparisons, rates)
+
+    def _third_edition(self) -> tuple:
+        """The third edition's contest table and verdict table (with the untested claims'
+        rows, :meth:`_untested`) written; its results, its claims' sentence, the untested
+        rows and whether the README changed."""
+        from docking import report
+        from docking.claims import judge_family
+        from docking.designs import third_edition
+
+        contest = third_edition.DESIGN.run(results_dir=self.results_dir, workers=self.processes)
+        untested = self._untested()
+        changed = self._write(
+            report.contest_table(contest, report.CONTEST_WORLDS),
+            report.THIRD_EDITION_START,
+            report.THIRD_EDITION_END,
+        )
+        changed |= self._write(
+            report.design_verdicts(contest, *untested), report.VERDICTS_START, report.VERDICTS_END
+        )
+        design = contest.design
+        decisions = judge_family(design.claims, contest, alpha=design.alpha, per_claim=True)
+        return contest, report.claims_summary(design.claims, decisions), untested, changed
 
     def _untested(self) -> list:
         """The untested claims' rows of the verdict table

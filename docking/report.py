@@ -1165,6 +1165,21 @@ def claims_summary(claims, decisions) -> str:
     )
 
 
+def untested_summary(results) -> str:
+    """The README's paragraph on the claims nobody had tested (notebook 08): the judged part
+    of their design (``untested.part("judged")``'s ``results``), in :func:`claims_summary`'s
+    sentence."""
+    from docking.claims import judge_family
+
+    design = results.design
+    decisions = judge_family(design.claims, results, alpha=design.alpha, per_claim=True)
+    return (
+        "**The claims nobody had tested** (notebook 08: fresh seeds, its own rules committed "
+        "before the runs; relocation and coping in the verdict table below, continuous "
+        "actions as the paper's future work). " + claims_summary(design.claims, decisions)
+    )
+
+
 def design_verdicts(*judged) -> str:
     """The verdict table of one or more designs judged by Holm within each claim
     (``per_claim``) (:func:`verdicts_table`), under the sentence that names the decision
