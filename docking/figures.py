@@ -27,6 +27,7 @@ order L, R, F, B.
 from __future__ import annotations
 
 import io
+import textwrap
 from pathlib import Path
 
 import numpy as np
@@ -1102,10 +1103,14 @@ def fig_verdicts(panels: list[dict]) -> Figure:
 
     if not panels:
         raise ValueError("fig_verdicts needs at least one panel")
-    heights = [len(p["rows"]) + 1.6 for p in panels]
+    # titles wrapped to the axes' width (long labels on the left narrow it)
+    titles = [textwrap.fill(p["title"], width=85) for p in panels]
+    heights = [
+        len(p["rows"]) + 1.6 + 0.6 * t.count("\n") for p, t in zip(panels, titles, strict=True)
+    ]
     fig = _new_figure(9.5, 0.36 * sum(heights) + 0.6)
     axes = np.atleast_1d(fig.subplots(len(panels), 1, height_ratios=heights))
-    for ax, p in zip(axes, panels, strict=True):
+    for ax, p, title in zip(axes, panels, titles, strict=True):
         s, rows = p["scale"], p["rows"]
         y = np.arange(len(rows))[::-1].astype(float)
         if p.get("band") is not None:
@@ -1132,7 +1137,7 @@ def fig_verdicts(panels: list[dict]) -> Figure:
             ax.plot(s * ci.estimate, yk, "o", color=color, ms=6, mec="black", mew=0.6, zorder=3)
         ax.set_yticks(y, [f"{r[0]}: {r[2]}" for r in rows], fontsize=8)
         ax.set_ylim(-0.7, len(rows) - 0.3)
-        ax.set_title(p["title"], loc="left", fontsize=9)
+        ax.set_title(title, loc="left", fontsize=9)
         ax.set_xlabel(p["xlabel"], fontsize=8)
         ax.tick_params(axis="x", labelsize=8)
         ax.grid(axis="x", alpha=0.3, lw=0.5)

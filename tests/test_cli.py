@@ -451,3 +451,16 @@ def test_named_values_are_shown_and_checked_as_choices(tmp_path):
     assert out.returncode == 2 and "invalid choice 'flor'" in out.stderr
     assert "--world.scene" in out.stderr and "__tyro" not in out.stderr
     assert not (tmp_path / "results").exists()
+
+
+@pytest.mark.slow
+def test_the_readme_is_what_report_writes_from_the_ledger(tmp_path):
+    """Every number of the README's blocks (the summary, the results, Experiment 3, the third
+    edition, the verdicts, the timings) is what `report --readme` writes from the committed
+    ledger: run on a copy, it changes nothing."""
+    copy = tmp_path / "README.md"
+    copy.write_text((REPO / "README.md").read_text())
+    out = _cli(["report", "--readme", str(copy)], tmp_path, timeout=1200)
+    assert out.returncode == 0, out.stderr[-3000:]
+    assert copy.read_text() == (REPO / "README.md").read_text()
+    assert f"{copy}: already up to date" in out.stdout
