@@ -39,6 +39,8 @@
 # statistic's own units).
 
 # %%
+import dataclasses
+
 import gymnasium
 import numpy as np
 from gymnasium.utils.env_checker import check_env
@@ -50,6 +52,7 @@ from docking.claims import judge_family
 from docking.designs import measures
 from docking.designs import untested as ut
 from docking.report import save_named
+from docking.scene import scene_facts
 from docking.stats import t_mean_ci
 
 results = ut.part("judged").run(progress=False)
@@ -65,11 +68,11 @@ pp = lambda ci: ci.format(unit=" pp")  # noqa: E731
 # > "once the sensorimotor laws have been learned ... the robot is able to navigate to any
 # > position, where a landmark with the same geometrical properties is located" (Sec. IV)
 #
-# The home networks (trained in the sideboard world, 20 seeds) are tested without retraining
-# with the landmark, its sideboard and its dock moved 60 cm **along the wall**, turned onto
-# **another wall**, and into a **second room** (other walls, floor and furniture, the same
-# landmark): `docking.presets.RELOCATIONS`. Rule: home minus the new place within ±5 pp
-# (equivalence, paired by seed).
+# The home networks (trained in the sideboard world) are tested without retraining with the
+# landmark, its sideboard and its dock moved **along the wall**, turned onto **another
+# wall**, and into a **second room** (other walls, floor and furniture, the same landmark):
+# `docking.presets.RELOCATIONS`, in the table below. Rule: home minus the new place within
+# ±`ut.RELOCATION_MARGIN` (equivalence, paired by seed).
 #
 # Measured before any run (`tests/test_untested.py`): the robot's camera draws only the red
 # objects and what could hide them, and its pipeline keeps only red, so none of the three
@@ -78,6 +81,17 @@ pp = lambda ci: ci.format(unit=" pp")  # noqa: E731
 # otherwise (docked against not) or take another number of actions than the same trial at home.
 
 # %%
+display(
+    Markdown(
+        f"{len(results.score('home/paper'))} seeds; equivalence margin "
+        f"±{100 * ut.RELOCATION_MARGIN:g} pp.\n\n"
+        "| place | room | landmark moved by (x m, y m, turned °) |\n|---|---|---|\n"
+        + "\n".join(
+            f"| {place} | {w.room} | {', '.join(f'{v:g}' for v in w.room_shift)} |"
+            for place, w in ut.RELOCATIONS.items()
+        )
+    )
+)
 moved = {}
 for place in ut.RELOCATIONS:
     for learner in ("paper", "linear"):
@@ -150,14 +164,13 @@ assert other[0] > 0.2 * other[1] and abs(along.interval.estimate) < 0.01
 #
 # After one change, the home network keeps learning in the changed world; a fresh network
 # learns it from scratch on the same seed's streams; and the home network is also tested in
-# the changed world without learning (the transfer). The changes (`ut.CHANGES`):
+# the changed world without learning (the transfer). The changes (`ut.CHANGES`, in the
+# table below): the **object** (the landmark without its post, a slab), the **sensor** (the
+# camera lower) and the **actuators** (shorter forward steps).
 #
-# * **object:** the landmark without its post (a slab);
-# * **sensor:** the camera 6 cm lower;
-# * **actuators:** forward steps of 10 cm instead of 15.
-#
-# Measure: the training trials until the learning curve (50 greedy trials every 100) reaches
-# 90% of the same seed's held-out success at home (never: 2100). **Rule** ("easily"):
+# Measure: the training trials until the learning curve (greedy trials every
+# `eval_every` training trials) reaches `ut.REGAIN` of the same seed's held-out success at
+# home (never: `ut.CENSORED`). **Rule** ("easily"):
 # re-learning takes at most half the fresh network's trials, paired by seed (half the fresh
 # trials minus the re-learning trials above zero). Linear SARSA does the same, as a finding.
 #
@@ -167,6 +180,24 @@ assert other[0] > 0.2 * other[1] and abs(along.interval.estimate) < 0.01
 # its floor. The table says how often.
 
 # %%
+home_world, curve = ut.WORLDS["sideboard"], results.cell("sensor/paper-fresh").config
+shown = lambda name, v: (  # noqa: E731
+    f"the asset's {scene_facts().camera_height:g} m" if name == "camera_height" and v is None else v
+)
+display(
+    Markdown(
+        f"Learning curve: {curve.eval_trials} greedy trials every {curve.eval_every} training "
+        f"trials; level {ut.REGAIN:.0%} of home; never regained counts {ut.CENSORED}.\n\n"
+        "| change | what | home | changed |\n|---|---|---|---|\n"
+        + "\n".join(
+            f"| {change} | {f.name} | {shown(f.name, getattr(home_world, f.name))} | "
+            f"{shown(f.name, getattr(world, f.name))} |"
+            for change, world in ut.CHANGES.items()
+            for f in dataclasses.fields(world)
+            if getattr(world, f.name) != getattr(home_world, f.name)
+        )
+    )
+)
 coping = {change: decided["coping", change] for change in ut.CHANGES}
 lines = [
     "| change | learner | home network, no learning | fresh: trials to regain | home network "
@@ -274,8 +305,9 @@ assert (
 # > and a shorter path due to exact and oriented movements." (Sec. V)
 #
 # `docking/Continuous-v0` is Experiment 2's world with a `Box` action space: a step vector
-# (forward and sideways, each within the discrete steps' limits, 15 and 10 cm), with the same
-# walking noise; its turning variant adds a turn within ±10°. The paper's network has no
+# (forward and sideways, each within the discrete steps' limits, `step_forward` and
+# `step_side`), with the same walking noise; its turning variant adds a turn within
+# ±`turn_deg`. The paper's network has no
 # natural continuous read-out (its action layer picks one of four units by Eq. 4, and a
 # weighted mean of the four steps would be a different policy, not a read-out), so none is
 # added. Its competitors carry the prediction instead: the **pose oracle** (with the discrete
