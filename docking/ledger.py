@@ -559,6 +559,17 @@ def update(runs, folder: Path | str | None = None, results_dir=None) -> dict:
         "tables": {n: hashlib.sha256(files[f"tables/{n}.npz"]).hexdigest() for n in tables},
         "runs": records,
     }
+    _replace_files(folder, files)
+    text = json.dumps(data, indent=1, sort_keys=True) + "\n"
+    atomic_write(folder / "manifest.json", lambda f: f.write(text.encode()))
+    _read_manifest.cache_clear()
+    return manifest(folder)
+
+
+def _replace_files(folder: Path, files: dict[str, bytes]) -> None:
+    """Write ``files`` (``{path relative to folder: bytes}``) into the ledger ``folder``, each
+    atomically and only if it changed, and delete the tables and whole runs it no longer
+    holds (and empty folders)."""
     kinds = ("runs", "ppo", "tables", "whole")  # (runs/, ppo/: earlier formats' entries)
     old = {p for kind in kinds for p in [folder / kind, *folder.glob(f"{kind}/**/*")]}
     for relative, raw in files.items():
@@ -567,10 +578,6 @@ def update(runs, folder: Path | str | None = None, results_dir=None) -> dict:
             atomic_write(folder / relative, lambda f, raw=raw: f.write(raw))
     for stale in (p for p in old if p.is_file()):
         stale.unlink()
-    for folder_ in sorted((p for p in old if p.is_dir()), reverse=True):
-        if not any(folder_.iterdir()):
-            folder_.rmdir()
-    text = json.dumps(data, indent=1, sort_keys=True) + "\n"
-    atomic_write(folder / "manifest.json", lambda f: f.write(text.encode()))
-    _read_manifest.cache_clear()
-    return manifest(folder)
+    for empty in sorted((p for p in old if p.is_dir()), reverse=True):
+        if not any(empty.iterdir()):
+            empty.rmdir()
