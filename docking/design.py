@@ -543,7 +543,9 @@ def summary(results: Results) -> str:
     design = results.design
     lines = [f"| cell | {design.measure} success (95% interval) | what it is |", "|---|---|---|"]
     for c in results.cells:
-        lines.append(f"| {c.key} | {mean_ci(results.score(c.key)).format(unit='%')} | {c.label} |")
+        score = results.score(c.key)  # one seed (a tuning round's first): no interval
+        shown = mean_ci(score).format(unit="%") if len(score) > 1 else f"{100 * score[0]:.1f}%"
+        lines.append(f"| {c.key} | {shown} (seeds: {len(score)}) | {c.label} |")
     parts = ["\n".join(lines)]
     if design.report is not None:
         parts.append(design.report(results))

@@ -1157,7 +1157,8 @@ def claims_summary(claims, decisions) -> str:
         f"Of the paper's {judged} claims judged: "
         + "; ".join(parts)
         + (
-            f"; and {len(findings)} findings, measured, not judged ({', '.join(findings)})"
+            f"; and {len(findings)} finding{'s' if len(findings) > 1 else ''}, measured, not "
+            f"judged ({', '.join(findings)})"
             if findings
             else ""
         )

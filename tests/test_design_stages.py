@@ -52,6 +52,12 @@ def test_a_stage_is_asked_once_the_runs_before_it_are_there(store):
     assert [(c.network.eps_q, s) for c, s, _, _ in found][:2] == [(0.1, 0), (0.3, 0)]
     assert len(found) == 3 and found[2][1] == 2  # the stage's cell, on its own seed
     assert [k for *_, k in found] == [frozenset({"ends", "networks"})] + [frozenset({"ends"})] * 2
+    # its summary shows single-seed cells (a tuning round's) without an interval
+    from docking.design import summary
+
+    text = summary(DESIGN.run(progress=False, workers=1))
+    assert "| a/round2 |" in text or "| b/round2 |" in text
+    assert "(seeds: 1)" in text
 
 
 def test_a_design_under_way_writes_what_is_stored(store):
