@@ -32,6 +32,13 @@ from docking.stats import t_mean_ci
 pct = lambda ci: ci.format(unit="%")  # noqa: E731
 pp = lambda ci: ci.format(unit=" pp")  # noqa: E731
 
+
+def md_table(header: list[str], rows: list[list[str]]) -> Markdown:
+    """A Markdown table of ``rows`` under ``header``."""
+    lines = ["| " + " | ".join(header) + " |", "|" + "---|" * len(header)]
+    return Markdown("\n".join(lines + ["| " + " | ".join(r) + " |" for r in rows]))
+
+
 # %% [markdown]
 # ## 4. Population coding (a finding)
 #
@@ -55,21 +62,17 @@ population = {
     for v in variants[1:]
 }
 display(
-    Markdown(
-        "| variant | "
-        + " | ".join(f"{w}: held-out success | {w}: minus the paper's (paired)" for w in ut.WORLDS)
-        + " |\n|---|"
-        + "---|---|" * len(ut.WORLDS)
-        + "\n"
-        + "\n".join(
-            f"| {v} | "
-            + " | ".join(
-                f"{pct(fmean(f'{w}/{v}'))} | " + (pp(population[w, v]) if v != "paper" else "")
+    md_table(
+        ["variant"] + [f"{w}: {h}" for w in ut.WORLDS for h in ("held-out", "minus the paper's")],
+        [
+            [v]
+            + [
+                x
                 for w in ut.WORLDS
-            )
-            + " |"
+                for x in (pct(fmean(f"{w}/{v}")), pp(population[w, v]) if v != "paper" else "")
+            ]
             for v in variants
-        )
+        ],
     )
 )
 ambiguity = {w: analysis.ambiguous_views(world, n=1500) for w, world in ut.WORLDS.items()}
@@ -162,16 +165,12 @@ for w in ut.WORLDS:
         closed = ci.high < te.GAP_CLOSED
         gap[w, v] = ci, "closed" if closed else "remains" if ci.low > te.GAP_CLOSED else "undecided"
 display(
-    Markdown(
-        "| variant | "
-        + " | ".join(f"{w}: linear SARSA minus it" for w in ut.WORLDS)
-        + " |\n|---|"
-        + "---|" * len(ut.WORLDS)
-        + "\n"
-        + "\n".join(
-            f"| {v} | " + " | ".join(f"{pp(gap[w, v][0])} {gap[w, v][1]}" for w in ut.WORLDS) + " |"
+    md_table(
+        ["variant"] + [f"{w}: linear SARSA minus it" for w in ut.WORLDS],
+        [
+            [v] + [f"{pp(gap[w, v][0])} {gap[w, v][1]}" for w in ut.WORLDS]
             for v in mechanism_variants
-        )
+        ],
     )
 )
 
