@@ -131,7 +131,7 @@ def test_the_claims_sentence_counts_and_names_each_group():
     assert text == (
         "Of the paper's 4 claims judged: 1 supported wherever judged (good); 1 supported in "
         "some worlds only (some); 1 not supported in any world (none); 1 contradicted in at "
-        "least one world (against); and 1 findings, measured, not judged (f)."
+        "least one world (against); and 1 finding, measured, not judged (f)."
     )
 
 
