@@ -318,6 +318,9 @@ class DesignRun:
     """Also the design's sensitivity cells (about twice the runs for the study)."""
     seeds: _DesignSeeds = None
     """Seeds as ranges or lists, e.g. 0-4."""
+    cells: Annotated[tuple[str, ...], _shown("PATTERN ...", "every cell")] = ()
+    """Only the cells whose keys match one of these shell-style patterns (e.g. 'floor/*'),
+    without the design's stages and claims: part of a design first, on the same runs."""
     scheduler: _Scheduler = None
     """Address of an existing Dask scheduler (tcp://HOST:PORT)."""
     processes: _Processes = None
@@ -334,7 +337,7 @@ class DesignRun:
             raise ValueError("name at least one design (python -m docking design list)")
         seeds = None if self.seeds is None else parse_seeds(self.seeds)
         for name in self.names:
-            found = design(name)
+            found = design(name).only(self.cells) if self.cells else design(name)
             results = run_design(
                 found,
                 full=self.full,

@@ -202,6 +202,22 @@ class Design:
         ``scheduler``, ``workers``, ``progress``)."""
         return run_design(self, full=full, **options)
 
+    def only(self, patterns: Sequence[str]) -> Design:
+        """This design with only the cells whose keys match one of ``patterns`` (shell-style,
+        e.g. ``"floor/*"``) and the baselines their test-only cells need, without stages or
+        claims (they read every cell): the same runs, for computing part of a design first.
+        A pattern that matches no cell is a ``ValueError`` naming the keys."""
+        from fnmatch import fnmatchcase
+
+        keys = [c.key for c in self.cells]
+        for pattern in patterns:
+            if not any(fnmatchcase(k, pattern) for k in keys):
+                raise ValueError(f"design {self.name!r} has no cell matching {pattern!r}: {keys}")
+        chosen = {k for k in keys if any(fnmatchcase(k, p) for p in patterns)}
+        chosen |= {c.baseline for c in self.cells if c.key in chosen and not c.trained}
+        cells = tuple(c for c in self.cells if c.key in chosen)
+        return dataclasses.replace(self, cells=cells, stages=(), claims=())
+
     def select(self, full: bool = False) -> list[Cell]:
         """The cells of a default run (the core ones), or every cell if ``full``."""
         return [c for c in self.cells if full or c.core]

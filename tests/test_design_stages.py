@@ -132,3 +132,15 @@ def test_the_ledger_keeps_what_kept_seeds_names_only_for_those_seeds():
     )
     keeps = {seed: keep for _, seed, _, keep in ledger_runs(design)}
     assert keeps == {0: {"paths", "starts"}, 1: {"starts"}, 2: {"paths", "starts"}}
+
+
+def test_only_keeps_the_matching_cells_and_the_baselines_they_need(store):
+    part = DESIGN.only(["a*"])
+    assert [c.key for c in part.cells] == ["a"] and part.stages == () and part.claims == ()
+    assert part.run(progress=False, workers=1).score("a").shape == (1,)
+    with pytest.raises(ValueError, match="no cell matching 'c/\\*'"):
+        DESIGN.only(["c/*"])
+    from docking.designs import untested
+
+    moved = untested.DESIGN.only(["along the wall/paper"])  # test-only: its baseline comes too
+    assert [c.key for c in moved.cells] == ["home/paper", "along the wall/paper"]
