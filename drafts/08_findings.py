@@ -27,7 +27,7 @@ from docking.designs import untested as ut
 from docking.designs.builders import with_cup
 from docking.experiments import initial_network
 from docking.report import save_named
-from docking.stats import t_mean_ci
+from docking.stats import t_mean_ci, t_paired_ci
 
 pct = lambda ci: ci.format(unit="%")  # noqa: E731
 pp = lambda ci: ci.format(unit=" pp")  # noqa: E731
@@ -81,7 +81,7 @@ display(
         "| world | start views | sharing an input | ambiguous (the oracle acts differently) "
         "| groups |\n|---|---|---|---|---|\n"
         + "\n".join(
-            f"| {w} | {a.views} | {a.shared} | {a.ambiguous} | {a.groups} |"
+            f"| {w} | {a.views} | {a.shared} | {a.ambiguous} | {len(a.groups)} |"
             for w, a in ambiguity.items()
         )
     )
@@ -113,14 +113,13 @@ runs = findings.runs["sideboard/paper"][: len(ut.NEGLECT_SEEDS)]
 frozen = np.array(
     [analysis.weight_mass(initial_network(r.config, r.seed), cup_world) for r in runs]
 )
-share = lambda m: " | ".join(f"{100 * m[:, k].mean():.1f}%" for k in range(3))  # noqa: E731
+share = lambda m: [f"{100 * m[:, k].mean():.2f}%" for k in range(3)]  # noqa: E731
+gain = {k: t_paired_ci(m[:, 0], frozen[:, 0]) for k, m in neglect.items()}  # landmark share
 display(
-    Markdown(
-        "| trained | trials | "
-        + " | ".join(analysis.MASS_PARTS)
-        + " |\n|---|---|---|---|---|\n"
-        + f"| (random start) | 0 | {share(frozen)} |\n"
-        + "\n".join(f"| {t} the cup | {n} | {share(m)} |" for (t, n), m in neglect.items())
+    md_table(
+        ["trained", "trials", *analysis.MASS_PARTS, "landmark minus the random start"],
+        [["(random start)", "0", *share(frozen), ""]]
+        + [[f"{t} the cup", str(n), *share(m), pp(gain[t, n])] for (t, n), m in neglect.items()],
     )
 )
 
