@@ -309,6 +309,14 @@ class AtMost(Rule):
         return f"{self.fraction:g} x the baseline's {what} minus the cell's"
 
 
+def measure_display(measure) -> tuple[str, int, str]:
+    """How a claim's measure is shown: its unit's text, its decimals and its name on an axis
+    (set by :func:`docking.designs.measures._unit`); a measure without them: no unit, three
+    decimals, its function's name."""
+    unit, digits = getattr(measure, "unit", ("", 3))
+    return unit, digits, getattr(measure, "label", measure.__name__)
+
+
 def success(results, key: str) -> np.ndarray:
     """Per seed, the measured success of cell ``key`` (the default measure of a claim)."""
     return results.score(key)
@@ -368,7 +376,7 @@ class Claim:
         per cent share of failures, or (for a measure other than success) the raw
         difference in the measure's ``unit`` (its text and decimals; none: three decimals)."""
         if self.measure is not success:
-            unit, digits = getattr(self.measure, "unit", ("", 3))
+            unit, digits, _ = measure_display(self.measure)
             return ci.format(scale=1.0, unit=unit, digits=digits)
         return ci.format(unit="%" if isinstance(self.rule, ShareAbove) else " pp")
 

@@ -1062,7 +1062,7 @@ def verdict_panels(claims, results, decisions) -> list[dict]:
     """The panels of :func:`docking.figures.fig_verdicts`, one per claim: each comparison's
     interval and decision (``decisions``: :func:`docking.claims.judge_family`'s), with the
     per-seed values where the statistic has them (not for a share of failures)."""
-    from docking.claims import ShareAbove, success
+    from docking.claims import ShareAbove, measure_display, success
 
     panels = []
     for claim, rows in _claim_rows(claims, results, decisions):
@@ -1072,9 +1072,8 @@ def verdict_panels(claims, results, decisions) -> list[dict]:
         elif rate:
             xlabel = "difference of held-out success (percentage points)"
         else:  # the measure's statistic, in its unit (docking.designs.measures)
-            unit = getattr(claim.measure, "unit", ("", 3))[0].strip()
-            what = getattr(claim.measure, "label", claim.compares.split(":")[0])
-            xlabel = claim.rule.axis(what) + (f" ({unit})" if unit else "")
+            unit, _, what = measure_display(claim.measure)
+            xlabel = claim.rule.axis(what) + (f" ({unit.strip()})" if unit else "")
         panels.append(
             dict(
                 title=f"{claim.key}: {claim.compares}"

@@ -138,3 +138,13 @@ def test_a_measures_statistic_is_shown_in_its_unit():
     assert shown["coping"] == "45 trials [34, 56]"  # trials, whole
     assert shown["continuous-path"] == "45.000 m [34.500, 55.500]"
     assert shown["relocation"] == "4500.0 pp [3450.0, 5550.0]"  # a success difference
+
+
+def test_a_measure_without_a_unit_is_shown_raw_under_its_name():
+    from docking.claims import measure_display
+
+    def walked(results, key):
+        return results
+
+    assert measure_display(walked) == ("", 3, "walked")
+    assert measure_display(untested.regain_trials)[:2] == (" trials", 0)

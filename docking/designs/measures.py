@@ -50,7 +50,8 @@ def interpretability(n_seeds: Callable, views: int, min_views: int) -> Measure:
     def fidelity(results, key: str) -> np.ndarray:
         return results.measured(compute, key)
 
-    return fidelity
+    label = "interpretability (each winning unit's weights against the mean view it wins)"
+    return _unit("", 3, label)(fidelity)
 
 
 @_unit("°", 2, "|heading error| at docking")

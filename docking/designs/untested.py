@@ -387,14 +387,13 @@ def part(name: str) -> Design:
     ``"judged"``, the cells and claims of relocation, coping and continuous actions (the
     rows the README's verdict table carries); ``"findings"``, population coding, neglect
     and the mechanism, without claims to judge."""
-    judged = [c for c in CLAIMS if c.key in JUDGED]
-    findings = {c.key for c in finding_cells()}
+    findings = [c.key for c in finding_cells()]
     if name == "judged":
         cells = tuple(c for c in DESIGN.cells if c.key not in findings)
-        return dataclasses.replace(DESIGN, cells=cells, claims=tuple(judged))
+        judged = tuple(c for c in CLAIMS if c.key in JUDGED)
+        return dataclasses.replace(DESIGN, cells=cells, claims=judged)
     if name == "findings":
-        cells = tuple(c for c in DESIGN.cells if c.key in findings)
-        return dataclasses.replace(DESIGN, cells=cells, claims=())
+        return DESIGN.only(findings)
     raise ValueError(f"part must be 'judged' or 'findings', got {name!r}")
 
 
