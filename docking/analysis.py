@@ -329,10 +329,28 @@ def feature_fidelity(net: Network, inputs: MeanInputs, min_views: int = 20) -> f
     return float(np.mean(rs)) if rs else float("nan")
 
 
+def final_poses(log: TrialLog) -> np.ndarray:
+    """The final pose of every trial of ``log``, ``(n, 3)`` (a results table's column where
+    the log is read from one)."""
+    if log.poses is None:
+        return log.require(log.ends, "the trials' final poses")
+    return log.poses[np.cumsum(log.steps + 1) - 1] if len(log) else np.zeros((0, 3))
+
+
+def path_lengths(log: TrialLog) -> np.ndarray:
+    """The distance the reference point walked in each trial of ``log`` (m; the sum of its
+    steps' displacements; a results table's column where the log is read from one)."""
+    if log.poses is None:
+        return log.require(log.lengths, "the trials' path lengths")
+    steps = np.linalg.norm(np.diff(log.poses[:, :2], axis=0), axis=1)
+    ends = np.cumsum(log.steps + 1)
+    walked = np.concatenate([[0.0], np.cumsum(steps)])
+    return walked[ends - 1] - walked[ends - 1 - log.steps]
+
+
 def docked_heading_error_deg(log: TrialLog) -> float:
     """The mean absolute heading error (deg; :func:`docking.scene.heading_error`, against
     facing the landmark) at the end of the docked trials of ``log`` (NaN if none docked)."""
-    from docking.ledger import final_poses
     from docking.scene import heading_error
 
     ends = final_poses(log)[np.asarray(log.success, dtype=bool)]

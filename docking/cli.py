@@ -32,6 +32,7 @@ from typing import Annotated, Literal, Union
 import numpy as np
 import tyro
 
+from docking import paths
 from docking.camera import CameraConfig
 from docking.designs import names as _design_names
 from docking.experiments import POLICIES, PRETRAIN_RULES, Curriculum, ExperimentConfig
@@ -211,7 +212,7 @@ class Run:
 def _sources_text(seeds, sources, folder) -> str:
     """Where each seed's run came from, in one or two lines (the store's folder named only
     where a run is in it)."""
-    from docking.ledger import ledger_dir
+    from docking.paths import ledger_dir
 
     where = {
         "computed": f"computed now and stored in {folder}",
@@ -385,18 +386,6 @@ class DesignCommand:
         return self.command.execute()
 
 
-def _alias(names: tuple[str, ...], help: str):
-    """An old subcommand: ``design run NAMES`` under its old name."""
-    return Annotated[
-        DesignRun,
-        tyro.conf.subcommand(
-            names[0].split("-")[0] if len(names) > 1 else names[0],
-            default=DesignRun(names=names),
-            description=f"{help} (= python -m docking design run {' '.join(names)})",
-        ),
-    ]
-
-
 @dataclasses.dataclass
 class Report:
     """Print the results table (the paper's numbers beside ours) from the stored runs of
@@ -521,8 +510,9 @@ def _write_timings(readme: Path) -> bool:
     data = ledger.manifest()
     if data is None:
         return False
+    walls = sum(r["wall_seconds"] for r in data["runs"].values())
     text = timings_text(
-        ledger.timings(), *ledger.computing_seconds(data), ledger_bytes=ledger.size_bytes()
+        ledger.timings(), len(data["runs"]), walls, ledger_bytes=ledger.size_bytes()
     )
     return update_readme(readme, text, TIMINGS_START, TIMINGS_END)
 
@@ -557,14 +547,12 @@ def _no_ledger() -> str | None:
     """Why the ledger serves no run, and what to do, if it is switched off or absent (an
     installed package: the ledger is the ledger/ folder of the project's git repository, which
     no wheel carries); None if there is a ledger."""
-    from docking import ledger
-
-    if ledger.ledger_off():
+    if paths.ledger_off():
         return (
             f"the ledger is switched off by DOCKING_LEDGER={os.environ['DOCKING_LEDGER']}; "
             "unset it, or set it to a ledger folder"
         )
-    if ledger.ledger_dir() is None:
+    if paths.ledger_dir() is None:
         return (
             "this installed package has no ledger (the committed runs that report and figures "
             "read are the ledger/ folder of the project's git repository, which no wheel "
@@ -624,7 +612,7 @@ class Ledger:
     def execute(self) -> int:
         from docking import ledger
 
-        folder = ledger.ledger_dir()  # ValueError if DOCKING_LEDGER is not off or a folder
+        folder = paths.ledger_dir()  # ValueError if DOCKING_LEDGER is not off or a folder
         if folder is None:
             raise ValueError(_no_ledger())
         if self.action == "update":
@@ -719,11 +707,6 @@ Command = Union[  # noqa: UP007
     Annotated[Run, tyro.conf.subcommand("run")],
     Annotated[Sweep, tyro.conf.subcommand("sweep")],
     Annotated[DesignCommand, tyro.conf.subcommand("design")],
-    _alias(
-        ("calibration-experiment1", "calibration-experiment2"),
-        "The calibration variants of notebooks 03 and 04",
-    ),
-    _alias(("experiment3",), "Experiment 3 of notebook 06"),
     Annotated[Report, tyro.conf.subcommand("report")],
     Annotated[Figures, tyro.conf.subcommand("figures")],
     Annotated[Ledger, tyro.conf.subcommand("ledger")],

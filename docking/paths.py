@@ -1,4 +1,4 @@
-"""Where the package writes its results and figures.
+"""Where the package writes its results and figures, and where it reads the ledger.
 
 * ``DOCKING_RESULTS`` / ``DOCKING_FIGURES``, if set, name the folders.
 * Otherwise, when the package runs from a source checkout (``pyproject.toml`` next to the
@@ -14,7 +14,10 @@ from __future__ import annotations
 import os
 from pathlib import Path
 
-__all__ = ["checkout_root", "results_dir", "figures_dir"]
+__all__ = ["checkout_root", "figures_dir", "ledger_dir", "ledger_off", "results_dir"]
+
+#: The values of ``DOCKING_LEDGER`` that turn the ledger off (in any case).
+LEDGER_OFF = ("off", "0", "none", "false")
 
 
 def checkout_root() -> Path | None:
@@ -41,3 +44,30 @@ def results_dir() -> Path:
 def figures_dir() -> Path:
     """The figures' folder (``DOCKING_FIGURES``, the checkout's or ``./figures``)."""
     return _folder("DOCKING_FIGURES", "figures")
+
+
+def ledger_off() -> bool:
+    """Whether ``DOCKING_LEDGER`` turns the ledger off."""
+    value = os.environ.get("DOCKING_LEDGER")
+    return value is not None and value.strip().lower() in LEDGER_OFF
+
+
+def ledger_dir() -> Path | None:
+    """The ledger's folder: ``DOCKING_LEDGER`` if set (``off``: none; else an existing
+    folder's absolute path, any other value a ``ValueError``), else the checkout's
+    ``ledger/`` (None for an installed package without one)."""
+    value = os.environ.get("DOCKING_LEDGER")
+    if value is None:
+        root = checkout_root()
+        return root / "ledger" if root is not None else None
+    if ledger_off():
+        return None
+    usage = "set it to off or to the absolute path of a ledger folder, or unset it"
+    path = Path(value).expanduser()
+    if not value.strip():
+        raise ValueError(f"DOCKING_LEDGER is set but empty; {usage}")
+    if not path.is_absolute():
+        raise ValueError(f"DOCKING_LEDGER={value!r} is neither off nor an absolute path; {usage}")
+    if not path.is_dir():
+        raise ValueError(f"DOCKING_LEDGER={value!r} names no folder; {usage}")
+    return path

@@ -497,7 +497,7 @@ def timings_text(
 ) -> str:
     """The README's paragraph of times: ``measured`` is ``tools/time_tiers.py``'s record (None
     if the tiers were not timed), ``runs`` and ``run_seconds`` the ledger's runs and the sum
-    of their wall times (:func:`docking.ledger.computing_seconds`), ``ledger_bytes`` its size
+    of their wall times (the ledger manifest's), ``ledger_bytes`` its size
     (:func:`docking.ledger.size_bytes`; None: not said)."""
     per_run = run_seconds / max(runs, 1)
     size = ""

@@ -12,7 +12,8 @@ from pathlib import Path
 import numpy as np
 
 from docking import paths
-from docking.ledger import ledger_dir, manifest
+from docking.ledger import manifest
+from docking.paths import ledger_dir
 
 #: The paper's experiments: every run of theirs is recomputed by every ``verify``.
 PAPER_RUNS = ("experiment1", "experiment2")

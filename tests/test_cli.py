@@ -90,9 +90,6 @@ def _cli_on_a_terminal(args, tmp_path, timeout=300):
         ["sweep"],
         ["sweep", "experiment1"],
         ["report"],
-        ["study"],
-        ["experiment3"],
-        ["calibration"],
         ["design"],
         ["design", "run"],
         ["design", "list"],
@@ -203,7 +200,7 @@ def test_the_help_check_finds_subcommands():
 @pytest.mark.slow
 def test_help_lists_subcommands_and_overrides(tmp_path):
     top = _cli(["--help"], tmp_path).stdout
-    for name in ("run", "sweep", "study", "experiment3", "report", "benchmark"):
+    for name in ("run", "sweep", "design", "report", "figures", "ledger", "verify", "benchmark"):
         assert name in top
     # One column of options: a default wrapped onto the next line stays next to its option.
     run = _cli(["run", "experiment2", "--help"], tmp_path, columns=100).stdout

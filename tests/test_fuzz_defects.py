@@ -19,7 +19,7 @@ from pathlib import Path
 import pytest
 from helpers import SEEDS, TINY
 
-from docking import ledger
+from docking import ledger, paths
 from docking.cli import main
 from docking.ledger import load_run
 from docking.store import run_key, run_or_load
@@ -74,22 +74,6 @@ def _edit_manifest(folder, change):
 
 def _record(data, seed):
     return data["runs"][run_key(TINY, seed)]
-
-
-def _rewrite_entry(folder, seed, change, raw=None):
-    """Change the entry of ``seed`` (``change(arrays)``, or replace its bytes by ``raw``) and
-    give the manifest its new digest, as a careful forger would."""
-    data = json.loads((folder / "manifest.json").read_text())
-    path = folder / _record(data, seed)["file"]
-    if raw is None:
-        arrays = ledger._decode_entry(path.read_bytes())
-        change(arrays)
-        raw = ledger._encode_entry(arrays)
-    path.write_bytes(raw)
-    _edit_manifest(
-        folder,
-        lambda d: _record(d, seed).update(entry_digest=hashlib.sha256(raw).hexdigest()),
-    )
 
 
 def _one_error_line(err: str) -> str:
@@ -322,7 +306,7 @@ def test_ledger_show_says_the_ledger_is_switched_off(monkeypatch, capsys, restor
 def test_a_bad_ledger_variable_is_a_clear_error(value, says, monkeypatch, capsys, restore_sigterm):
     monkeypatch.setenv("DOCKING_LEDGER", value)
     with pytest.raises(ValueError, match=says):
-        ledger.ledger_dir()
+        paths.ledger_dir()
     assert main(["ledger", "show"]) == 2
     assert says in _one_error_line(capsys.readouterr().err)
 
@@ -330,11 +314,11 @@ def test_a_bad_ledger_variable_is_a_clear_error(value, says, monkeypatch, capsys
 def test_the_ledger_variable_accepts_off_and_absolute_folders(monkeypatch, tmp_path):
     for off in ("off", "OFF", "0", "none", "false"):
         monkeypatch.setenv("DOCKING_LEDGER", off)
-        assert ledger.ledger_dir() is None and ledger.ledger_off()
+        assert paths.ledger_dir() is None and paths.ledger_off()
     monkeypatch.setenv("DOCKING_LEDGER", str(tmp_path))
-    assert ledger.ledger_dir() == tmp_path and not ledger.ledger_off()
+    assert paths.ledger_dir() == tmp_path and not paths.ledger_off()
     monkeypatch.delenv("DOCKING_LEDGER")
-    assert ledger.ledger_dir() == REPO / "ledger"
+    assert paths.ledger_dir() == REPO / "ledger"
 
 
 # 14. An empty --results-dir -----------------------------------------------------------------

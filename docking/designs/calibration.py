@@ -37,8 +37,8 @@ Choices named here:
   dock (``result.train.success``): how often the near-random walk of training is rewarded,
   the quantity the notebooks' explanations turn on.
 
-``python -m docking calibration [--processes N] [--results-dir DIR]`` runs (or loads) both
-experiments' variants and prints the tables.
+``python -m docking design run calibration-experiment1 calibration-experiment2`` runs (or
+loads) both experiments' variants and prints the tables.
 """
 
 from __future__ import annotations

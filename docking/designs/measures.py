@@ -92,7 +92,7 @@ def regain(level: float, censored: float) -> Measure:
 def final_error_m(results, key: str) -> np.ndarray:
     """Per seed, the mean distance (m) of the final reference point from the docking
     region's centre, over the docked held-out trials."""
-    from docking.ledger import final_poses
+    from docking.analysis import final_poses
 
     centre = -results.cell(key).world.dock_center
     out = []
@@ -107,7 +107,7 @@ def final_error_m(results, key: str) -> np.ndarray:
 @_unit(" m", 3, "metres walked per docking")
 def metres_per_docking(results, key: str) -> np.ndarray:
     """Per seed, the mean distance walked (m) in the docked held-out trials."""
-    from docking.ledger import path_lengths
+    from docking.analysis import path_lengths
 
     out = []
     for log in results.logs[key]:
