@@ -1,5 +1,5 @@
 """Shared builders of design cells: the held-out protocol, the variants of a configuration,
-the distractor, the floor world's Experiment 2, the yardsticks and a tuning budget
+Experiment 2 in another world, linear SARSA, the distractor, the yardsticks and a tuning budget
 (:class:`Tuning`).
 
 Design files build their cells from these, so that a variant means the same thing in every
@@ -16,7 +16,7 @@ import numpy as np
 
 from docking.experiments import Curriculum, ExperimentConfig
 from docking.network import NetworkConfig
-from docking.presets import EXPERIMENT_2, FLOOR_WORLD
+from docking.presets import EXPERIMENT_2
 from docking.scene import Distractor, WorldConfig
 
 #: Seeds of a cell whose verdicts rest on them (at least ten).
@@ -32,15 +32,6 @@ HELDOUT_TRIALS = 500
 #: floor world on the floor, at the same place).
 CUP = Distractor.cup(y=0.30)
 FLOOR_CUP = Distractor("cylinder", CUP.size, (CUP.position[0], 0.30, CUP.size[1]))
-
-#: Experiment 2 in the floor world: the paper's configuration, its curriculum starting 0.12 m
-#: beyond the start region's near edge as in the sideboard world.
-FLOOR_EXPERIMENT_2 = dataclasses.replace(
-    EXPERIMENT_2,
-    name="experiment2-floor",
-    world=FLOOR_WORLD,
-    curriculum=Curriculum(far_initial=FLOOR_WORLD.start_near + 0.12, grow_trials=1400),
-)
 
 #: The yardsticks (``ExperimentConfig.policy``) and what tables call them.
 YARDSTICK_LABELS = {
@@ -61,6 +52,20 @@ def variant(base: ExperimentConfig, name: str, curve: bool = False, **changes):
 def net(base: ExperimentConfig, **changes) -> NetworkConfig:
     """``base``'s network with ``changes``."""
     return dataclasses.replace(base.network, **changes)
+
+
+def experiment2_in(world: WorldConfig, name: str) -> ExperimentConfig:
+    """Experiment 2 in ``world``, stored under ``name``: its curriculum starts 0.12 m beyond
+    the start region's near edge (as Experiment 2's does in the sideboard world) and grows
+    over 1400 trials."""
+    curriculum = Curriculum(far_initial=world.start_near + 0.12, grow_trials=1400)
+    return dataclasses.replace(EXPERIMENT_2, name=name, world=world, curriculum=curriculum)
+
+
+def linear_sarsa(base: ExperimentConfig, **changes) -> NetworkConfig:
+    """``base``'s network as linear SARSA on the same pixels (with ``changes``): one feature
+    unit per input, no feature layer, so Q reads the input directly."""
+    return net(base, n_features=base.network.n_inputs, feature_layer="none", **changes)
 
 
 def with_cup(world: WorldConfig) -> WorldConfig:

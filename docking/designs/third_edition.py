@@ -26,12 +26,14 @@ from docking.designs.builders import (
     HELDOUT_TRIALS,
     YARDSTICK_LABELS,
     Tuning,
+    experiment2_in,
+    linear_sarsa,
     net,
     variant,
     with_cup,
 )
 from docking.designs.measures import actions_per_docking, heading_error_deg, interpretability
-from docking.experiments import Curriculum, ExperimentConfig
+from docking.experiments import Curriculum
 from docking.ppo import PPOConfig
 from docking.presets import EXPERIMENT_1, EXPERIMENT_2, FLOOR_WORLD, NAO_WORLD
 
@@ -60,12 +62,6 @@ PPO_STEPS = 2000 * 25
 GRID_SIZE, ROUND_2 = 9, 3
 LEARNERS = ("paper", "linear", "ppo")
 CONTEST = ("sideboard", "floor", "nao")
-
-
-def _base(world, name: str = NAME) -> ExperimentConfig:
-    """Experiment 2 in ``world``, its curriculum from 0.12 m beyond the near edge."""
-    curriculum = Curriculum(far_initial=world.start_near + 0.12, grow_trials=1400)
-    return replace(EXPERIMENT_2, name=name, world=world, curriculum=curriculum)
 
 
 _SIDEBOARD = EXPERIMENT_2.world
@@ -99,10 +95,9 @@ def _learner(world: str, learner: str, **changes):
         return PPOConfig(
             name=NAME, world=w, steps=PPO_STEPS, heldout_trials=HELDOUT_TRIALS, **changes
         )
-    base = _base(w)
-    if learner == "linear":
-        changes = dict(n_features=base.network.n_inputs, feature_layer="none", **changes)
-    return variant(base, NAME, network=net(base, **changes))
+    base = experiment2_in(w, NAME)
+    network = linear_sarsa(base, **changes) if learner == "linear" else net(base, **changes)
+    return variant(base, NAME, network=network)
 
 
 #: Each learner's grid (its default first): the paper's eps_Q x eps_W; linear SARSA's eps_Q x
@@ -148,7 +143,7 @@ def _yardsticks() -> list[Cell]:
         _cell(
             w,
             p,
-            yardstick_config(_base(WORLDS[w][1]), p, HELDOUT_TRIALS),
+            yardstick_config(experiment2_in(WORLDS[w][1], NAME), p, HELDOUT_TRIALS),
             YARDSTICK_LABELS[p],
             seeds=YARDSTICK_SEEDS,
         )
@@ -168,7 +163,7 @@ def _path_cells() -> list[Cell]:
 
 def _verdict_cells(world: str) -> list[Cell]:
     """The claims' variants of the paper's learner in ``world``, trained or tested only."""
-    base, paper = _base(WORLDS[world][1]), f"{world}/paper"
+    base, paper = experiment2_in(WORLDS[world][1], NAME), f"{world}/paper"
     frozen, cup, home = net(base, eps_w=0.0), with_cup(base.world), base.world
     trained = {  # key: (label, the variant's changes)
         "frozen": ("W frozen (eps_W = 0)", dict(network=frozen)),
@@ -206,7 +201,7 @@ def _rotation_and_turning_cells() -> list[Cell]:
     found = []
     for noise in (4.0, 6.0):
         w = replace(_SIDEBOARD, step_noise_yaw_deg=noise)
-        key, trained = f"sideboard-{noise:g}deg", variant(_base(w), NAME)
+        key, trained = f"sideboard-{noise:g}deg", variant(experiment2_in(w, NAME), NAME)
         found.append(_cell(key, "paper", trained, f"paper at {noise:g} deg"))
         for v, change in (
             ("no-yaw-noise", dict(step_noise_yaw_deg=0.0)),
@@ -215,7 +210,7 @@ def _rotation_and_turning_cells() -> list[Cell]:
             found.append(
                 _cell(key, v, trained, v, baseline=f"{key}/paper", test_world=replace(w, **change))
             )
-    four = _base(_SIDEBOARD)
+    four = experiment2_in(_SIDEBOARD, NAME)
     longer = replace(four.curriculum, grow_trials=LONG * four.curriculum.grow_trials)
     six = replace(
         four,
