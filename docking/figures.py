@@ -595,24 +595,7 @@ def fig5(
     bad = [m for m in range(len(sample.indices)) if not sample.success[m]]
     paths = dict(enumerate(sample.paths))
 
-    # The plotted area: the floor plan, the start region and every shown path, plus a margin;
-    # one metre is drawn the same length on both axes.
-    y_min, y_max, x_max = _plan_extent(config)
-    ys = np.concatenate(
-        [[region.half_width(region.far), -region.half_width(region.far), y_min, y_max]]
-        + [p[:, 1] for p in paths.values()]
-    )
-    xs = np.concatenate([[-region.far, x_max]] + [p[:, 0] for p in paths.values()])
-    margin = 0.08
-    y_lo, y_hi = float(np.min(ys)) - margin, float(np.max(ys)) + margin
-    x_lo, x_hi = float(np.min(xs)) - margin, float(np.max(xs)) + margin
-    inch_per_m = min(7.5 / (x_hi - x_lo), 6.5 / (y_hi - y_lo))
-    plot_w, plot_h = inch_per_m * (y_hi - y_lo), inch_per_m * (x_hi - x_lo)
-    fig = _new_figure(max(plot_w, 3.6) + 1.3, plot_h + 2.1)
-    ax = fig.add_subplot()
-    draw_floor_plan(ax, config, region)
-    ax.set_xlim(y_hi, y_lo)  # inverted: +y (the robot's left) on the left
-    ax.set_ylim(x_lo, x_hi)
+    fig, ax = _plan_axes(config, region, list(paths.values()))
 
     # Shades of green, shuffled (seeded) so that neighbouring paths differ.
     shades = colormaps["Greens"](np.linspace(0.45, 0.95, max(len(ok), 1)))
@@ -641,16 +624,48 @@ def fig5(
         f"{100 * (docked / n):.0f}%)",
         fontsize=9,
     )
+    docked_colour = shades[len(shades) // 2] if ok else "green"
+    handles = _fig5_legend(config, region, docked_colour, len(ok), len(bad))
+    fig.legend(handles=handles, loc="outside lower center", ncol=2, fontsize=7.5, frameon=False)
+    return fig
+
+
+def _plan_axes(config: WorldConfig, region: StartRegion, paths: list[np.ndarray]):
+    """A figure and its axes for a floor plan seen from above: the plotted area holds the
+    floor plan, the start region and every path of ``paths``, plus a margin, with one metre
+    drawn the same length on both axes and +y (the robot's left) on the left."""
+    y_min, y_max, x_max = _plan_extent(config)
+    ys = np.concatenate(
+        [[region.half_width(region.far), -region.half_width(region.far), y_min, y_max]]
+        + [p[:, 1] for p in paths]
+    )
+    xs = np.concatenate([[-region.far, x_max]] + [p[:, 0] for p in paths])
+    margin = 0.08
+    y_lo, y_hi = float(np.min(ys)) - margin, float(np.max(ys)) + margin
+    x_lo, x_hi = float(np.min(xs)) - margin, float(np.max(xs)) + margin
+    inch_per_m = min(7.5 / (x_hi - x_lo), 6.5 / (y_hi - y_lo))
+    plot_w, plot_h = inch_per_m * (y_hi - y_lo), inch_per_m * (x_hi - x_lo)
+    fig = _new_figure(max(plot_w, 3.6) + 1.3, plot_h + 2.1)
+    ax = fig.add_subplot()
+    draw_floor_plan(ax, config, region)
+    ax.set_xlim(y_hi, y_lo)  # inverted: +y (the robot's left) on the left
+    ax.set_ylim(x_lo, x_hi)
+    return fig, ax
+
+
+def _fig5_legend(config: WorldConfig, region: StartRegion, docked_colour, n_ok: int, n_bad: int):
+    """Fig. 5's legend entries: the paths shown, the start region, the docking region, the
+    landmark, the sideboard and the robot's body."""
     dock_cm = f"{100 * config.dock_depth:.0f}x{100 * config.dock_width:.0f} cm"
-    handles = [
+    return [
         Line2D(
             [],
             [],
-            color=shades[len(shades) // 2] if ok else "green",
+            color=docked_colour,
             marker=".",
-            label=f"docked ({len(ok)} shown)",
+            label=f"docked ({n_ok} shown)",
         ),
-        Line2D([], [], color=_FAIL_RED, marker=".", label=f"failed ({len(bad)} shown)"),
+        Line2D([], [], color=_FAIL_RED, marker=".", label=f"failed ({n_bad} shown)"),
         Line2D(
             [],
             [],
@@ -685,8 +700,6 @@ def fig5(
             label=f"robot body (r = {100 * scene_facts().robot_radius:.0f} cm)",
         ),
     ]
-    fig.legend(handles=handles, loc="outside lower center", ncol=2, fontsize=7.5, frameon=False)
-    return fig
 
 
 # ------------------------------------------------------------------------------------------
@@ -724,80 +737,10 @@ def fig_learning_curves(curves1: LearningCurves | None, curves2: LearningCurves 
         ax_c = fig.add_subplot(grid[2, col], sharex=ax_s)
         for ax in (ax_s, ax_n, ax_c):  # letters down each column: A-C, then D-F
             ax.set_title(next(letters), loc="left", fontweight="bold", fontsize=12)
-        cfg = curves.config
         color = f"C{col}"
-        thin = dict(color=color, alpha=0.35, lw=0.8)
-        for k in range(len(curves.seeds)):
-            ax_s.plot(curves.trials[k], 100 * curves.success[k], **thin)
-            ax_n.plot(curves.trials[k], curves.steps[k], **thin)
-            ax_s.plot(
-                curves.final_trials[k],
-                100 * curves.final_success[k],
-                "D",
-                color=color,
-                alpha=0.6,
-                markersize=4,
-                clip_on=False,
-                zorder=4,
-            )
-        ax_s.plot(curves.mean_trials, 100 * curves.mean_success, color=color, lw=2.2)
-        ax_n.plot(curves.mean_trials, curves.mean_steps, color=color, lw=2.2)
-
-        # Legend: what a thin line, the thick line and a diamond are.
-        ax_s.plot(
-            [], [], **thin, label=f"one seed ({cfg.eval_trials} test trials every {cfg.eval_every})"
-        )
-        ax_s.plot([], [], color=color, lw=2.2, label=f"mean of {len(curves.seeds)} seeds")
-        ax_s.plot(
-            [],
-            [],
-            "D",
-            color=color,
-            alpha=0.6,
-            markersize=4,
-            label=f"final test ({cfg.test_trials} trials)",
-        )
-        paper = _PAPER_SUCCESS.get(cfg.name)
-        if paper is not None:
-            ax_s.axhline(
-                100 * paper, color="0.2", linestyle="--", lw=1.0, label=f"paper: {100 * paper:.0f}%"
-            )
-        ax_s.set_ylim(-3, 103)
-        ax_s.set_title(
-            f"{label}: {cfg.network.n_features} feature units, {cfg.network.rule} rule", fontsize=10
-        )
-        ax_s.legend(fontsize=7, loc="lower right", framealpha=0.9)
-        ax_n.axhline(
-            cfg.world.max_steps,
-            color="0.2",
-            linestyle=":",
-            lw=1.0,
-            label=f"step limit ({cfg.world.max_steps})",
-        )
-        ax_n.set_ylim(0, cfg.world.max_steps + 2)
-        ax_n.legend(fontsize=7, loc="center right", framealpha=0.9)
-
-        # The start region during training (the seeds share the configuration's curriculum).
-        trials = np.arange(len(curves.start_far[0]))
-        ax_c.fill_between(
-            trials,
-            cfg.world.start_near,
-            curves.start_far[0],
-            color=color,
-            alpha=0.2,
-            lw=0,
-            step="post",
-        )
-        for start_far in curves.start_far:
-            ax_c.plot(
-                np.arange(len(start_far)),
-                start_far,
-                color=color,
-                lw=1.0,
-                drawstyle="steps-post",
-            )
-        ax_c.set_ylim(0, cfg.world.start_far * 1.15)
-        ax_c.set_xlabel("training trials")
+        _success_panel(ax_s, curves, label, color)
+        _actions_panel(ax_n, curves, color)
+        _curriculum_panel(ax_c, curves, color)
         if col == 0:
             ax_s.set_ylabel("test success (%)")
             ax_n.set_ylabel("actions per\nsuccessful test trial")
@@ -806,9 +749,68 @@ def fig_learning_curves(curves1: LearningCurves | None, curves2: LearningCurves 
             ax.tick_params(labelbottom=False)
         for ax in (ax_s, ax_n, ax_c):
             ax.grid(alpha=0.3, lw=0.5)
-        last = int(np.max(curves.final_trials))
-        ax_s.set_xlim(0, last * 1.03)  # room for the final-test diamonds
+        ax_s.set_xlim(0, int(np.max(curves.final_trials)) * 1.03)  # room for the diamonds
     return fig
+
+
+def _success_panel(ax, curves: LearningCurves, label: str, color) -> None:
+    """Test success against training trials: a thin line per seed with a diamond at its
+    final test, their mean thick, the paper's final result dashed."""
+    cfg = curves.config
+    thin = dict(color=color, alpha=0.35, lw=0.8)
+    diamond = dict(color=color, alpha=0.6, markersize=4)
+    for k in range(len(curves.seeds)):
+        ax.plot(curves.trials[k], 100 * curves.success[k], **thin)
+        ax.plot(
+            curves.final_trials[k],
+            100 * curves.final_success[k],
+            "D",
+            **diamond,
+            clip_on=False,
+            zorder=4,
+        )
+    ax.plot(curves.mean_trials, 100 * curves.mean_success, color=color, lw=2.2)
+    # Legend: what a thin line, the thick line and a diamond are.
+    ax.plot(
+        [], [], **thin, label=f"one seed ({cfg.eval_trials} test trials every {cfg.eval_every})"
+    )
+    ax.plot([], [], color=color, lw=2.2, label=f"mean of {len(curves.seeds)} seeds")
+    ax.plot([], [], "D", **diamond, label=f"final test ({cfg.test_trials} trials)")
+    paper = _PAPER_SUCCESS.get(cfg.name)
+    if paper is not None:
+        ax.axhline(
+            100 * paper, color="0.2", linestyle="--", lw=1.0, label=f"paper: {100 * paper:.0f}%"
+        )
+    ax.set_ylim(-3, 103)
+    ax.set_title(
+        f"{label}: {cfg.network.n_features} feature units, {cfg.network.rule} rule", fontsize=10
+    )
+    ax.legend(fontsize=7, loc="lower right", framealpha=0.9)
+
+
+def _actions_panel(ax, curves: LearningCurves, color) -> None:
+    """Mean actions of the successful test trials: a thin line per seed, the mean thick, the
+    step limit dotted."""
+    max_steps = curves.config.world.max_steps
+    for k in range(len(curves.seeds)):
+        ax.plot(curves.trials[k], curves.steps[k], color=color, alpha=0.35, lw=0.8)
+    ax.plot(curves.mean_trials, curves.mean_steps, color=color, lw=2.2)
+    ax.axhline(max_steps, color="0.2", linestyle=":", lw=1.0, label=f"step limit ({max_steps})")
+    ax.set_ylim(0, max_steps + 2)
+    ax.legend(fontsize=7, loc="center right", framealpha=0.9)
+
+
+def _curriculum_panel(ax, curves: LearningCurves, color) -> None:
+    """The start region during training (the seeds share the configuration's curriculum)."""
+    world = curves.config.world
+    trials = np.arange(len(curves.start_far[0]))
+    ax.fill_between(
+        trials, world.start_near, curves.start_far[0], color=color, alpha=0.2, lw=0, step="post"
+    )
+    for start_far in curves.start_far:
+        ax.plot(np.arange(len(start_far)), start_far, color=color, lw=1.0, drawstyle="steps-post")
+    ax.set_ylim(0, world.start_far * 1.15)
+    ax.set_xlabel("training trials")
 
 
 def fig_trial(config: WorldConfig, poses: np.ndarray, title: str, color="green") -> Figure:

@@ -28,7 +28,6 @@ from pathlib import Path
 import numpy as np
 
 from docking import paths, ppo, store
-from docking.analysis import final_poses, path_lengths
 from docking.experiments import ExperimentResult, TrialLog
 from docking.fileio import atomic_write
 from docking.network import Network
@@ -303,6 +302,8 @@ def _npz(arrays: dict[str, np.ndarray]) -> bytes:
 
 def _row(arrays: dict, keep: frozenset) -> dict[str, np.ndarray]:
     """What a table keeps of a run's stored ``arrays`` as ``keep`` asks (module docstring)."""
+    from docking.analysis import final_poses, path_lengths
+
     row, parts = {}, PARTS[1:] if NO_TRAIN in keep else PARTS
     for name, array in arrays.items():
         part, _, field = name.rpartition(".")
@@ -387,6 +388,16 @@ def update(runs, folder: Path | str | None = None, results_dir=None) -> dict:
         "tables": {n: hashlib.sha256(files[f"tables/{n}.npz"]).hexdigest() for n in tables},
         "runs": records,
     }
+    _replace_files(folder, files)
+    text = json.dumps(data, indent=1, sort_keys=True) + "\n"
+    atomic_write(folder / "manifest.json", lambda f: f.write(text.encode()))
+    _read_manifest.cache_clear()
+    return manifest(folder)
+
+
+def _replace_files(folder: Path, files: dict[str, bytes]) -> None:
+    """Write ``files`` (``{path in folder: bytes}``), each atomically and only if it changed,
+    and delete the tables and whole runs the ledger no longer holds (and emptied folders)."""
     old = {p for kind in ("tables", "whole") for p in [folder / kind, *folder.glob(f"{kind}/**/*")]}
     for relative, raw in files.items():
         old.discard(folder / relative)
@@ -397,7 +408,3 @@ def update(runs, folder: Path | str | None = None, results_dir=None) -> dict:
             stale.unlink()
         elif stale.is_dir() and not any(stale.iterdir()):
             stale.rmdir()
-    text = json.dumps(data, indent=1, sort_keys=True) + "\n"
-    atomic_write(folder / "manifest.json", lambda f: f.write(text.encode()))
-    _read_manifest.cache_clear()
-    return manifest(folder)

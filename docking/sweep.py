@@ -27,6 +27,7 @@ nor ``SIGTERM`` of the parent leaves orphans or leaked semaphores.
 from __future__ import annotations
 
 import asyncio
+import contextlib
 import dataclasses
 import itertools
 import logging
@@ -651,79 +652,92 @@ def _handshake(scheduler: str, seconds: float) -> None:
 def _run_on_dask(
     jobs, todo, root: Path, scheduler, n_workers: int, force: bool, bar, trials, runs
 ) -> None:
-    from distributed import wait
-
-    # distributed logs at INFO through the root handler that absl (dm-control) installs;
-    # warnings (a lost worker) stay visible. Worker processes read the variable at start.
-    logger = logging.getLogger("distributed")
-    level = logger.level
-    logger.setLevel(max(level, logging.WARNING))
-    saved_env = os.environ.get(_LOG_VARIABLE)
-    os.environ[_LOG_VARIABLE] = "warning"
-    cluster = None
-    try:
+    with _quiet_distributed():
         cluster = _EmbeddedCluster(n_workers) if scheduler is None else None
-        with cluster.client if cluster is not None else _connect(scheduler) as client:
-            sweep = uuid.uuid4().hex[:8]
-            reported = dict.fromkeys(todo, 0)  # trials each job has reported so far
-            news: list = []  # (job, trials) from the event topic's handler thread
-            lock = threading.Lock()
+        try:
+            with cluster.client if cluster is not None else _connect(scheduler) as client:
+                _submit_and_follow(client, jobs, todo, root, force, bar, trials, runs)
+        finally:
+            if cluster is not None:
+                cluster.close()
 
-            def heard(event) -> None:
-                _, message = event
-                tag, _, k = str(message.get("tag", "")).partition(":")
-                if tag == sweep and k.isdigit() and int(k) in reported:
-                    with lock:
-                        news.append((int(k), int(message.get("trials", 0))))
 
-            client.subscribe_topic(_PROGRESS_TOPIC, heard)
-            index = {}
-            for k in todo:
-                future = client.submit(
-                    _run_job,
-                    jobs[k].config,
-                    jobs[k].seed,
-                    str(root),
-                    force,
-                    report=f"{sweep}:{k}",
-                    key=f"docking-{jobs[k].config.name}-seed{jobs[k].seed}-{sweep}-{k}",
-                    pure=False,
-                )
-                index[future] = k
-            pending = set(index)
-
-            def apply_news() -> None:
-                with lock:
-                    found, news[:] = list(news), []
-                for k, n in found:
-                    n = min(n, trials[k] - reported[k])  # never beyond the job's total
-                    reported[k] += n
-                    bar.update(n)
-
-            while pending:
-                # Wake every second: trials reported since, and the bar's clock.
-                try:
-                    done, pending = wait(pending, timeout=1.0, return_when="FIRST_COMPLETED")
-                except TimeoutError:
-                    apply_news()
-                    bar.refresh()
-                    continue
-                apply_news()
-                for future in done:
-                    future.result()  # re-raises a job's exception here
-                    k = index[future]
-                    bar.update(trials[k] - reported[k])  # a loaded run, or unreported trials
-                    reported[k] = trials[k]
-                runs.done(len(done))
-            client.unsubscribe_topic(_PROGRESS_TOPIC)
+@contextlib.contextmanager
+def _quiet_distributed():
+    """distributed logs at INFO through the root handler that absl (dm-control) installs:
+    within this, it logs warnings only (a lost worker stays visible), and so do the worker
+    processes started within (they read the variable at start)."""
+    logger = logging.getLogger("distributed")
+    level, saved_env = logger.level, os.environ.get(_LOG_VARIABLE)
+    logger.setLevel(max(level, logging.WARNING))
+    os.environ[_LOG_VARIABLE] = "warning"
+    try:
+        yield
     finally:
-        if cluster is not None:
-            cluster.close()
         logger.setLevel(level)
         if saved_env is None:
             os.environ.pop(_LOG_VARIABLE, None)
         else:
             os.environ[_LOG_VARIABLE] = saved_env
+
+
+def _submit_and_follow(client, jobs, todo, root: Path, force: bool, bar, trials, runs) -> None:
+    """Submit the jobs ``todo`` to ``client`` and move ``bar`` with the trials their workers
+    report (:data:`_PROGRESS_TOPIC`) and ``runs`` with the jobs done, until all are done (a
+    job's exception is raised here)."""
+    from distributed import wait
+
+    sweep = uuid.uuid4().hex[:8]
+    reported = dict.fromkeys(todo, 0)  # trials each job has reported so far
+    news: list = []  # (job, trials) from the event topic's handler thread
+    lock = threading.Lock()
+
+    def heard(event) -> None:
+        _, message = event
+        tag, _, k = str(message.get("tag", "")).partition(":")
+        if tag == sweep and k.isdigit() and int(k) in reported:
+            with lock:
+                news.append((int(k), int(message.get("trials", 0))))
+
+    def apply_news() -> None:
+        with lock:
+            found, news[:] = list(news), []
+        for k, n in found:
+            n = min(n, trials[k] - reported[k])  # never beyond the job's total
+            reported[k] += n
+            bar.update(n)
+
+    client.subscribe_topic(_PROGRESS_TOPIC, heard)
+    index = {
+        client.submit(
+            _run_job,
+            jobs[k].config,
+            jobs[k].seed,
+            str(root),
+            force,
+            report=f"{sweep}:{k}",
+            key=f"docking-{jobs[k].config.name}-seed{jobs[k].seed}-{sweep}-{k}",
+            pure=False,
+        ): k
+        for k in todo
+    }
+    pending = set(index)
+    while pending:
+        # Wake every second: trials reported since, and the bar's clock.
+        try:
+            done, pending = wait(pending, timeout=1.0, return_when="FIRST_COMPLETED")
+        except TimeoutError:
+            apply_news()
+            bar.refresh()
+            continue
+        apply_news()
+        for future in done:
+            future.result()  # re-raises a job's exception here
+            k = index[future]
+            bar.update(trials[k] - reported[k])  # a loaded run, or unreported trials
+            reported[k] = trials[k]
+        runs.done(len(done))
+    client.unsubscribe_topic(_PROGRESS_TOPIC)
 
 
 def run_seeds(
