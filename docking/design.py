@@ -204,8 +204,9 @@ class Design:
 
     def only(self, patterns: Sequence[str]) -> Design:
         """This design with only the cells whose keys match one of ``patterns`` (shell-style,
-        e.g. ``"floor/*"``) and the baselines their test-only cells need, without stages or
-        claims (they read every cell): the same runs, for computing part of a design first.
+        e.g. ``"floor/*"``) and the baselines their test-only cells need, without stages,
+        claims or report (they read every cell): the same runs, for computing part of a
+        design first.
         A pattern that matches no cell is a ``ValueError`` naming the keys."""
         from fnmatch import fnmatchcase
 
@@ -216,7 +217,7 @@ class Design:
         chosen = {k for k in keys if any(fnmatchcase(k, p) for p in patterns)}
         chosen |= {c.baseline for c in self.cells if c.key in chosen and not c.trained}
         cells = tuple(c for c in self.cells if c.key in chosen)
-        return dataclasses.replace(self, cells=cells, stages=(), claims=())
+        return dataclasses.replace(self, cells=cells, stages=(), claims=(), report=None)
 
     def select(self, full: bool = False) -> list[Cell]:
         """The cells of a default run (the core ones), or every cell if ``full``."""

@@ -144,3 +144,15 @@ def test_only_keeps_the_matching_cells_and_the_baselines_they_need(store):
 
     moved = untested.DESIGN.only(["along the wall/paper"])  # test-only: its baseline comes too
     assert [c.key for c in moved.cells] == ["home/paper", "along the wall/paper"]
+
+
+def test_part_of_a_design_with_a_report_is_summarised_without_it():
+    """The paper design's report is the README's table of both experiments: a part holding
+    only Experiment 1 drops it (as it drops stages and claims), so its summary is the cells'
+    table, not a KeyError for the cell it lacks."""
+    from docking.designs import design
+
+    paper = design("paper")
+    part = paper.only(["experiment1"])
+    assert paper.report is not None and part.report is None
+    assert [c.key for c in part.cells] == ["experiment1"]
