@@ -88,10 +88,10 @@ def _damaged_ledgers(tmp: Path) -> list[tuple[str, dict]]:
     """``(what, environment)`` cases: copies of the committed ledger, each damaged once."""
     source = ROOT / "ledger"
     manifest = json.loads((source / "manifest.json").read_text())
-    runs = manifest["runs"]
-    by_seed = {(r["name"], r["seed"]): (k, r) for k, r in runs.items()}
-    k0, r0 = by_seed[("experiment1", 0)]
-    _, r1 = by_seed[("experiment1", 1)]
+    whole = {(r["name"], r["seed"]): (k, r) for k, r in manifest["runs"].items() if r.get("whole")}
+    # The runs the ledger keeps whole: the cases damage Experiment 1's seed 0 (which the
+    # command below reads), or point it at Experiment 2's.
+    (k0, r0), (_, r1) = whole[("experiment1", 0)], whole[("experiment2", 0)]
 
     def copy(name: str, edit) -> Path:
         folder = tmp / name
@@ -118,15 +118,20 @@ def _damaged_ledgers(tmp: Path) -> list[tuple[str, dict]]:
         data["runs"][k0]["sha256"] = hashlib.sha256(b"not an npz").hexdigest()
 
     def missing_fingerprint(data, folder):
-        del data["source_fingerprint"]
+        del data["fingerprints"]
+
+    def table_not_npz(data, folder):  # the table of Experiment 1's other seeds
+        (folder / "tables" / "experiment1.npz").write_bytes(b"not an npz")
+        data["tables"]["experiment1"] = hashlib.sha256(b"not an npz").hexdigest()
 
     cases = {
-        "seed 0's record points at seed 1's file": other_seeds_entry,
+        "a record points at another run's whole file": other_seeds_entry,
         "a record's file outside the ledger": outside,
         "a negative wall time": wall_time,
         "a whole run that is not an npz": not_xz,
         "a whole run that is not an npz, its digest matching": not_xz_digest_matching,
-        "no source_fingerprint": missing_fingerprint,
+        "no fingerprints": missing_fingerprint,
+        "a results table that is not an npz, its digest matching": table_not_npz,
         "a manifest holding []": lambda data, folder: "[]",
         "a manifest that is not JSON": lambda data, folder: "{nope",
     }
@@ -176,7 +181,7 @@ def main() -> int:
         ]
         cases += [
             (
-                ["run", "experiment1", "--seeds", "0", "--processes", "1"],
+                ["run", "experiment1", "--seeds", "0-1", "--processes", "1"],
                 {**env, "DOCKING_RESULTS": results, "what": what},
             )
             for what, env in _damaged_ledgers(Path(tmp))

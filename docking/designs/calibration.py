@@ -1,44 +1,15 @@
 """What the choices do: the calibration variants of Experiments 1 and 2 (notebooks 03, 04).
 
 The paper leaves the step lengths, the start region of Experiment 1, the docking region's
-orientation and the learning rates open; :mod:`docking.experiments` names our choices. The
-variants here are those choices changed one or two at a time: two designs
-(:data:`DESIGNS`, :mod:`docking.design`) whose cells are :data:`~docking.presets.EXPERIMENT_1`
-or :data:`~docking.presets.EXPERIMENT_2` with a few fields replaced (coordinates
-``experiment``, ``variant``, ``changes``), measured by their test trials; running one is
-:func:`run`; the statistics are :mod:`docking.stats`; the notebooks show
-:func:`docking.report.calibration_table` of :func:`docking.report.calibration_rows` and
-assert their claims on the returned runs.
-
-Choices named here:
-
-* Seeds: the main experiments' :data:`~docking.presets.SEEDS` (five each). A variant's
-  run of seed ``k`` is paired with the main run of seed ``k``: the same initial weights and
-  the same random streams for start poses, step noise and action draws (they differ in what
-  the changed fields make of them). The row "this configuration" *is* the main experiment's
-  runs, loaded from the store (the notebooks compute them anyway), not a rerun.
-* Each variant keeps its experiment's test (Experiment 1: 200 greedy trials from its own
-  start region; Experiment 2: 725 from the full region), so its numbers compare with the
-  main experiment's; it skips the learning curve (``eval_trials = 0``), which does not change
-  training or the test (they draw from other streams).
-* The difference to this configuration is :func:`docking.stats.difference_ci`, which
-  resamples each row's seeds independently: it ignores the pairing, so its interval is, if
-  anything, wider than a paired one.
-* Experiment 1's rows (100 training trials, a few seconds each): the first row is where the
-  calibration started (8 cm forward / 6 cm side steps, starts 0.65-0.85 m, the docking
-  region read as 20 cm deep and 8 cm wide, ``eps_Q = 0.5``); then the short steps with this
-  configuration's start region and ``eps_Q``; ``eps_Q`` halved and doubled; a start region
-  further out (0.60-0.80 m).
-* Experiment 2's rows (2000 training trials each): 8 cm forward steps (the side step is
-  this configuration's 10 cm); ``eps_Q`` 0.03 and 0.2; ``eps_W`` 20 times this
-  configuration's (1.0). Not repeated here: ``eps_W = 0`` (W frozen) at 15 cm steps, which
-  notebook 05's study measures with ten seeds and held-out trials.
-* Besides test success, each row reports the share of training trials that ended in the
-  dock (``result.train.success``): how often the near-random walk of training is rewarded,
-  the quantity the notebooks' explanations turn on.
-
-``python -m docking design run calibration-experiment1 calibration-experiment2`` runs (or
-loads) both experiments' variants and prints the tables.
+orientation and the learning rates open; :mod:`docking.experiments` names our choices. How
+much does each matter? Two designs (:data:`DESIGNS`) whose cells are
+:data:`~docking.presets.EXPERIMENT_1` or :data:`~docking.presets.EXPERIMENT_2` with one or
+two of those choices changed (coordinates ``experiment``, ``variant``, ``changes``; the rows
+:func:`variants`), measured by their test trials beside the main experiment's runs (the row
+"this configuration", :data:`BASELINE`). The notebooks show
+:func:`docking.report.calibration_table` and assert their claims on the runs;
+``python -m docking design run calibration-experiment1 calibration-experiment2`` prints the
+tables.
 """
 
 from __future__ import annotations
@@ -69,7 +40,10 @@ _NAMES = {"experiment1": "calibration-experiment1", "experiment2": "calibration-
 def _variant(base: ExperimentConfig, key: str, label: str, world=None, network=None) -> Cell:
     """A row: ``base`` with the ``world`` and ``network`` fields replaced; its coordinate
     ``changes`` names them as dotted paths of :meth:`ExperimentConfig.to_dict` (besides
-    ``name`` and ``eval_trials``)."""
+    ``name`` and ``eval_trials``). It keeps its experiment's test (Experiment 1: 200 greedy
+    trials from its own start region; Experiment 2: 725 from the full region), so that its
+    numbers compare with the main experiment's, and skips the learning curve, which changes
+    neither training nor the test (they draw from other streams)."""
     world, network = dict(world or {}), dict(network or {})
     config = dataclasses.replace(
         base,
@@ -89,6 +63,9 @@ def _baseline(base: ExperimentConfig, label: str) -> Cell:
 
 
 def _experiment1() -> list[Cell]:
+    """Experiment 1's rows (100 training trials, a few seconds each): where the calibration
+    started; the short steps with this configuration's start region and eps_Q; eps_Q halved
+    and doubled; a start region further out."""
     base = EXPERIMENT_1
     short = dict(step_forward=0.08, step_side=0.06)
     return [
@@ -130,6 +107,9 @@ def _experiment1() -> list[Cell]:
 
 
 def _experiment2() -> list[Cell]:
+    """Experiment 2's rows (2000 training trials each): 8 cm forward steps (the side step
+    stays 10 cm); eps_Q 0.03 and 0.2; eps_W 20 times this configuration's. Not here: W
+    frozen at 15 cm steps, which the third edition measures on held-out trials."""
     base = EXPERIMENT_2
     return [
         _variant(
@@ -187,6 +167,11 @@ def _design(experiment: str, cells: Sequence[Cell], seeds: Sequence[int]) -> Des
 
 
 def _report(results: Results) -> str:
+    """The table: per row, test success and the share of training trials that ended in the
+    dock (how often training's near-random walk is rewarded, what the notebooks' explanations
+    turn on), and the difference to this configuration by
+    :func:`docking.stats.difference_ci`, which resamples each row's seeds independently:
+    it ignores the pairing, so its interval is, if anything, wider than a paired one."""
     from docking.report import calibration_rows, calibration_table, computing_time
 
     rows = calibration_rows(results, BASELINE)
@@ -194,7 +179,9 @@ def _report(results: Results) -> str:
     return f"{table}\n\ncomputing time of the variants: {computing_time(results, BASELINE):.0f} s"
 
 
-#: The two calibration designs, ``{name: design}``.
+#: The two calibration designs, ``{name: design}``, on the main experiments' seeds: a row's run
+#: of seed k has the main run's initial weights and random streams (start poses, step noise,
+#: action draws); the row "this configuration" *is* the main experiment's runs, not a rerun.
 DESIGNS = {
     _NAMES[experiment]: _design(experiment, _rows_of(experiment), SEEDS[experiment])
     for experiment in _VARIANTS
