@@ -199,8 +199,11 @@ def _verified(path: Path, sha256: str) -> bytes:
 @functools.lru_cache(maxsize=8)
 def _table(path: Path, sha256: str) -> dict[str, np.ndarray]:
     """The columns of the results table ``path`` (checked against ``sha256``)."""
+    raw = _verified(path, sha256)
+    if not zipfile.is_zipfile(io.BytesIO(raw)):  # np.load would call it pickled data
+        raise CorruptLedger(f"the ledger table {path} is not an .npz (zip) file; {_RESTORE}")
     try:
-        with np.load(io.BytesIO(_verified(path, sha256)), allow_pickle=False) as found:
+        with np.load(io.BytesIO(raw), allow_pickle=False) as found:
             return {k: found[k] for k in found.files}
     except (OSError, ValueError, zipfile.BadZipFile) as exc:
         raise CorruptLedger(
