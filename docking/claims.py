@@ -60,8 +60,10 @@ __all__ = [
     "Rule",
     "ShareAbove",
     "Within",
-    "family_table",
+    "design_verdicts",
+    "judge_family",
     "overall",
+    "verdicts_table",
 ]
 
 SUPPORTED, NOT_SUPPORTED, CONTRADICTED = "supported", "not supported", "contradicted"
@@ -380,32 +382,6 @@ class Claim:
             return ci.format(scale=1.0, unit=unit, digits=digits)
         return ci.format(unit="%" if isinstance(self.rule, ShareAbove) else " pp")
 
-    def evidence(self, results, entry) -> str:
-        """The comparison's number with its interval, as text."""
-        ci = self.interval(results, entry)
-        if isinstance(self.rule, ShareAbove):
-            return f"{self.format(ci)} of the failures go"
-        return f"{self.format(ci)} vs {pair_of(results, entry)[0]}"
-
-    def verdict(self, results) -> tuple[str, dict[str, str], list[str]]:
-        """The overall verdict, the verdict per world, and the evidence (per comparison)."""
-        per_world, evidence = {}, []
-        for world, keys in self.cells.items():
-            found = [self.rule.decide(self.interval(results, key)) for key in keys]
-            if all(v == SUPPORTED for v in found):
-                per_world[world] = SUPPORTED
-            elif CONTRADICTED in found:
-                per_world[world] = CONTRADICTED
-            else:
-                per_world[world] = NOT_SUPPORTED
-            evidence += [f"{world}: {self.evidence(results, key)}" for key in keys]
-        return overall(per_world), per_world, evidence
-
-    def row(self, results) -> str:
-        """The claim's row of a verdict table (Markdown)."""
-        verdict, _, evidence = self.verdict(results)
-        return f"| {self.words} ({self.source}) | {verdict} | {'; '.join(evidence)} |"
-
 
 def pair_of(results, entry) -> tuple[str, ...]:
     """A claim's comparison as ``(cell, baseline, ...)``: a bare cell key is compared with
@@ -432,12 +408,6 @@ def overall(verdicts: dict[str, str]) -> str:
     for world, verdict in verdicts.items():
         groups.setdefault(verdict, []).append(world)
     return "; ".join(f"{v} in {' / '.join(ws)}" for v, ws in groups.items())
-
-
-def verdict_table(claims, results) -> str:
-    """The Markdown table of ``claims``, their verdicts and the numbers behind them."""
-    header = "| claim, in the paper's words | verdict | the number (95% interval) |\n|---|---|---|"
-    return header + "\n" + "\n".join(c.row(results) for c in claims)
 
 
 @dataclasses.dataclass(frozen=True)
@@ -530,30 +500,95 @@ def markdown_cell(text: str) -> str:
     return text.replace("|", "\\|")
 
 
-def family_table(claims, decisions: list[Decision]) -> str:
-    """The Markdown table of a judged family: per judged claim, the paper's words, the
-    overall verdict (:func:`family_verdicts`), what is compared and by which rule, and per
-    comparison its world, interval (95%, unadjusted), p-value, Holm-adjusted p-value and
-    decision."""
-    verdicts = family_verdicts(claims, decisions)
-    lines = [
-        "| claim, in the paper's words | verdict | test | per comparison: interval; p, Holm p "
-        "-> decision |",
-        "|---|---|---|---|",
-    ]
+def _labels(results, world: str, entries) -> list[str]:
+    """A label per comparison of one world: the world, and where the world has several
+    comparisons, what tells them apart (the variant part of the cell keys that differ)."""
+    if len(entries) == 1:
+        return [world]
+    pairs = [pair_of(results, e) for e in entries]
+    differ = [i for i in range(len(pairs[0])) if len({p[i] for p in pairs}) > 1]
+    return [f"{world}: {'/'.join(p[i].rsplit('/', 1)[-1] for i in differ)}" for p in pairs]
+
+
+def claim_rows(claims, results, decisions) -> list:
+    """Per claim, ``(claim, [(label, interval, verdict, Holm p), ...])``: a judged claim's
+    comparisons with their decisions in ``decisions``, a finding's with ``"finding"`` (and
+    no p); each labelled by its world."""
+    found = []
     for claim in claims:
-        if not claim.judged:
-            continue
-        found = [
-            f"{d.world}: {claim.format(d.interval)}; p {d.p:.2g}, Holm {d.p_adjusted:.2g} -> "
-            f"{d.verdict}"
-            for d in decisions
-            if d.claim == claim.key
-        ]
-        words, test = markdown_cell(claim.words), markdown_cell(claim.test)
+        rows = []
+        for world, keys in claim.cells.items():
+            for entry, label in zip(keys, _labels(results, world, keys), strict=True):
+                ci, key = claim.interval(results, entry), pair_of(results, entry)[0]
+                verdict, p = "finding", None
+                if claim.judged:
+                    (d,) = [
+                        d
+                        for d in decisions
+                        if d.claim == claim.key and d.world == world and d.key == key
+                    ]
+                    verdict, p = d.verdict, d.p_adjusted
+                rows.append((label, ci, verdict, p))
+        found.append((claim, rows))
+    return found
+
+
+def _header(alpha: float) -> list[str]:
+    return [
+        f"| the paper's words (section) | compared | per comparison: 95% interval, Holm p -> "
+        f"decision (Holm within the claim, {alpha:g}) | verdict | verdict, one family |",
+        "|---|---|---|---|---|",
+    ]
+
+
+def verdicts_table(claims, results, per_claim, family, alpha: float) -> str:
+    """The verdict table of claims judged both ways: per claim, the paper's words and
+    section, what is compared, each comparison's paired interval (95%, unadjusted) with its
+    Holm-adjusted p-value and its decision under Holm within the claim (``per_claim``, the
+    decision rule), and the verdict under one family of every comparison (``family``), at
+    ``alpha``; a finding's intervals, not judged."""
+    within, overall_ = family_verdicts(claims, per_claim), family_verdicts(claims, family)
+    lines = _header(alpha)
+    for claim, rows in claim_rows(claims, results, per_claim):
+        evidence = "<br>".join(
+            f"{w}: {claim.format(ci)}"
+            + ("" if p is None or not np.isfinite(p) else f", p {p:.2g}")
+            + f" -> {v}"
+            for w, ci, v, p in rows
+        )
+        verdicts = (
+            (within[claim.key][0], overall_[claim.key][0])
+            if claim.judged
+            else ("finding", "finding")
+        )
+        words, compares = markdown_cell(claim.words), markdown_cell(claim.compares)
         lines.append(
-            f"| {words} ({claim.source}) | {verdicts[claim.key][0]} | {test} | "
-            + "<br>".join(found)
-            + " |"
+            f"| **{claim.key}**: {words} ({claim.source}) | {compares} | "
+            f"{evidence} | {verdicts[0]} | {verdicts[1]} |"
         )
     return "\n".join(lines)
+
+
+def design_verdicts(*judged) -> str:
+    """The verdict table (:func:`verdicts_table`) of one or more designs, under the sentence
+    that names the decision rule: ``judged`` is ``results`` (every claim of its design) or
+    ``(results, keys)`` (the claims named), each design's rows judged within its own claims
+    and its own family."""
+    rows, alphas = [], set()
+    for entry in judged:
+        results, keys = entry if isinstance(entry, tuple) else (entry, None)
+        design = results.design
+        alphas.add(design.alpha)
+        family = judge_family(design.claims, results, alpha=design.alpha)
+        per = judge_family(design.claims, results, alpha=design.alpha, per_claim=True)
+        claims = [c for c in design.claims if keys is None or c.key in keys]
+        rows += verdicts_table(claims, results, per, family, design.alpha).splitlines()[2:]
+    if len(alphas) != 1:
+        raise ValueError(f"design_verdicts: the designs judge at different levels {alphas}")
+    (alpha,) = alphas
+    return (
+        "Decision rule, committed before the runs: Holm's adjustment within each claim over "
+        f"its comparisons, at {alpha:g}, on paired Student-t intervals over seeds (p: the "
+        "Holm-adjusted p-value); the last column judges the same comparisons as one family "
+        "of their design's comparisons.\n\n" + "\n".join(_header(alpha) + rows)
+    )

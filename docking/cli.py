@@ -469,7 +469,7 @@ class Report:
         rows, :meth:`_untested`) written; its results, its claims' sentence, the untested
         rows and whether the README changed."""
         from docking import report
-        from docking.claims import judge_family
+        from docking.claims import design_verdicts, judge_family
         from docking.designs import third_edition
 
         contest = third_edition.DESIGN.run(results_dir=self.results_dir, workers=self.processes)
@@ -480,7 +480,7 @@ class Report:
             report.THIRD_EDITION_END,
         )
         changed |= self._write(
-            report.design_verdicts(contest, *untested), report.VERDICTS_START, report.VERDICTS_END
+            design_verdicts(contest, *untested), report.VERDICTS_START, report.VERDICTS_END
         )
         design = contest.design
         decisions = judge_family(design.claims, contest, alpha=design.alpha, per_claim=True)

@@ -139,11 +139,10 @@ class Design:
         (run after the cells above, in order).
       report: A function ``results -> str`` (Markdown) that :func:`summary` prints after the
         cells' numbers (e.g. a table of the design's own); None: nothing more.
-      alpha: None: each claim is decided on its own (:meth:`docking.claims.Claim.verdict`).
-        A level: the judged claims are one family (:func:`docking.claims.judge_family`,
-        Holm's adjustment at this level), as :func:`summary` reports them.
-      per_claim: With ``alpha``: Holm's adjustment within each claim over its comparisons
-        instead of over one family (the family is reported beside it).
+      alpha: The level of the claims' verdicts (required with claims): Holm's adjustment
+        within each claim over its comparisons decides, and one family of every comparison
+        is reported beside it (:func:`docking.claims.design_verdicts`, what :func:`summary`
+        prints, the README's verdict table).
       whole: ``{cell key: seeds}``: the runs the committed ledger keeps whole (those whose
         weights or trajectories an analysis or figure reads); the others it keeps as rows
         of its results table (:mod:`docking.ledger`).
@@ -176,12 +175,13 @@ class Design:
     networks: dict[str, tuple[int, ...]] = dataclasses.field(default_factory=dict)
     keep_cells: dict[str, frozenset[str]] = dataclasses.field(default_factory=dict)
     kept_seeds: dict[str, tuple[int, ...]] = dataclasses.field(default_factory=dict)
-    per_claim: bool = False
 
     def __post_init__(self):
         check_name("Design", "name", self.name)
         if self.alpha is not None and not 0 < self.alpha < 1:
             raise ValueError(f"Design.alpha must be in (0, 1) or None, got {self.alpha!r}")
+        if self.claims and self.alpha is None:
+            raise ValueError(f"Design {self.name!r} has claims: give the level of their verdicts")
         if self.measure not in MEASURES:
             raise ValueError(f"Design.measure must be one of {MEASURES}, got {self.measure!r}")
         keys = [c.key for c in self.cells]
@@ -553,8 +553,8 @@ def run_design(
 
 def summary(results: Results) -> str:
     """What a design's run shows, as Markdown: every cell's measured success (mean, 95%
-    interval over seeds), the design's own report, and its claims' table
-    (:func:`verdicts_text`)."""
+    interval over seeds), the design's own report, and its claims' verdict table
+    (:func:`docking.claims.design_verdicts`)."""
     from docking.stats import mean_ci
 
     design = results.design
@@ -567,27 +567,7 @@ def summary(results: Results) -> str:
     if design.report is not None:
         parts.append(design.report(results))
     if design.claims:
-        parts.append(verdicts_text(results))
+        from docking.claims import design_verdicts
+
+        parts.append(design_verdicts(results))
     return "\n\n".join(parts)
-
-
-def verdicts_text(results: Results) -> str:
-    """The Markdown table of the design's claims: the family's (every comparison with its
-    Holm-adjusted p-value, :func:`docking.claims.family_table`) if the design has an
-    ``alpha`` (Holm within each claim if it says ``per_claim``, then one family beside it),
-    else each claim's own verdict (:func:`docking.claims.verdict_table`)."""
-    from docking.claims import family_table, judge_family, verdict_table
-
-    design = results.design
-    if design.alpha is None:
-        return verdict_table(design.claims, results)
-    family = family_table(design.claims, judge_family(design.claims, results, alpha=design.alpha))
-    if not design.per_claim:
-        return family
-    per = judge_family(design.claims, results, alpha=design.alpha, per_claim=True)
-    return (
-        f"Decided by Holm within each claim at {design.alpha:g}:\n\n"
-        + family_table(design.claims, per)
-        + f"\n\nBeside it, one family of every comparison (Holm at {design.alpha:g}):\n\n"
-        + family
-    )

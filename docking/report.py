@@ -1021,51 +1021,14 @@ VERDICTS_START = "<!-- verdicts:start -->"
 VERDICTS_END = "<!-- verdicts:end -->"
 
 
-def _labels(results, world: str, entries) -> list[str]:
-    """A label per comparison of one world: the world, and where the world has several
-    comparisons, what tells them apart (the variant part of the cell keys that differ)."""
-    from docking.claims import pair_of
-
-    if len(entries) == 1:
-        return [world]
-    pairs = [pair_of(results, e) for e in entries]
-    differ = [i for i in range(len(pairs[0])) if len({p[i] for p in pairs}) > 1]
-    return [f"{world}: {'/'.join(p[i].rsplit('/', 1)[-1] for i in differ)}" for p in pairs]
-
-
-def _claim_rows(claims, results, decisions):
-    """Per claim, ``(claim, [(label, interval, verdict), ...])``: a judged claim's
-    comparisons with their decisions in ``decisions``, a finding's with ``"finding"``; each
-    labelled by its world (:func:`_labels`)."""
-    from docking.claims import pair_of
-
-    found = []
-    for claim in claims:
-        rows = []
-        for world, keys in claim.cells.items():
-            for entry, label in zip(keys, _labels(results, world, keys), strict=True):
-                ci, key = claim.interval(results, entry), pair_of(results, entry)[0]
-                verdict = "finding"
-                if claim.judged:
-                    (d,) = [
-                        d
-                        for d in decisions
-                        if d.claim == claim.key and d.world == world and d.key == key
-                    ]
-                    verdict = d.verdict
-                rows.append((label, ci, verdict))
-        found.append((claim, rows))
-    return found
-
-
 def verdict_panels(claims, results, decisions) -> list[dict]:
     """The panels of :func:`docking.figures.fig_verdicts`, one per claim: each comparison's
     interval and decision (``decisions``: :func:`docking.claims.judge_family`'s), with the
     per-seed values where the statistic has them (not for a share of failures)."""
-    from docking.claims import ShareAbove, measure_display, success
+    from docking.claims import ShareAbove, claim_rows, measure_display, success
 
     panels = []
-    for claim, rows in _claim_rows(claims, results, decisions):
+    for claim, rows in claim_rows(claims, results, decisions):
         share, rate = isinstance(claim.rule, ShareAbove), claim.measure is success
         if share:
             xlabel = "share of the held-out failures gone (%)"
@@ -1082,43 +1045,10 @@ def verdict_panels(claims, results, decisions) -> list[dict]:
                 scale=100.0 if rate else 1.0,
                 bound=claim.rule.bound(),
                 band=claim.rule.band,
-                rows=[(w, ci, v, None if share else ci.values) for w, ci, v in rows],
+                rows=[(w, ci, v, None if share else ci.values) for w, ci, v, _ in rows],
             )
         )
     return panels
-
-
-def _verdicts_header(alpha: float) -> list[str]:
-    """The header lines of :func:`verdicts_table`."""
-    return [
-        f"| the paper's words (section) | compared | per comparison: 95% interval -> decision "
-        f"(Holm within the claim, {alpha:g}) | verdict | verdict, one family |",
-        "|---|---|---|---|---|",
-    ]
-
-
-def verdicts_table(claims, results, per_claim, family, alpha: float) -> str:
-    """The README's verdict table of a design judged both ways: per claim, the paper's words
-    and section, what is compared, each comparison's paired interval with its decision under
-    Holm within the claim (``per_claim``, the decision rule) and the verdict under one family
-    of every comparison (``family``), at ``alpha``; a finding's intervals, not judged."""
-    from docking.claims import family_verdicts, markdown_cell
-
-    within, overall = family_verdicts(claims, per_claim), family_verdicts(claims, family)
-    lines = _verdicts_header(alpha)
-    for claim, rows in _claim_rows(claims, results, per_claim):
-        evidence = "<br>".join(f"{w}: {claim.format(ci)} -> {v}" for w, ci, v in rows)
-        verdicts = (
-            (within[claim.key][0], overall[claim.key][0])
-            if claim.judged
-            else ("finding", "finding")
-        )
-        words, compares = markdown_cell(claim.words), markdown_cell(claim.compares)
-        lines.append(
-            f"| **{claim.key}**: {words} ({claim.source}) | {compares} | "
-            f"{evidence} | {verdicts[0]} | {verdicts[1]} |"
-        )
-    return "\n".join(lines)
 
 
 def claims_summary(claims, decisions) -> str:
@@ -1177,38 +1107,4 @@ def untested_summary(results) -> str:
         "**The claims nobody had tested** (notebook 08: fresh seeds, its own rules committed "
         "before the runs; relocation and coping in the verdict table below, continuous "
         "actions as the paper's future work). " + claims_summary(design.claims, decisions)
-    )
-
-
-def design_verdicts(*judged) -> str:
-    """The verdict table of one or more designs judged by Holm within each claim
-    (``per_claim``) (:func:`verdicts_table`), under the sentence that names the decision
-    rule: ``judged`` is ``results`` (every claim of its design) or ``(results, keys)`` (the
-    claims named), each design's rows judged within its own claims and its own family."""
-    from docking.claims import judge_family
-
-    rows, alphas = [], set()
-    for entry in judged:
-        results, keys = entry if isinstance(entry, tuple) else (entry, None)
-        design = results.design
-        if design.alpha is None or not design.per_claim:
-            raise ValueError(
-                f"design {design.name!r} is not judged by Holm within each claim (alpha "
-                f"{design.alpha}, per_claim {design.per_claim}): its table is verdicts_text's"
-            )
-        alphas.add(design.alpha)
-        family = judge_family(design.claims, results, alpha=design.alpha)
-        per = judge_family(design.claims, results, alpha=design.alpha, per_claim=True)
-        claims = [c for c in design.claims if keys is None or c.key in keys]
-        table = verdicts_table(claims, results, per, family, design.alpha).splitlines()
-        rows += table[len(_verdicts_header(design.alpha)) :]
-    if len(alphas) != 1:
-        raise ValueError(f"design_verdicts: the designs judge at different levels {alphas}")
-    (alpha,) = alphas
-    header = _verdicts_header(alpha)
-    return (
-        "Decision rule, committed before the runs: Holm's adjustment within each claim over "
-        f"its comparisons, at {alpha:g}, on paired Student-t intervals over seeds; the last column "
-        "judges the same comparisons as one family of their design's comparisons.\n\n"
-        + "\n".join(header + rows)
     )

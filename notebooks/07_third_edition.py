@@ -61,7 +61,7 @@ import numpy as np
 from IPython.display import Image, Markdown, display
 
 from docking import figures, report
-from docking.claims import judge_family
+from docking.claims import design_verdicts, judge_family
 from docking.designs import measures
 from docking.designs import third_edition as te
 from docking.presets import NAO_WORLD
@@ -296,7 +296,7 @@ assert all(n is None or n >= 10 for n in needed.values()) and len(needed) >= 10
 results = contest
 per_claim = judge_family(te.CLAIMS, results, alpha=te.ALPHA, per_claim=True)
 family = judge_family(te.CLAIMS, results, alpha=te.ALPHA)
-display(Markdown(report.design_verdicts(results)))
+display(Markdown(design_verdicts(results)))
 fig = figures.fig_verdicts(report.verdict_panels(te.CLAIMS, results, per_claim))
 display(Image(save_named(fig, "third_edition_verdicts")))
 

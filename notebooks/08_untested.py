@@ -49,7 +49,7 @@ from IPython.display import Image, Markdown, display
 
 import docking  # noqa: F401  (registers the Gymnasium ids)
 from docking import analysis, figures, report
-from docking.claims import judge_family
+from docking.claims import design_verdicts, judge_family
 from docking.designs import measures
 from docking.designs import third_edition as te
 from docking.designs import untested as ut
@@ -434,7 +434,7 @@ assert all(v > 0 for v in heading.values())
 # their comparisons beside it.
 
 # %%
-display(Markdown(report.design_verdicts(results)))
+display(Markdown(design_verdicts(results)))
 fig = figures.fig_verdicts(report.verdict_panels(results.design.claims, results, per_claim))
 display(Image(save_named(fig, "untested_verdicts")))
 

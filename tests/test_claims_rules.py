@@ -97,11 +97,15 @@ def test_the_verdict_table_and_figure_show_both_decisions_and_the_findings():
     found = [one, two, finding]
     per = claims.judge_family(found, results, per_claim=True)
     family = claims.judge_family(found, results)
-    table = report.verdicts_table(found, results, per, family, 0.05).splitlines()
+    table = claims.verdicts_table(found, results, per, family, 0.05).splitlines()
     assert len(table) == 2 + 3  # header, rule, a row per claim
-    assert "w1: 10.0 pp [10.0, 10.0] -> supported | supported | supported |" in table[2]
-    assert table[3].endswith("-> not supported | not supported | not supported |")
-    assert "-> finding | finding | finding |" in table[4]
+    # each judged comparison with its Holm-adjusted p-value, a finding without one
+    assert (
+        f"w1: 10.0 pp [10.0, 10.0], p {per[0].p_adjusted:.2g} -> supported | supported |"
+        in (table[2])
+    )
+    assert f", p {per[1].p_adjusted:.2g} -> not supported | not supported |" in table[3]
+    assert "w: 0.0 pp [0.0, 0.0] -> finding | finding | finding |" in table[4]
     panels = report.verdict_panels(found, results, per)
     assert [len(p["rows"]) for p in panels] == [1, 1, 1]
     assert panels[0]["rows"][0][2] == claims.SUPPORTED and panels[0]["scale"] == 100.0
@@ -136,46 +140,48 @@ def test_the_claims_sentence_counts_and_names_each_group():
 
 
 def test_a_pipe_in_a_claims_words_does_not_split_its_table_row():
-    from docking import report
-
     results = _Results({"a": _seeds(0.9), "a0": _seeds(0.8)}, {"a0": "a"})
     rule = claims.Above(0.0, method="paired")
     one = claims.Claim("one", "w", "s", "|heading error| at docking", rule, {"w1": ("a0",)})
     per = claims.judge_family([one], results, per_claim=True)
-    for table in (
-        report.verdicts_table([one], results, per, per, 0.05),
-        claims.family_table([one], per),
-    ):
-        header, _, row = table.splitlines()
-        assert row.replace("\\|", "").count("|") == header.count("|")
+    header, _, row = claims.verdicts_table([one], results, per, per, 0.05).splitlines()
+    assert row.replace("\\|", "").count("|") == header.count("|")
 
 
 def test_one_verdict_table_of_two_designs_keeps_each_designs_family():
     """Rows of a second design join the first's table, each judged in its own design; only
-    the claims named join; designs judged another way are refused."""
+    the claims named join; designs judged at another level are refused."""
     import types
-
-    from docking import report
 
     rule = claims.Above(0.0, method="paired")
     scores = {"a": _seeds(0.9), "a0": _seeds(0.8), "b": _seeds(0.9), "b0": _seeds(0.85)}
 
-    def judged(name, found, per_claim=True):
+    def judged(name, found, alpha=0.05):
         results = _Results(scores, {"a0": "a", "b0": "b"})
-        results.design = types.SimpleNamespace(
-            name=name, claims=tuple(found), alpha=0.05, per_claim=per_claim
-        )
+        results.design = types.SimpleNamespace(name=name, claims=tuple(found), alpha=alpha)
         return results
 
     one = claims.Claim("one", "w", "s", "x", rule, {"w1": ("a0",)})
     two = claims.Claim("two", "w", "s", "x", rule, {"w1": ("b0",)})
     three = claims.Claim("three", "w", "s", "x", rule, {"w1": ("a0",)})
-    text = report.design_verdicts(judged("d1", [one]), (judged("d2", [two, three]), ("two",)))
+    text = claims.design_verdicts(judged("d1", [one]), (judged("d2", [two, three]), ("two",)))
     table = text.split("\n\n")[1].splitlines()
     assert len(table) == 2 + 2 and "**one**" in table[2] and "**two**" in table[3]
     assert "Holm's adjustment within each claim" in text
-    with pytest.raises(ValueError, match="not judged by Holm within each claim"):
-        report.design_verdicts(judged("d3", [one], per_claim=False))
+    with pytest.raises(ValueError, match="different levels"):
+        claims.design_verdicts(judged("d1", [one]), judged("d3", [one], alpha=0.01))
+
+
+def test_a_design_with_claims_needs_the_level_of_their_verdicts():
+    from helpers import TINY
+
+    from docking.design import Cell, Design
+
+    one = claims.Claim("one", "w", "s", "x", claims.Above(0.0), {"w1": ("a",)})
+    cells = (Cell("a", TINY, {"v": "a"}),)
+    with pytest.raises(ValueError, match="has claims: give the level"):
+        Design(name="no-level", title="t", cells=cells, seeds=(0,), claims=(one,))
+    assert Design(name="level", title="t", cells=cells, seeds=(0,), claims=(one,), alpha=0.05)
 
 
 def test_several_comparisons_of_one_world_are_labelled_by_what_tells_them_apart():

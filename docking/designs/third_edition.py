@@ -396,7 +396,6 @@ DESIGN = Design(
     claims=CLAIMS,
     stages=TUNING.stages(),
     alpha=ALPHA,
-    per_claim=True,
     keep=frozenset({"no-train"}),  # no analysis of the design reads a training trial
     # the turning claims read the final poses of the held-out trials
     keep_cells={key: frozenset({"ends"}) for key in ("sideboard/paper", "sideboard/six-long")},

@@ -343,7 +343,6 @@ DESIGN = Design(
     measure="heldout",
     claims=CLAIMS,
     alpha=ALPHA,
-    per_claim=True,
     keep=frozenset({"no-train"}),  # no analysis of the design reads a training trial
     # the continuous-actions claims read the final poses and walked distances
     keep_cells={c.key: frozenset({"ends", "lengths"}) for c in continuous_cells()},
