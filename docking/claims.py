@@ -11,9 +11,8 @@ Rules:
 
 * :class:`Above`: the baseline minus the cell (percentage points of success) lies above a
   bound (0: the baseline is better).
-* :class:`Within`: the difference lies within +-margin (no effect), contradicted if it
-  excludes 0 (the second edition's); :class:`Equivalent`: the same, contradicted only if it
-  lies wholly outside the margin.
+* :class:`Equivalent`: the difference lies within +-margin (no effect), contradicted only if
+  it lies wholly outside the margin.
 * :class:`ShareAbove`: the share of the baseline's failures that are gone in the cell lies
   above a share (e.g. 0.5: "most").
 * :class:`Gap`: a change costs a reference learner more than this one: ``(reference's
@@ -59,7 +58,6 @@ __all__ = [
     "Equivalent",
     "Rule",
     "ShareAbove",
-    "Within",
     "design_verdicts",
     "judge_family",
     "overall",
@@ -160,62 +158,12 @@ class Above(Rule):
 
 
 @dataclasses.dataclass(frozen=True)
-class Within(Rule):
-    """No effect: supported if the interval of ``baseline - cell`` lies within
-    ``+-margin``, contradicted if it excludes 0."""
-
-    margin: float
-    method: str = "bootstrap"
-
-    def decide(self, ci: Interval) -> str:
-        if -self.margin <= ci.low and ci.high <= self.margin:
-            return SUPPORTED
-        return CONTRADICTED if ci.low > 0 or ci.high < 0 else NOT_SUPPORTED
-
-    def describe(self) -> str:
-        return f"supported if the interval lies within +-{100 * self.margin:.0f} pp"
-
-    def equivalence_p(self, ci: Interval) -> float:
-        """The p-value of equivalence: two one-sided Student-t tests against +-margin."""
-        from scipy import stats
-
-        lower = stats.t.sf((ci.estimate + self.margin) / ci.se, ci.df)
-        upper = stats.t.cdf((ci.estimate - self.margin) / ci.se, ci.df)
-        return float(max(lower, upper))
-
-    def p_side(self, ci: Interval) -> tuple[float, str]:
-        """Equivalence (two one-sided tests against +-margin) or what contradicts it
-        (:meth:`against_p`), whichever the data favour; the smaller p-value doubled (two tests
-        per comparison)."""
-        if ci.se == 0:
-            inside = -self.margin < ci.estimate < self.margin
-            return 0.0, SUPPORTED if inside else CONTRADICTED
-        equivalence, against = self.equivalence_p(ci), self.against_p(ci)
-        if equivalence <= against:
-            return min(1.0, 2 * equivalence), SUPPORTED
-        return min(1.0, 2 * against), CONTRADICTED
-
-    def against_p(self, ci: Interval) -> float:
-        """The p-value of what contradicts "no effect": here a difference from 0."""
-        return ci.p_value(0.0)
-
-    def near_bound(self, ci: Interval, verdict: str) -> bool:
-        if verdict == SUPPORTED:
-            return min(self.margin - ci.high, ci.low + self.margin) < NEAR_BOUND
-        return min(abs(ci.low), abs(ci.high)) < NEAR_BOUND
-
-    @property
-    def band(self) -> tuple[float, float]:
-        return (-self.margin, self.margin)
-
-
-@dataclasses.dataclass(frozen=True)
-class Equivalent(Within):
+class Equivalent(Rule):
     """No effect, judged against a margin: supported if the interval of ``baseline - cell``
     lies within ``+-margin``, contradicted only if it lies wholly outside it (an effect
-    larger than the margin), else not supported. (:class:`Within` called an interval that
-    merely excludes 0 contradicted.)"""
+    larger than the margin), else not supported."""
 
+    margin: float
     method: str = "paired"
 
     def decide(self, ci: Interval) -> str:
@@ -229,6 +177,14 @@ class Equivalent(Within):
             f"contradicted if it lies wholly outside"
         )
 
+    def equivalence_p(self, ci: Interval) -> float:
+        """The p-value of equivalence: two one-sided Student-t tests against +-margin."""
+        from scipy import stats
+
+        lower = stats.t.sf((ci.estimate + self.margin) / ci.se, ci.df)
+        upper = stats.t.cdf((ci.estimate - self.margin) / ci.se, ci.df)
+        return float(max(lower, upper))
+
     def against_p(self, ci: Interval) -> float:
         """The p-value of an effect beyond the margin (one-sided, on the estimate's side):
         what contradicts "no effect" under this rule."""
@@ -236,9 +192,24 @@ class Equivalent(Within):
 
         return float(stats.t.sf((abs(ci.estimate) - self.margin) / ci.se, ci.df))
 
+    def p_side(self, ci: Interval) -> tuple[float, str]:
+        """Equivalence (two one-sided tests against +-margin) or an effect beyond it,
+        whichever the data favour; the smaller p-value doubled (two tests per comparison)."""
+        if ci.se == 0:
+            inside = -self.margin < ci.estimate < self.margin
+            return 0.0, SUPPORTED if inside else CONTRADICTED
+        equivalence, against = self.equivalence_p(ci), self.against_p(ci)
+        if equivalence <= against:
+            return min(1.0, 2 * equivalence), SUPPORTED
+        return min(1.0, 2 * against), CONTRADICTED
+
     def near_bound(self, ci: Interval, verdict: str) -> bool:
         ends = (abs(abs(ci.low) - self.margin), abs(abs(ci.high) - self.margin))
         return min(ends) < NEAR_BOUND
+
+    @property
+    def band(self) -> tuple[float, float]:
+        return (-self.margin, self.margin)
 
 
 @dataclasses.dataclass(frozen=True)
