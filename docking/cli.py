@@ -416,15 +416,12 @@ class Report:
 
     def execute(self) -> int:
         from docking import report
-        from docking.presets import EXPERIMENT_1, EXPERIMENT_2
-        from docking.sweep import run_seeds
+        from docking.designs import design
 
         if not self.compute:
             _refuse_to_compute(self.experiment3, self.results_dir, self.third_edition)
-        results = [
-            run_seeds(c, SEEDS[c.name], self.results_dir, processes=self.processes)
-            for c in (EXPERIMENT_1, EXPERIMENT_2)
-        ]
+        paper = design("paper").run(results_dir=self.results_dir, workers=self.processes)
+        results = [paper.runs["experiment1"], paper.runs["experiment2"]]
         if self.figures:
             report.save_figures(*results)
         changed = self._write(report.results_table(*results))

@@ -41,7 +41,7 @@ from collections.abc import Iterable, Mapping, Sequence
 from pathlib import Path
 
 from docking import ledger, paths
-from docking.experiments import ExperimentConfig, ExperimentResult
+from docking.experiments import ExperimentConfig
 from docking.ledger import load_run
 from docking.ppo import PPOConfig
 from docking.store import (
@@ -738,28 +738,3 @@ def _submit_and_follow(client, jobs, todo, root: Path, force: bool, bar, trials,
             reported[k] = trials[k]
         runs.done(len(done))
     client.unsubscribe_topic(_PROGRESS_TOPIC)
-
-
-def run_seeds(
-    config: ExperimentConfig,
-    seeds,
-    results_dir: Path | str | None = None,
-    force: bool = False,
-    processes: int | None = None,
-    progress: bool = True,
-) -> list[ExperimentResult]:
-    """Run (or load) ``config`` for every seed, several seeds at once in worker processes
-    (one per core by default; each renders with its own OpenGL context): a sweep of one
-    configuration on an embedded Dask ``LocalCluster`` (:func:`docking.sweep.run_jobs`),
-    or one seed after another in this process if ``processes <= 1``. Stored runs are loaded,
-    not recomputed."""
-    seeds = [check_int("run_seeds", "seeds[]", s, lo=0) for s in seeds]
-    run_jobs(
-        jobs_for([config], seeds),
-        results_dir,
-        workers=processes or None,
-        force=force,
-        progress=progress,
-        desc=f"{config.name}, {len(seeds)} seeds",
-    )
-    return [load_run(config, s, results_dir) for s in seeds]

@@ -28,7 +28,7 @@ from docking.store import (
     save_result,
     source_fingerprint,
 )
-from docking.sweep import run_seeds
+from docking.sweep import run_configs
 
 TINY = dataclasses.replace(EXPERIMENT_1, train_trials=3, test_trials=2, eval_every=3, eval_trials=1)
 SEED = 7
@@ -131,8 +131,8 @@ def _copy_package(tmp_path):
 
 @pytest.mark.slow
 def test_the_fingerprint_is_the_same_in_every_process():
-    """Worker processes (run_seeds) must compute the parent's key: the fingerprint may not
-    depend on the per-process hash seed of str (set iteration order)."""
+    """Worker processes (a sweep on a cluster) must compute the parent's key: the
+    fingerprint may not depend on the per-process hash seed of str (set iteration order)."""
     import os
     import subprocess
     import sys
@@ -191,7 +191,7 @@ def test_an_unwritable_results_folder_fails_before_the_run(tmp_path, monkeypatch
     with pytest.raises(PermissionError, match="a-file"):
         run_or_load(TINY, SEED, results_dir=blocker / "results", progress=False)
     with pytest.raises(PermissionError, match="a-file"):
-        run_seeds(TINY, [0, 1], results_dir=blocker / "results", progress=False)
+        run_configs({"t": TINY}, [0, 1], results_dir=blocker / "results", progress=False)
     assert calls == []
 
 

@@ -26,8 +26,8 @@ from docking.sweep import (
     grid_configs,
     jobs_for,
     parse_seeds,
+    run_configs,
     run_jobs,
-    run_seeds,
 )
 
 REPO = Path(__file__).resolve().parent.parent
@@ -226,10 +226,11 @@ def test_local_cluster_and_in_process_give_identical_files(tmp_path):
         p.relative_to(tmp_path / "b") for p in on_cluster
     ]
     _same_files(tmp_path / "a", tmp_path / "b")
-    # run_seeds is a sweep of one configuration.
-    results = run_seeds(TINY, [0, 1], tmp_path / "c", processes=2, progress=False)
-    assert [r.seed for r in results] == [0, 1]
-    _same_files(tmp_path / "c", tmp_path / "a" / ".." / "c")
+    # run_configs loads what it ran, in seed order, the same on a cluster as in this process.
+    on_two = run_configs({"t": TINY}, [0, 1], tmp_path / "c", workers=2, progress=False)["t"]
+    in_one = run_configs({"t": TINY}, [0, 1], tmp_path / "d", workers=1, progress=False)["t"]
+    assert [r.seed for r in on_two] == [r.seed for r in in_one] == [0, 1]
+    _same_files(tmp_path / "c", tmp_path / "d")
 
 
 @pytest.mark.slow
