@@ -672,13 +672,13 @@ def learning_curves(results: list[ExperimentResult]) -> LearningCurves:
 
 
 # ------------------------------------------------------------------------------------------
-# The study's second edition: sample efficiency, flat curves, the path's steps.
+# Sample efficiency.
 # ------------------------------------------------------------------------------------------
 
 
 def trials_to_level(runs: list[ExperimentResult], level: float) -> np.ndarray:
     """Per run, the training trials at the first learning-curve point whose greedy success
-    is at least ``level`` (NaN if none is): the sample efficiency of the second edition."""
+    is at least ``level`` (NaN if none is): a run's sample efficiency."""
     if not 0 < level <= 1:
         raise ValueError(f"level must be in (0, 1], got {level}")
     out = []

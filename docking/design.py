@@ -336,14 +336,6 @@ class Results:
             if all(k in c.coords and c.coords[k] == v for k, v in coords.items())
         ]
 
-    # Names of the study's first edition.
-    @property
-    def heldout(self) -> dict[str, list[TrialLog]]:
-        return self.logs
-
-    def success(self, key: str) -> np.ndarray:
-        return self.score(key)
-
 
 def judge(
     design: Design, cells: Sequence[Cell], runs: Mapping[str, list], results_dir=None

@@ -407,7 +407,7 @@ def summary_text(
             f"six minus four actions ranges from {100 * min(gains):.1f} to "
             f"{100 * max(gains):.1f} percentage points{oracle_note} (notebook 06)."
         )
-    text.append(contest_summary(contest) if contest is not None else _ARCHIVED_FINDING)
+    text.append(contest_summary(contest) if contest is not None else _FINDING_LEFT_OUT)
     if claims is not None:
         text.append(
             "**The paper's claims** (the third edition, notebook 07: fresh seeds, paired "
@@ -416,11 +416,10 @@ def summary_text(
     return "\n\n".join(text)
 
 
-_ARCHIVED_FINDING = (
-    "**The main finding so far** (the study's second edition, archived at `1341e99`): "
-    "outside the world tuned towards the paper's numbers, a one-line pixel rule, linear "
-    "SARSA on the same pixels and an off-the-shelf PPO all beat the paper's learner, and "
-    "none of the paper's claims was supported there."
+#: The summary's main finding when the third edition is left out of the report: where it is.
+_FINDING_LEFT_OUT = (
+    "**The main finding**: the study's third edition (notebook 07), which this report left "
+    "out (`--no-third-edition`)."
 )
 
 #: What the summary calls the contest's worlds, and what it says of a world in brackets.
@@ -613,7 +612,7 @@ def turning_comparisons(results) -> list[Comparison]:
     for c in results.cells:
         if c.coords.get("actions") != "turning" or not c.core:
             continue
-        four, six = results.success(c.baseline), results.success(c.key)
+        four, six = results.score(c.baseline), results.score(c.key)
         removed = None
         if np.mean(1 - four) > 0:
             removed = removed_share_ci(1 - six, 1 - four, paired=False)
@@ -688,7 +687,7 @@ def failure_shares(
     for k, key in enumerate(keys):
         env = DockingEnv(results.cell(key).config.world, seed=0)
         counts, n = np.zeros(len(FAILURE_CLASSES)), 0
-        for log in results.heldout[key][:n_seeds]:
+        for log in results.logs[key][:n_seeds]:
             failed = ~log.success
             flags = failure_taxonomy(log, env, trials=np.flatnonzero(failed))
             n += int(failed.sum())
@@ -705,7 +704,7 @@ def final_headings(results, key: str, n_seeds: int | None = None) -> np.ndarray:
     trial of cell ``key``, its first ``n_seeds`` seeds (None: all) pooled."""
     out = [
         abs(np.degrees(log.trial_poses(k)[-1][2]))
-        for log in results.heldout[key][:n_seeds]
+        for log in results.logs[key][:n_seeds]
         for k in np.flatnonzero(~log.success)
     ]
     return np.array(out, dtype=np.float64)

@@ -151,7 +151,7 @@ for actions, label in labels.items():
             for t in tasks
         ]
     )
-    seeds[label] = np.array([[results.success(k) for k in row] for row in keys])
+    seeds[label] = np.array([[results.score(k) for k in row] for row in keys])
     bounds[label] = np.array([[oracle_rates[k] for k in row] for row in keys])
 fig = figures.fig_experiment3(noise, tasks, series, seeds, bounds)
 display(Image(save_named(fig, "experiment3")))

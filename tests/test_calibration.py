@@ -160,9 +160,7 @@ def test_run_goes_through_the_store_and_resumes(tmp_path, monkeypatch):
     assert [r.seed for r in first.runs["epsQ"]] == [0, 1]
     assert first.runs["epsQ"][0].config == rows[1].config
     assert (tmp_path / "calibration-test").is_dir() and (tmp_path / tiny.name).is_dir()
-    assert first.success("epsQ").shape == (2,) and rewarded_share(first.runs[BASELINE]).shape == (
-        2,
-    )
+    assert first.score("epsQ").shape == (2,) and rewarded_share(first.runs[BASELINE]).shape == (2,)
     assert computing_time(first, BASELINE) > 0
 
     def refuse(*args, **kwargs):
@@ -171,7 +169,7 @@ def test_run_goes_through_the_store_and_resumes(tmp_path, monkeypatch):
     monkeypatch.setattr("docking.store.run_experiment", refuse)
     again = run("experiment1", **kwargs)
     for key in ("epsQ", BASELINE):
-        np.testing.assert_array_equal(again.success(key), first.success(key))
+        np.testing.assert_array_equal(again.score(key), first.score(key))
         for a, b in zip(again.runs[key], first.runs[key], strict=True):
             np.testing.assert_array_equal(a.network.W, b.network.W)
     table = calibration_table(calibration_rows(again, BASELINE), BASELINE, seeds_at_100=True)

@@ -281,7 +281,7 @@ def test_failure_shares_pool_the_seeds_of_a_cell():
     results = _synthetic(rates, n=20)
     keys = ["4 actions, paper task, 2 deg"]
     shares, failures = report.failure_shares(results, keys)
-    assert failures[0] == sum(int((~log.success).sum()) for log in results.heldout[keys[0]])
+    assert failures[0] == sum(int((~log.success).sum()) for log in results.logs[keys[0]])
     assert shares.shape == (1, len(analysis.FAILURE_CLASSES))
     assert np.all((shares >= 0) & (shares <= 1))
 
@@ -341,7 +341,7 @@ def test_centroid_offset_of_stacks_and_final_headings():
     results = _synthetic(rates, n=10)
     key = "4 actions, paper task, 2 deg"
     headings = report.final_headings(results, key)
-    assert len(headings) == sum(int((~log.success).sum()) for log in results.heldout[key])
+    assert len(headings) == sum(int((~log.success).sum()) for log in results.logs[key])
     assert np.all(headings == 0)  # the synthetic trials end facing the wall
 
 
