@@ -61,6 +61,7 @@ __all__ = [
     "design_verdicts",
     "judge_family",
     "overall",
+    "p_text",
     "verdicts_table",
 ]
 
@@ -504,6 +505,16 @@ def claim_rows(claims, results, decisions) -> list:
     return found
 
 
+def p_text(p: float, alpha: float) -> str:
+    """``p`` to two significant digits, or as many more as keep it on its side of
+    ``alpha`` (0.04997 at 0.05 is "0.04997", not "0.05")."""
+    for digits in range(2, 8):
+        text = f"{p:.{digits}g}"
+        if (float(text) < alpha) == (p < alpha):
+            break
+    return text
+
+
 def _header(alpha: float) -> list[str]:
     return [
         f"| the paper's words (section) | compared | per comparison: 95% interval, Holm p -> "
@@ -523,7 +534,7 @@ def verdicts_table(claims, results, per_claim, family, alpha: float) -> str:
     for claim, rows in claim_rows(claims, results, per_claim):
         evidence = "<br>".join(
             f"{w}: {claim.format(ci)}"
-            + ("" if p is None or not np.isfinite(p) else f", p {p:.2g}")
+            + ("" if p is None or not np.isfinite(p) else f", p {p_text(p, alpha)}")
             + f" -> {v}"
             for w, ci, v, p in rows
         )

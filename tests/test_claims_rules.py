@@ -197,3 +197,10 @@ def test_several_comparisons_of_one_world_are_labelled_by_what_tells_them_apart(
     finding = dataclasses.replace(finding, judged=False)
     (panel,) = report.verdict_panels([finding], results, [])
     assert [r[0] for r in panel["rows"]] == ["w: units144", "w: units576", "v"]
+
+
+def test_a_p_value_is_never_shown_on_the_other_side_of_the_level():
+    assert claims.p_text(0.0499711, 0.05) == "0.04997"  # not "0.05", which is not below it
+    assert claims.p_text(0.0500001, 0.05) == "0.05"  # not below: "0.05" says so
+    assert claims.p_text(0.0012345, 0.05) == "0.0012"
+    assert claims.p_text(8.2e-06, 0.05) == "8.2e-06"
