@@ -218,8 +218,7 @@ def configuration_table(config: ExperimentConfig) -> str:
             "ours (the paper reports one run)",
         ),
     ]
-    lines = ["| choice | value | source |", "|---|---|---|"]
-    return "\n".join(lines + [f"| {a} | {b} | {s} |" for a, b, s in rows])
+    return md_table(("choice", "value", "source"), rows)
 
 
 def save_fig2(env: DockingEnv, folder: Path | str | None = None) -> Figure:
@@ -329,10 +328,15 @@ def _folder(folder: Path | str | None) -> Path:
     return figures.FIGURES_DIR if folder is None else Path(folder)
 
 
-def markdown_table(rows: list[tuple[str, str, str]]) -> str:
-    lines = ["| Quantity | Paper | This reproduction |", "|---|---|---|"]
-    lines += [f"| {q} | {p} | {o} |" for q, p, o in rows]
-    return "\n".join(lines)
+def md_table(header, rows) -> str:
+    """A Markdown table: ``header`` (column titles) over ``rows`` (a sequence of cells each;
+    cells are shown as ``str`` shows them)."""
+    lines = ["| " + " | ".join(header) + " |", "|" + "---|" * len(header)]
+    return "\n".join(lines + ["| " + " | ".join(str(c) for c in row) + " |" for row in rows])
+
+
+#: The columns of :func:`experiment1_rows`' and :func:`experiment2_rows`' tables.
+PAPER_COLUMNS = ("Quantity", "Paper", "This reproduction")
 
 
 #: The README's generated block lies between these lines.
@@ -349,7 +353,7 @@ def results_table(
     :func:`heldout_rows`), a design's held-out rows after them."""
     rows = experiment1_rows(results1) + experiment2_rows(results2)
     rows += heldout_rows(heldout) if heldout else []
-    return markdown_table(rows)
+    return md_table(PAPER_COLUMNS, rows)
 
 
 #: The markers of the README's summary, its first screen.
@@ -647,16 +651,11 @@ def turning_table(comparisons: list[Comparison], oracle: dict[str, float]) -> st
         o4, o6 = oracle[c.four_key], oracle[c.six_key]
         ratio = "no failures" if c.failure_ratio is None else c.failure_ratio.format(1.0, "x", 2)
         rows.append(
-            f"| {c.task} | {c.noise:g} | {100 * o4:.1f}% / {100 * o6:.1f}% | "
-            f"{c.four.format(unit='%')} | {c.six.format(unit='%')} | "
-            f"{c.gain.format(unit=' pp')} | {ratio} |"
+            (c.task, f"{c.noise:g}", f"{100 * o4:.1f}% / {100 * o6:.1f}%")
+            + (c.four.format(unit="%"), c.six.format(unit="%"), c.gain.format(unit=" pp"), ratio)
         )
-    header = (
-        "| task | heading noise (deg) | oracle, 4 / 6 actions | learner, 4 actions | "
-        "learner, 6 actions | 6 minus 4 | failures, 6 / 4 actions |\n"
-        "|---|---|---|---|---|---|---|"
-    )
-    return header + "\n" + "\n".join(rows)
+    header = ("task", "heading noise (deg)", "oracle, 4 / 6 actions", "learner, 4 actions")
+    return md_table(header + ("learner, 6 actions", "6 minus 4", "failures, 6 / 4 actions"), rows)
 
 
 def rotation_verdict(comparisons: list[Comparison], rule) -> tuple[str, Interval]:
@@ -850,18 +849,13 @@ def contest_table(results, worlds: dict[str, str]) -> str:
     name}``): held-out success, mean and 95% Student-t interval over the row's seeds."""
     from docking.stats import t_mean_ci
 
-    run = {c.key for c in results.cells}
-    lines = [
-        "| | seeds | " + " | ".join(worlds.values()) + " |",
-        "|---|---|" + "---|" * len(worlds),
-    ]
+    run, rows = {c.key for c in results.cells}, []
     for variant, label in CONTEST_COLUMNS:
         keys = [f"{w}/{variant}" for w in worlds]
         counts = {len(results.score(k)) for k in keys if k in run}
         values = [t_mean_ci(results.score(k)).format(unit="%") if k in run else "-" for k in keys]
-        seeds = ", ".join(str(n) for n in sorted(counts))
-        lines.append(f"| {label} | {seeds} | " + " | ".join(values) + " |")
-    return "\n".join(lines)
+        rows.append((label, ", ".join(str(n) for n in sorted(counts)), *values))
+    return md_table(("", "seeds", *worlds.values()), rows)
 
 
 def tuning_rows(results, worlds, learners, grids, tuned_setting) -> list[dict]:
@@ -900,20 +894,15 @@ def tuning_rows(results, worlds, learners, grids, tuned_setting) -> list[dict]:
 
 def tuning_table(rows: list[dict]) -> str:
     """The Markdown table of :func:`tuning_rows`."""
-    lines = [
-        "| world | learner | round 1 (9 settings, one tuning seed): best / default | "
-        "round 2 (3 settings, three seeds) | tuned setting |",
-        "|---|---|---|---|---|",
-    ]
+    found = []
     for r in rows:
         r2 = ", ".join(f"#{i}: {100 * v:.1f}%" for i, v in r["round2"].items())
         setting = ", ".join(f"{k} = {v:g}" for k, v in r["setting"].items())
         default = " (the default)" if r["chosen"] == 0 else ""
-        lines.append(
-            f"| {r['world']} | {r['learner']} | {100 * r['round1'].max():.1f}% / "
-            f"{100 * r['round1'][0]:.1f}% | {r2} | #{r['chosen']}: {setting}{default} |"
-        )
-    return "\n".join(lines)
+        round1 = f"{100 * r['round1'].max():.1f}% / {100 * r['round1'][0]:.1f}%"
+        found.append((r["world"], r["learner"], round1, r2, f"#{r['chosen']}: {setting}{default}"))
+    header = ("world", "learner", "round 1 (9 settings, one tuning seed): best / default")
+    return md_table((*header, "round 2 (3 settings, three seeds)", "tuned setting"), found)
 
 
 def paired_over_shared_seeds(results, key: str, baseline: str) -> Interval:
@@ -951,13 +940,18 @@ def contest_gaps(results, worlds, bound: float, other: str = "linear-tuned") -> 
 
 def gaps_table(gaps: list[ContestGap]) -> str:
     """The Markdown table of :func:`contest_gaps`."""
-    lines = ["| world | compared | minus the tuned paper's learner | gap |", "|---|---|---|---|"]
-    for g in gaps:
-        lines.append(
-            f"| {g.world} | {g.other} | {g.interval.format(unit=' pp')} "
-            f"(n = {len(g.interval.values)}) | {g.verdict} |"
-        )
-    return "\n".join(lines)
+    return md_table(
+        ("world", "compared", "minus the tuned paper's learner", "gap"),
+        [
+            (
+                g.world,
+                g.other,
+                f"{g.interval.format(unit=' pp')} (n = {len(g.interval.values)})",
+                g.verdict,
+            )
+            for g in gaps
+        ],
+    )
 
 
 @dataclasses.dataclass(frozen=True)
@@ -971,6 +965,7 @@ class PathStep:
     drop: Interval
     p_adjusted: float
     decision: str
+    alpha: float
 
 
 def path_steps(results, steps, bound: float, alpha: float) -> list[PathStep]:
@@ -993,22 +988,21 @@ def path_steps(results, steps, bound: float, alpha: float) -> list[PathStep]:
     found = []
     for (a, b), d, p in zip(steps, drops, adjusted, strict=True):
         decision = "breaks" if p < alpha else "does not break" if d.high < bound else "undecided"
-        found.append(PathStep(a, b, d, float(p), decision))
+        found.append(PathStep(a, b, d, float(p), decision, alpha))
     return found
 
 
 def path_table(steps: list[PathStep], worlds: dict[str, str]) -> str:
     """The Markdown table of :func:`path_steps` (``worlds``: what each world changes)."""
-    lines = [
-        "| step | what changes | drop of the paper's learner | Holm p (drop > bound) | decision |",
-        "|---|---|---|---|---|",
+    from docking.claims import p_text
+
+    header = ("step", "what changes", "drop of the paper's learner", "Holm p (drop > bound)")
+    rows = [
+        (f"{s.before} → {s.after}", worlds[s.after], s.drop.format(unit=" pp"))
+        + (p_text(s.p_adjusted, s.alpha), s.decision)
+        for s in steps
     ]
-    for s in steps:
-        lines.append(
-            f"| {s.before} → {s.after} | {worlds[s.after]} | {s.drop.format(unit=' pp')} | "
-            f"{s.p_adjusted:.2g} | {s.decision} |"
-        )
-    return "\n".join(lines)
+    return md_table((*header, "decision"), rows)
 
 
 #: The claims of the untested claims' design (notebook 08) that join the README's verdict

@@ -38,13 +38,14 @@ from docking.designs import calibration, design
 from docking.figures import FIGURES_DIR, fig_rewards, to_png
 from docking.presets import EXPERIMENT_1
 from docking.report import (
+    PAPER_COLUMNS,
     calibration_rows,
     calibration_table,
     computing_time,
     configuration_table,
     experiment1_rows,
     headline,
-    markdown_table,
+    md_table,
     save_fig3,
 )
 from docking.world import ACTION_LETTERS, DockingEnv
@@ -212,7 +213,7 @@ print(
 # ## Against the paper
 
 # %%
-table = markdown_table(experiment1_rows(results))
+table = md_table(PAPER_COLUMNS, experiment1_rows(results))
 display(Markdown(table))
 
 # %% [markdown]

@@ -45,13 +45,14 @@ from docking.experiments import initial_network
 from docking.figures import FIGURES_DIR
 from docking.presets import EXPERIMENT_1, EXPERIMENT_2
 from docking.report import (
+    PAPER_COLUMNS,
     calibration_rows,
     calibration_table,
     computing_time,
     configuration_table,
     experiment2_rows,
     headline,
-    markdown_table,
+    md_table,
     save_fig4,
     save_fig5,
     save_learning_curves,
@@ -194,13 +195,9 @@ rows = [
     (name, int(sum(np.sum(fl[name] & f) for fl, f in zip(flags, failed, strict=True))), text)
     for name, text in FAILURE_CLASSES.items()
 ]
-display(
-    Markdown(
-        f"{n_failed} failed test trials over {len(results)} seeds\n\n| class | failures | share "
-        "| definition |\n|---|---|---|---|\n"
-        + "\n".join(f"| {n} | {c} | {100 * c / max(n_failed, 1):.0f}% | {t} |" for n, c, t in rows)
-    )
-)
+shares = [(n, c, f"{100 * c / max(n_failed, 1):.0f}%", t) for n, c, t in rows]
+display(Markdown(f"{n_failed} failed test trials over {len(results)} seeds"))
+display(Markdown(md_table(("class", "failures", "share", "definition"), shares)))
 
 # %%
 actions = np.bincount(main.test.actions, minlength=4) / len(main.test.actions)
@@ -318,7 +315,7 @@ print(
 # ## Against the paper
 
 # %%
-display(Markdown(markdown_table(experiment2_rows(results))))
+display(Markdown(md_table(PAPER_COLUMNS, experiment2_rows(results))))
 
 # %%
 rates = np.array([r.test.success_rate for r in results])

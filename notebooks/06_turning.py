@@ -92,12 +92,8 @@ display(
 
 # %%
 oracle_rates = report.oracle_rates(design("experiment3-oracle").run())
-display(
-    Markdown(
-        "| cell | oracle success |\n|---|---|\n"
-        + "\n".join(f"| {key} | {100 * rate:.1f}% |" for key, rate in oracle_rates.items())
-    )
-)
+rates = [(key, f"{100 * rate:.1f}%") for key, rate in oracle_rates.items()]
+display(Markdown(report.md_table(("cell", "oracle success"), rates)))
 grid = {c.key: c for c in experiment3.experiment3_cells()}
 six = {k: v for k, v in oracle_rates.items() if grid[k]["actions"] == "turning"}
 four = {k: v for k, v in oracle_rates.items() if grid[k]["actions"] == "paper"}
@@ -242,20 +238,16 @@ for c in found.values():
     rewarded = difference_ci(
         analysis.rewarded_share(results.runs[k6]), analysis.rewarded_share(results.runs[k4])
     )
+    drift = f"{100 * share[k4, 'heading_drift']:.0f}% / {100 * share[k6, 'heading_drift']:.0f}%"
+    trained = [100 * analysis.rewarded_share(results.runs[k]).mean() for k in (k4, k6)]
     lines.append(
-        f"| {c.task} | {c.noise:g} | {100 * share[k4, 'heading_drift']:.0f}% / "
-        f"{100 * share[k6, 'heading_drift']:.0f}% | {yaw4:.1f} / {yaw6:.1f} | "
-        f"{100 * analysis.rewarded_share(results.runs[k4]).mean():.1f}% / "
-        f"{100 * analysis.rewarded_share(results.runs[k6]).mean():.1f}% | {pp(rewarded)} |"
+        (c.task, f"{c.noise:g}", drift, f"{yaw4:.1f} / {yaw6:.1f}")
+        + (f"{trained[0]:.1f}% / {trained[1]:.1f}%", pp(rewarded))
     )
     assert share[k6, "heading_drift"] >= 0.95 and yaw6 > yaw4 and rewarded.high < 0
-display(
-    Markdown(
-        "| task | noise (deg) | failures with heading drift, 4 / 6 | median final yaw of the "
-        "failures (deg), 4 / 6 | training trials rewarded, 4 / 6 | rewarded, 6 minus 4 |\n"
-        "|---|---|---|---|---|---|\n" + "\n".join(lines)
-    )
-)
+header = ("task", "noise (deg)", "failures with heading drift, 4 / 6")
+header += ("median final yaw of the failures (deg), 4 / 6", "training trials rewarded, 4 / 6")
+display(Markdown(report.md_table(header + ("rewarded, 6 minus 4",), lines)))
 # %% [markdown]
 # ## What the six action units read
 #

@@ -92,12 +92,7 @@ rows = [
     ),
     ("actions per trial", side.max_steps, NAO_WORLD.max_steps),
 ]
-display(
-    Markdown(
-        "| quantity | sideboard world | Nao-like world |\n|---|---|---|\n"
-        + "\n".join(f"| {q} | {a} | {b} |" for q, a, b in rows)
-    )
-)
+display(Markdown(report.md_table(("quantity", "sideboard world", "Nao-like world"), rows)))
 
 # %% [markdown]
 # The rule fixed with the world: the pose oracle must dock at least 99% of held-out trials
@@ -176,23 +171,10 @@ found = {
     for n in counts
     for b in (False, True)
 }
-display(
-    Markdown(
-        "| interval | "
-        + " | ".join(
-            f"n = {n}, {'bimodal' if b else 'Beta'}" for n in counts for b in (False, True)
-        )
-        + " |\n|---|"
-        + "---|" * 6
-        + "\n"
-        + "\n".join(
-            f"| {k} | "
-            + " | ".join(f"{100 * found[k, n, b]:.1f}%" for n in counts for b in (False, True))
-            + " |"
-            for k in COVERAGE_KINDS
-        )
-    )
-)
+columns = [(n, b) for n in counts for b in (False, True)]
+rows = [(k, *(f"{100 * found[k, n, b]:.1f}%" for n, b in columns)) for k in COVERAGE_KINDS]
+header = [f"n = {n}, {'bimodal' if b else 'Beta'}" for n, b in columns]
+display(Markdown(report.md_table(("interval", *header), rows)))
 assert all(0.93 <= v <= 0.97 for v in found.values())  # each within 2 points of 95%
 
 # %% [markdown]
@@ -312,16 +294,12 @@ fid = {
     w: (te.fidelity(results, f"{w}/paper"), te.fidelity(results, f"{w}/frozen"))
     for w in ("experiment1", *te.VERDICT_WORLDS)
 }
-display(
-    Markdown(
-        "| world | seeds | learned W | W frozen (its random start) |\n|---|---|---|---|\n"
-        + "\n".join(
-            f"| {w} | {len(a)} | {t_mean_ci(a).format(scale=1.0, digits=3)} | "
-            f"{t_mean_ci(b).format(scale=1.0, digits=3)} |"
-            for w, (a, b) in fid.items()
-        )
-    )
-)
+rows = [
+    (w, len(a), t_mean_ci(a).format(scale=1.0, digits=3), t_mean_ci(b).format(scale=1.0, digits=3))
+    for w, (a, b) in fid.items()
+]
+header = ("world", "seeds", "learned W", "W frozen (its random start)")
+display(Markdown(report.md_table(header, rows)))
 
 # %% [markdown]
 # ## Turning: the paper's prediction, on accuracy and path length
@@ -339,17 +317,12 @@ turning = {
     )
     for k in ("sideboard/paper", "sideboard/six-long")
 }
-display(
-    Markdown(
-        "| learner | held-out success | abs. heading error at docking (deg) | actions per docking |\n"
-        "|---|---|---|---|\n"
-        + "\n".join(
-            f"| {k} | {pct(t_mean_ci(s))} | {t_mean_ci(h).format(scale=1.0, digits=2)} | "
-            f"{t_mean_ci(a).format(scale=1.0, digits=2)} |"
-            for k, (s, h, a) in turning.items()
-        )
-    )
-)
+rows = [
+    (k, pct(t_mean_ci(s)), *(t_mean_ci(v).format(scale=1.0, digits=2) for v in (h, a)))
+    for k, (s, h, a) in turning.items()
+]
+header = ("learner", "held-out success", "abs. heading error at docking (deg)")
+display(Markdown(report.md_table((*header, "actions per docking"), rows)))
 
 # %% [markdown]
 # ## The path from the sideboard world to the floor world, one factor at a time

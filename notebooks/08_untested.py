@@ -67,10 +67,9 @@ mean = lambda key: t_mean_ci(results.score(key))  # noqa: E731
 pp = lambda ci: ci.format(unit=" pp")  # noqa: E731
 
 
-def md_table(header: list[str], rows: list[list[str]]) -> Markdown:
-    """A Markdown table of ``rows`` under ``header``."""
-    lines = ["| " + " | ".join(header) + " |", "|" + "---|" * len(header)]
-    return Markdown("\n".join(lines + ["| " + " | ".join(r) + " |" for r in rows]))
+def md_table(header, rows) -> Markdown:
+    """The Markdown table of ``rows`` under ``header`` (:func:`docking.report.md_table`)."""
+    return Markdown(report.md_table(header, rows))
 
 
 # %% [markdown]
@@ -95,13 +94,12 @@ def md_table(header: list[str], rows: list[list[str]]) -> Markdown:
 display(
     Markdown(
         f"{len(results.score('home/paper'))} seeds; equivalence margin "
-        f"±{100 * ut.RELOCATION_MARGIN:g} pp.\n\n"
-        "| place | room | landmark moved by (x m, y m, turned °) |\n|---|---|---|\n"
-        + "\n".join(
-            f"| {place} | {w.room} | {', '.join(f'{v:g}' for v in w.room_shift)} |"
-            for place, w in ut.RELOCATIONS.items()
-        )
-    )
+        f"±{100 * ut.RELOCATION_MARGIN:g} pp."
+    ),
+    md_table(
+        ("place", "room", "landmark moved by (x m, y m, turned °)"),
+        [(p, w.room, ", ".join(f"{v:g}" for v in w.room_shift)) for p, w in ut.RELOCATIONS.items()],
+    ),
 )
 moved = {}
 for place in ut.RELOCATIONS:
@@ -113,29 +111,23 @@ for place in ut.RELOCATIONS:
             sum(int((a.steps != b.steps).sum()) for a, b in pairs),
             sum(len(a) for a, _ in pairs),
         )
-rows = [f"| home | {pct(mean('home/paper'))} | | {pct(mean('home/linear'))} | | |"]
+rows = [("home", pct(mean("home/paper")), "", pct(mean("home/linear")), "", "")]
 for place in ut.RELOCATIONS:
     p, q = moved[place, "paper"], moved[place, "linear"]
     rows.append(
-        f"| {place} | {pct(mean(f'{place}/paper'))} | {p[0]} / {p[1]} of {p[2]} | "
-        f"{pct(mean(f'{place}/linear'))} | {q[0]} / {q[1]} of {q[2]} | "
-        f"{pct(mean(f'{place}/oracle'))} |"
+        (place, pct(mean(f"{place}/paper")), f"{p[0]} / {p[1]} of {p[2]}")
+        + (pct(mean(f"{place}/linear")), f"{q[0]} / {q[1]} of {q[2]}", pct(mean(f"{place}/oracle")))
     )
+other = "its trials ending otherwise / of another length"
+header = ("place", "the paper's learner", other, "linear SARSA", other, "pose oracle")
+display(md_table(header, rows))
 display(
-    Markdown(
-        "| place | the paper's learner | its trials ending otherwise / of another length | "
-        "linear SARSA | its trials ending otherwise / of another length | pose oracle |\n"
-        "|---|---|---|---|---|---|\n" + "\n".join(rows)
-    )
-)
-display(
-    Markdown(
-        "| place | home minus the place (paper's learner, paired) | verdict |\n|---|---|---|\n"
-        + "\n".join(
-            f"| {place} | {pp(decided['relocation', place].interval)} | "
-            f"{decided['relocation', place].verdict} |"
-            for place in ut.RELOCATIONS
-        )
+    md_table(
+        ("place", "home minus the place (paper's learner, paired)", "verdict"),
+        [
+            (p, pp(decided["relocation", p].interval), decided["relocation", p].verdict)
+            for p in ut.RELOCATIONS
+        ],
     )
 )
 
@@ -195,26 +187,26 @@ home_world, curve = ut.WORLDS["sideboard"], results.cell("sensor/paper-fresh").c
 shown = lambda name, v: (  # noqa: E731
     f"the asset's {scene_facts().camera_height:g} m" if name == "camera_height" and v is None else v
 )
+changed = [
+    (
+        change,
+        f.name,
+        shown(f.name, getattr(home_world, f.name)),
+        shown(f.name, getattr(world, f.name)),
+    )
+    for change, world in ut.CHANGES.items()
+    for f in dataclasses.fields(world)
+    if getattr(world, f.name) != getattr(home_world, f.name)
+]
 display(
     Markdown(
         f"Learning curve: {curve.eval_trials} greedy trials every {curve.eval_every} training "
-        f"trials; level {ut.REGAIN:.0%} of home; never regained counts {ut.CENSORED}.\n\n"
-        "| change | what | home | changed |\n|---|---|---|---|\n"
-        + "\n".join(
-            f"| {change} | {f.name} | {shown(f.name, getattr(home_world, f.name))} | "
-            f"{shown(f.name, getattr(world, f.name))} |"
-            for change, world in ut.CHANGES.items()
-            for f in dataclasses.fields(world)
-            if getattr(world, f.name) != getattr(home_world, f.name)
-        )
-    )
+        f"trials; level {ut.REGAIN:.0%} of home; never regained counts {ut.CENSORED}."
+    ),
+    md_table(("change", "what", "home", "changed"), changed),
 )
 coping = {change: decided["coping", change] for change in ut.CHANGES}
-lines = [
-    "| change | learner | home network, no learning | fresh: trials to regain | home network "
-    "learning on: trials | half the fresh minus learning on | verdict |",
-    "|---|---|---|---|---|---|---|",
-]
+lines = []
 regained = {}
 (coping_linear,) = [c for c in results.design.claims if c.key == "coping-linear"]
 for change in ut.CHANGES:
@@ -231,12 +223,14 @@ for change in ut.CHANGES:
                 "finding",
             )
         lines.append(
-            f"| {change} | {learner} | {pct(mean(f'{change}/{learner}-transfer'))} | "
-            f"{fresh.min():.0f}-{fresh.max():.0f} (mean {fresh.mean():.0f}) | "
-            f"{on.min():.0f}-{on.max():.0f} (mean {on.mean():.0f}) | "
-            f"{interval.format(scale=1.0, digits=0)} | {verdict} |"
+            (change, learner, pct(mean(f"{change}/{learner}-transfer")))
+            + (f"{fresh.min():.0f}-{fresh.max():.0f} (mean {fresh.mean():.0f})",)
+            + (f"{on.min():.0f}-{on.max():.0f} (mean {on.mean():.0f})",)
+            + (interval.format(scale=1.0, digits=0), verdict)
         )
-display(Markdown("\n".join(lines)))
+header = ("change", "learner", "home network, no learning", "fresh: trials to regain")
+header += ("home network learning on: trials", "half the fresh minus learning on", "verdict")
+display(md_table(header, lines))
 curves = {
     (change, learner, kind): (
         results.runs[f"{change}/{learner}-{kind}"][0].curve_trials,
@@ -334,11 +328,7 @@ assert (
 env = gymnasium.make("docking/Continuous-v0")
 check_env(env.unwrapped)  # Gymnasium's own checks of the Box action space
 env.close()
-lines = [
-    "| world | learner | actions | held-out success | final distance (cm) | heading error "
-    "at docking (°) | actions per docking | metres per docking |",
-    "|---|---|---|---|---|---|---|---|",
-]
+lines = []
 continuous = {}
 for group in ut.CONTINUOUS_GROUPS:
     for learner in ("oracle", "ppo"):
@@ -357,22 +347,27 @@ for group in ut.CONTINUOUS_GROUPS:
             }
             continuous[group, learner, space] = m
             lines.append(
-                f"| {group} | {learner} | {space} | {pct(mean(key))} | "
-                f"{m['distance'].format(scale=100.0)} | {m['heading'].format(scale=1.0)} | "
-                f"{m['actions'].format(scale=1.0, digits=2)} | "
-                f"{m['metres'].format(scale=1.0, digits=2)} |"
+                (group, learner, space, pct(mean(key)), m["distance"].format(scale=100.0))
+                + (m["heading"].format(scale=1.0), m["actions"].format(scale=1.0, digits=2))
+                + (m["metres"].format(scale=1.0, digits=2),)
             )
-display(Markdown("\n".join(lines)))
+header = ("world", "learner", "actions", "held-out success", "final distance (cm)")
+header += ("heading error at docking (°)", "actions per docking", "metres per docking")
+display(md_table(header, lines))
+cm = lambda d: d.claim.endswith("accuracy")  # noqa: E731
 display(
-    Markdown(
-        "| claim | comparison | discrete minus continuous | verdict |\n|---|---|---|---|\n"
-        + "\n".join(
-            f"| {d.claim} | {d.key} | "
-            f"{d.interval.format(scale=100.0 if d.claim.endswith('accuracy') else 1.0, digits=2)}"
-            f"{' cm' if d.claim.endswith('accuracy') else ' m'} | {d.verdict} |"
+    md_table(
+        ("claim", "comparison", "discrete minus continuous", "verdict"),
+        [
+            (d.claim, d.key)
+            + (
+                d.interval.format(scale=100.0 if cm(d) else 1.0, digits=2)
+                + (" cm" if cm(d) else " m"),
+            )
+            + (d.verdict,)
             for d in per_claim
             if d.claim.startswith("continuous")
-        )
+        ],
     )
 )
 
@@ -475,14 +470,11 @@ display(
     )
 )
 ambiguity = {w: analysis.ambiguous_views(world, n=1500) for w, world in ut.WORLDS.items()}
+header = ("world", "start views", "sharing an input", "ambiguous (the oracle acts differently)")
 display(
-    Markdown(
-        "| world | start views | sharing an input | ambiguous (the oracle acts differently) "
-        "| groups |\n|---|---|---|---|---|\n"
-        + "\n".join(
-            f"| {w} | {a.views} | {a.shared} | {a.ambiguous} | {len(a.groups)} |"
-            for w, a in ambiguity.items()
-        )
+    md_table(
+        (*header, "groups"),
+        [(w, a.views, a.shared, a.ambiguous, len(a.groups)) for w, a in ambiguity.items()],
     )
 )
 

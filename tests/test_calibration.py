@@ -182,3 +182,12 @@ def test_run_goes_through_the_store_and_resumes(tmp_path, monkeypatch):
 def test_seeds_are_the_main_experiments():
     for experiment in ("experiment1", "experiment2"):
         assert len(SEEDS[experiment]) >= 5
+
+
+def test_one_markdown_table_helper_for_every_table():
+    from docking.report import md_table
+
+    assert (
+        md_table(("a", "b"), [(1, "x"), ("", 2.5)]) == "| a | b |\n|---|---|\n| 1 | x |\n|  | 2.5 |"
+    )
+    assert md_table(("only",), []) == "| only |\n|---|"
