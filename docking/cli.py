@@ -270,11 +270,12 @@ class Sweep:
 
     def execute(self) -> int:
         from docking.ledger import load_run
-        from docking.sweep import grid_configs, jobs_for, run_jobs
+        from docking.sweep import grid_configs, jobs_for, run_jobs, source
 
         configs = grid_configs(self.experiment, self.grid)
         seeds = _seeds_of(self.experiment, self.seeds)
         jobs = jobs_for(configs, seeds)
+        sources = ["computed" if self.force else source(j, self.results_dir) for j in jobs]
         paths = run_jobs(
             jobs,
             self.results_dir,
@@ -284,10 +285,12 @@ class Sweep:
             desc=f"sweep: {len(configs)} configurations x {len(seeds)} seeds",
         )
         for k, config in enumerate(configs):
-            chunk = paths[k * len(seeds) : (k + 1) * len(seeds)]
+            rows = slice(k * len(seeds), (k + 1) * len(seeds))
             label = " ".join(f"{e.partition('=')[0]}={_value(config, e)}" for e in self.grid)
             results = [load_run(config, s, self.results_dir) for s in seeds]
-            print(f"{label or config.name}: {_summary(results)} [{chunk[0].parent}]")
+            print(f"{label or config.name}: {_summary(results)}")
+            where = _sources_text(seeds, sources[rows], paths[rows][0].parent)
+            print("\n".join(f"  {line}" for line in where.splitlines()))
         return 0
 
 

@@ -278,8 +278,24 @@ def test_sweep_runs_every_grid_point(tmp_path):
         ["sweep", "experiment1", "--seeds", "2", "--processes", "1", *TINY_ARGS, *grid], tmp_path
     )
     assert out.returncode == 0, out.stderr
-    assert len(out.stdout.strip().splitlines()) == 4
+    lines = out.stdout.strip().splitlines()
+    assert len(lines) == 8  # per grid point its success, then where its runs came from
+    assert all(line.startswith("  seeds 2: computed now and stored in ") for line in lines[1::2])
     assert len(list((tmp_path / "results").rglob("seed2.npz"))) == 4
+
+
+def test_sweep_says_which_runs_came_from_the_ledger(tmp_path, monkeypatch):
+    # eps_W 0.05 is Experiment 1's own, whose seed 0 the committed ledger holds: read, not
+    # computed, and no store folder is named for it (it named one that did not exist).
+    monkeypatch.setenv("DOCKING_LEDGER", str(REPO / "ledger"))
+    grid = ["--grid", "network.eps_w=0.05"]
+    out = _cli(["sweep", "experiment1", "--seeds", "0", "--processes", "1", *grid], tmp_path)
+    assert out.returncode == 0, out.stderr
+    assert out.stdout.splitlines()[1] == (
+        f"  seeds 0: read from the committed ledger, {REPO / 'ledger'} (checked against its "
+        "digest; nothing computed)"
+    )
+    assert not (tmp_path / "results").exists() or not list((tmp_path / "results").rglob("*"))
 
 
 def test_replace_block():
