@@ -83,8 +83,9 @@ def _world_config(kwargs: dict[str, Any], preset: str | None = None) -> WorldCon
     unknown = sorted(set(kwargs) - names)
     if unknown:
         raise TypeError(
-            f"{ENV_ID} takes the fields of WorldConfig ({', '.join(sorted(names))}), "
-            f"seed and render_mode; got unknown {', '.join(unknown)}"
+            f"the docking environments take the fields of WorldConfig "
+            f"({', '.join(sorted(names))}), preset, seed and render_mode; got unknown "
+            f"{', '.join(unknown)}"
         )
     camera = kwargs.get("camera")
     if isinstance(camera, dict):

@@ -34,8 +34,9 @@ def test_make_takes_world_fields_and_returns_spaces():
 
 
 def test_make_rejects_unknown_fields():
-    with pytest.raises(TypeError, match="unknown nonsense"):
-        gymnasium.make(docking.gym.ENV_ID, nonsense=1)
+    with pytest.raises(TypeError, match="unknown nonsense") as refused:
+        gymnasium.make("docking/Experiment2-v0", nonsense=1)
+    assert "Docking-v0" not in str(refused.value)  # it named another id than the one made
     with pytest.raises(ValueError, match="WorldConfig.step_forward"):
         gymnasium.make(docking.gym.ENV_ID, step_forward=-1.0)
 
