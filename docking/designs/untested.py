@@ -12,8 +12,7 @@ judged by paired intervals over seeds, Holm within the claim:
 * continuous actions (Sec. V, future work): do continuous steps bring the pose oracle (and
   PPO) closer to the dock, on a shorter path? The paper's network has no continuous read-out.
 
-Findings, not judged: population coding, neglect, and which part of the learner makes its
-gap to linear SARSA (exploratory). Measured before any run: no relocation changes a view.
+Findings, not judged: population coding, neglect, the gap to linear SARSA's cause.
 """
 
 from __future__ import annotations
@@ -46,6 +45,9 @@ FINDING_SEEDS, YARDSTICK_SEEDS, PPO_SEEDS = SEEDS[:10], SEEDS[:5], SEEDS[:10]
 #: their final poses and walked distances are kept per trial in the ledger).
 ORACLE_SEEDS = SEEDS[:10]
 ALPHA = 0.05
+#: Relocation's equivalence margin. Measured before any run (300 start views): the camera's
+#: pipeline keeps only red, so no place changes a start view, and the rule tests nothing
+#: beyond the input (notebook 08 says so).
 RELOCATION_MARGIN = 0.05
 #: Coping's measure: the training trials until the learning curve (50 greedy trials every
 #: 100) reaches REGAIN of the seed's held-out success at home (never: CENSORED, one curve
