@@ -212,12 +212,10 @@ class Run:
 def _sources_text(seeds, sources, folder) -> str:
     """Where each seed's run came from, in one or two lines (the store's folder named only
     where a run is in it)."""
-    from docking.paths import ledger_dir
-
     where = {
         "computed": f"computed now and stored in {folder}",
         "store": f"loaded from the results store, {folder}",
-        "ledger": f"read from the committed ledger, {ledger_dir()} (checked against its "
+        "ledger": f"read from the committed ledger, {paths.ledger_dir()} (checked against its "
         "digest; nothing computed)",
     }
     lines = []

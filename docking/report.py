@@ -330,9 +330,14 @@ def _folder(folder: Path | str | None) -> Path:
 
 def md_table(header, rows) -> str:
     """A Markdown table: ``header`` (column titles) over ``rows`` (a sequence of cells each;
-    cells are shown as ``str`` shows them)."""
-    lines = ["| " + " | ".join(header) + " |", "|" + "---|" * len(header)]
-    return "\n".join(lines + ["| " + " | ".join(str(c) for c in row) + " |" for row in rows])
+    cells are shown as ``str`` shows them, a pipe in one escaped by
+    :func:`docking.claims.markdown_cell`, as the verdict table's are)."""
+    from docking.claims import markdown_cell
+
+    def line(cells) -> str:
+        return "| " + " | ".join(markdown_cell(str(c)) for c in cells) + " |"
+
+    return "\n".join([line(header), "|" + "---|" * len(header)] + [line(r) for r in rows])
 
 
 #: The columns of :func:`experiment1_rows`' and :func:`experiment2_rows`' tables.

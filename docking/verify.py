@@ -13,7 +13,6 @@ import numpy as np
 
 from docking import paths
 from docking.ledger import manifest
-from docking.paths import ledger_dir
 
 #: The paper's experiments: every run of theirs is recomputed by every ``verify``.
 PAPER_RUNS = ("experiment1", "experiment2")
@@ -81,7 +80,7 @@ def platform_lines(mismatch: bool, folder: Path | str | None = None) -> list[str
     and, where they differ, what each difference means for a run's bits."""
     from docking.platform_info import compare, numeric_platform
 
-    data = manifest(Path(folder) if folder is not None else ledger_dir()) or {}
+    data = manifest(Path(folder) if folder is not None else paths.ledger_dir()) or {}
     theirs, ours = data.get("platform", {}), numeric_platform()
     lines = ["numeric platform (the ledger's | this machine's):"]
     lines += [f"  {k}: {theirs.get(k, '?')} | {ours.get(k, '?')}" for k in sorted(ours)]
@@ -124,7 +123,7 @@ def verify(
     from docking.store import runner_named
     from docking.sweep import Job, run_jobs
 
-    folder = Path(folder) if folder is not None else ledger_dir()
+    folder = Path(folder) if folder is not None else paths.ledger_dir()
     data = manifest(folder)
     if data is None:
         raise FileNotFoundError(f"no ledger to verify in {folder}")

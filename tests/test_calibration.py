@@ -191,3 +191,6 @@ def test_one_markdown_table_helper_for_every_table():
         md_table(("a", "b"), [(1, "x"), ("", 2.5)]) == "| a | b |\n|---|---|\n| 1 | x |\n|  | 2.5 |"
     )
     assert md_table(("only",), []) == "| only |\n|---|"
+    # a pipe in a cell does not split its row (as in the verdict table's claim words)
+    header, _, row = md_table(("a", "b"), [("|heading error|", 1)]).splitlines()
+    assert row.replace("\\|", "").count("|") == header.count("|")
