@@ -84,6 +84,7 @@ __all__ = [
     "module_digests",
     "rendering_stack",
     "check_writable",
+    "is_valid",
     "load_result",
     "result_arrays",
     "result_path",
@@ -389,12 +390,39 @@ def load_result(path: Path | str, key: str | None = None):
     is refused. ``CorruptResult`` (naming the reason) if the file cannot be used."""
     path = Path(path)
     try:
+        stamp = _file_stamp(path)
         with np.load(path, allow_pickle=False) as data:
-            return _parse(data, key)
+            result = _parse(data, key)
     except CorruptResult:
         raise
     except Exception as exc:  # unreadable: truncated, bit flips, not a zip, ...
         raise CorruptResult(f"{type(exc).__name__}: {exc}") from exc
+    _CHECKED.add((*stamp, key if key is not None else run_key(result.config, result.seed)))
+    return result
+
+
+#: ``(path, inode, mtime_ns, size, run key)`` of every file :func:`load_result` has read and
+#: found valid in this process: a file unchanged since (an atomic write replaces the inode)
+#: is not read again to learn that (:func:`is_valid`).
+_CHECKED: set[tuple] = set()
+
+
+def _file_stamp(path: Path) -> tuple:
+    found = path.stat()
+    return str(path.resolve()), found.st_ino, found.st_mtime_ns, found.st_size
+
+
+def is_valid(path: Path | str, key: str) -> bool:
+    """Whether ``path`` holds a valid run of ``key`` (:func:`load_result` would return it
+    and not raise): read and checked once per process, while the file is unchanged."""
+    path = Path(path)
+    try:
+        if (*_file_stamp(path), key) in _CHECKED:
+            return True
+        load_result(path, key)
+    except (OSError, CorruptResult):
+        return False
+    return True
 
 
 def _parse(data, asked: str | None):

@@ -46,9 +46,8 @@ from docking.ledger import load_run
 from docking.ppo import PPOConfig
 from docking.store import (
     RUNNERS,
-    CorruptResult,
     check_writable,
-    load_result,
+    is_valid,
     result_path,
     run_key,
     run_or_load,
@@ -342,11 +341,7 @@ def _stored(job: Job, results_dir: Path) -> bool:
         # StaleLedger if the ledger holds it but was made by other code: no recomputing
         # behind it.
         return ledger.holds(config, seed, check=True)
-    try:
-        load_result(path, run_key(config, seed))
-    except CorruptResult:
-        return False  # the worker warns and recomputes it
-    return True
+    return is_valid(path, run_key(config, seed))  # if not, the worker warns and recomputes it
 
 
 class _EmbeddedCluster:

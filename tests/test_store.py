@@ -103,6 +103,21 @@ def test_a_corrupt_file_is_a_warning_and_a_recomputed_run(stored, reference, kin
     _assert_same_run(load_result(path), reference)  # the bad file was replaced
 
 
+def test_a_checked_file_is_not_read_again_until_it_is_replaced(stored, monkeypatch):
+    """``is_valid`` reads a file once per process; an atomic rewrite (a new file) is read
+    again, and a corrupt one found invalid."""
+    _, path = stored
+    key = store.run_key(TINY, SEED)
+    assert store.is_valid(path, key) and not store.is_valid(path, "0" * 64 + ":seed7")
+    reads = []
+    monkeypatch.setattr(store, "_parse", lambda data, asked: reads.append(asked))
+    assert store.is_valid(path, key) and reads == []
+    monkeypatch.undo()
+    _rewrite(path, lambda a: a.update({"train.actions": a["train.actions"][:-1]}))
+    assert not store.is_valid(path, key)
+    assert not store.is_valid(path.with_name("seed8.npz"), key)  # no file
+
+
 def test_a_file_of_another_configuration_or_code_is_refused(stored):
     _, path = stored
     _rewrite(path, _edit_meta(lambda m: m.update(key="0" * 64 + ":seed7")))
