@@ -21,9 +21,12 @@ command and of each subcommand) prints usage and starts nothing.
 from __future__ import annotations
 
 import collections
+import contextlib
 import dataclasses
+import inspect
 import json
 import os
+import re
 import signal
 import sys
 from pathlib import Path
@@ -169,7 +172,8 @@ def _summary(results) -> str:
 
 @dataclasses.dataclass
 class Run:
-    """Run (or load) an experiment for several seeds; every run is saved in the results store.
+    """Run (or load) an experiment for several seeds; a run computed is saved in the results
+    store, one the store or the committed ledger holds is loaded.
 
     EXPERIMENT names a configuration of docking.presets.EXPERIMENTS; options after it
     override its fields (e.g. --network.eps-w 0, --train-trials 500)."""
@@ -389,8 +393,10 @@ class DesignCommand:
 
 @dataclasses.dataclass
 class Report:
-    """Print the results table (the paper's numbers beside ours) from the stored runs of
-    both experiments and their seeds, running any that are missing."""
+    """Print the results: the paper's numbers beside ours, Experiment 3's table, the third
+    edition's contest and verdict table, and the summary above them, from the runs the
+    results store or the committed ledger holds (--compute: computing any that neither
+    holds; without it, the report refuses to compute)."""
 
     readme: Annotated[Path | None, _shown("PATH", "none, the tables are only printed")] = None
     """Also write the table into this README, between <!-- results:start --> and
@@ -563,8 +569,8 @@ def _no_ledger() -> str | None:
 @dataclasses.dataclass
 class Figures:
     """Regenerate Figs. 2-5 and the learning curves of Experiments 1 and 2 from their runs in
-    the results store or the committed ledger (never computing one); the study's and
-    Experiment 3's figures are written by notebook 06."""
+    the results store or the committed ledger (never computing one); Experiment 3's figures
+    are written by notebook 06, the study's by notebooks 07 and 08."""
 
     folder: _FiguresDir = None
     """Where the .png and .pdf files go."""
@@ -736,6 +742,41 @@ def _empty_folder_option(argv: list[str]) -> str | None:
     return None
 
 
+_LIST_ITEM = re.compile(r"\s*([-*\u2022]|\d+\.)\s")
+
+
+def _reflow(text: str) -> str:
+    """``text`` (a docstring) as one line per paragraph: blank lines and list items
+    ("- ", "* ", "1. ") keep their breaks, every other line break becomes a space."""
+    paragraphs = re.split(r"\n\s*\n", inspect.cleandoc(text))
+    return "\n\n".join(
+        "".join(
+            ("\n" + line) if _LIST_ITEM.match(line) else (" " if k else "") + line.strip()
+            for k, line in enumerate(p.split("\n"))
+        )
+        for p in paragraphs
+    )
+
+
+@contextlib.contextmanager
+def _reflowed_help():
+    """Help texts reflowed by :func:`_reflow` while tyro builds the parser. tyro 1.0 keeps a
+    docstring's line break wherever the next line does not begin with a letter, and reads an
+    option's docstring with its indentation, so every continued line of an option's text
+    (and a line beginning ``_,`` or ``25-action``) broke the help mid-sentence."""
+    from tyro import _strings
+
+    original = getattr(_strings, "remove_single_line_breaks", None)
+    if original is None:  # another tyro: its own reflowing
+        yield
+        return
+    _strings.remove_single_line_breaks = _reflow
+    try:
+        yield
+    finally:
+        _strings.remove_single_line_breaks = original
+
+
 def main(argv=None) -> int:
     """Parse ``argv`` (default ``sys.argv[1:]``) and run the subcommand; its exit status."""
     argv = sys.argv[1:] if argv is None else list(argv)
@@ -746,14 +787,15 @@ def main(argv=None) -> int:
             file=sys.stderr,
         )
         return 2
-    command = tyro.cli(
-        Command,
-        args=argv,
-        prog=PROG,
-        description=DESCRIPTION,
-        config=(tyro.conf.CascadeSubcommandArgs,),
-        registry=_registry,
-    )
+    with _reflowed_help():
+        command = tyro.cli(
+            Command,
+            args=argv,
+            prog=PROG,
+            description=DESCRIPTION,
+            config=(tyro.conf.CascadeSubcommandArgs,),
+            registry=_registry,
+        )
     signal.signal(signal.SIGTERM, _exit_on_sigterm)
     try:
         return command.execute()

@@ -115,11 +115,42 @@ def test_help_prints_usage_and_starts_nothing(args, tmp_path):
     assert not {"world-config", "none"} & set(_subcommand_choices(out.stdout))
 
 
-def _help_entries(text: str) -> dict[str, str]:
-    """Each option (and positional argument) of a tyro help text: its signature and its
-    description, the lines that follow it up to the next entry or the panel's end joined."""
+@pytest.mark.parametrize(
+    "args", [["report"], ["run", "experiment1"], ["design", "run"]], ids=" ".join
+)
+def test_help_descriptions_are_not_broken_mid_sentence(args, tmp_path):
+    """Each description is wrapped to its panel's width and nowhere else: tyro 1.0 alone broke
+    one wherever its docstring's next line did not begin with a letter (every continued line
+    of an option's docstring, and one beginning ``_,`` or ``25-action``)."""
+    out = _cli([*args, "--help"], tmp_path, timeout=60, columns=90)
+    assert out.returncode == 0, out.stderr
+    assert _broken_lines(out.stdout) == []
+
+
+def _broken_lines(text: str) -> list[str]:
+    """The lines of a tyro help text's descriptions after which the next line's first word
+    would have fitted (a greedy wrap puts it there): a line break the text itself made."""
     raw = [line.removeprefix("│").rstrip("│ ") for line in text.splitlines()]
-    entries: dict[str, str] = {}
+    width, broken = 0, []
+    for k, (line, after) in enumerate(zip(raw, raw[1:], strict=False)):
+        if line.startswith("╭"):  # a panel: its widest line is (at most) its width
+            end = next(j for j in range(k, len(raw)) if raw[j].startswith("╰"))
+            width = max(len(x) for x in raw[k + 1 : end])
+        starts = re.search(r"^ -\S.*?\s{2,}(?=\S)", line) if line.startswith(" -") else None
+        column = starts.end() if starts else len(line) - len(line.lstrip())
+        indent = len(after) - len(after.lstrip())
+        wrapped = after.strip() and indent > 1 and column == indent and len(line) > column
+        if wrapped and len(line) + 1 + len(after.split()[0]) <= width:
+            broken.append(line.strip())
+    return broken
+
+
+def _help_entries(text: str, joined: bool = True) -> dict:
+    """Each option (and positional argument) of a tyro help text: its signature and its
+    description, the lines that follow it up to the next entry or the panel's end joined
+    (else as a list of its non-empty lines)."""
+    raw = [line.removeprefix("│").rstrip("│ ") for line in text.splitlines()]
+    entries: dict[str, list[str]] = {}
     current, positional = None, False
     for line in raw:
         if line.startswith(("╭", "╰")):
@@ -131,10 +162,10 @@ def _help_entries(text: str) -> dict[str, str]:
         if starts:
             signature, _, rest = line.strip().partition("  ")
             current = signature
-            entries[current] = rest.strip()
-        elif current is not None:
-            entries[current] = f"{entries[current]} {line.strip()}".strip()
-    return entries
+            entries[current] = [rest.strip()] if rest.strip() else []
+        elif current is not None and line.strip():
+            entries[current].append(line.strip())
+    return {k: " ".join(v) for k, v in entries.items()} if joined else entries
 
 
 def _defaults_stated_twice(text: str) -> list[str]:
