@@ -641,14 +641,14 @@ class Ledger:
             if data is None:
                 raise ValueError(f"no ledger in {folder} (it has no manifest.json)")
         size = ledger.size_bytes(folder)
-        names = sorted({r["name"] for r in data["runs"].values()})
         kinds = collections.Counter(r["runner"] for r in data["runs"].values())
         sources = ", ".join(f"{k} {v[:16]}" for k, v in sorted(data["fingerprints"].items()))
         print(
-            f"{folder}: {len(data['runs'])} runs of {len(names)} configurations ("
+            f"{folder}: {len(data['runs'])} runs ("
             + ", ".join(f"{n} {k}" for k, n in sorted(kinds.items()))
-            + f"), {size / 2**20:.1f} MiB; source {sources}; rendered by "
-            f"{data['rendering_stack']}"
+            + f") of {len(data['configs'])} configurations in {len(data['tables'])} results "
+            f"tables ({', '.join(sorted(data['tables']))}), {size / 2**20:.1f} MiB; source "
+            f"{sources}; rendered by {data['rendering_stack']}"
         )
         return 0
 

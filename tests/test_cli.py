@@ -515,3 +515,18 @@ def test_the_readme_is_what_report_writes_from_the_ledger(tmp_path):
     assert out.returncode == 0, out.stderr[-3000:]
     assert copy.read_text() == (REPO / "README.md").read_text()
     assert f"{copy}: already up to date" in out.stdout
+
+
+def test_ledger_show_counts_runs_configurations_and_tables(capsys):
+    """``ledger show`` counts what the manifest holds: its runs, their distinct
+    configurations and the results tables (it once called the tables "configurations")."""
+    from docking import ledger
+    from docking.cli import main
+
+    data = ledger.manifest()
+    assert main(["ledger", "show"]) == 0
+    out = capsys.readouterr().out
+    runs, configs, tables = len(data["runs"]), len(data["configs"]), len(data["tables"])
+    assert configs > tables  # else the test could not tell them apart
+    assert f"{runs} runs (" in out
+    assert f"of {configs} configurations in {tables} results tables" in out
