@@ -517,12 +517,13 @@ def test_the_readme_is_what_report_writes_from_the_ledger(tmp_path):
     assert f"{copy}: already up to date" in out.stdout
 
 
-def test_ledger_show_counts_runs_configurations_and_tables(capsys):
-    """``ledger show`` counts what the manifest holds: its runs, their distinct
+def test_ledger_show_counts_runs_configurations_and_tables(capsys, monkeypatch):
+    """``ledger show`` counts what the committed manifest holds: its runs, their distinct
     configurations and the results tables (it once called the tables "configurations")."""
     from docking import ledger
     from docking.cli import main
 
+    monkeypatch.setenv("DOCKING_LEDGER", str(REPO / "ledger"))
     data = ledger.manifest()
     assert main(["ledger", "show"]) == 0
     out = capsys.readouterr().out
