@@ -8,8 +8,9 @@ the visual features (Eq. 8).
 Modules: ``world`` (the dm-control scene, from ``assets/docking.xml``, and the ``dm_env``
 task), ``render`` (offscreen rendering), ``camera`` (the observation pipeline of Fig. 2),
 ``oracle`` (a pose-reading reference policy), ``network`` (Eq. 1-16), ``trial`` (SARSA
-trials), ``experiments`` (Experiments 1 and 2), ``figures``, ``benchmark``.
-The world is imported lazily, so ``docking.network`` works without OpenGL.
+trials), ``experiments`` (Experiments 1 and 2), ``designs`` (every question the package
+asks, as data, run by ``design``), ``figures``; docs/guide/package.md lists every module. The
+world is imported lazily, so ``docking.network`` works without OpenGL.
 """
 
 __version__ = "0.1.0"
