@@ -12,10 +12,11 @@ an option with its documented default::
     python -m docking report --readme README.md
     python -m docking benchmark --steps 2000
 
-``run`` and ``sweep`` store every run in the results store (:mod:`docking.store`), keyed by
-its configuration and seed: stored runs are loaded, not recomputed, so an interrupted command
-resumes where it stopped. Progress bars go to the terminal (stderr). ``--help`` (of the
-command and of each subcommand) prints usage and starts nothing.
+``run`` and ``sweep`` store every run they compute in the results store (:mod:`docking.store`),
+keyed by its configuration and seed; a run the store or the committed ledger holds is loaded,
+not recomputed, so an interrupted command resumes where it stopped. Progress bars go to the
+terminal (stderr). ``--help`` (of the command and of each subcommand) prints usage and starts
+nothing.
 """
 
 from __future__ import annotations
