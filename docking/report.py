@@ -1,9 +1,10 @@
-"""The results table (the paper's numbers beside this reproduction's) and the figures.
+"""The results: the tables (the paper's numbers beside this reproduction's, Experiment 3's,
+the third edition's), the README's summary, and the callers of the figures.
 
-``python -m docking report`` (the CLI, :mod:`docking.cli`) loads the saved runs of both
-experiments (running any that are missing) and prints the table in Markdown; with
-``--readme README.md`` it also rewrites the README's table between the markers
-:data:`README_START` and :data:`README_END`. The notebooks show the same tables.
+``python -m docking report`` (the CLI, :mod:`docking.cli`) loads the runs from the results
+store or the committed ledger and prints the tables in Markdown; with ``--readme README.md``
+it also rewrites each between its markers (:data:`README_START` and :data:`README_END`, ...).
+The notebooks show the same tables.
 
 The ``save_fig*`` functions are the callers of the figures: each computes the figure's arrays
 with :mod:`docking.analysis`, draws them with :mod:`docking.figures`, saves the figure
