@@ -440,62 +440,70 @@ def _stored(design: Design, cells, c: Cell, results_dir=None) -> bool:
     return all(result_path(*e, results_dir).exists() for e in _entries(design, cells, c))
 
 
-def _with_stages(design: Design, cells: list[Cell], stored_only: bool, results_dir) -> list[Cell]:
-    """``cells`` and the cells of ``design``'s stages, each asked on the runs before it
-    (loaded: from the store, else the ledger)."""
-    from docking.ledger import load_run
-
-    def load(new):
-        found = {}
-        for c in (c for c in new if c.trained):
-            found[c.key] = [load_run(*e, results_dir) for e in _entries(design, cells, c)]
-            if any(r is None for r in found[c.key]):
-                raise LookupError(
-                    f"design {design.name!r}: runs of cell {c.key!r} are neither stored nor in "
-                    "the ledger; run the design first (python -m docking design run "
-                    f"{design.name}), or write what is there (ledger update --under-way "
-                    f"{design.name})"
-                )
-        return found
-
-    runs = load(cells)
+def _walk(design: Design, cells: list[Cell], runs_of, results_dir=None) -> tuple:
+    """``cells``, then the cells of each of ``design``'s stages, each stage asked on the
+    results before it, while ``runs_of(new, before)`` gives the runs of the ``new`` cells
+    (``{key: runs}``; ``before``: the cells walked so far); its None stops the walk. The cells
+    walked and their :class:`Results` (None if the first call stopped)."""
+    runs = runs_of(cells, [])
+    if runs is None:
+        return [], None
     results = judge(design, cells, runs, results_dir)
     for stage in design.stages:
         extra = list(stage(results))
-        if stored_only and not all(_stored(design, cells + extra, c, results_dir) for c in extra):
+        more = runs_of(extra, cells)
+        if more is None:
             break
-        cells = cells + extra
-        runs.update(load(extra))
+        cells, runs = cells + extra, {**runs, **more}
         results = judge(design, cells, runs, results_dir)
-    return cells
+    return cells, results
+
+
+def _loaded(design: Design, cells, results_dir=None) -> dict[str, list]:
+    """The runs of the trained ``cells``, from the store, else the ledger (LookupError if
+    neither holds one)."""
+    from docking.ledger import load_run
+
+    found = {}
+    for c in (c for c in cells if c.trained):
+        found[c.key] = [load_run(*e, results_dir) for e in _entries(design, cells, c)]
+        if any(r is None for r in found[c.key]):
+            raise LookupError(
+                f"design {design.name!r}: runs of cell {c.key!r} are neither stored nor in "
+                "the ledger; run the design first (python -m docking design run "
+                f"{design.name}), or write what is there (ledger update --under-way "
+                f"{design.name})"
+            )
+    return found
+
+
+def _with_stages(design: Design, cells: list[Cell], stored_only: bool, results_dir) -> list[Cell]:
+    """``cells`` and the cells of ``design``'s stages (:func:`_walk`, the runs loaded); with
+    ``stored_only``, a stage only if the store holds all its runs."""
+
+    def runs_of(new, before):
+        if before and stored_only:
+            if not all(_stored(design, before + new, c, results_dir) for c in new):
+                return None
+        return _loaded(design, new, results_dir)
+
+    return _walk(design, cells, runs_of, results_dir)[0]
 
 
 def absent_runs(design: Design, results_dir=None) -> list:
     """The jobs (:class:`docking.sweep.Job`) of ``design``'s core cells that neither the
     results store nor the ledger holds, what :func:`run_design` would compute; a stage's
     cells are asked once every run before them is there."""
-    from docking.ledger import load_run
     from docking.sweep import jobs_for, missing
 
-    def absent(cells):
-        jobs = [
-            j for c in cells if c.trained for j in jobs_for([c.config], c.seeds or design.seeds)
-        ]
-        return missing(jobs, results_dir)
+    found = []
 
-    cells = design.select(False)
-    found = absent(cells)
-    for stage in design.stages:
-        if found:
-            break
-        runs = {
-            c.key: [load_run(*e, results_dir) for e in _entries(design, cells, c)]
-            for c in cells
-            if c.trained
-        }
-        extra = list(stage(judge(design, cells, runs, results_dir)))
-        cells = cells + extra
-        found = absent(extra)
+    def runs_of(new, before):
+        jobs = [j for c in new if c.trained for j in jobs_for([c.config], c.seeds or design.seeds)]
+        found.extend(missing(jobs, results_dir))
+        return None if found else _loaded(design, new, results_dir)
+
+    _walk(design, design.select(False), runs_of, results_dir)
     return found
 
 
@@ -533,14 +541,11 @@ def run_design(
     for c in cells:
         if not c.trained and c.baseline not in {x.key for x in cells}:
             raise ValueError(f"design {design.name!r}: cell {c.key!r} needs its baseline's runs")
-    runs = _sweep(cells, seeds, design.name, options)
-    results = judge(design, cells, runs, results_dir)
-    for k, stage in enumerate(design.stages):
-        extra = list(stage(results))
-        more = _sweep(extra, seeds, f"{design.name} (stage {k + 1})", options)
-        cells, runs = cells + extra, {**runs, **more}
-        results = judge(design, cells, runs, results_dir)
-    return results
+    stages = (f"{design.name} (stage {k + 1})" for k in range(len(design.stages)))
+    labels = iter([design.name, *stages])
+    return _walk(
+        design, cells, lambda new, _: _sweep(new, seeds, next(labels), options), results_dir
+    )[1]
 
 
 def summary(results: Results) -> str:
