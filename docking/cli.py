@@ -193,25 +193,32 @@ class Run:
     """Recompute and replace stored runs."""
 
     def execute(self) -> int:
-        from docking.ledger import load_run
-        from docking.sweep import jobs_for, run_jobs, source
-
         config = self.experiment
         seeds = _seeds_of(config, self.seeds)
-        jobs = jobs_for([config], seeds)
-        sources = ["computed" if self.force else source(j, self.results_dir) for j in jobs]
-        paths = run_jobs(
-            jobs,
-            self.results_dir,
-            scheduler=self.scheduler,
-            workers=self.processes,
-            force=self.force,
-            desc=f"{config.name}, {len(seeds)} seeds",
-        )
-        results = [load_run(config, s, self.results_dir) for s in seeds]
+        sources, paths, results = _run(self, [config], seeds, f"{config.name}, {len(seeds)} seeds")
         print(f"{config.name}: {_summary(results)}")
         print(_sources_text(seeds, sources, paths[0].parent))
         return 0
+
+
+def _run(command: Run | Sweep, configs, seeds, desc: str) -> tuple[list, list, list]:
+    """Run (or load) every configuration of ``configs`` for every seed as ``command``'s
+    options say: per run (configuration by configuration), where it came from (computed,
+    store or ledger), its path in the store, and the run."""
+    from docking.ledger import load_run
+    from docking.sweep import jobs_for, run_jobs, source
+
+    jobs = jobs_for(configs, seeds)
+    sources = ["computed" if command.force else source(j, command.results_dir) for j in jobs]
+    paths = run_jobs(
+        jobs,
+        command.results_dir,
+        scheduler=command.scheduler,
+        workers=command.processes,
+        force=command.force,
+        desc=desc,
+    )
+    return sources, paths, [load_run(j.config, j.seed, command.results_dir) for j in jobs]
 
 
 def _sources_text(seeds, sources, folder) -> str:
@@ -272,26 +279,16 @@ class Sweep:
     """Recompute and replace stored runs."""
 
     def execute(self) -> int:
-        from docking.ledger import load_run
-        from docking.sweep import grid_configs, jobs_for, run_jobs, source
+        from docking.sweep import grid_configs
 
         configs = grid_configs(self.experiment, self.grid)
         seeds = _seeds_of(self.experiment, self.seeds)
-        jobs = jobs_for(configs, seeds)
-        sources = ["computed" if self.force else source(j, self.results_dir) for j in jobs]
-        paths = run_jobs(
-            jobs,
-            self.results_dir,
-            scheduler=self.scheduler,
-            workers=self.processes,
-            force=self.force,
-            desc=f"sweep: {len(configs)} configurations x {len(seeds)} seeds",
-        )
+        desc = f"sweep: {len(configs)} configurations x {len(seeds)} seeds"
+        sources, paths, results = _run(self, configs, seeds, desc)
         for k, config in enumerate(configs):
             rows = slice(k * len(seeds), (k + 1) * len(seeds))
             label = " ".join(f"{e.partition('=')[0]}={_value(config, e)}" for e in self.grid)
-            results = [load_run(config, s, self.results_dir) for s in seeds]
-            print(f"{label or config.name}: {_summary(results)}")
+            print(f"{label or config.name}: {_summary(results[rows])}")
             where = _sources_text(seeds, sources[rows], paths[rows][0].parent)
             print("\n".join(f"  {line}" for line in where.splitlines()))
         return 0
