@@ -352,7 +352,22 @@ class DesignRun:
             )
             print(f"\n{name}: {found.title}\n")
             print(summary(results))
+            print(f"\n{_counted(results.sources, self.results_dir)}")
         return 0
+
+
+def _counted(sources: dict[str, list[str]], results_dir) -> str:
+    """How many of a design's trained runs came from where (``Results.sources``)."""
+    counts = collections.Counter(k for found in sources.values() for k in found)
+    where = {
+        "ledger": f"read from the committed ledger ({paths.ledger_dir()})",
+        "store": "loaded from the results store",
+        "computed": "computed now and stored",
+    }
+    found = "; ".join(f"{counts[k]} {text}" for k, text in where.items() if counts[k])
+    if counts.keys() - {"ledger"}:
+        found += f" (the store: {results_dir or paths.results_dir()})"
+    return f"runs: {found}"
 
 
 @dataclasses.dataclass

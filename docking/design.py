@@ -297,12 +297,15 @@ class Results:
       runs: ``{cell key: runs in seed order}`` (a test-only cell: its baseline's runs
         tested in its world, :func:`tested_in`; a PPO cell: ``docking.ppo.PPOResult`` s).
       logs: ``{cell key: the measured trial logs in seed order}``.
+      sources: ``{trained cell key: where each seed's run came from}``, ``"computed"``,
+        ``"store"`` or ``"ledger"`` (:func:`docking.sweep.source`, asked before the run).
     """
 
     design: Design
     cells: list[Cell]
     runs: dict[str, list[ExperimentResult]]
     logs: dict[str, list[TrialLog]]
+    sources: dict[str, list[str]] = dataclasses.field(default_factory=dict)
     _measured: dict = dataclasses.field(default_factory=dict, repr=False, compare=False)
 
     def cell(self, key: str) -> Cell:
@@ -507,10 +510,10 @@ def absent_runs(design: Design, results_dir=None) -> list:
     return found
 
 
-def _sweep(cells, seeds, desc: str, options) -> dict[str, list]:
+def _sweep(cells, seeds, desc: str, options, sources: dict) -> dict[str, list]:
     """Run (or load) the trained ``cells``: one sweep per distinct seed list (a cell's own
-    seeds, else ``seeds``)."""
-    from docking.sweep import run_configs
+    seeds, else ``seeds``); where each run comes from goes into ``sources``."""
+    from docking.sweep import Job, run_configs, source
 
     groups: dict[tuple[int, ...], dict] = {}
     for c in cells:
@@ -518,6 +521,9 @@ def _sweep(cells, seeds, desc: str, options) -> dict[str, list]:
             groups.setdefault(c.seeds or tuple(seeds), {})[c.key] = c.config
     runs = {}
     for k, (group_seeds, configs) in enumerate(groups.items()):
+        for key, config in configs.items():
+            where = options.get("results_dir")
+            sources[key] = [source(Job(config, seed), where) for seed in group_seeds]
         label = desc if len(groups) == 1 else f"{desc} ({k + 1}/{len(groups)})"
         runs.update(run_configs(configs, group_seeds, desc=label, **options))
     return runs
@@ -542,10 +548,14 @@ def run_design(
         if not c.trained and c.baseline not in {x.key for x in cells}:
             raise ValueError(f"design {design.name!r}: cell {c.key!r} needs its baseline's runs")
     stages = (f"{design.name} (stage {k + 1})" for k in range(len(design.stages)))
-    labels = iter([design.name, *stages])
-    return _walk(
-        design, cells, lambda new, _: _sweep(new, seeds, next(labels), options), results_dir
-    )[1]
+    labels, sources = iter([design.name, *stages]), {}
+
+    def runs_of(new, _):
+        return _sweep(new, seeds, next(labels), options, sources)
+
+    results = _walk(design, cells, runs_of, results_dir)[1]
+    results.sources.update(sources)
+    return results
 
 
 def summary(results: Results) -> str:

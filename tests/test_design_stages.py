@@ -46,8 +46,11 @@ def store(tmp_path, monkeypatch):
 def test_a_stage_is_asked_once_the_runs_before_it_are_there(store):
     assert {(j.config.network.eps_q, j.seed) for j in absent_runs(DESIGN)} == {(0.1, 0), (0.3, 0)}
     assert ledger_runs(DESIGN, stored_only=True) == []  # nothing stored: nothing written
-    DESIGN.run(progress=False, workers=1)
+    first = DESIGN.run(progress=False, workers=1)
     assert absent_runs(DESIGN) == []
+    # where each trained cell's runs came from, the stage's cell too
+    assert list(first.sources.values()) == [["computed"]] * 3
+    assert set(first.sources) == {"a", "b"} | {c.key for c in first.cells[2:]}
     found = ledger_runs(DESIGN)
     assert [(c.network.eps_q, s) for c, s, _, _ in found][:2] == [(0.1, 0), (0.3, 0)]
     assert len(found) == 3 and found[2][1] == 2  # the stage's cell, on its own seed
@@ -55,7 +58,9 @@ def test_a_stage_is_asked_once_the_runs_before_it_are_there(store):
     # its summary shows single-seed cells (a tuning round's) without an interval
     from docking.design import summary
 
-    text = summary(DESIGN.run(progress=False, workers=1))
+    again = DESIGN.run(progress=False, workers=1)
+    assert list(again.sources.values()) == [["store"]] * 3
+    text = summary(again)
     assert "| a/round2 |" in text or "| b/round2 |" in text
     assert "(seeds: 1)" in text
 
