@@ -790,6 +790,20 @@ def _reflowed_help():
         _strings.remove_single_line_breaks = original
 
 
+def parse(argv: list[str]) -> Command:
+    """The command ``argv`` names, parsed and checked, not run (``SystemExit`` as argparse
+    exits: on bad input, and after printing ``--help``)."""
+    with _reflowed_help():
+        return tyro.cli(
+            Command,
+            args=argv,
+            prog=PROG,
+            description=DESCRIPTION,
+            config=(tyro.conf.CascadeSubcommandArgs,),
+            registry=_registry,
+        )
+
+
 def main(argv=None) -> int:
     """Parse ``argv`` (default ``sys.argv[1:]``) and run the subcommand; its exit status."""
     argv = sys.argv[1:] if argv is None else list(argv)
@@ -800,15 +814,7 @@ def main(argv=None) -> int:
             file=sys.stderr,
         )
         return 2
-    with _reflowed_help():
-        command = tyro.cli(
-            Command,
-            args=argv,
-            prog=PROG,
-            description=DESCRIPTION,
-            config=(tyro.conf.CascadeSubcommandArgs,),
-            registry=_registry,
-        )
+    command = parse(argv)
     signal.signal(signal.SIGTERM, _exit_on_sigterm)
     try:
         return command.execute()

@@ -26,3 +26,46 @@ def test_an_example_runs_as_written(code, tmp_path, monkeypatch):
     monkeypatch.setenv("DOCKING_RESULTS", str(tmp_path / "results"))
     monkeypatch.chdir(tmp_path)
     exec(compile(code, "<example>", "exec"), {"__name__": "example"})
+
+
+#: Words of documented command lines that stand for a value the reader chooses, and the
+#: design CONTRIBUTING.md writes as an example of a new one (not in the package).
+PLACEHOLDERS = {"NAME", "K", "...", "two-cups"}
+COMMAND_PAGES = [ROOT / "README.md", ROOT / "archive" / "README.md", *PAGES]
+
+
+def _command_lines() -> list:
+    """Every ``python -m docking ...`` line of the README, the archive's README, the guide's
+    pages and CONTRIBUTING.md (a line ending in a backslash joined with the next; comments
+    cut), as the arguments after ``docking``."""
+    import shlex
+
+    found = {}
+    for page in COMMAND_PAGES:
+        text = re.sub(r"\\\n\s*", " ", page.read_text())
+        for match in re.finditer(r"python -m docking ([^`|\n]*)", text):
+            args = shlex.split(match.group(1).split(" #")[0])
+            if args and not PLACEHOLDERS & set(args):
+                found[" ".join(args)] = pytest.param(args, id=f"{page.name}: {' '.join(args)}")
+    return list(found.values())
+
+
+COMMANDS = _command_lines()
+
+
+def test_the_pages_have_command_lines():
+    assert len(COMMANDS) >= 15
+
+
+@pytest.mark.parametrize("args", COMMANDS)
+def test_a_documented_command_line_parses(args, capsys):
+    """Each documented command line is one the CLI takes (parsed, not run); ``--help``
+    prints its help and exits 0."""
+    from docking.cli import parse
+
+    if "--help" in args:
+        with pytest.raises(SystemExit) as exit_:
+            parse(args)
+        assert exit_.value.code == 0
+        return
+    assert parse(args) is not None
