@@ -1,40 +1,8 @@
-"""The docking task as Gymnasium environments, one id per task.
-
-The ``dm_env`` :class:`~docking.world.DockingEnv` stays the primary API (the experiments use
-it); this module adapts it for Gymnasium users. ``import docking`` registers the ids of
-:data:`docking.ENV_IDS` (Gymnasium 1.x has no plugin entry points)::
-
-    import gymnasium
-    import docking  # registers docking/Experiment2-v0 and the others
-
-    env = gymnasium.make("docking/Experiment2-v0", seed=0)
-    obs, info = env.reset(seed=1)            # obs: float32 (10, 32) in [0, 1]
-    obs, reward, terminated, truncated, info = env.step(0)  # 0 F, 1 B, 2 L, 3 R
-
-The ids: ``docking/Docking-v0`` (the default :class:`~docking.scene.WorldConfig`),
-``docking/Experiment1-v0`` and ``docking/Experiment2-v0`` (the paper's start regions),
-``docking/Floor-v0`` (the study's floor world), ``docking/Turning-v0`` (Experiment 3: six
-actions with turns), ``docking/Precision-v0`` (six actions, docked only when facing the
-landmark within 10 deg), ``docking/Nao-v0`` (the Nao-like world,
-:data:`docking.presets.NAO_WORLD`) and ``docking/Continuous-v0`` (Experiment 2's world with a
-``Box`` action: a step vector ``(forward, sideways)`` in [-1, 1]^2, each component a
-fraction of the world's longest step; ``actions="continuous-turning"`` adds a turn).
-Each spec's ``max_episode_steps`` is the world's ``max_steps``
-(the paper's 25 actions). The keyword arguments of ``make`` are ``seed``, ``render_mode``
-(``None`` or ``"rgb_array"``: an overview render of the room) and any field of
-:class:`~docking.scene.WorldConfig` (``camera`` as a :class:`~docking.camera.CameraConfig`
-or a dict of its fields), which overrides the id's world.
-
-The mapping from ``dm_env`` time steps: docking gives reward 1 and ends the episode as
-``terminated`` (dm_env discount 0); the ``max_steps``-th action without docking ends it as
-``truncated`` (a time limit, dm_env discount 1). ``info`` carries the ground truth the learner
-never reads: ``pose`` ``[x, y, yaw]`` and ``docked``.
-
-Seeding: the wrapped env draws from the Gymnasium env's own ``np_random``, so
-``reset(seed=k)`` reseeds it (through :meth:`DockingEnv.reseed`) and gives the same episode as
-``DockingEnv(config, seed=k).reset()``. Vector envs: use ``gymnasium.make_vec(...,
-vectorization_mode="async", vector_kwargs={"context": "spawn"})``; with the default fork
-context the OpenGL (EGL) state of the parent hangs the children.
+"""The docking task as Gymnasium environments, one id per task (:data:`docking.ENV_IDS`,
+registered by ``import docking``): an adapter of the ``dm_env``
+:class:`~docking.world.DockingEnv`, which stays the primary API. The ids, the keyword
+arguments of ``make``, the mapping of ``dm_env`` time steps to ``terminated`` and
+``truncated``, seeding and vector environments: docs/guide/gymnasium.md.
 """
 
 from __future__ import annotations

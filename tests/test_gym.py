@@ -177,3 +177,15 @@ def test_record_video_writes_an_episode(tmp_path):
     env.close()
     videos = list((tmp_path / "videos").glob("*.mp4"))
     assert len(videos) == 1 and videos[0].stat().st_size > 1000
+
+
+def test_the_guide_names_every_id():
+    """docs/guide/gymnasium.md's table has a row for each registered id (it once lacked
+    Nao-v0 and Continuous-v0)."""
+    from pathlib import Path
+
+    guide = Path(__file__).resolve().parent.parent / "docs" / "guide" / "gymnasium.md"
+    rows = [line for line in guide.read_text().splitlines() if line.startswith("| `docking/")]
+    assert {i for i in docking.ENV_IDS if any(f"`{i}`" in row for row in rows)} == set(
+        docking.ENV_IDS
+    )
