@@ -519,11 +519,10 @@ def _sweep(cells, seeds, desc: str, options, sources: dict) -> dict[str, list]:
     for c in cells:
         if c.trained:
             groups.setdefault(c.seeds or tuple(seeds), {})[c.key] = c.config
-    runs = {}
+    runs, store = {}, options.get("results_dir")
     for k, (group_seeds, configs) in enumerate(groups.items()):
         for key, config in configs.items():
-            where = options.get("results_dir")
-            sources[key] = [source(Job(config, seed), where) for seed in group_seeds]
+            sources[key] = [source(Job(config, seed), store) for seed in group_seeds]
         label = desc if len(groups) == 1 else f"{desc} ({k + 1}/{len(groups)})"
         runs.update(run_configs(configs, group_seeds, desc=label, **options))
     return runs
