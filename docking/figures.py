@@ -105,11 +105,12 @@ def save_figure(fig: Figure, path) -> tuple[Path, Path]:
     ``path`` may end in ``.png`` or ``.pdf`` or have no suffix; both files are written either
     way, each first to a temporary file in the same folder and then renamed into place, so a
     reader never sees half a figure (:func:`docking.fileio.atomic_write`). The PDF carries no
-    creation date, so regenerating an unchanged figure leaves the file unchanged. Returns the
-    two paths."""
+    creation date and the layout is frozen first (:func:`_freeze_layout`), so regenerating an
+    unchanged figure leaves both files unchanged. Returns the two paths."""
     path = Path(path)
     if path.suffix.lower() in (".png", ".pdf"):
         path = path.with_suffix("")
+    _freeze_layout(fig)
     written = []
     for fmt in ("png", "pdf"):
         # No creation date in the PDF: the same figure gives the same file.
@@ -123,6 +124,23 @@ def save_figure(fig: Figure, path) -> tuple[Path, Path]:
             )
         )
     return written[0], written[1]
+
+
+def _freeze_layout(fig: Figure) -> None:
+    """Lay ``fig`` out as saving does, then fix every axes' and subfigure's position, rounded
+    to 1e-9 of the figure, and turn the layout engine off. Constrained layout's positions
+    differ in their last bits from process to process (its solver meets the grid specs in an
+    order set by memory addresses): invisible in the PNG's pixels, but written into the PDF,
+    whose bytes (Fig. 4's) changed on every run."""
+    fig.savefig(io.BytesIO(), format="png", dpi=_DPI)
+    fig.set_layout_engine("none")
+    for ax in fig.get_axes():  # the box the layout gave (an image's aspect is applied in it)
+        ax.set_position(np.round(ax.get_position(original=True).bounds, 9) + 0.0)  # no -0.0
+    subfigures = list(fig.subfigs)
+    while subfigures:
+        sub = subfigures.pop()
+        sub.bbox_relative.set_points(np.round(sub.bbox_relative.get_points(), 9) + 0.0)
+        subfigures += sub.subfigs
 
 
 def to_png(fig: Figure) -> bytes:

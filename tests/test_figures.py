@@ -160,6 +160,35 @@ def test_save_figure_writes_png_and_pdf(tmp_path):
     assert (tmp_path / "c.pdf").read_bytes() == first
 
 
+_FIG4_SCRIPT = """
+import dataclasses, sys
+from docking import report
+from docking.experiments import Curriculum, run_experiment
+from docking.presets import EXPERIMENT_2
+config = dataclasses.replace(
+    EXPERIMENT_2, curriculum=Curriculum(far_initial=0.7, grow_trials=2), train_trials=4,
+    test_trials=6, eval_every=2, eval_trials=2,
+)
+report.save_fig4(run_experiment(config, seed=0, progress=False), sys.argv[1], n_samples=20)
+"""
+
+
+@pytest.mark.slow
+def test_a_figure_saved_in_another_process_has_the_same_bytes(tmp_path):
+    """Fig. 4 of the same run, saved by three processes: the same PNG and the same PDF.
+    Constrained layout's positions differ in their last bits from process to process; the
+    PDF wrote them out (its bytes differed in two of three processes before the layout was
+    frozen, figures._freeze_layout)."""
+    import subprocess
+    import sys
+
+    for k in range(3):
+        subprocess.run([sys.executable, "-c", _FIG4_SCRIPT, str(tmp_path / str(k))], check=True)
+    for suffix in ("png", "pdf"):
+        found = {(tmp_path / str(k) / f"fig4_experiment2.{suffix}").read_bytes() for k in range(3)}
+        assert len(found) == 1, suffix
+
+
 @pytest.mark.slow
 def test_report_saves_every_figure(result1, result2, tmp_path):
     report.save_fig2(DockingEnv(seed=0), tmp_path)
