@@ -221,20 +221,25 @@ def _run(command: Run | Sweep, configs, seeds, desc: str) -> tuple[list, list, l
     return sources, paths, [load_run(j.config, j.seed, command.results_dir) for j in jobs]
 
 
+def _source_words(folder) -> dict[str, str]:
+    """What each place a run came from is called (:func:`docking.sweep.source`'s kinds, in
+    the order they are shown), ``folder`` the store's folder."""
+    return {
+        "ledger": f"read from the committed ledger, {paths.ledger_dir()} (checked against its "
+        "digest; nothing computed)",
+        "store": f"loaded from the results store, {folder}",
+        "computed": f"computed now and stored in {folder}",
+    }
+
+
 def _sources_text(seeds, sources, folder) -> str:
     """Where each seed's run came from, in one or two lines (the store's folder named only
     where a run is in it)."""
-    where = {
-        "computed": f"computed now and stored in {folder}",
-        "store": f"loaded from the results store, {folder}",
-        "ledger": f"read from the committed ledger, {paths.ledger_dir()} (checked against its "
-        "digest; nothing computed)",
-    }
     lines = []
-    for kind in ("ledger", "store", "computed"):
+    for kind, words in _source_words(folder).items():
         mine = [s for s, k in zip(seeds, sources, strict=True) if k == kind]
         if mine:
-            lines.append(f"seeds {_seed_text(mine)}: {where[kind]}")
+            lines.append(f"seeds {_seed_text(mine)}: {words}")
     return "\n".join(lines)
 
 
@@ -357,17 +362,11 @@ class DesignRun:
 
 
 def _counted(sources: dict[str, list[str]], results_dir) -> str:
-    """How many of a design's trained runs came from where (``Results.sources``)."""
+    """How many of a design's trained runs came from where (``Results.sources``), in
+    :func:`_sources_text`'s words."""
     counts = collections.Counter(k for found in sources.values() for k in found)
-    where = {
-        "ledger": f"read from the committed ledger ({paths.ledger_dir()})",
-        "store": "loaded from the results store",
-        "computed": "computed now and stored",
-    }
-    found = "; ".join(f"{counts[k]} {text}" for k, text in where.items() if counts[k])
-    if counts.keys() - {"ledger"}:
-        found += f" (the store: {results_dir or paths.results_dir()})"
-    return f"runs: {found}"
+    words = _source_words(results_dir or paths.results_dir())
+    return "runs: " + "; ".join(f"{counts[k]} {text}" for k, text in words.items() if counts[k])
 
 
 @dataclasses.dataclass

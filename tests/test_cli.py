@@ -535,15 +535,14 @@ def test_ledger_show_counts_runs_configurations_and_tables(capsys, monkeypatch):
 
 def test_design_run_counts_where_its_runs_came_from(tmp_path, monkeypatch):
     """``design run`` ends with how many runs were computed, loaded from the store or read
-    from the ledger, and names the store only where a run is in it."""
+    from the ledger, in ``run``'s words, and names the store only where a run is in it."""
     from docking.cli import _counted
 
     monkeypatch.setenv("DOCKING_LEDGER", str(REPO / "ledger"))
+    ledger = f"read from the committed ledger, {REPO / 'ledger'} (checked against its digest; "
     mixed = _counted({"a": ["ledger", "store"], "b": ["computed", "ledger"]}, tmp_path)
     assert mixed == (
-        f"runs: 2 read from the committed ledger ({REPO / 'ledger'}); 1 loaded from the results "
-        f"store; 1 computed now and stored (the store: {tmp_path})"
+        f"runs: 2 {ledger}nothing computed); 1 loaded from the results store, {tmp_path}; "
+        f"1 computed now and stored in {tmp_path}"
     )
-    assert _counted({"a": ["ledger"]}, tmp_path) == (
-        f"runs: 1 read from the committed ledger ({REPO / 'ledger'})"
-    )
+    assert _counted({"a": ["ledger"]}, tmp_path) == f"runs: 1 {ledger}nothing computed)"
