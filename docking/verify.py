@@ -80,7 +80,7 @@ def platform_lines(mismatch: bool, folder: Path | str | None = None) -> list[str
     and, where they differ, what each difference means for a run's bits."""
     from docking.platform_info import compare, numeric_platform
 
-    data = manifest(Path(folder) if folder is not None else paths.ledger_dir()) or {}
+    data = manifest(folder) or {}  # default: the ledger of paths.ledger_dir()
     theirs, ours = data.get("platform", {}), numeric_platform()
     lines = ["numeric platform (the ledger's | this machine's):"]
     lines += [f"  {k}: {theirs.get(k, '?')} | {ours.get(k, '?')}" for k in sorted(ours)]
