@@ -17,6 +17,7 @@ MODULES = {
     "experiment3": "docking.designs.experiment3",
     "experiment3-oracle": "docking.designs.experiment3",
     "third-edition": "docking.designs.third_edition",
+    "third-edition-addendum": "docking.designs.addendum",
     "untested": "docking.designs.untested",
 }
 

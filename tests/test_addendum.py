@@ -1,0 +1,136 @@
+"""The third edition's addendum (docking.designs.addendum): its rules, pinned before its runs,
+and its search, walked on synthetic scores."""
+
+from __future__ import annotations
+
+import hashlib
+import json
+import math
+import types
+from pathlib import Path
+
+import numpy as np
+
+from docking.designs import addendum as ad
+
+#: The SHA-256 of rules_text() when the rules were committed, before any run of the addendum.
+RULES_DIGEST = "7809d4840d852585f603d398a8a24f8c31a1c635af7b71396390d747cd9728b9"
+
+
+def test_rules_are_the_committed_ones():
+    assert hashlib.sha256(ad.rules_text().encode()).hexdigest() == RULES_DIGEST
+
+
+def test_seeds_are_fresh():
+    """No run of the committed ledger (before the addendum's) used a seed of the addendum."""
+    manifest = Path(__file__).resolve().parents[1] / "ledger" / "manifest.json"
+    runs = json.loads(manifest.read_text())["runs"].values()
+    used = {r["seed"] for r in runs if r["name"] != ad.NAME}
+    assert not used & (set(ad.SEEDS) | set(ad.TUNING_SEEDS))
+    assert not set(ad.SEEDS) & set(ad.TUNING_SEEDS)
+
+
+def test_the_same_knobs_and_ranges_for_both_sarsa_learners():
+    shared = set(ad.KNOBS["paper"]) & set(ad.KNOBS["linear"])
+    assert shared == {"eps_q", "beta_a_train"}
+    for learner in ad.LEARNERS:
+        settings = ad.round1_settings(learner)
+        assert len(settings) == 9
+        for knob in ad.KNOBS[learner]:
+            assert sorted({s[knob] for s in settings}) == sorted(ad.START[knob])
+    # L9: every pair of two knobs' values appears once
+    paper = ad.round1_settings("paper")
+    for a, b in [("eps_q", "beta_a_train"), ("eps_q", "eps_w"), ("beta_a_train", "eps_w")]:
+        assert len({(s[a], s[b]) for s in paper}) == 9
+
+
+def test_ladders_are_log_spaced_and_hold_the_start():
+    for knob, ladder in ad.LADDERS.items():
+        ratios = np.diff(np.log10(ladder))
+        assert np.all(ratios > 0.25) and np.all(ratios < 0.55), knob
+        assert set(ad.START[knob]) <= set(ladder)
+        i = ladder.index(ad.START[knob][0])
+        assert ladder[i : i + 3] == ad.START[knob]  # three neighbouring rungs
+
+
+class _Fake:
+    """What the stages read of a design's results, on a synthetic success surface."""
+
+    def __init__(self, cells, surface):
+        self.cells, self.surface = list(cells), surface
+        self.runs = {}
+
+    def cell(self, key):
+        return next(c for c in self.cells if c.key == key)
+
+    def score(self, key):
+        c = self.cell(key)
+        learner = c.coords.get("learner")
+        if c.coords["variant"].startswith("tune-"):
+            setting = {k: c.coords[k] for k in ad.KNOBS[learner]}
+        else:
+            network = c.config.network
+            setting = {k: getattr(network, k) for k in ad.KNOBS.get(learner, ())}
+        base = self.surface(learner, setting)
+        return np.array([base + 0.001 * (s % 3) for s in c.seeds or ad.SEEDS])
+
+
+def _walk(surface):
+    fake = _Fake(ad.DESIGN.cells, surface)
+    for stage in ad.DESIGN.stages[:-1]:
+        fake.cells += stage(fake)
+    for c in fake.cells:
+        fake.runs[c.key] = [
+            types.SimpleNamespace(train=types.SimpleNamespace(steps=np.full(2000, 18)))
+            for _ in c.seeds or ad.SEEDS
+        ]
+    fake.cells += ad.DESIGN.stages[-1](fake)
+    return fake
+
+
+def _peak(optimum):
+    """Success falling off with the log-distance from ``optimum`` (per learner)."""
+
+    def surface(learner, setting):
+        o = optimum.get(learner, {})
+        d = sum((math.log10(v) - math.log10(o.get(k, v))) ** 2 for k, v in setting.items())
+        return 0.9 - 0.1 * d
+
+    return surface
+
+
+def test_the_search_extends_past_the_start_until_the_optimum_is_interior():
+    optimum = {
+        "paper": dict(eps_q=0.3, beta_a_train=20.0, eps_w=5.0),
+        "linear": dict(eps_q=0.01, beta_a_train=20.0),
+    }
+    fake = _walk(_peak(optimum))
+    for world in ad.WORLDS:
+        for learner in ad.LEARNERS:
+            assert ad.TUNING.tuned(fake, world, learner) == optimum[learner]
+            used = ad.TUNING.runs_used(fake, world, learner)
+            assert ad.BUDGET - ad.ROUND_2 < used <= ad.BUDGET  # round 2 spends what is left
+            for knob in optimum[learner]:
+                assert ad.position(fake, world, learner, knob)[1] == "interior"
+
+
+def test_an_optimum_past_a_ladder_is_at_its_stated_limit():
+    optimum = {
+        "paper": dict(eps_q=10.0, beta_a_train=5.0, eps_w=0.5),
+        "linear": dict(eps_q=0.1, beta_a_train=5.0),
+    }
+    fake = _walk(_peak(optimum))
+    tuned = ad.TUNING.tuned(fake, "floor", "paper")
+    assert tuned["eps_q"] == ad.LADDERS["eps_q"][-1]
+    values, where = ad.position(fake, "floor", "paper", "eps_q")
+    assert where == f"at its limit: {ad.LIMITS['eps_q'][1]}"
+
+
+def test_ppo_trains_for_the_paper_learners_mean_training_steps():
+    fake = _walk(_peak({"paper": {}, "linear": {}}))
+    for world in ad.WORLDS:
+        ppo = fake.cell(f"{world}/ppo-matched").config
+        assert ppo.steps == 2000 * 18  # the fake's training steps, a multiple of 16
+        assert ppo.learning_rate == ad.PPO_SETTINGS[world]["learning_rate"]
+        views = fake.cell(f"{world}/views-frozen").config
+        assert views.network.eps_w == 0.0 and views.pretrain_trials == ad.PRETRAIN_TRIALS
