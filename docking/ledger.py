@@ -359,6 +359,7 @@ def update(runs, folder: Path | str | None = None, results_dir=None) -> dict:
         runner = runners.setdefault(store.runner_for(config).name, store.runner_for(config))
         with np.load(path, allow_pickle=False) as stored:
             arrays = {k: stored[k] for k in stored.files}
+        computed = json.loads(str(arrays["meta"])).get("computed_utc")
         text = json.dumps(config.to_dict(), sort_keys=True)
         ref = hashlib.sha256(text.encode()).hexdigest()[:16]
         configs[ref] = config.to_dict()
@@ -373,6 +374,8 @@ def update(runs, folder: Path | str | None = None, results_dir=None) -> dict:
             "wall_time_test": walls[1],
             "wall_seconds": round(sum(walls), 1),
         }
+        if computed is not None:  # runs stored before the time was recorded have none
+            records[key]["computed_utc"] = computed
         if whole:
             records[key]["whole"] = name = f"whole/{config.name}/{key[:16]}/seed{seed}.npz"
             files[name] = _npz(arrays)

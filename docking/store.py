@@ -84,6 +84,7 @@ __all__ = [
     "module_digests",
     "rendering_stack",
     "check_writable",
+    "computed_utc",
     "is_valid",
     "load_result",
     "result_arrays",
@@ -255,6 +256,13 @@ def content_digest(arrays) -> str:
     return digest.hexdigest()
 
 
+def computed_utc() -> str:
+    """Now, in UTC, to the second (ISO 8601): the time a run is stored as computed."""
+    import datetime
+
+    return datetime.datetime.now(datetime.UTC).isoformat(timespec="seconds")
+
+
 def save_result(result, path: Path | str) -> Path:
     """Write ``result`` (a run of any :class:`Runner`) to ``path`` (compressed .npz)
     atomically; also ``config.json`` beside it (the configuration, readable). Returns
@@ -271,6 +279,9 @@ def save_result(result, path: Path | str) -> Path:
         "seed": result.seed,
         "wall_time_train": float(result.wall_time_train),
         "wall_time_test": float(result.wall_time_test),
+        # when it was computed (UTC), what a design's provenance test compares with the
+        # commit of its rules (outside the content digest, as the wall times are)
+        "computed_utc": computed_utc(),
     }
     arrays["meta"] = np.array(json.dumps(meta))
     buffer = io.BytesIO()
