@@ -624,6 +624,10 @@ class Ledger:
     under_way: Annotated[tuple[str, ...], _shown("NAME ...", "none: every design complete")] = ()
     """Designs whose runs are under way: only the cells whose runs the store holds are
     written (update only)."""
+    only: Annotated[tuple[str, ...], _shown("NAME ...", "every design")] = ()
+    """Write only these designs' results tables, keeping every other table of the ledger as
+    it is (checked against its digests and this code): the results store need not hold the
+    other designs' runs (update only)."""
 
     def execute(self) -> int:
         from docking import ledger
@@ -635,11 +639,11 @@ class Ledger:
             from docking.design import ledger_runs
             from docking.designs import design, names
 
-            unknown = sorted(set(self.under_way) - set(names()))
+            unknown = sorted((set(self.under_way) | set(self.only)) - set(names()))
             if unknown:
                 raise ValueError(f"no design {', '.join(unknown)}; the designs are {names()}")
             runs = {}
-            for name in names():
+            for name in self.only or names():
                 partial = name in self.under_way
                 for config, seed, whole, keep in ledger_runs(
                     design(name), stored_only=partial, results_dir=self.results_dir
@@ -647,7 +651,9 @@ class Ledger:
                     key = (json.dumps(config.to_dict(), sort_keys=True), seed)
                     old = runs.get(key, (config, seed, False, frozenset()))
                     runs[key] = (config, seed, whole or old[2], keep | old[3])
-            data = ledger.update(list(runs.values()), results_dir=self.results_dir)
+            data = ledger.update(
+                list(runs.values()), results_dir=self.results_dir, only=self.only or None
+            )
         else:
             data = ledger.manifest(folder)
             if data is None:

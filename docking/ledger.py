@@ -343,16 +343,31 @@ def _columns(runs: list[tuple[str, dict, frozenset]]) -> dict[str, np.ndarray]:
     return table
 
 
-def update(runs, folder: Path | str | None = None, results_dir=None) -> dict:
+def update(runs, folder: Path | str | None = None, results_dir=None, only=None) -> dict:
     """Write the ledger of ``runs`` (``(config, seed, whole, keep)`` each: keep the stored
     file whole; what the table keeps) from the results store, replacing the ledger's files;
-    returns the manifest."""
+    returns the manifest.
+
+    ``only``: the names of the tables ``runs`` replace (or add); every other table of the
+    ledger in ``folder``, its runs, configurations and whole runs, is kept as it is, after
+    checking it against its manifest and this code (:class:`StaleLedger` otherwise). So one
+    design's runs enter the ledger without the results store holding every other's."""
     from docking.platform_info import numeric_platform
 
     folder = Path(folder) if folder is not None else paths.ledger_dir()
     if folder is None:
         raise ValueError("no ledger folder: DOCKING_LEDGER is off and no folder was given")
-    records, files, tables, runners, configs = {}, {}, {}, {}, {}
+    records, files, tables, runners, configs, kept = {}, {}, {}, {}, {}, {}
+    if only is not None:
+        kept = _kept(folder, frozenset(only))
+        outside = sorted({c.name for c, *_ in runs} - set(only))
+        if outside:
+            raise ValueError(
+                f"runs of the tables {', '.join(outside)} would replace those tables whole: "
+                f"name them too, or write the whole ledger"
+            )
+        records, files, configs = kept["runs"], kept["files"], kept["configs"]
+        runners = {name: store.runner_named(name) for name in kept["runners"]}
     for config, seed, whole, keep in runs:
         key, path = store.run_key(config, seed), store.result_path(config, seed, results_dir)
         result = store.load_result(path, key)  # checks the file against the key and digest
@@ -383,22 +398,63 @@ def update(runs, folder: Path | str | None = None, results_dir=None) -> dict:
         tables.setdefault(config.name, []).append((key, arrays, frozenset(keep)))
     for name, found in tables.items():
         files[f"tables/{name}.npz"] = _npz(_columns(sorted(found, key=lambda r: r[0])))
+    table_names = {p[len("tables/") : -len(".npz")] for p in files if p.startswith("tables/")}
     data = {
         "format": LEDGER_FORMAT,
         "store_format": store.FORMAT_VERSION,
         "fingerprints": {name: r.fingerprint() for name, r in runners.items()},
         "modules": {name: r.module_digests() for name, r in runners.items()},
         "rendering_stack": store.rendering_stack(),
-        "platform": numeric_platform(),
+        "platform": kept["platform"] if only is not None else numeric_platform(),
         "configs": configs,
-        "tables": {n: hashlib.sha256(files[f"tables/{n}.npz"]).hexdigest() for n in tables},
+        "tables": {
+            n: hashlib.sha256(files[f"tables/{n}.npz"]).hexdigest() for n in sorted(table_names)
+        },
         "runs": records,
     }
+    if only is not None:  # where the added tables' runs were computed, per table
+        platforms = {n: p for n, p in kept["platforms"].items() if n not in only}
+        platforms.update({n: numeric_platform() for n in tables})
+        if platforms:
+            data["table_platforms"] = dict(sorted(platforms.items()))
     _replace_files(folder, files)
     text = json.dumps(data, indent=1, sort_keys=True) + "\n"
     atomic_write(folder / "manifest.json", lambda f: f.write(text.encode()))
     _read_manifest.cache_clear()
     return manifest(folder)
+
+
+def _kept(folder: Path, replaced: frozenset) -> dict:
+    """What :func:`update` with ``only=replaced`` keeps of the ledger in ``folder``: the
+    records, configurations and files (bytes, checked against the manifest) of every table
+    not in ``replaced``, and the runners that computed them."""
+    data = manifest(folder)  # StaleLedger if another code computed it
+    if data is None:
+        raise ValueError(f"no ledger in {folder} to add to (it has no manifest.json)")
+    runs, files, configs, runners = {}, {}, {}, set()
+    for name, sha256 in data["tables"].items():
+        if name not in replaced:
+            files[f"tables/{name}.npz"] = _verified(folder / "tables" / f"{name}.npz", sha256)
+    refs = {json.dumps(c, sort_keys=True): ref for ref, c in data["configs"].items()}
+    for key, record in data["runs"].items():
+        if record["name"] in replaced:
+            continue
+        kept = {k: v for k, v in record.items()}
+        ref = refs[json.dumps(record["config"], sort_keys=True)]
+        kept["config"], configs[ref] = ref, record["config"]
+        if "whole" in record:
+            files[record["whole"]] = _verified(folder / record["whole"], record["sha256"])
+        runs[key] = kept
+        runners.add(record["runner"])
+    platform, platforms = data["platform"], data.get("table_platforms", {})
+    return dict(
+        runs=runs,
+        files=files,
+        configs=configs,
+        runners=runners,
+        platform=platform,
+        platforms={n: p for n, p in platforms.items() if n not in replaced},
+    )
 
 
 def _replace_files(folder: Path, files: dict[str, bytes]) -> None:

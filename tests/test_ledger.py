@@ -480,3 +480,29 @@ def test_a_table_without_training_trials_serves_the_rest_and_no_training_log(
     assert served.heldout.success.tobytes() == full[1].heldout.success.tobytes()
     assert served.curve_success.tobytes() == full[1].curve_success.tobytes()
     assert served.train is None
+
+
+def test_an_update_of_one_table_keeps_every_other_as_it_was(built, tmp_path, monkeypatch):
+    """``update(..., only=...)`` adds a design's table without the store holding the rest:
+    the other tables, whole runs and records stay byte for byte, and both are served."""
+    folder, _, full, results = built
+    copy, other = tmp_path / "ledger", dataclasses.replace(TINY, name="added")
+    shutil.copytree(folder, copy)
+    with monkeypatch.context() as mp:
+        mp.setenv("DOCKING_LEDGER", "off")
+        added = run_or_load(other, 0, results, progress=False)
+    before = json.loads((copy / "manifest.json").read_text())
+    ledger.update([(other, 0, False, KEEP)], copy, results, only={"added"})
+    after = json.loads((copy / "manifest.json").read_text())
+    assert {k: after["runs"][k] for k in before["runs"]} == before["runs"]
+    assert after["platform"] == before["platform"] and set(after["table_platforms"]) == {"added"}
+    for f in folder.rglob("*.npz"):
+        assert (copy / f.relative_to(folder)).read_bytes() == f.read_bytes(), f
+    assert _served(monkeypatch, copy, 0).network.W.tobytes() == full[0].network.W.tobytes()
+    served = _served(monkeypatch, copy, 0, other)
+    assert np.array_equal(served.heldout.success, added.heldout.success)
+    with pytest.raises(ValueError, match="tiny"):  # a run outside the named tables
+        ledger.update([(TINY, 1, False, KEEP)], copy, results, only={"added"})
+    (copy / "tables" / "tiny.npz").write_bytes(b"damaged")
+    with pytest.raises(ledger.CorruptLedger, match="digest"):  # what it keeps is checked
+        ledger.update([(other, 0, False, KEEP)], copy, results, only={"added"})
