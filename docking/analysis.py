@@ -793,3 +793,84 @@ def weight_mass(
         shares.append((weights * mean).sum(axis=1) / weights.sum(axis=1))
     shares.append(1.0 - shares[0] - shares[1])
     return np.average(np.stack(shares, axis=1), axis=0, weights=counts[units])
+
+
+# ------------------------------------------------------------------------------------------
+# The representation against learning Q on it (the addendum's decomposition, notebook 08).
+# ------------------------------------------------------------------------------------------
+
+
+@functools.lru_cache(maxsize=4)
+def oracle_views(world: WorldConfig, n_trials: int = 300, seed: int = 0) -> OracleViews:
+    """Every view the pose oracle sees on ``n_trials`` trials of ``world`` (starts from its
+    whole start region, ``DockingEnv(world, seed)``'s stream: none of a run's streams) and
+    the action it takes there: the views a docking policy must tell apart, labelled by what
+    works."""
+    from docking.oracle import oracle_action
+    from docking.world import DockingEnv
+
+    env = DockingEnv(world, seed=seed)
+    views, actions = [], []
+    for _ in range(n_trials):
+        timestep = env.reset()
+        while not timestep.last():
+            action = oracle_action(env.pose, world)
+            views.append(np.array(timestep.observation, dtype=np.float64).reshape(-1))
+            actions.append(action)
+            timestep = env.step(action)
+    env.close()
+    found = OracleViews(np.array(views), np.array(actions, dtype=np.int64))
+    found.views.flags.writeable = found.actions.flags.writeable = False
+    return found
+
+
+class OracleViews(NamedTuple):
+    """Views ``(n, inputs)`` and the pose oracle's action at each ``(n,)``."""
+
+    views: np.ndarray
+    actions: np.ndarray
+
+
+def winners(net: Network, views: np.ndarray) -> np.ndarray:
+    """The winning feature unit of each view (the largest h_j of Eq. 1: the unit that the
+    softmax of Eq. 2 at beta_s = 100 all but selects)."""
+    inputs = np.array([net.prepare(v) for v in views])
+    return np.argmax(inputs @ net.W.T, axis=1)
+
+
+def oracle_labelled(net: Network, labelled: OracleViews) -> Network:
+    """``net`` with its W and a Q that gives each feature unit the action the pose oracle
+    takes most often on the views it wins (ties: the lower action index); a unit that wins
+    none keeps its own best action. Greedy on W's partition, this is what the partition
+    allows when each of its cells gets the best single action the oracle would choose."""
+    won = winners(net, labelled.views)
+    n_actions, n_features = net.Q.shape
+    counts = np.zeros((n_features, n_actions), dtype=np.int64)
+    np.add.at(counts, (won, labelled.actions), 1)
+    labels = np.where(counts.sum(axis=1) > 0, counts.argmax(axis=1), net.Q.argmax(axis=0))
+    Q = np.zeros_like(net.Q)
+    Q[labels, np.arange(n_features)] = 1.0
+    return Network.from_weights(net.config, net.W.copy(), Q)
+
+
+def partition_purity(net: Network, labelled: OracleViews) -> float:
+    """The share of ``labelled``'s views whose oracle action is their winning unit's most
+    frequent one: 1 if W's partition never puts views the oracle acts on differently in one
+    cell (aliasing lowers it)."""
+    won = winners(net, labelled.views)
+    n_features = net.W.shape[0]
+    counts = np.zeros((n_features, int(labelled.actions.max()) + 1), dtype=np.int64)
+    np.add.at(counts, (won, labelled.actions), 1)
+    return float(counts.max(axis=1).sum() / len(won))
+
+
+def oracle_labelled_success(
+    run: ExperimentResult, labelled: OracleViews, world: WorldConfig | None = None
+) -> float:
+    """Held-out success of ``run``'s W with the oracle-labelled Q (:func:`oracle_labelled`),
+    on ``run``'s own held-out streams (paired with its held-out success)."""
+    from docking.experiments import heldout_trials
+
+    world = world or run.config.world
+    net = oracle_labelled(run.network, labelled)
+    return heldout_trials(run.config, run.seed, net, world).success_rate

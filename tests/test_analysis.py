@@ -423,3 +423,25 @@ def test_the_taxonomys_crop_check_is_landmark_in_crop_bit_for_bit(scene):
     assert analysis.landmark_lost(env, poses) == (not all(inside))
     assert analysis.landmark_lost(env, poses[np.array(inside)]) is False
     np.testing.assert_array_equal(env.pose, before)
+
+
+def test_the_oracle_labelled_q_gives_each_unit_its_views_most_frequent_action():
+    """Three units, each the direction of a group of views; the oracle acts 2, 3 and 0 on
+    the groups, once otherwise on the first: Q's labels and the partition's purity."""
+    config = NetworkConfig(n_features=4, n_inputs=320)
+    W = np.zeros((4, 320))
+    W[0, :10], W[1, 10:20], W[2, 20:30], W[3, 300:] = 1.0, 1.0, 1.0, 1.0
+    W /= np.linalg.norm(W, axis=1, keepdims=True)
+    Q = np.zeros((4, 4))
+    Q[1, 3] = 1.0  # unit 3 wins no view: it keeps its own best action (1)
+    net = Network.from_weights(config, W, Q)
+    views = np.zeros((7, 320))
+    for i, group in enumerate((0, 0, 0, 1, 1, 2, 2)):
+        views[i, 10 * group : 10 * group + 10] = 1.0 + i
+    actions = np.array([2, 2, 1, 3, 3, 0, 0])
+    labelled = analysis.OracleViews(views, actions)
+    assert list(analysis.winners(net, views)) == [0, 0, 0, 1, 1, 2, 2]
+    labelled_net = analysis.oracle_labelled(net, labelled)
+    assert list(labelled_net.Q.argmax(axis=0)) == [2, 3, 0, 1]
+    assert np.array_equal(labelled_net.W, net.W)
+    assert analysis.partition_purity(net, labelled) == pytest.approx(6 / 7)
