@@ -1212,3 +1212,46 @@ def fig_coping(
     axes[0].set_ylabel("greedy test success (%), mean over seeds")
     axes[0].legend(fontsize=7, loc="lower right")
     return fig
+
+
+def fig_decomposition(
+    worlds: list[str], columns: list[str], seeds: dict[tuple[str, str], np.ndarray], split: dict
+) -> Figure:
+    """Which part of the paper's learner breaks: per world (a panel), held-out success of
+    each column (a bar with its mean, each seed a dot), and two arrows beside the paper's
+    learner: from linear SARSA down to its own W with the best-labelled Q (what the
+    representation loses), and from there down to the Q it learned (what learning Q loses).
+
+    Args:
+      worlds: Panel titles.
+      columns: Bar labels, left to right; the first three are linear SARSA, the paper's W
+        with the oracle-labelled Q, and the paper's learner.
+      seeds: ``{(world, column): per-seed success (fractions)}``.
+      split: ``{world: (representation, learning Q)}`` in percentage points.
+    """
+    fig = _new_figure(4.6 * len(worlds), 4.6)
+    axes = np.atleast_1d(fig.subplots(1, len(worlds), sharey=True))
+    colors = ("C0", "C2", "C1", "0.55", "0.75")
+    for ax, world in zip(axes, worlds, strict=True):
+        means = []
+        for k, label in enumerate(columns):
+            values = 100 * np.asarray(seeds[world, label])
+            means.append(float(values.mean()))
+            ax.bar(k, means[-1], color=colors[k % len(colors)], alpha=0.85)
+            ax.plot(k + np.linspace(-0.25, 0.25, len(values)), values, ".", color="k", ms=3)
+            ax.text(k, means[-1] + 1.5, f"{means[-1]:.0f}%", ha="center", fontsize=8)
+        representation, learning_q = split[world]
+        for top, bottom, text, x in (
+            (means[0], means[1], f"representation\n{representation:.0f} pp", 0.5),
+            (means[1], means[2], f"learning Q\n{learning_q:.0f} pp", 1.5),
+        ):
+            ax.annotate(
+                "", (x, bottom), (x, top), arrowprops=dict(arrowstyle="->", color="k", lw=1.2)
+            )
+            ax.text(x + 0.06, (top + bottom) / 2, text, fontsize=8, va="center")
+        ax.set_title(world, fontsize=10)
+        ax.set_xticks(np.arange(len(columns)), columns, rotation=35, ha="right", fontsize=8)
+        ax.grid(axis="y", alpha=0.3, lw=0.5)
+        ax.set_ylim(0, 105)
+    axes[0].set_ylabel("held-out success (%), each seed a dot")
+    return fig

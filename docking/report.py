@@ -1107,3 +1107,179 @@ def untested_summary(results) -> str:
         "before the runs; relocation and coping in the verdict table below, continuous "
         "actions as the paper's future work). " + claims_summary(design.claims, decisions)
     )
+
+
+# ------------------------------------------------------------------------------------------
+# The third edition's addendum (notebooks 07 and 08): tuning to a bracketed optimum.
+# ------------------------------------------------------------------------------------------
+
+
+def bracketed_rows(results, ad) -> list[dict]:
+    """Per world and learner of the addendum (``ad``: :mod:`docking.designs.addendum`, or a
+    module like it): the settings
+    its search tried, the training runs it used, the tuned setting, each knob's value with
+    the values tried on its line through the tuned setting and where it lies (interior, at
+    a stated limit, or at the edge where the search stopped), and the tuned setting's mean
+    over its tuning seeds."""
+    rows = []
+    for world in ad.WORLDS:
+        for learner in ad.LEARNERS:
+            tried = ad.TUNING.evaluated(results, world, learner)
+            tuned = ad.TUNING.tuned(results, world, learner)
+            key = f"{world}/tune-{learner}/{ad.tag(tuned)}"
+            rows.append(
+                dict(
+                    world=world,
+                    learner=learner,
+                    settings=len(tried),
+                    extended=len(tried) - len(ad.round1_settings(learner)),
+                    runs=ad.TUNING.runs_used(results, world, learner),
+                    tuned=tuned,
+                    tuning_seeds=ad.TUNING.all_seeds(results, key),
+                    positions={k: ad.position(results, world, learner, k) for k in tuned},
+                )
+            )
+    return rows
+
+
+def bracketed_table(rows: list[dict]) -> str:
+    """The Markdown table of :func:`bracketed_rows`: each tuned value in bold among the
+    values tried on its line, and where it lies."""
+    found = []
+    for r in rows:
+        knobs = []
+        for knob, value in r["tuned"].items():
+            line, where = r["positions"][knob]
+            shown = " · ".join(f"**{v:g}**" if v == value else f"{v:g}" for v in line)
+            knobs.append(f"{knob}: {shown} ({where})")
+        found.append(
+            (
+                CONTEST_WORLDS.get(r["world"], r["world"]),
+                r["learner"],
+                f"{r['settings']} ({r['extended']} by extension)",
+                r["runs"],
+                "<br>".join(knobs),
+                f"{100 * r['tuning_seeds'].mean():.1f}% (n = {len(r['tuning_seeds'])})",
+            )
+        )
+    header = ("world", "learner", "settings tried", "training runs", "tuned value: tried")
+    return md_table((*header, "its tuning success"), found)
+
+
+def training_steps_rows(results, worlds, variants) -> list[tuple]:
+    """Per world and variant (``{variant: label}``): the environment steps of training per
+    run (mean, min-max over seeds; PPO: its budget)."""
+    rows = []
+    for world in worlds:
+        for variant, label in variants.items():
+            key = f"{world}/{variant}"
+            if key not in {c.key for c in results.cells}:
+                continue
+            runs = results.runs[key]
+            if hasattr(runs[0], "train"):
+                steps = np.array([int(np.sum(r.train.steps)) for r in runs])
+            else:  # a PPO run: the budget it trained for
+                steps = np.array([r.config.steps for r in runs])
+            rows.append((CONTEST_WORLDS.get(world, world), label, len(runs), steps))
+    return rows
+
+
+def training_steps_table(rows: list[tuple]) -> str:
+    """The Markdown table of :func:`training_steps_rows`."""
+    return md_table(
+        ("world", "learner", "runs", "training steps per run: mean (min-max)"),
+        [
+            (w, label, n, f"{steps.mean():,.0f} ({steps.min():,}-{steps.max():,})")
+            for w, label, n, steps in rows
+        ],
+    )
+
+
+@dataclasses.dataclass(frozen=True)
+class Decomposition:
+    """One world's gap between linear SARSA and the paper's tuned learner, split per seed
+    (paired by seed: the same held-out streams) into what the representation loses and
+    what learning Q on it loses.
+
+    Attributes:
+      world: The world's key.
+      linear, paper: Per-seed held-out success of the tuned learners.
+      labelled: Per seed, the paper's W with the oracle-labelled Q
+        (:func:`docking.analysis.oracle_labelled`).
+      purity: Per seed, the share of the oracle's views whose action is their unit's
+        majority action (:func:`docking.analysis.partition_purity`).
+      fixed, fixed_labelled: The same for SARSA on a fixed partition (W from views, then
+        frozen): its own success and its W with the oracle-labelled Q.
+    """
+
+    world: str
+    linear: np.ndarray
+    paper: np.ndarray
+    labelled: np.ndarray
+    purity: np.ndarray
+    fixed: np.ndarray
+    fixed_labelled: np.ndarray
+
+    @property
+    def gap(self) -> Interval:
+        """Linear SARSA minus the paper's tuned learner (paired Student-t)."""
+        from docking.stats import t_paired_ci
+
+        return t_paired_ci(self.linear, self.paper)
+
+    @property
+    def representation(self) -> Interval:
+        """Linear SARSA minus the oracle-labelled Q on the paper's W."""
+        from docking.stats import t_paired_ci
+
+        return t_paired_ci(self.linear, self.labelled)
+
+    @property
+    def learning_q(self) -> Interval:
+        """The oracle-labelled Q on the paper's W minus the Q the paper's rule learned."""
+        from docking.stats import t_paired_ci
+
+        return t_paired_ci(self.labelled, self.paper)
+
+
+def decomposition(results, labelled_views: dict) -> list[Decomposition]:
+    """Per world of ``labelled_views`` (``{world: analysis.OracleViews}``):
+    :class:`Decomposition` from the addendum's runs (the networks of ``paper-tuned`` and
+    ``views-frozen``, which its ledger table keeps)."""
+    found = []
+    for world in labelled_views:
+        views = labelled_views[world]
+        paper, fixed = results.runs[f"{world}/paper-tuned"], results.runs[f"{world}/views-frozen"]
+        found.append(
+            Decomposition(
+                world,
+                results.score(f"{world}/linear-tuned"),
+                results.score(f"{world}/paper-tuned"),
+                np.array([analysis.oracle_labelled_success(r, views) for r in paper]),
+                np.array([analysis.partition_purity(r.network, views) for r in paper]),
+                results.score(f"{world}/views-frozen"),
+                np.array([analysis.oracle_labelled_success(r, views) for r in fixed]),
+            )
+        )
+    return found
+
+
+def utc(text: str):
+    """An ISO 8601 time (a run's ``computed_utc``, a commit's ``%cI``) as an aware UTC
+    datetime."""
+    import datetime
+
+    return datetime.datetime.fromisoformat(text).astimezone(datetime.UTC)
+
+
+def computed_times(name: str, folder=None) -> list:
+    """When each run of the ledger's table ``name`` was computed (UTC datetimes, sorted),
+    from its manifest; a run stored before the time was recorded has none and is left out
+    (compare the count with the runs')."""
+    from docking import ledger
+
+    data = ledger.manifest(folder)
+    if data is None:
+        raise ValueError("no ledger: the times runs were computed are read from its manifest")
+    runs = data["runs"].values()
+    return sorted(utc(r["computed_utc"]) for r in runs if r["name"] == name and "computed_utc" in r)
