@@ -1255,3 +1255,67 @@ def fig_decomposition(
         ax.set_ylim(0, 105)
     axes[0].set_ylabel("held-out success (%), each seed a dot")
     return fig
+
+
+def fig_glance(
+    worlds: list[str],
+    learners: list[str],
+    seeds: dict[tuple[str, str], np.ndarray],
+    yardsticks: dict[tuple[str, str], float],
+) -> Figure:
+    """The answer at a glance: per world (a group on the x axis), each learner's held-out
+    success (its mean as a marker with the 95% Student-t interval over seeds, each seed a
+    faint dot) and each yardstick's mean as a line across the group (one style each, in the
+    legend).
+
+    Args:
+      worlds: The worlds, left to right (their labels).
+      learners: The learners, in the legend's order.
+      seeds: ``{(world, learner): per-seed success (fractions)}``; absent pairs are skipped.
+      yardsticks: ``{(world, yardstick): mean success (fraction)}``.
+    """
+    from docking.stats import t_mean_ci
+
+    fig = _new_figure(7.6, 4.3)
+    ax = fig.subplots()
+    width = 0.8 / max(len(learners), 1)
+    markers = "oDs^v"
+    styles = ("--", ":", "-.", (0, (1, 3)))
+    names = list(dict.fromkeys(y for _, y in yardsticks))
+    for i, world in enumerate(worlds):
+        for j, name in enumerate(names):
+            if (world, name) in yardsticks:
+                value = 100 * yardsticks[world, name]
+                ax.plot(
+                    [i - 0.45, i + 0.45],
+                    [value, value],
+                    color="0.35",
+                    lw=1.1,
+                    ls=styles[j % len(styles)],
+                    label=name if i == 0 else None,
+                )
+        for k, learner in enumerate(learners):
+            values = seeds.get((world, learner))
+            if values is None:
+                continue
+            x = i - 0.4 + width * (k + 0.5)
+            values = 100 * np.asarray(values)
+            ax.plot(np.full(len(values), x), values, ".", color=f"C{k}", alpha=0.3, ms=4)
+            ci = t_mean_ci(values / 100)
+            ax.errorbar(
+                x,
+                values.mean(),
+                yerr=[[values.mean() - 100 * ci.low], [100 * ci.high - values.mean()]],
+                fmt=markers[k % len(markers)],
+                color=f"C{k}",
+                ms=7,
+                capsize=3,
+                label=learner if i == 0 else None,
+            )
+    ax.set_xticks(range(len(worlds)), worlds, fontsize=9)
+    ax.set_xlim(-0.5, len(worlds) - 0.5)
+    ax.set_ylim(0, 104)
+    ax.set_ylabel("held-out success (%), each seed a dot")
+    ax.grid(axis="y", alpha=0.3, lw=0.5)
+    ax.legend(loc="upper center", bbox_to_anchor=(0.5, -0.16), ncol=3, fontsize=8, frameon=False)
+    return fig
