@@ -1264,6 +1264,16 @@ def decomposition(results, labelled_views: dict) -> list[Decomposition]:
     return found
 
 
+#: ``{design name: (the commit that added its rules, that commit's time)}``: what its runs'
+#: computed times are compared with (tests/test_addendum.py checks each against the history).
+RULES_COMMITS = {
+    "third-edition-addendum": (
+        "d1c52e9bf46ba23103503e7970b191404d74bc41",
+        "2026-11-26T21:41:44+00:00",
+    ),
+}
+
+
 def utc(text: str):
     """An ISO 8601 time (a run's ``computed_utc``, a commit's ``%cI``) as an aware UTC
     datetime."""
@@ -1283,3 +1293,30 @@ def computed_times(name: str, folder=None) -> list:
         raise ValueError("no ledger: the times runs were computed are read from its manifest")
     runs = data["runs"].values()
     return sorted(utc(r["computed_utc"]) for r in runs if r["name"] == name and "computed_utc" in r)
+
+
+def addendum_summary(added, contest, ad) -> str:
+    """The README's sentences on the third edition's addendum (``added``: its results;
+    ``contest``: the third edition's; ``ad``: :mod:`docking.designs.addendum`): per world,
+    the tuned learners' held-out success after the bracketed search, the gap and the rule's
+    verdict, beside the contest's gap."""
+    from docking.stats import t_mean_ci
+
+    gaps = {g.world: g for g in contest_gaps(added, ad.WORLDS, ad.GAP_CLOSED)}
+    before = {g.world: g for g in contest_gaps(contest, ad.WORLDS, ad.GAP_CLOSED)}
+    parts = []
+    for world in ad.WORLDS:
+        paper = t_mean_ci(added.score(f"{world}/paper-tuned"))
+        linear = t_mean_ci(added.score(f"{world}/linear-tuned"))
+        parts.append(
+            f"in {CONTEST_NAMES[world]} the paper's learner docks {_pct(paper.estimate)} "
+            f"(contest: {_pct(float(np.mean(contest.score(f'{world}/paper-tuned'))))}), linear "
+            f"SARSA {_pct(linear.estimate)}; the gap is {gaps[world].interval.format(unit=' pp')}"
+            f" (contest: {before[world].interval.estimate * 100:.1f} pp), "
+            f"**{gaps[world].verdict}**"
+        )
+    return (
+        "**Tuned to each optimum** (the addendum, notebook 07: both SARSA learners tuned on the "
+        "same knobs of Eq. 4-8 until every chosen value was bracketed, "
+        f"{ad.BUDGET} training runs each per world, fresh seeds): " + "; ".join(parts) + "."
+    )
