@@ -25,7 +25,10 @@ networks or held-out streams); :func:`docking.stats.coverage` checks the interva
 coverage. A family of claims is
 judged together by :func:`judge_family`: a p-value per comparison, Holm's adjustment over
 the family, and "at the bound" where a deciding interval ends within 1 pp of the rule's
-bound.
+bound. A comparison with no spread over seeds (a Student-t interval of no width) is decided
+by the rules' convention (p = 0 where its estimate lies off the bound, the side it lies on),
+and its tables say what it is (:func:`spread_words`: "identical in every trial", ...)
+instead of a p-value.
 """
 
 from __future__ import annotations
@@ -39,6 +42,7 @@ from docking.stats import (
     Interval,
     difference_ci,
     holm,
+    rate_ci,
     removed_share_ci,
     t_difference_ci,
     t_interaction_ci,
@@ -60,8 +64,11 @@ __all__ = [
     "ShareAbove",
     "design_verdicts",
     "judge_family",
+    "one_family",
     "overall",
     "p_text",
+    "rate_interval",
+    "spread_words",
     "verdicts_table",
 ]
 
@@ -296,6 +303,13 @@ def success(results, key: str) -> np.ndarray:
     return results.score(key)
 
 
+def rate_interval(results, key: str) -> Interval:
+    """The measured success of cell ``key`` over its seeds, pooled over their trials, with
+    the 95% interval for a rate (:func:`docking.stats.rate_ci`: in [0, 1], and of some width
+    when every trial succeeds): what tables show of a success rate."""
+    return rate_ci(results.score(key), [len(log.success) for log in results.logs[key]])
+
+
 @dataclasses.dataclass(frozen=True)
 class Claim:
     """A claim of the paper and how a design tests it.
@@ -441,6 +455,26 @@ def _position(claims, row) -> tuple[int, int]:
     return (list(claims).index(claim), list(claim.cells).index(world))
 
 
+def one_family(claims, decisions: list[Decision], alpha: float) -> list[Decision]:
+    """``decisions`` (:func:`judge_family`'s, within each claim or not) judged again as one
+    family of every comparison, from their own p-values and intervals: what
+    ``judge_family(claims, results, alpha)`` decides, without the results."""
+    rules = {c.key: c.rule for c in claims}
+    judged = [d for d in decisions if d.verdict != NOT_JUDGED]
+    adjusted = dict(zip(map(id, judged), holm([d.p for d in judged]), strict=True))
+    found = []
+    for d in decisions:
+        if id(d) not in adjusted:
+            found.append(d)
+            continue
+        rule, p_adj = rules[d.claim], float(adjusted[id(d)])
+        verdict = rule.p_side(d.interval)[1] if p_adj < alpha else NOT_SUPPORTED
+        if verdict != NOT_SUPPORTED and rule.near_bound(d.interval, verdict):
+            verdict = AT_BOUND
+        found.append(dataclasses.replace(d, p_adjusted=p_adj, verdict=verdict))
+    return found
+
+
 def family_verdicts(claims, decisions: list[Decision]) -> dict[str, tuple[str, dict[str, str]]]:
     """Per judged claim: the overall verdict and the verdict per world, from the family's
     decisions (in a world: supported if every comparison is, contradicted if any is, at the
@@ -515,6 +549,51 @@ def p_text(p: float, alpha: float) -> str:
     return text
 
 
+def spread_words(ci: Interval, identical: str | None = None) -> str | None:
+    """What a table shows instead of the p-value of a Student-t interval with no spread over
+    seeds (``se == 0``: its p-value, 0 or 1, is the rules' convention, which decides the
+    comparison but is no evidence; "p 0" would read as certainty): "identical in every
+    trial" or "identical in every seed" where the compared arms are (``identical``:
+    ``"trial"`` or ``"seed"``), else "the same in every seed" (every seed's statistic
+    equal). None for an interval with a spread, or not a Student-t interval."""
+    if ci.se is None or ci.se > 0:
+        return None
+    if identical is not None:
+        return f"identical in every {identical}"
+    return "the same in every seed"
+
+
+def _identical(claim: Claim, results, entry) -> str | None:
+    """Whether the two arms of comparison ``entry`` are identical: ``"trial"`` (success,
+    each seed's trial outcomes equal, where the results hold the trials), ``"seed"`` (the
+    measure's per-seed values equal), or None (they differ, or more than two arms)."""
+    pair = pair_of(results, entry)
+    if len(pair) != 2:
+        return None
+    arms = [np.asarray(claim.measure(results, k)) for k in pair]
+    if not np.array_equal(*arms):
+        return None
+    logs = getattr(results, "logs", None)
+    if claim.measure is not success or logs is None or not all(k in logs for k in pair):
+        return "seed"
+    a, b = (logs[k] for k in pair)
+    trials = len(a) == len(b) and all(
+        np.array_equal(x.success, y.success) for x, y in zip(a, b, strict=True)
+    )
+    return "trial" if trials else "seed"
+
+
+def _evidence(claim: Claim, results, entry, ci: Interval, p, alpha: float) -> str:
+    """A judged comparison's p-value as its table shows it (", p 0.0012"), or what it is
+    where it has no spread over seeds (:func:`spread_words`); nothing for a finding's."""
+    if p is None or not np.isfinite(p):
+        return ""
+    words = (
+        None if ci.se is None or ci.se > 0 else spread_words(ci, _identical(claim, results, entry))
+    )
+    return f", {words}" if words else f", p {p_text(p, alpha)}"
+
+
 def _header(alpha: float) -> list[str]:
     return [
         f"| the paper's words (section) | compared | per comparison: 95% interval, Holm p -> "
@@ -526,17 +605,17 @@ def _header(alpha: float) -> list[str]:
 def verdicts_table(claims, results, per_claim, family, alpha: float) -> str:
     """The verdict table of claims judged both ways: per claim, the paper's words and
     section, what is compared, each comparison's paired interval (95%, unadjusted) with its
-    Holm-adjusted p-value and its decision under Holm within the claim (``per_claim``, the
-    decision rule), and the verdict under one family of every comparison (``family``), at
-    ``alpha``; a finding's intervals, not judged."""
+    Holm-adjusted p-value (or, where it has no spread over seeds, :func:`spread_words`) and
+    its decision under Holm within the claim (``per_claim``, the decision rule), and the
+    verdict under one family of every comparison (``family``), at ``alpha``; a finding's
+    intervals, not judged."""
     within, overall_ = family_verdicts(claims, per_claim), family_verdicts(claims, family)
     lines = _header(alpha)
     for claim, rows in claim_rows(claims, results, per_claim):
+        entries = [e for keys in claim.cells.values() for e in keys]  # claim_rows' order
         evidence = "<br>".join(
-            f"{w}: {claim.format(ci)}"
-            + ("" if p is None or not np.isfinite(p) else f", p {p_text(p, alpha)}")
-            + f" -> {v}"
-            for w, ci, v, p in rows
+            f"{w}: {claim.format(ci)}{_evidence(claim, results, e, ci, p, alpha)} -> {v}"
+            for (w, ci, v, p), e in zip(rows, entries, strict=True)
         )
         verdicts = (
             (within[claim.key][0], overall_[claim.key][0])
@@ -572,5 +651,9 @@ def design_verdicts(*judged) -> str:
         "Decision rule, committed before the runs: Holm's adjustment within each claim over "
         f"its comparisons, at {alpha:g}, on paired Student-t intervals over seeds (p: the "
         "Holm-adjusted p-value); the last column judges the same comparisons as one family "
-        "of their design's comparisons.\n\n" + "\n".join(_header(alpha) + rows)
+        "of their design's comparisons. A comparison with no spread over seeds shows what it "
+        "is (identical in every trial, identical in every seed, the same in every seed) "
+        "instead of a p-value; the committed rule decides it as before, by its convention for "
+        "no spread (p = 0 where the estimate lies off the bound, on the side it lies on).\n\n"
+        + "\n".join(_header(alpha) + rows)
     )

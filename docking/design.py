@@ -558,16 +558,21 @@ def run_design(
 
 
 def summary(results: Results) -> str:
-    """What a design's run shows, as Markdown: every cell's measured success (mean, 95%
-    interval over seeds), the design's own report, and its claims' verdict table
+    """What a design's run shows, as Markdown: every cell's measured success (over its
+    seeds, with the 95% interval for a rate, :func:`docking.claims.rate_interval`), the
+    design's own report, and its claims' verdict table
     (:func:`docking.claims.design_verdicts`)."""
-    from docking.stats import mean_ci
+    from docking.claims import rate_interval
 
     design = results.design
     lines = [f"| cell | {design.measure} success (95% interval) | what it is |", "|---|---|---|"]
     for c in results.cells:
         score = results.score(c.key)  # one seed (a tuning round's first): no interval
-        shown = mean_ci(score).format(unit="%") if len(score) > 1 else f"{100 * score[0]:.1f}%"
+        shown = (
+            rate_interval(results, c.key).format(unit="%")
+            if len(score) > 1
+            else f"{100 * score[0]:.1f}%"
+        )
         lines.append(f"| {c.key} | {shown} (seeds: {len(score)}) | {c.label} |")
     parts = ["\n".join(lines)]
     if design.report is not None:

@@ -23,7 +23,7 @@ from matplotlib.figure import Figure
 from docking import analysis, figures
 from docking.experiments import ExperimentConfig, ExperimentResult, initial_network
 from docking.presets import HEADLINE_SEED, SEEDS
-from docking.stats import Interval, difference_ci, mean_ci, removed_share_ci
+from docking.stats import Interval, difference_ci, mean_ci, rate_ci, removed_share_ci
 from docking.world import DockingEnv
 
 #: The paper's figures (Sec. III).
@@ -421,7 +421,7 @@ def summary_text(
     if claims is not None:
         text.append(
             "**The paper's claims** (the third edition, notebook 07: fresh seeds, paired "
-            f"intervals, Holm within each claim; the verdict table below). {claims}"
+            f"intervals; the verdict table below). {claims}"
         )
     return "\n\n".join(text)
 
@@ -451,16 +451,18 @@ CONTEST_WORLDS = {
 
 def contest_summary(contest) -> str:
     """The README's sentences on the third edition's contest (``contest``: the results of
-    its contest part): per world, the tuned learners' and the oracle's held-out success, and
-    whether tuning closes the gap between linear SARSA and the paper's learner (the
-    edition's rule, :func:`contest_gaps` with a 5 pp bound)."""
-    from docking.stats import t_mean_ci
+    its contest part): per world, the tuned learners' and the oracle's held-out success (the
+    tuned paper's learner's with its interval for a rate,
+    :func:`docking.claims.rate_interval`), and whether tuning closes the gap between linear
+    SARSA and the paper's learner (the edition's rule, :func:`contest_gaps` with a 5 pp
+    bound)."""
+    from docking.claims import rate_interval
 
     gaps = {g.world: g for g in contest_gaps(contest, CONTEST_WORLDS, 0.05)}
     parts = []
     for world, name in CONTEST_WORLDS.items():
         found = {
-            v: t_mean_ci(contest.score(f"{world}/{v}"))
+            v: rate_interval(contest, f"{world}/{v}")
             for v in ("paper-tuned", "paper", "linear-tuned", "ppo-tuned")
         }
         oracle = float(np.mean(contest.score(f"{world}/oracle")))
@@ -588,7 +590,8 @@ class Comparison:
     Attributes:
       task, noise: The cell pair's task and heading noise (deg).
       four_key, six_key: The two cells' keys.
-      four, six: Held-out success with four and with six actions (95% intervals over seeds).
+      four, six: Held-out success with four and with six actions (95% intervals for a rate
+        over seeds and their trials, :func:`docking.stats.rate_ci`).
       gain: Six minus four actions (percentage points as fractions, 95% interval).
       removed: The share of the four-action learner's failures that are gone with six
         actions, ``1 - failures6 / failures4`` (95% interval, seeds of each resampled
@@ -617,7 +620,10 @@ class Comparison:
 def turning_comparisons(results) -> list[Comparison]:
     """One :class:`Comparison` per six-action core cell of an Experiment 3 design (coordinate
     ``actions == "turning"``) against its baseline, the four-action cell of the same task
-    and noise, in the design's order."""
+    and noise, in the design's order; each arm's success with the interval for a rate
+    (:func:`docking.claims.rate_interval`)."""
+    from docking.claims import rate_interval
+
     found = []
     for c in results.cells:
         if c.coords.get("actions") != "turning" or not c.core:
@@ -630,8 +636,8 @@ def turning_comparisons(results) -> list[Comparison]:
             Comparison(
                 c.coords["task"],
                 c.coords["noise_deg"],
-                mean_ci(four),
-                mean_ci(six),
+                rate_interval(results, c.baseline),
+                rate_interval(results, c.key),
                 difference_ci(six, four),
                 removed,
                 c.baseline,
@@ -755,10 +761,12 @@ def analyse(
     baseline: str,
     rewarded: dict[str, np.ndarray] | None = None,
     seed: int = 0,
+    trials: dict[str, np.ndarray] | None = None,
 ) -> list[Row]:
     """The table's rows (cells ``rows``) from per-seed test success (and training trials
     rewarded) per cell key; differences against the row ``baseline``, which ``rows`` must
-    hold."""
+    hold. With ``trials`` (per cell key, each seed's test trials), a row's success gets the
+    interval for a rate (:func:`docking.stats.rate_ci`), else the bootstrap's."""
     if baseline not in {v.key for v in rows}:
         raise ValueError(f"the rows must include the baseline {baseline!r}")
     base = np.asarray(success[baseline], dtype=float)
@@ -770,7 +778,7 @@ def analyse(
             Row(
                 v.key,
                 v.label,
-                mean_ci(x, seed=seed),
+                mean_ci(x, seed=seed) if trials is None else rate_ci(x, trials[v.key]),
                 None if is_base else difference_ci(x, base, seed=seed),
                 int(np.sum(x == 1.0)),
                 None if rewarded is None else mean_ci(rewarded[v.key], seed=seed),
@@ -813,13 +821,15 @@ def calibration_table(rows: list[Row], baseline: str, seeds_at_100: bool = False
 
 def calibration_rows(results, baseline: str, seed: int = 0) -> list[Row]:
     """The rows (:func:`analyse`) of a calibration design's results against its row
-    ``baseline``: test success and the share of training trials rewarded, per seed."""
+    ``baseline``: test success (with the interval for a rate) and the share of training
+    trials rewarded, per seed."""
     return analyse(
         results.cells,
         {c.key: results.score(c.key) for c in results.cells},
         baseline,
         {c.key: analysis.rewarded_share(results.runs[c.key]) for c in results.cells},
         seed=seed,
+        trials={c.key: [len(log.success) for log in results.logs[c.key]] for c in results.cells},
     )
 
 
@@ -852,14 +862,15 @@ CONTEST_COLUMNS = (
 def contest_table(results, worlds: dict[str, str]) -> str:
     """How hard is each world, tuned against tuned (Markdown): a row per learner and
     yardstick of :data:`CONTEST_COLUMNS`, a column per world of ``worlds`` (``{key: its
-    name}``): held-out success, mean and 95% Student-t interval over the row's seeds."""
-    from docking.stats import t_mean_ci
+    name}``): held-out success over the row's seeds with its 95% interval for a rate
+    (:func:`docking.claims.rate_interval`: in [0, 1], never of zero width)."""
+    from docking.claims import rate_interval
 
     run, rows = {c.key for c in results.cells}, []
     for variant, label in CONTEST_COLUMNS:
         keys = [f"{w}/{variant}" for w in worlds]
         counts = {len(results.score(k)) for k in keys if k in run}
-        values = [t_mean_ci(results.score(k)).format(unit="%") if k in run else "-" for k in keys]
+        values = [rate_interval(results, k).format(unit="%") if k in run else "-" for k in keys]
         rows.append((label, ", ".join(str(n) for n in sorted(counts)), *values))
     return md_table(("", "seeds", *worlds.values()), rows)
 
@@ -999,13 +1010,19 @@ def path_steps(results, steps, bound: float, alpha: float) -> list[PathStep]:
 
 
 def path_table(steps: list[PathStep], worlds: dict[str, str]) -> str:
-    """The Markdown table of :func:`path_steps` (``worlds``: what each world changes)."""
-    from docking.claims import p_text
+    """The Markdown table of :func:`path_steps` (``worlds``: what each world changes); a
+    drop that is the same in every seed has no p-value to show (its decision is the
+    convention's, :func:`path_steps`) and says so."""
+    from docking.claims import p_text, spread_words
 
     header = ("step", "what changes", "drop of the paper's learner", "Holm p (drop > bound)")
     rows = [
         (f"{s.before} → {s.after}", worlds[s.after], s.drop.format(unit=" pp"))
-        + (p_text(s.p_adjusted, s.alpha), s.decision)
+        + (
+            spread_words(s.drop, None if any(s.drop.values) else "seed")
+            or p_text(s.p_adjusted, s.alpha),
+            s.decision,
+        )
         for s in steps
     ]
     return md_table((*header, "decision"), rows)
@@ -1050,28 +1067,24 @@ def verdict_panels(claims, results, decisions) -> list[dict]:
     return panels
 
 
-def claims_summary(claims, decisions) -> str:
-    """One sentence on a judged design's claims (``decisions``: Holm within each claim,
-    :func:`docking.claims.judge_family`): how many hold in every comparison judged, in some
-    only, are contradicted somewhere, are not supported, or are findings; each named by its
-    key (the verdict table's first column)."""
-    from docking.claims import AT_BOUND, CONTRADICTED, NOT_JUDGED, SUPPORTED, family_verdicts
+def claims_summary(claims, decisions, alpha: float = 0.05) -> str:
+    """Two sentences on a judged design's claims, one per decision rule: how many hold in
+    every comparison judged, in some only, are contradicted somewhere, are not supported,
+    or are findings, each named by its key (the verdict table's first column), under the
+    committed rule (``decisions``: Holm within each claim, :func:`docking.claims.judge_family`)
+    and again with every comparison in one family (:func:`docking.claims.one_family`, at
+    ``alpha``: the verdict table's last column). The two counts differ where Holm's
+    adjustment over more comparisons undecides a comparison; the committed rule's comes
+    first, as the one decided before the runs."""
+    from docking.claims import (
+        AT_BOUND,
+        CONTRADICTED,
+        NOT_JUDGED,
+        SUPPORTED,
+        family_verdicts,
+        one_family,
+    )
 
-    groups: dict[str, list[str]] = {}
-    for key, (_, per_world) in family_verdicts(claims, decisions).items():
-        found = {v for v in per_world.values() if v != NOT_JUDGED}
-        if CONTRADICTED in found:
-            group = "contradicted in at least one world"
-        elif found == {SUPPORTED}:
-            group = "supported wherever judged"
-        elif SUPPORTED in found:
-            group = "supported in some worlds only"
-        elif AT_BOUND in found:
-            group = "decided, but at the bound"
-        else:
-            group = "not supported in any world"
-        groups.setdefault(group, []).append(key)
-    findings = [c.key for c in claims if not c.judged]
     order = (
         "supported wherever judged",
         "supported in some worlds only",
@@ -1079,11 +1092,36 @@ def claims_summary(claims, decisions) -> str:
         "not supported in any world",
         "contradicted in at least one world",
     )
-    parts = [f"{len(groups[g])} {g} ({', '.join(groups[g])})" for g in order if g in groups]
-    judged = sum(len(v) for v in groups.values())
-    return (
-        f"Of the paper's {judged} claims judged: "
-        + "; ".join(parts)
+
+    def grouped(found_decisions) -> dict[str, list[str]]:
+        groups: dict[str, list[str]] = {}
+        for key, (_, per_world) in family_verdicts(claims, found_decisions).items():
+            found = {v for v in per_world.values() if v != NOT_JUDGED}
+            if CONTRADICTED in found:
+                group = "contradicted in at least one world"
+            elif found == {SUPPORTED}:
+                group = "supported wherever judged"
+            elif SUPPORTED in found:
+                group = "supported in some worlds only"
+            elif AT_BOUND in found:
+                group = "decided, but at the bound"
+            else:
+                group = "not supported in any world"
+            groups.setdefault(group, []).append(key)
+        return groups
+
+    def parts(groups) -> str:
+        return "; ".join(
+            f"{len(groups[g])} {g} ({', '.join(groups[g])})" for g in order if g in groups
+        )
+
+    findings = [c.key for c in claims if not c.judged]
+    within = grouped(decisions)
+    family = grouped(one_family(claims, decisions, alpha))
+    comparisons = sum(d.verdict != NOT_JUDGED for d in decisions)
+    first = (
+        f"Of the paper's {sum(len(v) for v in within.values())} claims judged, by the "
+        f"decision rule committed before the runs (Holm within each claim): {parts(within)}"
         + (
             f"; and {len(findings)} finding{'s' if len(findings) > 1 else ''}, measured, not "
             f"judged ({', '.join(findings)})"
@@ -1092,12 +1130,21 @@ def claims_summary(claims, decisions) -> str:
         )
         + "."
     )
+    if family == within:
+        return (
+            f"{first} Judged as one family of all {comparisons} comparisons instead, the "
+            "counts are the same."
+        )
+    return (
+        f"{first} Judged as one family of all {comparisons} comparisons instead (the verdict "
+        f"table's last column): {parts(family)}."
+    )
 
 
 def untested_summary(results) -> str:
     """The README's paragraph on the claims nobody had tested (notebook 08): the judged part
     of their design (``untested.part("judged")``'s ``results``), in :func:`claims_summary`'s
-    sentence."""
+    sentences, under both decision rules."""
     from docking.claims import judge_family
 
     design = results.design
@@ -1105,7 +1152,8 @@ def untested_summary(results) -> str:
     return (
         "**The claims nobody had tested** (notebook 08: fresh seeds, its own rules committed "
         "before the runs; relocation and coping in the verdict table below, continuous "
-        "actions as the paper's future work). " + claims_summary(design.claims, decisions)
+        "actions as the paper's future work). "
+        + claims_summary(design.claims, decisions, design.alpha)
     )
 
 

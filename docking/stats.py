@@ -6,6 +6,11 @@ bootstrap interval; :func:`difference_ci` the difference of two groups' means (a
 minus the paper's configuration) with a bootstrap that resamples each group's seeds
 independently (stratified by group). Both are seeded, so the same numbers give the same
 interval.
+
+A success rate (a proportion: each seed's successes in its held-out trials) gets
+:func:`rate_ci`, an interval made for proportions that stays in [0, 1] and has a width when
+every seed succeeds in every trial (the Student-t and bootstrap intervals of such seeds are
+the point ``[1, 1]``); :func:`rate_coverage` checks its coverage.
 """
 
 from __future__ import annotations
@@ -21,6 +26,8 @@ __all__ = [
     "difference_ci",
     "holm",
     "mean_ci",
+    "rate_ci",
+    "rate_coverage",
     "removed_share_ci",
     "t_difference_ci",
     "t_interaction_ci",
@@ -69,12 +76,16 @@ class Interval:
         return self.low > 0 or self.high < 0
 
     def format(self, scale: float = 100.0, unit: str = "", digits: int = 1) -> str:
-        """``"95.4 [93.5, 97.7]"`` (values times ``scale``)."""
-        f = f"{{:.{digits}f}}"
-        return (
-            f"{f.format(scale * self.estimate)}{unit} "
-            f"[{f.format(scale * self.low)}, {f.format(scale * self.high)}]"
-        )
+        """``"95.4 [93.5, 97.7]"`` (values times ``scale``), with up to three more
+        decimals where ``digits`` would print the ends of an interval of some width as one
+        number (``"99.99 [99.96, 100.00]"``, not ``"100.0 [100.0, 100.0]"``); an interval
+        of no width prints as one."""
+        for shown in range(digits, digits + 4):
+            f = f"{{:.{shown}f}}"
+            low, high = f.format(scale * self.low), f.format(scale * self.high)
+            if low != high or self.low == self.high:
+                break
+        return f"{f.format(scale * self.estimate)}{unit} [{low}, {high}]"
 
 
 def _values(values, name: str) -> np.ndarray:
@@ -164,7 +175,9 @@ def _t_interval(estimate: float, se: float, df: float, confidence: float, values
 
 
 def t_mean_ci(values, confidence: float = 0.95) -> Interval:
-    """The mean of ``values`` (one per seed) with a Student-t interval."""
+    """The mean of ``values`` (one per seed) with a Student-t interval (for a success rate,
+    :func:`rate_ci`: this interval leaves [0, 1] near its ends and has no width when every
+    seed has the same rate)."""
     x = _values(values, "t_mean_ci")
     se = float(x.std(ddof=1) / np.sqrt(len(x)))
     return _t_interval(float(x.mean()), se, len(x) - 1, confidence, tuple(x.tolist()))
@@ -411,3 +424,118 @@ def rule_coverage(
             ci = t_paired_interaction_ci(*measured, confidence=confidence)
         hits += ci.low <= truth <= ci.high
     return hits / repeats
+
+
+# ------------------------------------------------------------------------------------------
+# Success rates: an interval made for proportions over seeds (issue 42).
+# ------------------------------------------------------------------------------------------
+
+
+def _rate_ci(successes: np.ndarray, trials: np.ndarray, confidence: float):
+    """:func:`rate_ci`'s estimate and ends for ``successes`` of shape ``(..., seeds)`` (the
+    leading axes: independent studies, as :func:`rate_coverage` draws them) and ``trials``
+    of shape ``(seeds,)``."""
+    k, n = np.asarray(successes, dtype=np.float64), np.asarray(trials, dtype=np.float64)
+    m, total = k.shape[-1], n.sum()
+    p = k.sum(axis=-1) / total
+    # the ratio estimator's variance over seeds (clusters): s^2 / m for equal trials
+    v = m / (m - 1) * np.sum((k - p[..., None] * n) ** 2, axis=-1) / total**2
+    z = float(stats.norm.ppf(0.5 + confidence / 2))
+    t = float(stats.t.ppf(0.5 + confidence / 2, m - 1))
+    with np.errstate(divide="ignore", invalid="ignore"):
+        effective = np.where(v > 0, p * (1 - p) / v * (z / t) ** 2, total)
+    effective = np.minimum(effective, total)  # design effect at least 1: no fewer trials
+    shrink = 1 + z**2 / effective
+    centre = (p + z**2 / (2 * effective)) / shrink
+    half = z * np.sqrt(p * (1 - p) / effective + z**2 / (4 * effective**2)) / shrink
+    low = np.where(p == 0, 0.0, np.clip(centre - half, 0.0, 1.0))
+    high = np.where(p == 1, 1.0, np.clip(centre + half, 0.0, 1.0))
+    return p, low, high
+
+
+def rate_ci(rates, trials, confidence: float = 0.95) -> Interval:
+    """A success rate over seeds: ``rates`` (one per seed, each its successes in ``trials``
+    trials; ``trials`` one number or one per seed) pooled over the seeds' trials (for equal
+    trials, the mean of the rates), with an interval made for proportions.
+
+    The interval is Wilson's score interval on the pooled trials, with the trials replaced by
+    their effective number under the seeds' clustering (the design effect; Kish 1965), and
+    that number reduced by ``(z / t_{m-1})^2`` for a variance estimated from ``m`` seeds
+    (Korn & Graubard 1998, the NCHS standard for proportions from clustered samples): with
+    ``v`` the variance of the pooled rate over seeds (the ratio estimator's, ``s^2 / m`` for
+    equal trials), the effective trials are ``p (1 - p) / v * (z / t)^2``, at most the pooled
+    trials (a design effect below 1, seeds that differ less than binomially, and every rate 0
+    or 1 count as 1).
+
+    Why this interval: where the seeds differ more than their trials' binomial noise (the
+    middle of [0, 1]), it is the Student-t interval over seeds in width, so it respects the
+    seed-to-seed spread the verdict rules use; near 0 or 1, Wilson's interval is asymmetric,
+    stays in [0, 1], and has a width even when every seed succeeds in every trial (then it is
+    Wilson's interval of the pooled trials: 10 seeds at 500/500 give [99.92%, 100%]), where
+    the t interval leaves [0, 1] or is a point and a bootstrap over seeds and trials is a
+    point. Clopper-Pearson's interval on the same effective trials covers about 99% near 1
+    with five seeds; Wilson's stays within about 1.5 points of 95% (:func:`rate_coverage`,
+    20,000 synthetic studies each, 500 trials per seed, seeded by the seeds' number; a test
+    checks it), where the Student-t interval over seeds covers as little as 88.5%:
+
+    | seeds' true rates | rate_ci, 5 / 10 / 20 seeds | t_mean_ci, 5 / 10 / 20 seeds |
+    |---|---|---|
+    | near one (uniform on 0.99-1) | 96.5 / 95.2 / 95.2 | 93.3 / 93.3 / 94.2 |
+    | near one, skewed | 95.2 / 93.6 / 93.8 | 88.5 / 89.8 / 91.9 |
+    | mid-range (mean 0.6) | 95.1 / 94.9 / 95.3 | 94.8 / 94.8 / 95.2 |
+    | bimodal | 93.9 / 96.4 / 95.9 | 93.8 / 94.3 / 95.0 |
+
+    ``values`` of the result are the rates; it carries no standard error: it is reported,
+    not tested (the rules' differences keep their paired Student-t intervals)."""
+    r = _values(rates, "rate_ci")
+    n = np.broadcast_to(np.asarray(trials, dtype=np.float64), r.shape)
+    if not np.all((r >= 0) & (r <= 1)) or not np.all(n >= 1):
+        raise ValueError(f"rate_ci needs rates in [0, 1] and trials >= 1, got {r}, {n}")
+    k = r * n
+    if not np.allclose(k, np.round(k), rtol=0, atol=1e-6):
+        raise ValueError(f"rate_ci: rates {r} are not whole successes of {n} trials")
+    p, low, high = _rate_ci(np.round(k), n, confidence)
+    return Interval(float(p), float(low), float(high), tuple(r.tolist()), confidence)
+
+
+#: The synthetic studies :func:`rate_coverage` checks :func:`rate_ci` on: seeds' true
+#: success rates uniform on [0.99, 1] ("near one"), from a Beta distribution of mean 0.995
+#: and standard deviation 0.005 ("near one, skewed": some seeds near 0.98), of mean 0.6 and
+#: standard deviation 0.1 ("mid-range"), and the mixture of :func:`rule_coverage`
+#: ("bimodal": seeds that learn and seeds that do not).
+RATE_SCENARIOS = ("near one", "near one, skewed", "mid-range", "bimodal")
+
+
+def rate_coverage(
+    scenario: str,
+    n: int,
+    trials: int = 500,
+    repeats: int = 2000,
+    seed: int = 0,
+    confidence: float = 0.95,
+) -> float:
+    """How often :func:`rate_ci` covers the true mean success of the seeds' population, on
+    ``repeats`` synthetic studies of ``n`` seeds in ``scenario`` (:data:`RATE_SCENARIOS`),
+    each seed's true rate drawn from the scenario and measured on ``trials`` held-out trials
+    (binomial). The truth is the mean of 400,000 synthetic seeds' rates."""
+    if scenario not in RATE_SCENARIOS:
+        raise ValueError(f"rate_coverage: scenario must be one of {RATE_SCENARIOS}")
+    rng = np.random.default_rng(seed)
+
+    def beta(m, s, size):
+        k = m * (1 - m) / s**2 - 1
+        return rng.beta(m * k, (1 - m) * k, size=size)
+
+    def rates(size):
+        if scenario == "near one":
+            return rng.uniform(0.99, 1.0, size)
+        if scenario == "near one, skewed":
+            return beta(0.995, 0.005, size)
+        if scenario == "mid-range":
+            return beta(0.6, 0.1, size)
+        return np.where(rng.random(size) < 0.5, beta(0.25, 0.08, size), beta(0.9, 0.04, size))
+
+    truth = float(rates(400_000).mean())
+    successes = rng.binomial(trials, rates((repeats, n)))
+    _, low, high = _rate_ci(successes, np.full(n, trials), confidence)
+    return float(np.mean((low <= truth) & (truth <= high)))

@@ -133,6 +133,19 @@ def test_markdown_table_from_synthetic_results():
     assert plain[0].count("|") == 5 and "seeds at 100" not in plain[0]
 
 
+def test_with_its_trials_a_rows_success_gets_the_interval_for_a_rate():
+    """Given each seed's test trials (as calibration_rows gives them), a row's success has
+    the interval for a rate: seeds at 100% are not the point [1, 1] the bootstrap gives."""
+    from docking.stats import rate_ci
+
+    success = {"worse": [0.5, 1.0, 0.75], BASELINE: [1.0, 1.0, 1.0]}
+    trials = {"worse": [200] * 3, BASELINE: [200] * 3}
+    worse, this = analyse(_rows(), success, BASELINE, trials=trials)
+    assert worse.success == rate_ci(success["worse"], 200)
+    assert this.success.low < this.success.high == 1.0 == this.success.estimate
+    assert mean_ci(success[BASELINE]).low == 1.0  # without the trials: a point
+
+
 def test_analyse_needs_the_baseline():
     with pytest.raises(ValueError, match="baseline"):
         analyse(_rows()[:1], {"worse": [0.5, 1.0]}, BASELINE)
@@ -166,13 +179,19 @@ def test_run_goes_through_the_store_and_resumes(tmp_path, monkeypatch):
     def refuse(*args, **kwargs):
         raise AssertionError("a stored run was computed again")
 
+    from docking.stats import rate_ci
+
     monkeypatch.setattr("docking.store.run_experiment", refuse)
     again = run("experiment1", **kwargs)
     for key in ("epsQ", BASELINE):
         np.testing.assert_array_equal(again.score(key), first.score(key))
         for a, b in zip(again.runs[key], first.runs[key], strict=True):
             np.testing.assert_array_equal(a.network.W, b.network.W)
-    table = calibration_table(calibration_rows(again, BASELINE), BASELINE, seeds_at_100=True)
+    found = calibration_rows(again, BASELINE)
+    trials = [len(log.success) for log in again.logs["epsQ"]]
+    by_key = {r.key: r for r in found}
+    assert by_key["epsQ"].success == rate_ci(again.score("epsQ"), trials)  # from the logs
+    table = calibration_table(found, BASELINE, seeds_at_100=True)
     assert "tiny, eps_Q 0.2" in table and "**tiny (this configuration)**" in table
     # every training trial starts beyond 0 m: the share is each run's training success rate
     expected = [r.train.success_rate for r in again.runs["epsQ"]]

@@ -4,7 +4,7 @@ import numpy as np
 import pytest
 from scipy import stats
 
-from docking.stats import difference_ci, mean_ci
+from docking.stats import Interval, difference_ci, mean_ci
 
 
 def test_mean_ci_brackets_the_mean_and_is_seeded():
@@ -88,3 +88,76 @@ def test_the_paired_interval_pairs_seeds_and_covers():
     with pytest.raises(ValueError, match="pairs seeds"):
         t_paired_ci(base, base[:4])
     assert 0.93 <= coverage("paired", n=10, repeats=800, seed=3) <= 0.97
+
+
+def test_a_rate_where_every_trial_succeeds_or_fails_has_an_interval_in_0_1_of_some_width():
+    """Ten seeds at 500/500: the Student-t interval is the point [1, 1]; the interval for a
+    rate is Wilson's of the 5000 pooled trials, [0.99923, 1], and prints as such."""
+    from docking.stats import rate_ci, t_mean_ci
+
+    every = rate_ci(np.ones(10), 500)
+    wilson = stats.binomtest(5000, 5000).proportion_ci(method="wilson")
+    assert every.estimate == every.high == 1.0 and every.low == pytest.approx(wilson.low)
+    assert 0.999 < every.low < 1.0
+    assert t_mean_ci(np.ones(10)).low == 1.0  # what the tables showed: no width
+    none = rate_ci(np.zeros(10), 500)
+    assert none.low == none.estimate == 0.0 and 0.0 < none.high < 0.001
+    assert rate_ci(np.ones(20), 500).format(unit="%") == "100.00% [99.96, 100.00]"
+    assert rate_ci(np.ones(5), 500).format(unit="%") == "100.0% [99.8, 100.0]"
+    # near 1 with one seed short of it: inside [0, 1] where the t interval is not
+    near = np.array([1.0, 1.0, 1.0, 0.994, 1.0])
+    assert t_mean_ci(near).high > 1.0
+    ci = rate_ci(near, 500)
+    assert 0.98 < ci.low < ci.estimate < ci.high <= 1.0
+
+
+def test_a_rate_interval_is_wilsons_on_pooled_trials_or_the_t_interval_over_seeds():
+    """Seeds that differ no more than binomially: Wilson's interval of the pooled trials
+    (scipy's); seeds that differ much more: about the Student-t interval over seeds; trials
+    per seed weigh the pooled rate."""
+    from docking.stats import rate_ci, t_mean_ci
+
+    same = rate_ci(np.full(10, 0.9), 500)
+    wilson = stats.binomtest(4500, 5000).proportion_ci(method="wilson")
+    assert (same.low, same.high) == (pytest.approx(wilson.low), pytest.approx(wilson.high))
+    spread = np.array([0.5, 0.6, 0.7, 0.55, 0.65, 0.45, 0.75, 0.6, 0.62, 0.58])
+    ci, t = rate_ci(spread, 500), t_mean_ci(spread)
+    assert ci.estimate == pytest.approx(0.6) and ci.values == tuple(spread)
+    assert 0.97 < (ci.high - ci.low) / (t.high - t.low) < 1.03
+    assert ci.se is None  # reported, not tested: no p-value
+    weighted = rate_ci([1.0, 0.5], [300, 100])
+    assert weighted.estimate == pytest.approx(350 / 400)
+
+
+@pytest.mark.parametrize(
+    "bad, trials, match",
+    [([0.5], 500, "at least 2"), ([0.5, 1.2], 500, "in \\[0, 1\\]"), ([0.5, 0.5], 0, "trials")]
+    + [([0.5, 0.5001], 500, "whole successes")],
+)
+def test_a_rate_interval_refuses_what_is_not_a_rate_over_seeds(bad, trials, match):
+    from docking.stats import rate_ci
+
+    with pytest.raises(ValueError, match=match):
+        rate_ci(bad, trials)
+
+
+@pytest.mark.parametrize("n", [5, 10, 20])
+@pytest.mark.parametrize("scenario", ["near one", "near one, skewed", "mid-range", "bimodal"])
+def test_the_rate_interval_covers_near_95_percent(scenario, n):
+    """Coverage on synthetic studies (:func:`docking.stats.rate_coverage`: 500 trials per
+    seed), near 1 and mid-range, with 5, 10 and 20 seeds: within 2.5 points of 95%."""
+    from docking.stats import rate_coverage
+
+    assert 0.925 <= rate_coverage(scenario, n, seed=n) <= 0.975
+    with pytest.raises(ValueError, match="scenario"):
+        rate_coverage("uniform", n)
+
+
+def test_an_interval_with_a_width_never_prints_as_a_point():
+    near = Interval(0.9999, 0.9996, 1.0, ())
+    assert near.format() == "99.99 [99.96, 100.00]"
+    assert Interval(1.0, 1.0, 1.0, ()).format(unit="%") == "100.0% [100.0, 100.0]"  # a point
+    assert Interval(0.5, 0.45, 0.55, ()).format(unit=" pp") == "50.0 pp [45.0, 55.0]"
+    assert (
+        Interval(0.5, 0.499999999, 0.5, ()).format(digits=0) == "50.000 [50.000, 50.000]"
+    )  # 3 more at most

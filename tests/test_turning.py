@@ -256,6 +256,11 @@ def test_experiment3_comparisons_table_and_verdict_on_synthetic_results():
     first = found[0]
     assert (first.task, first.noise) == ("paper task", 2.0)
     assert first.gain.estimate == pytest.approx(first.six.estimate - first.four.estimate)
+    from docking.claims import rate_interval  # each arm's success: the interval for a rate
+
+    assert (first.four, first.six) == tuple(
+        rate_interval(results, k) for k in (first.four_key, first.six_key)
+    )
     assert 0.5 < first.removed.estimate < 0.9 and first.removed.low > 0.5
     verdict, ci = report.rotation_verdict(found, experiment3.ROTATION_RULE)
     assert verdict == "supported" and ci == first.removed

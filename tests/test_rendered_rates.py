@@ -1,0 +1,35 @@
+"""The tables the README and notebook 07 show, rendered from the committed ledger: no
+success rate with an interval of zero width or outside [0, 1], no "p 0"."""
+
+import re
+from pathlib import Path
+
+import pytest
+
+REPO = Path(__file__).resolve().parents[1]
+
+#: A success rate with its interval as the tables print it: "97.5% [96.8, 98.0]" or, in the
+#: summary's sentences, "97.5% [96.8%, 98.0%]".
+RATE = re.compile(r"(-?\d+\.\d+)% \[(-?\d+\.\d+)%?, (-?\d+\.\d+)%?\]")
+
+
+@pytest.mark.slow
+def test_the_committed_contest_and_verdicts_have_no_degenerate_rate_and_no_p_0(
+    monkeypatch, tmp_path
+):
+    from docking import report
+    from docking.claims import design_verdicts
+    from docking.designs import third_edition, untested
+
+    monkeypatch.setenv("DOCKING_LEDGER", str(REPO / "ledger"))
+    contest = third_edition.DESIGN.run(results_dir=tmp_path, progress=False)
+    judged = untested.part("judged").run(results_dir=tmp_path, progress=False)
+    text = report.contest_table(contest, report.CONTEST_WORLDS) + report.contest_summary(contest)
+    rates = RATE.findall(text)
+    assert len(rates) >= 30 + 3  # every row and world of the table, the summary's three
+    for found in rates:
+        estimate, low, high = map(float, found)
+        assert 0 <= low <= estimate <= high <= 100 and low < high, found
+    verdicts = design_verdicts(contest, (judged, report.UNTESTED_IN_README))
+    assert not re.search(r", p 0( |<|$)", verdicts)
+    assert "identical in every trial" in verdicts  # relocation: "another wall", "second room"
