@@ -1048,19 +1048,23 @@ def fig_action_fields(
 
 
 def fig_contest(
-    worlds: list[str], columns: list[str], seeds: dict[tuple[str, str], np.ndarray]
+    worlds: list[str],
+    columns: list[str],
+    seeds: dict[tuple[str, str], np.ndarray],
+    trials: int = 500,
 ) -> Figure:
     """The fair contest: held-out success per world (one panel each) of every learner and
     yardstick of ``columns`` (left to right), each seed a dot, the mean a bar with its 95%
-    Student-t interval.
+    interval for a rate (:func:`docking.stats.rate_ci`, ``trials`` held-out trials per seed).
 
     Args:
       worlds: Panel titles.
       columns: Labels of the learners and yardsticks, in order; a label ending in "tuned"
         is drawn filled, "untuned" hatched, the yardsticks grey.
       seeds: ``{(world, column): per-seed success (fractions)}``; a pair absent is left out.
+      trials: Held-out trials per seed.
     """
-    from docking.stats import t_mean_ci
+    from docking.stats import rate_ci
 
     fig = _new_figure(4.2 * len(worlds), 4.4)
     axes = np.atleast_1d(fig.subplots(1, len(worlds), sharey=True))
@@ -1073,7 +1077,7 @@ def fig_contest(
                 continue
             base = label.replace(", untuned", "").replace(", tuned", "")
             color = learners.setdefault(base, f"C{len(learners)}") if "tuned" in label else "0.6"
-            ci = t_mean_ci(values) if len(values) > 1 else None
+            ci = rate_ci(values, trials) if len(values) > 1 else None
             mean = 100 * float(np.mean(values))
             ax.bar(
                 k,
@@ -1262,9 +1266,11 @@ def fig_glance(
     learners: list[str],
     seeds: dict[tuple[str, str], np.ndarray],
     yardsticks: dict[tuple[str, str], float],
+    trials: int = 500,
 ) -> Figure:
     """The answer at a glance: per world (a group on the x axis), each learner's held-out
-    success (its mean as a marker with the 95% Student-t interval over seeds, each seed a
+    success (its mean as a marker with the 95% interval for a rate over its seeds'
+    ``trials`` held-out trials each, :func:`docking.stats.rate_ci`; each seed a
     faint dot) and each yardstick's mean as a line across the group (one style each, in the
     legend).
 
@@ -1273,8 +1279,9 @@ def fig_glance(
       learners: The learners, in the legend's order.
       seeds: ``{(world, learner): per-seed success (fractions)}``; absent pairs are skipped.
       yardsticks: ``{(world, yardstick): mean success (fraction)}``.
+      trials: Held-out trials per seed.
     """
-    from docking.stats import t_mean_ci
+    from docking.stats import rate_ci
 
     fig = _new_figure(7.6, 4.3)
     ax = fig.subplots()
@@ -1301,7 +1308,7 @@ def fig_glance(
             x = i - 0.4 + width * (k + 0.5)
             values = 100 * np.asarray(values)
             ax.plot(np.full(len(values), x), values, ".", color=f"C{k}", alpha=0.3, ms=4)
-            ci = t_mean_ci(values / 100)
+            ci = rate_ci(values / 100, trials)
             ax.errorbar(
                 x,
                 values.mean(),

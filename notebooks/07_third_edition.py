@@ -61,12 +61,12 @@ import numpy as np
 from IPython.display import Image, Markdown, display
 
 from docking import figures, report
-from docking.claims import design_verdicts, judge_family
+from docking.claims import design_verdicts, judge_family, rate_interval
 from docking.designs import measures
 from docking.designs import third_edition as te
 from docking.presets import NAO_WORLD
 from docking.report import save_named
-from docking.stats import COVERAGE_KINDS, rule_coverage, t_mean_ci
+from docking.stats import COVERAGE_KINDS, rate_ci, rule_coverage, t_mean_ci
 
 pct = lambda ci: ci.format(unit="%")  # noqa: E731
 
@@ -103,7 +103,7 @@ display(Markdown(report.md_table(("quantity", "sideboard world", "Nao-like world
 contest = te.DESIGN.run(progress=False)  # every cell of the edition, the contest's and the claims'
 oracle = contest.score("nao/oracle")
 print(
-    f"pose oracle, Nao-like world, {NAO_WORLD.max_steps} actions: {pct(t_mean_ci(oracle))} "
+    f"pose oracle, Nao-like world, {NAO_WORLD.max_steps} actions: {pct(rate_interval(contest, 'nao/oracle'))} "
     f"per seed {np.round(100 * oracle, 1)}"
 )
 assert NAO_WORLD.max_steps == 25 and oracle.mean() >= 0.99  # 25 actions are enough
@@ -223,8 +223,8 @@ assert by_world["sideboard"].verdict == "closed" and by_world["sideboard"].inter
 assert all(by_ppo[w].interval.low > 0 for w in te.CONTEST)  # PPO ahead everywhere
 for w in ("floor", "nao"):  # the centroid rule ahead of the tuned paper's learner
     assert (
-        t_mean_ci(contest.score(f"{w}/paper-tuned")).high
-        < t_mean_ci(contest.score(f"{w}/centroid")).low
+        rate_interval(contest, f"{w}/paper-tuned").high
+        < rate_interval(contest, f"{w}/centroid").low
     )
 assert min(contest.score(f"{w}/oracle").mean() for w in te.CONTEST) >= 0.99  # solvable
 print({w: paper_gain[w].format(unit=" pp") for w in te.CONTEST})
@@ -318,7 +318,7 @@ turning = {
     for k in ("sideboard/paper", "sideboard/six-long")
 }
 rows = [
-    (k, pct(t_mean_ci(s)), *(t_mean_ci(v).format(scale=1.0, digits=2) for v in (h, a)))
+    (k, pct(rate_interval(results, k)), *(t_mean_ci(v).format(scale=1.0, digits=2) for v in (h, a)))
     for k, (s, h, a) in turning.items()
 ]
 header = ("learner", "held-out success", "abs. heading error at docking (deg)")
@@ -337,7 +337,18 @@ what = {k: v[0] for k, v in te.WORLDS.items()}
 steps = report.path_steps(results, list(pairwise(te.PATH)), te.BREAK_DROP, te.ALPHA)
 branches = report.path_steps(results, te.BRANCHES, te.BREAK_DROP, te.ALPHA)
 display(Markdown(report.path_table(steps + branches, what)))
-print({w: pct(t_mean_ci(results.score(f"{w}/paper")[: len(te.PATH_SEEDS)])) for w in te.WORLDS})
+n = len(te.PATH_SEEDS)
+print(
+    {
+        w: pct(
+            rate_ci(
+                results.score(f"{w}/paper")[:n],
+                [len(log.success) for log in results.logs[f"{w}/paper"][:n]],
+            )
+        )
+        for w in te.WORLDS
+    }
+)
 
 # %% [markdown]
 # ## What the verdicts show

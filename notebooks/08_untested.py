@@ -49,7 +49,7 @@ from IPython.display import Image, Markdown, display
 
 import docking  # noqa: F401  (registers the Gymnasium ids)
 from docking import analysis, figures, report
-from docking.claims import design_verdicts, judge_family
+from docking.claims import design_verdicts, judge_family, rate_interval
 from docking.designs import measures
 from docking.designs import third_edition as te
 from docking.designs import untested as ut
@@ -63,7 +63,7 @@ results = ut.part("judged").run(progress=False)
 per_claim = judge_family(results.design.claims, results, alpha=ut.ALPHA, per_claim=True)
 decided = {(d.claim, d.world): d for d in per_claim}
 pct = lambda ci: ci.format(unit="%")  # noqa: E731
-mean = lambda key: t_mean_ci(results.score(key))  # noqa: E731
+mean = lambda key: rate_interval(results, key)  # noqa: E731
 pp = lambda ci: ci.format(unit=" pp")  # noqa: E731
 
 
@@ -448,7 +448,7 @@ display(Image(save_named(fig, "untested_verdicts")))
 
 # %%
 findings = ut.part("findings").run(progress=False)
-fmean = lambda key: t_mean_ci(findings.score(key))  # noqa: E731
+fmean = lambda key: rate_interval(findings, key)  # noqa: E731
 variants = ["paper", "winner", *(f"beta{b:g}" for b in ut.BETAS)]
 population = {
     (w, v): report.paired_over_shared_seeds(findings, f"{w}/{v}", f"{w}/paper")
