@@ -15,6 +15,7 @@ them; :func:`save_figures` makes every figure from the runs of both experiments.
 from __future__ import annotations
 
 import dataclasses
+import functools
 from pathlib import Path
 
 import numpy as np
@@ -1067,6 +1068,39 @@ def verdict_panels(claims, results, decisions) -> list[dict]:
     return panels
 
 
+#: The groups of claims the summaries count, in order.
+CLAIM_GROUPS = (
+    "supported wherever judged",
+    "supported in some worlds only",
+    "decided, but at the bound",
+    "not supported in any world",
+    "contradicted in at least one world",
+)
+
+
+def claim_groups(claims, decisions) -> dict[str, list[str]]:
+    """``{group of CLAIM_GROUPS: [claim keys]}``: each judged claim by what its comparisons
+    decided (``decisions``: :func:`docking.claims.judge_family`'s, or
+    :func:`docking.claims.one_family`'s)."""
+    from docking.claims import AT_BOUND, CONTRADICTED, NOT_JUDGED, SUPPORTED, family_verdicts
+
+    groups: dict[str, list[str]] = {}
+    for key, (_, per_world) in family_verdicts(claims, decisions).items():
+        found = {v for v in per_world.values() if v != NOT_JUDGED}
+        if CONTRADICTED in found:
+            group = "contradicted in at least one world"
+        elif found == {SUPPORTED}:
+            group = "supported wherever judged"
+        elif SUPPORTED in found:
+            group = "supported in some worlds only"
+        elif AT_BOUND in found:
+            group = "decided, but at the bound"
+        else:
+            group = "not supported in any world"
+        groups.setdefault(group, []).append(key)
+    return groups
+
+
 def claims_summary(claims, decisions, alpha: float = 0.05) -> str:
     """Two sentences on a judged design's claims, one per decision rule: how many hold in
     every comparison judged, in some only, are contradicted somewhere, are not supported,
@@ -1076,39 +1110,10 @@ def claims_summary(claims, decisions, alpha: float = 0.05) -> str:
     ``alpha``: the verdict table's last column). The two counts differ where Holm's
     adjustment over more comparisons undecides a comparison; the committed rule's comes
     first, as the one decided before the runs."""
-    from docking.claims import (
-        AT_BOUND,
-        CONTRADICTED,
-        NOT_JUDGED,
-        SUPPORTED,
-        family_verdicts,
-        one_family,
-    )
+    from docking.claims import NOT_JUDGED, one_family
 
-    order = (
-        "supported wherever judged",
-        "supported in some worlds only",
-        "decided, but at the bound",
-        "not supported in any world",
-        "contradicted in at least one world",
-    )
-
-    def grouped(found_decisions) -> dict[str, list[str]]:
-        groups: dict[str, list[str]] = {}
-        for key, (_, per_world) in family_verdicts(claims, found_decisions).items():
-            found = {v for v in per_world.values() if v != NOT_JUDGED}
-            if CONTRADICTED in found:
-                group = "contradicted in at least one world"
-            elif found == {SUPPORTED}:
-                group = "supported wherever judged"
-            elif SUPPORTED in found:
-                group = "supported in some worlds only"
-            elif AT_BOUND in found:
-                group = "decided, but at the bound"
-            else:
-                group = "not supported in any world"
-            groups.setdefault(group, []).append(key)
-        return groups
+    order = CLAIM_GROUPS
+    grouped = functools.partial(claim_groups, claims)
 
     def parts(groups) -> str:
         return "; ".join(
