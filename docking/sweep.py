@@ -218,6 +218,9 @@ _PR_SET_PDEATHSIG = 1
 _LOG_VARIABLE = "DASK_LOGGING__DISTRIBUTED"
 #: Set in the environment of the embedded cluster's workers: the PID they must die with.
 _PARENT_VARIABLE = "DOCKING_SWEEP_PARENT"
+#: Set in the environment of the embedded cluster's workers: a file that exists once the
+#: cluster that started them is closing (:meth:`_EmbeddedCluster.close`).
+_CLOSING_VARIABLE = "DOCKING_SWEEP_CLOSING"
 
 
 def _die_with_parent(parent: int) -> None:
@@ -246,23 +249,37 @@ def _die_with_parent(parent: int) -> None:
 class _QuietFailures(logging.Filter):
     """Drops what an embedded worker reports of a failed job: "Compute Failed" (the job's
     exception and its traceback; the client re-raises the exception and the command prints
-    it once, in one line) and the jobs cancelled when the failed sweep closes the cluster."""
+    it once, in one line) and the jobs cancelled when the failed sweep closes the cluster;
+    and, once the file ``closing`` exists (the cluster that started the worker is closing
+    it), every record below ERROR: the races of our own shutdown ("Scheduler was unaware of
+    this worker; shutting down.") are not news. A worker lost while the cluster runs is
+    still reported."""
+
+    def __init__(self, closing: str | None = None):
+        super().__init__()
+        self.closing = closing
 
     def filter(self, record: logging.LogRecord) -> bool:
         if str(record.msg).startswith("Compute Failed"):
             return False
+        if record.name.startswith("distributed.worker") and "CancelledError" in record.getMessage():
+            return False
         return not (
-            record.name.startswith("distributed.worker") and "CancelledError" in record.getMessage()
+            record.levelno < logging.ERROR
+            and self.closing is not None
+            and os.path.exists(self.closing)
         )
 
 
 def dask_setup(worker=None) -> None:
     """Dask preload hook (``dask worker --preload docking.sweep``): a worker of the embedded
     cluster ends with the process that started it, and leaves reporting a failed job to the
-    client (:class:`_QuietFailures`). Does nothing in other workers."""
+    client, and its shutdown to the cluster's close (:class:`_QuietFailures`). Does nothing
+    in other workers."""
     parent = os.environ.get(_PARENT_VARIABLE)
     if parent:
-        quiet = _QuietFailures()  # on the handlers: it sees the records of every logger
+        # on the handlers: it sees the records of every logger
+        quiet = _QuietFailures(os.environ.get(_CLOSING_VARIABLE))
         for handler in logging.getLogger("distributed").handlers + logging.getLogger().handlers:
             handler.addFilter(quiet)
         logging.getLogger("distributed.worker").addFilter(quiet)
@@ -358,6 +375,7 @@ class _EmbeddedCluster:
         from distributed import Client, LocalCluster
 
         self._scratch = tempfile.TemporaryDirectory(prefix="docking-dask-")
+        self._closing = os.path.join(self._scratch.name, "closing")  # see close()
         self._procs: list[subprocess.Popen] = []
         self._cluster = LocalCluster(
             n_workers=0,
@@ -372,6 +390,7 @@ class _EmbeddedCluster:
         env = {
             **os.environ,
             _PARENT_VARIABLE: str(os.getpid()),
+            _CLOSING_VARIABLE: self._closing,
             # The workers import this very package.
             "PYTHONPATH": os.pathsep.join(
                 p for p in (package_root, os.environ.get("PYTHONPATH")) if p
@@ -425,20 +444,29 @@ class _EmbeddedCluster:
             time.sleep(0.1)
 
     def close(self) -> None:
-        client = getattr(self, "client", None)
-        if client is not None:
-            client.close()
-        for proc in self._procs:
-            if proc.poll() is None:
-                proc.terminate()
-        for proc in self._procs:
-            try:
-                proc.wait(timeout=10)
-            except Exception:
-                proc.kill()
-                proc.wait()
-        self._cluster.close()
-        self._scratch.cleanup()
+        """Close the client, end the workers, close the scheduler. On a busy machine a
+        worker's heartbeat can reach the scheduler after the worker has left, and the
+        scheduler and the worker each log it at WARNING ("Received heartbeat from
+        unregistered worker", "Scheduler was unaware of this worker"); the shutdown is ours,
+        so within it distributed logs errors only, here (:func:`_quiet_shutdown`) and in the
+        workers (the file they watch, :class:`_QuietFailures`)."""
+        with _quiet_shutdown():
+            with contextlib.suppress(OSError):
+                Path(self._closing).touch()
+            client = getattr(self, "client", None)
+            if client is not None:
+                client.close()
+            for proc in self._procs:
+                if proc.poll() is None:
+                    proc.terminate()
+            for proc in self._procs:
+                try:
+                    proc.wait(timeout=10)
+                except Exception:
+                    proc.kill()
+                    proc.wait()
+            self._cluster.close()
+            self._scratch.cleanup()
 
 
 def run_jobs(
@@ -655,6 +683,26 @@ def _run_on_dask(
         finally:
             if cluster is not None:
                 cluster.close()
+
+
+@contextlib.contextmanager
+def _quiet_shutdown():
+    """Within this, distributed's loggers (every ``distributed.*`` logger, and the ones
+    created within, which inherit from ``distributed``) log errors only: for the close of a
+    cluster this process started, whose warnings are the races of its own shutdown."""
+    loggers = [logging.getLogger("distributed")] + [
+        logger
+        for name, logger in list(logging.Logger.manager.loggerDict.items())
+        if name.startswith("distributed.") and isinstance(logger, logging.Logger)
+    ]
+    levels = [logger.level for logger in loggers]
+    for logger in loggers:
+        logger.setLevel(max(logger.level, logging.ERROR))
+    try:
+        yield
+    finally:
+        for logger, level in zip(loggers, levels, strict=True):
+            logger.setLevel(level)
 
 
 @contextlib.contextmanager

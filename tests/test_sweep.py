@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import dataclasses
 import json
+import logging
 import os
 import signal
 import socket
@@ -406,3 +407,71 @@ def test_the_bar_counts_trials_as_they_finish(workers, tmp_path, monkeypatch):
     assert bar.total == bar.n == 2 * trials_in_run(slow)
     # trials reported while runs compute: more updates than runs, each below a run's total
     assert len(bar.updates) > len(jobs) and min(bar.updates) < trials_in_run(slow)
+
+
+class _Collect(logging.Handler):
+    """The records that pass a logger's level, kept."""
+
+    def __init__(self):
+        super().__init__(logging.DEBUG)
+        self.records: list[logging.LogRecord] = []
+
+    def emit(self, record: logging.LogRecord) -> None:
+        self.records.append(record)
+
+
+@pytest.mark.slow
+def test_closing_our_cluster_logs_no_warning_of_its_own_shutdown():
+    """On a busy machine a worker's heartbeat can reach the scheduler after the worker left
+    (issue 41: "WARNING:distributed.scheduler:Received heartbeat from unregistered worker" on
+    the terminal as the cluster closed). Here that heartbeat arrives, deterministically,
+    while the cluster closes: nothing at WARNING. The same heartbeat while the cluster runs
+    is still logged (a lost worker stays visible)."""
+    from docking.sweep import _EmbeddedCluster, _quiet_distributed
+
+    collect = _Collect()
+    scheduler_log = logging.getLogger("distributed.scheduler")
+    scheduler_log.addHandler(collect)
+    try:
+        with _quiet_distributed():
+            cluster = _EmbeddedCluster(1)
+            scheduler = cluster._cluster.scheduler
+            ghost = "tcp://127.0.0.1:9"  # a worker the scheduler does not know
+            try:
+                scheduler.heartbeat_worker(address=ghost, metrics={})
+                during_run = [r.getMessage() for r in collect.records]
+                worker = cluster._procs[0]
+                wait = worker.wait
+
+                def late_heartbeat(timeout=None):
+                    out = wait(timeout=timeout)
+                    scheduler.heartbeat_worker(address=ghost, metrics={})
+                    return out
+
+                worker.wait = late_heartbeat
+            finally:
+                cluster.close()
+    finally:
+        scheduler_log.removeHandler(collect)
+    assert any("unregistered worker" in m for m in during_run), during_run
+    at_close = [r.getMessage() for r in collect.records if r.levelno >= logging.WARNING]
+    assert at_close == during_run, at_close
+    assert logging.getLogger("distributed").level <= logging.WARNING  # restored
+
+
+def test_an_embedded_worker_is_quiet_below_error_once_its_cluster_closes(tmp_path):
+    from docking.sweep import _QuietFailures
+
+    closing = tmp_path / "closing"
+    quiet = _QuietFailures(str(closing))
+
+    def record(level, msg):
+        return logging.LogRecord("distributed.worker", level, __file__, 1, msg, None, None)
+
+    unaware = "Scheduler was unaware of this worker; shutting down."
+    assert quiet.filter(record(logging.WARNING, unaware))  # while it runs: news
+    assert not quiet.filter(record(logging.ERROR, "Compute Failed\nKey: x"))
+    closing.touch()
+    assert not quiet.filter(record(logging.WARNING, unaware))
+    assert quiet.filter(record(logging.ERROR, "an error"))
+    assert _QuietFailures().filter(record(logging.WARNING, unaware))  # no file to watch
