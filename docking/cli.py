@@ -210,6 +210,17 @@ def _run(command: Run | Sweep, configs, seeds, desc: str) -> tuple[list, list, l
 
     jobs = jobs_for(configs, seeds)
     sources = ["computed" if command.force else source(j, command.results_dir) for j in jobs]
+    # The ledger's runs first: a damaged file of theirs is an error before anything computes.
+    loaded = {
+        k: load_run(j.config, j.seed, command.results_dir)
+        for k, j in enumerate(jobs)
+        if sources[k] == "ledger"
+    }
+    computed = sources.count("computed")
+    if computed:
+        note = _ledger_note()
+        if note:
+            print(f"{PROG}: note: {note}; computing {computed} runs", file=sys.stderr)
     paths = run_jobs(
         jobs,
         command.results_dir,
@@ -218,15 +229,44 @@ def _run(command: Run | Sweep, configs, seeds, desc: str) -> tuple[list, list, l
         force=command.force,
         desc=desc,
     )
-    return sources, paths, [load_run(j.config, j.seed, command.results_dir) for j in jobs]
+    results = [
+        loaded[k] if k in loaded else load_run(j.config, j.seed, command.results_dir)
+        for k, j in enumerate(jobs)
+    ]
+    return sources, paths, results
+
+
+def _ledger_note() -> str | None:
+    """Why the ledger serves no run, in one line that names it, if it is missing or no
+    ledger (None if it is switched off by DOCKING_LEDGER=off, or is a ledger); a damaged or
+    stale ledger is an error (:class:`docking.ledger.CorruptLedger`,
+    :class:`docking.ledger.StaleLedger`): every file is checked
+    (:func:`docking.ledger.check_files`), not only those of the runs asked for."""
+    from docking import ledger
+
+    if paths.ledger_off():
+        return None
+    folder = paths.ledger_dir()
+    if folder is None:
+        return "this installed package has no ledger (DOCKING_LEDGER names none)"
+    if not folder.is_dir():
+        return f"the ledger folder {folder} does not exist: no run is read from it"
+    if not (folder / "manifest.json").is_file():
+        return f"{folder} is not a ledger (it has no manifest.json): no run is read from it"
+    try:
+        ledger.check_files(folder)
+    except ledger.StaleLedger as exc:
+        raise type(exc)(f"{exc} (DOCKING_LEDGER=off computes without the ledger)") from None
+    return None
 
 
 def _source_words(folder) -> dict[str, str]:
     """What each place a run came from is called (:func:`docking.sweep.source`'s kinds, in
     the order they are shown), ``folder`` the store's folder."""
     return {
-        "ledger": f"read from the committed ledger, {paths.ledger_dir()} (checked against its "
-        "digest; nothing computed)",
+        "ledger": f"read from the committed ledger, {paths.ledger_dir()} (its files checked "
+        "against their SHA-256, its digests and wall times against their seal; nothing "
+        "computed)",
         "store": f"loaded from the results store, {folder}",
         "computed": f"computed now and stored in {folder}",
     }
@@ -658,6 +698,7 @@ class Ledger:
             data = ledger.manifest(folder)
             if data is None:
                 raise ValueError(f"no ledger in {folder} (it has no manifest.json)")
+        checked = ledger.check_files(folder)  # CorruptLedger naming the first damaged file
         size = ledger.size_bytes(folder)
         kinds = collections.Counter(r["runner"] for r in data["runs"].values())
         sources = ", ".join(f"{k} {v[:16]}" for k, v in sorted(data["fingerprints"].items()))
@@ -667,6 +708,13 @@ class Ledger:
             + f") of {len(data['configs'])} configurations in {len(data['tables'])} results "
             f"tables ({', '.join(sorted(data['tables']))}), {size / 2**20:.1f} MiB; source "
             f"{sources}; rendered by {data['rendering_stack']}"
+        )
+        print(
+            f"checked: the manifest (this code's fingerprints; the seals of the {checked['runs']} "
+            f"runs' content digests and wall times), the {checked['tables']} results tables "
+            f"and {checked['whole']} whole runs against their SHA-256, each table's runs "
+            f"against the manifest's, the whole runs' arrays against their digests; a table "
+            f"run's arrays against its digest only by recomputing it (python -m docking verify)"
         )
         return 0
 
@@ -691,6 +739,7 @@ class Verify:
 
         if self.sample < 0:
             raise ValueError(f"--sample must be 0 or more, got {self.sample}")
+        print(_verify_plan(self.sample, self.all, self.processes, self.scheduler), flush=True)
         checks = verify.verify(
             None if self.all else self.sample, self.scheduler, workers=self.processes
         )
@@ -701,6 +750,50 @@ class Verify:
         for line in verify.platform_lines(bool(bad)):
             print(line)
         return 1 if bad else 0
+
+
+def _verify_plan(
+    sample: int, everything: bool, processes: int | None, scheduler: str | None = None
+) -> str:
+    """What ``verify`` is about to recompute, in one line: how many runs (``--sample`` capped
+    at the other runs the ledger holds) and about how long, from the ledger's wall times of
+    those runs, on ``processes`` workers (default: one per core; on a ``scheduler``'s
+    cluster, their sum)."""
+    from docking import ledger, verify
+
+    data = ledger.manifest()
+    if data is None:  # verify.verify says so
+        return "verify: no ledger"
+    commit = verify._commit()
+    keys = verify.chosen(data, None if everything else sample, commit)
+    paper = len(verify.chosen(data, 0, commit))
+    others = len(verify.chosen(data, len(data["runs"]), commit)) - paper
+    seconds = sum(data["runs"][k]["wall_seconds"] for k in keys)
+    workers = max(1, min(processes or os.cpu_count() or 1, len(keys)))
+    what = (
+        f"every run of the ledger ({len(keys)})"
+        if everything
+        else (
+            f"{len(keys)} runs: the {paper} of {' and '.join(verify.PAPER_RUNS)} and "
+            f"{len(keys) - paper} of the {others} others the ledger holds"
+            + (f" (--sample {sample} capped at {others})" if sample > others else "")
+        )
+    )
+    if scheduler is not None:
+        return f"verify: recomputing {what} on {scheduler}: {_duration(seconds)} of wall time"
+    return (
+        f"verify: recomputing {what}; about {_duration(seconds / workers)} on {workers} "
+        f"processes ({_duration(seconds)} of the runs' wall times in the ledger)"
+    )
+
+
+def _duration(seconds: float) -> str:
+    """``1 h 05 min``, ``12 min``, ``40 s``."""
+    seconds = round(seconds)
+    if seconds < 60:
+        return f"{seconds} s"
+    hours, minutes = divmod(round(seconds / 60), 60)
+    return f"{hours} h {minutes:02d} min" if hours else f"{minutes} min"
 
 
 @dataclasses.dataclass

@@ -8,6 +8,15 @@ curves, and what its design's ``keep`` adds (:attr:`docking.design.Design.keep`)
 fingerprint of the code that computed them and the SHA-256 of every file. The layout, for
 any tool that opens ``.npz``: docs/guide/ledger.md.
 
+What is checked, and where: a file is read only if its bytes match the manifest's SHA-256;
+a whole run's arrays are compared with its record's content digest; a table run's arrays
+are fewer than its digest covers, so its digest and wall times (which no file holds) are
+covered by its table's *seal* in the manifest (:data:`SEALED`, :func:`_seals`): an edit of
+any of them is refused. The seal lives in the manifest beside what it seals, so it refuses
+an edit, not a forgery; that a table run's digest is its arrays' is shown only by
+recomputing it (``python -m docking verify``). :func:`check_files` checks every file at
+once (``python -m docking ledger show``).
+
 A run read from a table is an ordinary result whose logs are :class:`TableLog` objects: what the
 table does not keep is ``None``. A ledger computed by other code raises :class:`StaleLedger`
 naming the changed modules. ``DOCKING_LEDGER=off`` turns the ledger off (every run is
@@ -41,6 +50,8 @@ NO_TRAIN = "no-train"
 TIMINGS_FILE = "timings.json"  # the tiers' measured times (tools/time_tiers.py)
 _RECOMPUTE = "make reproduce (recomputes the runs, then python -m docking ledger update)"
 _RESTORE = "check out the committed ledger again (git checkout -- ledger)"
+#: What a table's seal covers of each of its runs' records: what no file of the ledger holds.
+SEALED = ("digest", "wall_time_train", "wall_time_test", "wall_seconds", "computed_utc")
 
 
 class StaleLedger(RuntimeError):
@@ -125,14 +136,41 @@ def _read_manifest(path: Path, _mtime: int) -> dict:
             own = f"whole/{record['name']}/{key[:16]}/seed{seed}.npz"
             assert record.get("whole") in (None, own), f"run {key[:16]}: not its own file"
         data["index"] = {_index(r["config"], r["seed"]): k for k, r in data["runs"].items()}
+        seals, found = data.get("seals"), _seals(data["runs"])
     except (ValueError, KeyError, TypeError, AttributeError, AssertionError) as exc:
         raise CorruptLedger(f"{path} is not a ledger manifest ({exc!r}); {_RESTORE}") from None
+    if not isinstance(seals, dict):
+        raise CorruptLedger(
+            f"{path} has no seals of its runs' digests and wall times (written before the "
+            f"ledger sealed them): seal it with python tools/seal_ledger.py {path.parent}, "
+            f"once its history shows it unedited, or {_RESTORE}"
+        )
+    broken = sorted(n for n in set(seals) | set(found) if seals.get(n) != found.get(n))
+    if broken:
+        raise CorruptLedger(
+            f"{path}: the content digests or wall times of the runs of "
+            f"{', '.join(map(str, broken))[:200]} do not match their seal (the manifest was "
+            f"edited); {_RESTORE}"
+        )
     data["folder"] = path.parent
     return data
 
 
 def _index(config: dict, seed: int) -> str:
     return f"{json.dumps(config, sort_keys=True)}:seed{seed}"
+
+
+def _seals(runs: dict) -> dict[str, str]:
+    """``{table: its seal}`` of the run records ``runs`` (``{key: record}``): the SHA-256 of
+    the :data:`SEALED` fields of its runs, in the order of their keys."""
+    rows: dict[str, list] = {}
+    for key in sorted(runs):
+        record = runs[key]
+        rows.setdefault(str(record["name"]), []).append([key, *(record.get(f) for f in SEALED)])
+    return {
+        name: hashlib.sha256(json.dumps(found, allow_nan=False).encode()).hexdigest()
+        for name, found in sorted(rows.items())
+    }
 
 
 def _check(data: dict, runner: store.Runner) -> None:
@@ -227,12 +265,19 @@ def load_run(config, seed: int, results_dir: Path | str | None = None):
     if key != store.run_key(config, seed, render=data["rendering_stack"]):
         raise StaleLedger(f"the ledger's key of {config.name!r} seed {seed} is not this code's")
     if record.get("whole"):
-        _verified(data["folder"] / record["whole"], record["sha256"])
+        raw = _verified(data["folder"] / record["whole"], record["sha256"])
         try:
-            return store.load_result(data["folder"] / record["whole"], key)
+            result = store.load_result(data["folder"] / record["whole"], key)
         except store.CorruptResult as exc:
             raise CorruptLedger(f"the ledger file {record['whole']}: {exc}; {_RESTORE}") from None
+        _check_content(raw, record, data["folder"] / record["whole"])
+        return result
     table = _table(data["folder"] / f"tables/{config.name}.npz", data["tables"][config.name])
+    if key not in set(table["key"].tolist()):
+        raise CorruptLedger(
+            f"the ledger table {data['folder'] / 'tables' / config.name}.npz does not hold the "
+            f"run of {config.name!r} seed {seed} that the manifest names; {_RESTORE}"
+        )
     row = list(table["key"]).index(key)
     got = {n: _cell(table, n, row) for n in table if n + ".count" in table}
     got = {n: a for n, a in got.items() if a is not None}
@@ -256,6 +301,58 @@ def load_run(config, seed: int, results_dir: Path | str | None = None):
         *walls,
         heldout=logs["heldout"],
     )
+
+
+def _check_content(raw: bytes, record: dict, path: Path) -> None:
+    """:class:`CorruptLedger` unless the arrays of the whole run ``raw`` (a ledger file's
+    bytes) have the content digest its ``record`` says."""
+    with np.load(io.BytesIO(raw), allow_pickle=False) as arrays:
+        digest = store.content_digest(arrays)
+    if digest != record["digest"]:
+        raise CorruptLedger(
+            f"the manifest's content digest of {path} is not its arrays' digest; {_RESTORE}"
+        )
+
+
+def check_files(folder: Path | str | None = None) -> dict[str, int] | None:
+    """Check the ledger in ``folder`` (default :func:`paths.ledger_dir`) as a whole: its
+    manifest (format, this code, the seals of the runs' digests and wall times), every
+    results table and whole run against its SHA-256, each table's runs against the runs the
+    manifest names of it, and each whole run's arrays against its content digest.
+    :class:`CorruptLedger` (or :class:`StaleLedger`) naming the first that fails; None if
+    there is no manifest; else what was checked: ``{"runs", "tables", "whole"}`` counts."""
+    data = manifest(Path(folder) if folder is not None else paths.ledger_dir())
+    if data is None:
+        return None
+    where, named = data["folder"], {}
+    for key, record in data["runs"].items():
+        named.setdefault(record["name"], set()).add(key)
+    unlisted = sorted(set(named) - set(data["tables"]))
+    if unlisted:
+        raise CorruptLedger(
+            f"the ledger in {where} names runs of {', '.join(unlisted)[:200]} but no results "
+            f"table of theirs; {_RESTORE}"
+        )
+    for name, sha256 in sorted(data["tables"].items()):
+        path = where / "tables" / f"{name}.npz"
+        raw = _verified(path, sha256)
+        try:
+            with np.load(io.BytesIO(raw), allow_pickle=False) as found:
+                keys = set(found["key"].tolist())
+        except (OSError, ValueError, KeyError, zipfile.BadZipFile) as exc:
+            raise CorruptLedger(
+                f"the ledger table {path} is not readable ({exc}); {_RESTORE}"
+            ) from None
+        if keys != named.get(name, set()):
+            raise CorruptLedger(
+                f"the ledger table {path} does not hold the runs the manifest names of it "
+                f"({len(keys)} in the table, {len(named.get(name, ()))} named); {_RESTORE}"
+            )
+    whole = [r for r in data["runs"].values() if r.get("whole")]
+    for record in whole:
+        path = where / record["whole"]
+        _check_content(_verified(path, record["sha256"]), record, path)
+    return {"runs": len(data["runs"]), "tables": len(data["tables"]), "whole": len(whole)}
 
 
 def _cell(table: dict, name: str, row: int) -> np.ndarray | None:
@@ -411,6 +508,7 @@ def update(runs, folder: Path | str | None = None, results_dir=None, only=None) 
             n: hashlib.sha256(files[f"tables/{n}.npz"]).hexdigest() for n in sorted(table_names)
         },
         "runs": records,
+        "seals": _seals(records),
     }
     if only is not None:  # where the added tables' runs were computed, per table
         platforms = {n: p for n, p in kept["platforms"].items() if n not in only}

@@ -296,8 +296,8 @@ def test_run_says_a_run_came_from_the_ledger(tmp_path, monkeypatch):
     out = _cli(["run", "experiment1", "--seeds", "0,1,3"], tmp_path)
     assert out.returncode == 0, out.stderr
     assert out.stdout.splitlines()[-1] == (
-        f"seeds 0-1, 3: read from the committed ledger, {REPO / 'ledger'} (checked against its "
-        "digest; nothing computed)"
+        f"seeds 0-1, 3: read from the committed ledger, {REPO / 'ledger'} (its files checked "
+        "against their SHA-256, its digests and wall times against their seal; nothing computed)"
     )
     assert not list((tmp_path / "results").rglob("*.npz"))
 
@@ -323,8 +323,8 @@ def test_sweep_says_which_runs_came_from_the_ledger(tmp_path, monkeypatch):
     out = _cli(["sweep", "experiment1", "--seeds", "0", "--processes", "1", *grid], tmp_path)
     assert out.returncode == 0, out.stderr
     assert out.stdout.splitlines()[1] == (
-        f"  seeds 0: read from the committed ledger, {REPO / 'ledger'} (checked against its "
-        "digest; nothing computed)"
+        f"  seeds 0: read from the committed ledger, {REPO / 'ledger'} (its files checked "
+        "against their SHA-256, its digests and wall times against their seal; nothing computed)"
     )
     assert not (tmp_path / "results").exists() or not list((tmp_path / "results").rglob("*"))
 
@@ -539,7 +539,10 @@ def test_design_run_counts_where_its_runs_came_from(tmp_path, monkeypatch):
     from docking.cli import _counted
 
     monkeypatch.setenv("DOCKING_LEDGER", str(REPO / "ledger"))
-    ledger = f"read from the committed ledger, {REPO / 'ledger'} (checked against its digest; "
+    ledger = (
+        f"read from the committed ledger, {REPO / 'ledger'} (its files checked against their "
+        "SHA-256, its digests and wall times against their seal; "
+    )
     mixed = _counted({"a": ["ledger", "store"], "b": ["computed", "ledger"]}, tmp_path)
     assert mixed == (
         f"runs: 2 {ledger}nothing computed); 1 loaded from the results store, {tmp_path}; "

@@ -1,0 +1,231 @@
+"""The ledger's checks say what they checked (issue 41): a run's digest and wall times in the
+manifest are sealed, a whole run's digest is compared with its arrays, ``ledger show`` checks
+every file it summarises, and ``run`` names a ledger it cannot use before it computes. Each
+test builds its own tiny store and ledger."""
+
+from __future__ import annotations
+
+import dataclasses
+import hashlib
+import json
+import os
+import shutil
+import signal
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+from helpers import SEEDS, TINY
+
+from docking import cli, ledger
+from docking.cli import main
+from docking.ledger import load_run
+from docking.presets import EXPERIMENT_1
+from docking.store import result_path, run_key, run_or_load
+
+REPO = Path(__file__).resolve().parent.parent
+#: What ``run experiment1`` with these options computes: :data:`SMALL`.
+SMALL_ARGS = ["--train-trials", "4", "--test-trials", "3", "--eval-every", "2"]
+SMALL_ARGS += ["--eval-trials", "2", "--processes", "1"]
+SMALL = dataclasses.replace(
+    EXPERIMENT_1, train_trials=4, test_trials=3, eval_every=2, eval_trials=2
+)
+
+
+@pytest.fixture(scope="module")
+def built(tmp_path_factory):
+    """A ledger of tiny runs: seed 0 whole, seed 1 in its table only; and SMALL seed 0 (what
+    ``run experiment1 --seeds 0`` with SMALL_ARGS asks for) in its table."""
+    base = tmp_path_factory.mktemp("checked-ledger")
+    results, folder = base / "results", base / "ledger"
+    with pytest.MonkeyPatch.context() as mp:
+        mp.setenv("DOCKING_LEDGER", "off")
+        for s in SEEDS:
+            run_or_load(TINY, s, results, progress=False)
+        run_or_load(SMALL, 0, results, progress=False)
+    runs = [(TINY, 0, True, frozenset()), (TINY, 1, False, frozenset())]
+    ledger.update([*runs, (SMALL, 0, False, frozenset())], folder, results)
+    return folder
+
+
+@pytest.fixture
+def copy(built, tmp_path, monkeypatch):
+    """A copy of the tiny ledger that DOCKING_LEDGER names."""
+    folder = tmp_path / "ledger"
+    shutil.copytree(built, folder)
+    monkeypatch.setenv("DOCKING_LEDGER", str(folder))
+    ledger._read_manifest.cache_clear()
+    ledger._table.cache_clear()
+    return folder
+
+
+@pytest.fixture
+def restore_sigterm():
+    handler = signal.getsignal(signal.SIGTERM)
+    yield
+    signal.signal(signal.SIGTERM, handler)
+
+
+def _edit(folder: Path, change, reseal: bool = False) -> None:
+    """Edit the manifest in ``folder``; with ``reseal``, its seals follow the edit (a manifest
+    consistent with itself, but not with the ledger's files)."""
+    path = folder / "manifest.json"
+    data = json.loads(path.read_text())
+    change(data)
+    if reseal:
+        data["seals"] = ledger._seals(data["runs"])
+    path.write_text(json.dumps(data, indent=1, sort_keys=True) + "\n")
+    ledger._read_manifest.cache_clear()
+
+
+def _record(data, seed, config=TINY):
+    return data["runs"][run_key(config, seed)]
+
+
+# A run's digest and wall times ---------------------------------------------------------------
+
+
+@pytest.mark.parametrize("seed", SEEDS, ids=["whole", "table"])
+@pytest.mark.parametrize(
+    "field, value",
+    [("digest", "0" * 64), ("wall_time_train", 91.43), ("wall_seconds", 0.0)],
+)
+def test_an_edited_digest_or_wall_time_is_refused(copy, seed, field, value):
+    _edit(copy, lambda d: _record(d, seed).update({field: value}))
+    with pytest.raises(ledger.CorruptLedger, match="tiny do not match their seal"):
+        load_run(TINY, seed, "/nonexistent-store")
+
+
+def test_a_whole_runs_digest_is_compared_with_its_arrays(copy):
+    """Edited with its seal: the seal holds, the whole run's arrays do not."""
+    _edit(copy, lambda d: _record(d, 0).update(digest="0" * 64), reseal=True)
+    with pytest.raises(ledger.CorruptLedger, match="is not its arrays' digest"):
+        load_run(TINY, 0, "/nonexistent-store")
+    with pytest.raises(ledger.CorruptLedger, match="is not its arrays' digest"):
+        ledger.check_files(copy)
+
+
+def test_an_unsealed_ledger_is_refused_and_the_tool_seals_it(copy):
+    _edit(copy, lambda d: d.pop("seals"))
+    with pytest.raises(ledger.CorruptLedger, match="has no seals .* tools/seal_ledger.py"):
+        ledger.manifest(copy)
+    out = subprocess.run(
+        [sys.executable, str(REPO / "tools" / "seal_ledger.py"), str(copy)],
+        env={**os.environ, "PYTHONPATH": str(REPO)},
+        capture_output=True,
+        text=True,
+        timeout=120,
+    )
+    assert out.returncode == 0, out.stderr
+    ledger._read_manifest.cache_clear()
+    assert ledger.check_files(copy) == {"runs": 3, "tables": 2, "whole": 1}
+    assert load_run(TINY, 1, "/nonexistent-store").seed == 1
+
+
+def test_wall_times_served_are_the_sealed_ones(copy, built):
+    data = json.loads((built / "manifest.json").read_text())
+    served = load_run(TINY, 1, "/nonexistent-store")
+    assert served.wall_time_train == _record(data, 1)["wall_time_train"]
+
+
+# ledger show checks what it summarises --------------------------------------------------------
+
+
+def _flip(path: Path) -> None:
+    raw = bytearray(path.read_bytes())
+    raw[len(raw) // 2] ^= 0x01
+    path.write_bytes(bytes(raw))
+
+
+def _truncate(path: Path) -> None:
+    path.write_bytes(path.read_bytes()[: path.stat().st_size // 2])
+
+
+@pytest.mark.parametrize("damage", [_flip, _truncate, Path.unlink], ids=["flip", "cut", "gone"])
+@pytest.mark.parametrize("which", ["table", "whole"])
+def test_ledger_show_refuses_a_damaged_file(copy, damage, which, capsys, restore_sigterm):
+    data = json.loads((copy / "manifest.json").read_text())
+    path = copy / ("tables/tiny.npz" if which == "table" else _record(data, 0)["whole"])
+    damage(path)
+    assert main(["ledger", "show"]) == 1
+    err = capsys.readouterr().err.strip()
+    assert len(err.splitlines()) == 1 and str(path) in err, err
+
+
+def test_ledger_show_refuses_a_table_that_holds_other_runs(copy, capsys, restore_sigterm):
+    """A table of the other name's runs, with its digest: every byte checks, its runs do not."""
+    other = (copy / "tables" / "experiment1.npz").read_bytes()
+    (copy / "tables" / "tiny.npz").write_bytes(other)
+
+    def edit(data):
+        data["tables"]["tiny"] = hashlib.sha256(other).hexdigest()
+
+    _edit(copy, edit)
+    assert main(["ledger", "show"]) == 1
+    assert "does not hold the runs the manifest names" in capsys.readouterr().err
+
+
+def test_ledger_show_says_what_it_checked(copy, capsys, restore_sigterm):
+    assert main(["ledger", "show"]) == 0
+    out = capsys.readouterr().out.splitlines()
+    assert out[1].startswith("checked: ") and "2 results tables and 1 whole runs" in out[1]
+    assert "only by recomputing" in out[1]
+
+
+# run names a ledger it cannot use before it computes ------------------------------------------
+
+
+def _run(args, monkeypatch, tmp_path):
+    monkeypatch.setenv("DOCKING_RESULTS", str(tmp_path / "results"))
+    return main(["run", "experiment1", *args, *SMALL_ARGS])
+
+
+@pytest.mark.parametrize("kind", ["no manifest", "not a ledger", "no folder"])
+def test_run_says_the_ledger_is_unusable_before_it_computes(
+    kind, copy, tmp_path, monkeypatch, capsys, restore_sigterm
+):
+    if kind == "no manifest":
+        (copy / "manifest.json").unlink()
+        says = f"{copy} is not a ledger (it has no manifest.json)"
+    elif kind == "not a ledger":
+        monkeypatch.setenv("DOCKING_LEDGER", "/etc")
+        says = "/etc is not a ledger (it has no manifest.json)"
+    else:
+        monkeypatch.delenv("DOCKING_LEDGER")
+        monkeypatch.setattr("docking.paths.checkout_root", lambda: tmp_path / "clone")
+        says = f"the ledger folder {tmp_path / 'clone' / 'ledger'} does not exist"
+    assert _run(["--seeds", "0"], monkeypatch, tmp_path) == 0
+    captured = capsys.readouterr()
+    notes = [line for line in captured.err.splitlines() if line.startswith("python -m docking")]
+    assert notes == [f"python -m docking: note: {says}: no run is read from it; computing 1 runs"]
+    assert "seeds 0: computed now" in captured.out
+
+
+def test_run_reads_a_usable_ledger_without_a_note(copy, tmp_path, monkeypatch, capsys):
+    assert _run(["--seeds", "0"], monkeypatch, tmp_path) == 0
+    captured = capsys.readouterr()
+    assert "note" not in captured.err and "read from the committed ledger" in captured.out
+    assert not result_path(SMALL, 0, tmp_path / "results").exists()
+
+
+@pytest.mark.parametrize("what", ["the run's table", "another table"])
+def test_run_refuses_a_damaged_ledger_before_it_computes(
+    what, copy, tmp_path, monkeypatch, capsys, restore_sigterm
+):
+    _flip(copy / "tables" / ("experiment1.npz" if what == "the run's table" else "tiny.npz"))
+    assert _run(["--seeds", "0,1"], monkeypatch, tmp_path) == 1  # seed 1 is not in the ledger
+    err = capsys.readouterr().err.strip()
+    assert len(err.splitlines()) == 1 and "does not match its digest" in err, err
+    assert not result_path(SMALL, 1, tmp_path / "results").exists()  # nothing computed
+
+
+# verify says what it will recompute, capped ---------------------------------------------------
+
+
+def test_verify_caps_its_sample_and_says_how_long_before_it_starts(copy):
+    line = cli._verify_plan(10**12, False, 2)
+    assert "2 of the 2 others the ledger holds (--sample 1000000000000 capped at 2)" in line
+    assert line.startswith("verify: recomputing 3 runs: the 1 of experiment1 and experiment2")
+    assert "about " in line and "of the runs' wall times in the ledger" in line
+    assert "capped" not in cli._verify_plan(1, False, 2)
