@@ -489,14 +489,21 @@ class Report:
             comparisons, rates, text = self._experiment3()
             changed |= self._write(text, report.EXPERIMENT3_START, report.EXPERIMENT3_END)
             first = rates[comparisons[0].four_key]
-        contest, claims, untested = None, None, []
+        contest, claims, untested, decisions, added = None, None, [], None, None
         if self.third_edition:
-            contest, claims, untested, changed_here = self._third_edition()
+            contest, claims, untested, decisions, changed_here = self._third_edition()
             changed |= changed_here
+            added = self._addendum()
         summary = report.summary_text(*results, comparisons, first, contest, claims)
+        if added is not None:
+            from docking.designs import addendum
+
+            summary += "\n\n" + report.addendum_summary(added, contest, addendum)
         if untested:
             summary += "\n\n" + report.untested_summary(untested[0][0])
         changed |= self._write(summary, report.SUMMARY_START, report.SUMMARY_END)
+        if contest is not None:
+            changed |= self._glance(results, comparisons, contest, added, decisions)
         if self.readme is not None:
             changed |= _write_timings(self.readme)
             print(f"{self.readme}: {'updated' if changed else 'already up to date'}")
@@ -540,7 +547,35 @@ class Report:
         )
         design = contest.design
         decisions = judge_family(design.claims, contest, alpha=design.alpha, per_claim=True)
-        return contest, report.claims_summary(design.claims, decisions), untested, changed
+        claims = report.claims_summary(design.claims, decisions)
+        return contest, claims, untested, decisions, changed
+
+    def _addendum(self):
+        """The third edition's addendum's results, once every run of it is stored or in the
+        ledger; None before."""
+        from docking.design import absent_runs
+        from docking.designs import addendum
+
+        if absent_runs(addendum.DESIGN, self.results_dir):
+            return None
+        return addendum.DESIGN.run(results_dir=self.results_dir, workers=self.processes)
+
+    def _glance(self, results, comparisons, contest, added, decisions) -> bool:
+        """The README's first screen: the figure of every learner's held-out success per
+        world (saved into the figures folder) and five sentences under it."""
+        from docking import figures, report
+
+        fig = figures.fig_glance(*report.glance_data(contest, added))
+        png = Path(report.save_named(fig, report.GLANCE_FIGURE))
+        text = report.glance_text(
+            *results, comparisons, contest, added, contest.design.claims, decisions
+        )
+        image = (
+            "![Held-out success per world of the paper's learner, linear SARSA and PPO, each "
+            f"seed a dot, against the pose oracle, the centroid rule and random actions]"
+            f"(figures/{png.name})"
+        )
+        return self._write(f"{image}\n\n{text}", report.GLANCE_START, report.GLANCE_END)
 
     def _untested(self) -> list:
         """The untested claims' rows of the verdict table

@@ -1416,6 +1416,9 @@ def glance_data(contest, added) -> tuple[list, list, dict, dict]:
 
 #: The first screen's figure, in the figures folder (written by ``report --readme``).
 GLANCE_FIGURE = "glance"
+#: The markers of the README's first screen: the figure and five sentences.
+GLANCE_START = "<!-- glance:start -->"
+GLANCE_END = "<!-- glance:end -->"
 
 
 def glance_text(results1, results2, comparisons, contest, added, claims, decisions) -> str:
