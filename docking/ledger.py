@@ -283,6 +283,9 @@ def load_run(config, seed: int, results_dir: Path | str | None = None):
     got = {n: a for n, a in got.items() if a is not None}
     logs = {p: _log(got, p, f"{config.name!r} seed {seed}") for p in PARTS}
     walls = record["wall_time_train"], record["wall_time_test"]
+    from_table = getattr(runner, "from_table", None)  # a registered learner's (docking.learners)
+    if from_table is not None:
+        return from_table(config, seed, got, logs, walls)
     if runner is store.PPO:
         train = [got.get(f"train.{f}") for f in ("success", "steps")]
         return ppo.PPOResult(config, seed, *train, logs["heldout"], *walls)

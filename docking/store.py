@@ -4,10 +4,11 @@ There are kinds of run, one :class:`Runner` each, looked up by the type of the c
 (:func:`runner_for`): the paper's learner and its yardsticks (``"learner"``:
 :class:`docking.experiments.ExperimentConfig`, :func:`docking.experiments.run_experiment`)
 and the pixel-level bound (``"ppo"``: :class:`docking.ppo.PPOConfig`,
-:func:`docking.ppo.run_ppo`). A runner names the module whose code computes its runs, the
-libraries whose versions enter its keys, how a run is computed, which arrays it stores and
-how they are read back; everything else here (keys, paths, saving, loading, the checks) is one
-implementation for every kind.
+:func:`docking.ppo.run_ppo`); a learner from outside the package becomes a kind of run of its
+own when it is registered (:func:`register`, through :func:`docking.learners.register`). A
+runner names the module whose code computes its runs, the libraries whose versions enter its
+keys, how a run is computed, which arrays it stores and how they are read back; everything
+else here (keys, paths, saving, loading, the checks) is one implementation for every kind.
 
 A run is fully determined by its configuration, its seed and the code that computes it. Its
 key is the SHA-256 of
@@ -77,11 +78,13 @@ from docking.validate import MAX_SEED, check_int
 __all__ = [
     "CorruptResult",
     "FORMAT_VERSION",
+    "BUILT_IN",
     "RUNNERS",
     "Runner",
     "StaleCode",
     "content_digest",
     "module_digests",
+    "register",
     "rendering_stack",
     "check_writable",
     "computed_utc",
@@ -682,24 +685,81 @@ PPO = Runner(
     test_elsewhere=False,
 )
 
-#: Every kind of run, by its configuration's type.
-RUNNERS: dict[type, Runner] = {runner.config_type: runner for runner in (LEARNER, PPO)}
+#: The kinds of run of the package itself (:func:`register` never replaces them).
+BUILT_IN: tuple[Runner, ...] = (LEARNER, PPO)
+#: Every kind of run, by its configuration's type (:func:`register` adds one).
+RUNNERS: dict[type, Runner] = {runner.config_type: runner for runner in BUILT_IN}
 _BY_NAME: dict[str, Runner] = {runner.name: runner for runner in RUNNERS.values()}
+#: Names of the runners adopted from a configuration's class (:func:`runner_for`).
+_CARRIED: set[str] = set()
+#: The environment variable naming modules to import for their learners (:func:`runner_named`).
+LEARNERS_VARIABLE = "DOCKING_LEARNERS"
+#: The attribute of a registered learner's configuration class that holds its runner.
+RUNNER_ATTRIBUTE = "_docking_runner"
+
+
+def register(runner: Runner) -> Runner:
+    """Add a kind of run (:func:`docking.learners.register` makes one for a learner from
+    outside the package). It replaces an earlier runner of its name or configuration type (a
+    notebook cell run again defines the class anew), never a built-in one (``ValueError``).
+    Returns ``runner``."""
+    if not isinstance(runner, Runner):
+        raise TypeError(f"register takes a Runner, got {runner!r:.80}")
+    for built_in in BUILT_IN:
+        if runner.name == built_in.name or runner.config_type is built_in.config_type:
+            raise ValueError(f"{runner.name!r} would replace the built-in kind of run")
+    for config_type, old in list(RUNNERS.items()):
+        if old.name == runner.name or config_type is runner.config_type:
+            del RUNNERS[config_type], _BY_NAME[old.name]
+    RUNNERS[runner.config_type], _BY_NAME[runner.name] = runner, runner
+    _CARRIED.discard(runner.name)
+    return runner
 
 
 def runner_for(config) -> Runner:
     """The :class:`Runner` of ``config``'s kind (by its exact type); ``TypeError`` naming
-    the known configuration types for anything else."""
+    the known configuration types for anything else.
+
+    A registered learner's configuration class carries its runner (:data:`RUNNER_ATTRIBUTE`):
+    where the class arrived by value (a Dask worker given a job of a learner defined in a
+    notebook), that runner is adopted, unless this process registered one of its name."""
     runner = RUNNERS.get(type(config))
+    carried = getattr(type(config), RUNNER_ATTRIBUTE, None)
+    if runner is None and isinstance(carried, Runner) and carried.config_type is type(config):
+        if carried.name not in _BY_NAME or carried.name in _CARRIED:
+            runner = register(carried)
+            _CARRIED.add(carried.name)
     if runner is None:
-        known = " or ".join(t.__name__ for t in RUNNERS)
-        raise TypeError(f"a run's configuration must be a {known}, got {config!r:.80}")
+        known = " or ".join(r.config_type.__name__ for r in BUILT_IN)
+        raise TypeError(
+            f"a run's configuration must be a {known}, got {config!r:.80} (or the "
+            "configuration of a learner registered with docking.learners.register)"
+        )
     return runner
 
 
 def runner_named(name: str) -> Runner:
-    """The :class:`Runner` called ``name``; ``ValueError`` naming the known ones otherwise."""
+    """The :class:`Runner` called ``name``; ``ValueError`` naming the known ones otherwise.
+    A name not registered yet is looked up again after importing the modules that the
+    environment variable :data:`LEARNERS_VARIABLE` names (comma-separated; a module that
+    registers learners, e.g. for ``python -m docking verify`` of their runs)."""
     runner = _BY_NAME.get(name) if isinstance(name, str) else None
+    if runner is None and isinstance(name, str) and _import_learners():
+        runner = _BY_NAME.get(name)
     if runner is None:
-        raise ValueError(f"no kind of run is called {name!r:.40}; known: {', '.join(_BY_NAME)}")
+        raise ValueError(
+            f"no kind of run is called {name!r:.40}; known: {', '.join(_BY_NAME)} (a learner "
+            f"from outside the package: import its module first, or name it in "
+            f"{LEARNERS_VARIABLE})"
+        )
     return runner
+
+
+def _import_learners() -> bool:
+    """Import the modules :data:`LEARNERS_VARIABLE` names; whether it names any."""
+    import importlib
+
+    names = [n.strip() for n in os.environ.get(LEARNERS_VARIABLE, "").split(",") if n.strip()]
+    for name in names:
+        importlib.import_module(name)
+    return bool(names)

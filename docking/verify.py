@@ -52,21 +52,22 @@ def _commit() -> str:
     return source_fingerprint()
 
 
-#: The kinds of run (:attr:`docking.store.Runner.name`) whose runs a sample may draw.
-SAMPLED_RUNNERS = ("learner",)
+#: The kinds of run (:attr:`docking.store.Runner.name`) whose runs a sample never draws.
+UNSAMPLED_RUNNERS = ("ppo",)
 
 
 def chosen(data: dict, sample: int | None, commit: str) -> list[str]:
     """The run keys ``verify`` recomputes: every run of :data:`PAPER_RUNS`, plus ``sample``
     others ordered by SHA-256 of the commit and the key (so each commit draws other runs);
-    ``sample=None``: every run. The runs of :data:`SAMPLED_RUNNERS` only: the pixel-level
+    ``sample=None``: every run. Not the runs of :data:`UNSAMPLED_RUNNERS`: the pixel-level
     bound's (PPO) are recomputed by ``--all`` (:func:`verify`), as JAX's compiled CPU code may
     round differently on another CPU family, which a sample on every CI run should not
-    hinge on."""
+    hinge on. (The paper's learner's runs are drawn, and those of a learner registered from
+    outside the package, :mod:`docking.learners`.)"""
     keys = sorted(data["runs"])
     if sample is None:
         return keys
-    keys = [k for k in keys if data["runs"][k]["runner"] in SAMPLED_RUNNERS]
+    keys = [k for k in keys if data["runs"][k]["runner"] not in UNSAMPLED_RUNNERS]
     paper = [k for k in keys if data["runs"][k]["name"] in PAPER_RUNS]
     others = sorted(
         (k for k in keys if k not in paper),

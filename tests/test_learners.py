@@ -1,0 +1,487 @@
+"""Bring your own learner (issue 43, points 1-3): the learner protocol, a learner defined
+outside the package (tests/outside_learner.py, modules written here) stored, served from a
+ledger in a temporary folder and verified, keyed by its own code; the contest as a function;
+the guide's example."""
+
+from __future__ import annotations
+
+import dataclasses
+import importlib.util
+import inspect
+import linecache
+import os
+import re
+import subprocess
+import sys
+from pathlib import Path
+
+import numpy as np
+import outside_learner as outside
+import pytest
+from helpers import TINY
+
+from docking import learners, ledger, protocol, store, verify
+from docking.contest import CONTEST_BUDGET, Budget, contest, small_budget
+from docking.design import yardstick_config
+from docking.designs import third_edition as te
+from docking.experiments import ExperimentConfig, run_experiment
+from docking.policies import oracle
+from docking.ppo import PPOConfig, run_ppo
+from docking.presets import EXPERIMENT_2
+
+ROOT = Path(__file__).resolve().parents[1]
+GUIDE = ROOT / "docs" / "guide" / "bring_your_own_learner.md"
+CONFIG = outside.RandomFeatures()
+
+
+@pytest.fixture
+def registry(monkeypatch):
+    """The registry of kinds of run, restored after the test."""
+    monkeypatch.setattr(store, "RUNNERS", dict(store.RUNNERS))
+    monkeypatch.setattr(store, "_BY_NAME", dict(store._BY_NAME))
+    monkeypatch.setattr(store, "_CARRIED", set(store._CARRIED))
+
+
+# ------------------------------------------------------------------------------------------
+# The protocol.
+# ------------------------------------------------------------------------------------------
+
+
+def test_the_built_in_learners_fit_the_protocol():
+    """The paper's learner, linear SARSA and PPO: configurations of the protocol, run
+    functions of its signature, and kinds of run beside the registered ones."""
+    for config in (EXPERIMENT_2, PPOConfig(), CONFIG):
+        assert isinstance(config, learners.Learner)
+        assert type(config).from_dict(config.to_dict()) == config
+    assert not isinstance(TINY.network, learners.Learner)
+    for function in (run_experiment, run_ppo, outside.run):
+        assert list(inspect.signature(function).parameters) == [
+            "config",
+            "seed",
+            "progress",
+            "on_trials",
+        ]
+    assert learners.runner(TINY) is store.LEARNER and learners.runner(PPOConfig()) is store.PPO
+    assert learners.runner(CONFIG) is outside.RUNNER
+    assert {"learner", "ppo", "random-features"} <= set(learners.registered())
+
+
+def test_held_out_trials_are_the_published_learners_streams():
+    """A learner's held-out trials are drawn as the paper's learner's (and PPO's) are: the
+    oracle judged by the protocol equals the oracle yardstick run of the same seed, bit for
+    bit."""
+    yardstick = yardstick_config(TINY, "oracle", 4)
+    for seed in (0, 7):
+        expected = run_experiment(yardstick, seed, progress=False).heldout
+        found = protocol.heldout_log(TINY.world, seed, 4, oracle)
+        for field in dataclasses.fields(found):
+            np.testing.assert_array_equal(getattr(found, field.name), getattr(expected, field.name))
+
+
+def test_register_refuses_what_is_no_learner(registry):
+    @dataclasses.dataclass
+    class Mutable:
+        name: str = "m"
+        world: object = None
+        heldout_trials: int = 1
+
+    @dataclasses.dataclass(frozen=True)
+    class NoWorld:
+        name: str = "n"
+        heldout_trials: int = 1
+
+    with pytest.raises(TypeError, match="frozen"):
+        learners.register(Mutable, outside.run)
+    with pytest.raises(TypeError, match="lacks the learner protocol's fields world"):
+        learners.register(NoWorld, outside.run)
+    with pytest.raises(TypeError, match="must be a function"):
+        learners.register(outside.RandomFeatures, print)
+    with pytest.raises(ValueError, match="built-in"):
+        learners.register(ExperimentConfig, outside.run)
+    with pytest.raises(ValueError, match="built-in"):
+        learners.register(outside.RandomFeatures, outside.run, name="ppo")
+
+
+# ------------------------------------------------------------------------------------------
+# Keys: its configuration, its own code, the docking modules it imports.
+# ------------------------------------------------------------------------------------------
+
+LEARNER_SOURCE = '''
+"""A learner written to a file by a test."""
+import dataclasses
+
+from docking import learners
+from docking.scene import WorldConfig
+
+
+@dataclasses.dataclass(frozen=True)
+class Edited:
+    name: str = "edited"
+    world: WorldConfig = WorldConfig()
+    heldout_trials: int = 1
+    alpha: float = 0.5
+
+
+def run(config, seed, progress=True, on_trials=None):
+    steps = 3  # three steps
+    return learners.judge(config, seed, lambda o, env: 0, steps, on_trials)
+
+
+RUNNER = learners.register(Edited, run)
+'''
+
+
+def _module(tmp_path: Path, name: str, source: str, monkeypatch):
+    """The module ``name`` of ``source``, written to a file and imported (until the test
+    ends)."""
+    path = tmp_path / f"{name}.py"
+    path.write_text(source)
+    spec = importlib.util.spec_from_file_location(name, path)
+    module = importlib.util.module_from_spec(spec)
+    monkeypatch.setitem(sys.modules, name, module)
+    spec.loader.exec_module(module)
+    return module
+
+
+def test_the_key_follows_the_learners_own_code_in_a_module(tmp_path, registry, monkeypatch):
+    def module(name, source):
+        return _module(tmp_path, name, source, monkeypatch)
+
+    first = module("edited_1", LEARNER_SOURCE)
+    key = store.config_key(first.Edited())
+    assert first.RUNNER.code.where == (str(tmp_path / "edited_1.py"),)
+    assert first.RUNNER.roots == ("docking.protocol", "docking.scene")
+    assert "own code" in first.RUNNER.module_digests()
+    assert store.config_key(first.Edited(alpha=0.25)) != key  # its configuration
+    assert store.run_key(first.Edited(), 1) != store.run_key(first.Edited(), 2)  # the seed
+    reworded = LEARNER_SOURCE.replace("# three steps", "# a comment, reworded").replace(
+        '"""A learner written', '"""A docstring, reworded: a learner written'
+    )
+    second = module("edited_2", reworded)
+    assert store.config_key(second.Edited()) == key
+    changed = module("edited_3", LEARNER_SOURCE.replace("steps = 3", "steps = 4"))
+    assert store.config_key(changed.Edited()) != key
+    # a docking module its code imports enters the key with what it imports
+    more = LEARNER_SOURCE.replace(
+        "import dataclasses\n", "import dataclasses\nimport docking.presets\n"
+    )
+    other = module("edited_4", more)
+    assert other.RUNNER.roots == ("docking.protocol", "docking.presets", "docking.scene")
+    assert store.config_key(other.Edited()) != key
+    # the learner's registry and the contest are not followed
+    unfollowed = LEARNER_SOURCE.replace(
+        "import dataclasses\n", "import dataclasses\nimport docking.contest\n"
+    )
+    assert module("edited_5", unfollowed).RUNNER.roots == first.RUNNER.roots
+
+
+CELL = """
+import dataclasses
+
+from docking import learners
+from docking.scene import WorldConfig
+
+
+@dataclasses.dataclass(frozen=True)
+class InCell:
+    name: str = "in-cell"
+    world: WorldConfig = WorldConfig()
+    heldout_trials: int = 1
+
+
+def run(config, seed, progress=True, on_trials=None):
+    steps = 3  # three steps
+    return learners.judge(config, seed, lambda o, env: 0, steps, on_trials)
+
+
+runner = learners.register(InCell, run)
+"""
+
+
+def _cell(source: str, name: str):
+    """``source`` run as a notebook cell is (no module file; its source in linecache)."""
+    linecache.cache[name] = (len(source), None, source.splitlines(keepends=True), name)
+    namespace = {"__name__": "__main__"}
+    exec(compile(source, name, "exec", dont_inherit=True), namespace)
+    return namespace
+
+
+def test_the_key_follows_the_learners_own_code_in_a_notebook_cell(registry):
+    first = _cell(CELL, "<cell 1>")
+    assert first["runner"].code.where == ("<cell 1>: InCell", "<cell 1>: run")
+    key = store.config_key(first["InCell"]())
+    reworded = _cell(CELL.replace("# three steps", "# reworded") + "\nx = 1\n", "<cell 2>")
+    assert store.config_key(reworded["InCell"]()) == key  # a comment; code outside both
+    changed = _cell(
+        CELL.replace("heldout_trials: int = 1", "heldout_trials: int = 1\n    k: int = 2"),
+        "<cell 3>",
+    )
+    assert store.config_key(changed["InCell"](k=2)) != key
+    with pytest.raises(TypeError, match="cannot read the source of InCell"):
+        exec(compile(CELL, "<no source>", "exec"), {"__name__": "__main__"})
+
+
+# ------------------------------------------------------------------------------------------
+# Stored, served from a ledger, verified.
+# ------------------------------------------------------------------------------------------
+
+
+def test_an_outside_learner_is_stored_and_loaded_not_recomputed(tmp_path, registry):
+    computed = store.run_or_load(CONFIG, 0, tmp_path, progress=False)
+    assert isinstance(computed, learners.LearnerResult)
+    assert len(computed.heldout) == CONFIG.heldout_trials and computed.train_steps > 0
+    assert computed.wall_time_train > 0 and computed.wall_time_test > 0
+    path = store.result_path(CONFIG, 0, tmp_path)
+    assert path == tmp_path / "outside" / store.config_key(CONFIG)[:16] / "seed0.npz"
+    assert (path.parent / "config.json").exists()
+    failing = dataclasses.replace(outside.RUNNER, run=lambda *a, **k: pytest.fail("recomputed"))
+    store.register(failing)
+    loaded = store.run_or_load(CONFIG, 0, tmp_path, progress=False)
+    assert loaded.train_steps == computed.train_steps and loaded.config == CONFIG
+    np.testing.assert_array_equal(loaded.heldout.poses, computed.heldout.poses)
+    raw = dict(np.load(path))
+    raw["train_steps"] = raw["train_steps"] + 1  # an array edited behind the digest's back
+    np.savez(tmp_path / "edited.npz", **raw)
+    with pytest.raises(store.CorruptResult, match="digest"):
+        store.load_result(tmp_path / "edited.npz", store.run_key(CONFIG, 0))
+
+
+def test_a_runs_result_is_checked(tmp_path, registry):
+    def elsewhere(config, seed, progress=True, on_trials=None):
+        return protocol.judge(config, seed + 1, lambda o, env: 0, 0)
+
+    def too_few(config, seed, progress=True, on_trials=None):
+        result = protocol.judge(config, seed, lambda o, env: 0, 0)
+        result.heldout = protocol.heldout_log(config.world, seed, 1, lambda o, env: 0)
+        return result
+
+    for run, error, match in (
+        (elsewhere, ValueError, "another configuration or seed"),
+        (too_few, ValueError, "returned 1 held-out trials, its configuration asks for 3"),
+        (lambda config, seed, **kw: None, TypeError, "not a LearnerResult"),
+    ):
+        store.register(dataclasses.replace(outside.RUNNER, run=_wrapped(run)))
+        with pytest.raises(error, match=match):
+            store.run_or_load(CONFIG, 0, tmp_path, progress=False)
+
+    def other_stream(config, seed, progress=True, on_trials=None):
+        result = protocol.judge(config, seed, lambda o, env: 0, 0)
+        result.heldout = protocol.heldout_log(config.world, seed + 1, 3, lambda o, env: 0)
+        return result
+
+    store.register(dataclasses.replace(outside.RUNNER, run=_wrapped(other_stream)))
+    with pytest.raises(ValueError, match="not drawn from the held-out stream of seed 0"):
+        store.run_or_load(CONFIG, 0, tmp_path, progress=False)
+
+
+def _wrapped(run):
+    import functools
+
+    return functools.partial(learners._run, run)
+
+
+def test_a_learners_class_carries_its_runner_to_another_process(registry):
+    """A Dask worker that receives a learner's class by value adopts its runner (simulated:
+    the registry emptied); a class whose name this process registered otherwise is not."""
+    del store.RUNNERS[outside.RandomFeatures], store._BY_NAME["random-features"]
+    assert store.runner_for(CONFIG) is outside.RUNNER
+    assert store.runner_named("random-features") is outside.RUNNER
+    store.register(outside.RUNNER)  # registered here: no class carrying one of its name wins
+
+    @dataclasses.dataclass(frozen=True)
+    class Impostor(outside.RandomFeatures):
+        pass
+
+    Impostor._docking_runner = dataclasses.replace(outside.RUNNER, config_type=Impostor)
+    with pytest.raises(TypeError, match="registered with docking.learners.register"):
+        store.runner_for(Impostor())
+
+
+@pytest.fixture
+def learner_ledger(tmp_path, monkeypatch):
+    """Two runs of the outside learner in a store, and a ledger of them in a temporary folder
+    (seed 0 kept whole, seed 1 as a row of its table)."""
+    results, folder = tmp_path / "results", tmp_path / "ledger"
+    runs = [store.run_or_load(CONFIG, seed, results, progress=False) for seed in (0, 1)]
+    data = ledger.update(
+        [(CONFIG, 0, True, frozenset()), (CONFIG, 1, False, frozenset())], folder, results
+    )
+    monkeypatch.setenv("DOCKING_LEDGER", str(folder))
+    return runs, data, folder
+
+
+def test_an_outside_learners_runs_are_served_from_a_ledger(learner_ledger, tmp_path, registry):
+    runs, data, folder = learner_ledger
+    assert data["fingerprints"] == {"random-features": outside.RUNNER.fingerprint()}
+    assert data["modules"]["random-features"]["own code"] == outside.RUNNER.code.digest
+    empty = tmp_path / "empty"
+    for run in runs:
+        served = ledger.load_run(CONFIG, run.seed, empty)
+        assert isinstance(served, learners.LearnerResult)
+        np.testing.assert_array_equal(served.heldout.success, run.heldout.success)
+        np.testing.assert_array_equal(served.heldout.steps, run.heldout.steps)
+        assert served.train_steps == run.train_steps
+    assert ledger.load_run(CONFIG, 0, empty).heldout.poses is not None  # kept whole
+    assert ledger.load_run(CONFIG, 1, empty).heldout.poses is None  # a row of its table
+    assert ledger.load_run(CONFIG, 2, empty) is None
+    # a ledger computed by the learner's earlier code is refused, naming its own code
+    code = dataclasses.replace(outside.RUNNER.code, digest="0" * 64)
+    store.register(dataclasses.replace(outside.RUNNER, code=code))
+    with pytest.raises(ledger.StaleLedger, match="own code"):
+        ledger.load_run(CONFIG, 1, empty)
+
+
+def test_an_outside_learners_runs_are_verified(learner_ledger):
+    _, data, folder = learner_ledger
+    sampled = verify.chosen(ledger.manifest(folder), 1, "a commit")
+    assert len(sampled) == 1 and data["runs"][sampled[0]]["runner"] == "random-features"
+    checks = verify.verify(None, workers=1, progress=False, folder=folder)
+    found = sorted((c.name, c.seed, c.ok) for c in checks)
+    assert found == [("outside", 0, True), ("outside", 1, True)]
+
+
+@pytest.mark.slow
+def test_the_command_line_verifies_an_outside_learners_runs(learner_ledger):
+    """``python -m docking verify`` imports the learner's module (DOCKING_LEARNERS) and
+    recomputes its runs on the embedded Dask cluster, whose workers import it by name."""
+    _, _, folder = learner_ledger
+    env = {
+        **os.environ,
+        "DOCKING_LEARNERS": "outside_learner",
+        "DOCKING_LEDGER": str(folder),
+        "PYTHONPATH": str(Path(__file__).parent),
+    }
+    out = subprocess.run(
+        [sys.executable, "-m", "docking", "verify", "--all"],
+        capture_output=True,
+        text=True,
+        env=env,
+        timeout=600,
+    )
+    assert out.returncode == 0, out.stdout + out.stderr
+    assert "2 of 2 recomputed runs equal the ledger" in out.stdout
+    without = {k: v for k, v in env.items() if k != "DOCKING_LEARNERS"}
+    out = subprocess.run(
+        [sys.executable, "-m", "docking", "verify", "--all"],
+        capture_output=True,
+        text=True,
+        env=without,
+        timeout=600,
+    )
+    assert out.returncode != 0 and "DOCKING_LEARNERS" in out.stderr
+
+
+# ------------------------------------------------------------------------------------------
+# The contest.
+# ------------------------------------------------------------------------------------------
+
+
+def _published_linear(world, **setting):
+    """The third edition's linear SARSA in ``world`` (its design's cells' configurations)."""
+    from docking.designs.builders import experiment2_in, linear_sarsa, variant
+
+    base = experiment2_in(world, te.NAME)
+    return variant(base, te.NAME, network=linear_sarsa(base, **setting))
+
+
+def test_the_contest_of_the_published_linear_sarsa_is_the_published_contest(tmp_path, monkeypatch):
+    """The package's linear SARSA entered with its published grid and tuning seeds: every
+    run is the ledger's (none computed), the tuned settings and the judged row are the
+    published ones, and each published learner's lead over it is the published table's."""
+    monkeypatch.delenv("DOCKING_LEDGER")  # the committed ledger
+    monkeypatch.setattr("docking.store.run_experiment", lambda *a, **k: pytest.fail("ran"))
+    budget = Budget(tuning_seeds=te.TUNING_SEEDS)
+    found = contest(
+        _published_linear,
+        te.GRIDS["linear"],
+        budget,
+        label="lin",
+        results_dir=tmp_path,
+        progress=False,
+    )
+    assert {s for sources in found.results.sources.values() for s in sources} == {"ledger"}
+    assert budget.runs - budget.judged == te.TUNING.runs == 15
+    for world in te.CONTEST:
+        index = te.TUNING.tuned_setting(found.published, world, "linear")
+        assert found.tuned[world] == te.GRIDS["linear"][index]
+        np.testing.assert_array_equal(
+            found.results.score(f"{world}/lin-tuned"),
+            found.published.score(f"{world}/linear-tuned"),
+        )
+    gaps = {(g.world, g.other): g for g in found.gaps}
+    assert gaps["floor", "paper-tuned"].interval.estimate < -0.05  # the edition's finding
+    assert gaps["floor", "linear-tuned"].interval.estimate == 0.0
+    assert "Not the contest: another budget" in found.table
+    assert "| **lin, tuned (yours)** | 20 | 500 |" in found.table
+
+
+def test_a_contest_budget_is_checked():
+    assert CONTEST_BUDGET.runs == 35 and CONTEST_BUDGET.is_the_contest
+    assert CONTEST_BUDGET.describe().startswith("**The published contest's budget**")
+    assert set(CONTEST_BUDGET.tuning_seeds).isdisjoint(
+        set(te.SEEDS) | set(te.TUNING_SEEDS) | {s for s in range(10)}
+    )
+    small = small_budget()
+    assert small.smaller and small.describe().startswith("**Not the contest: a smaller budget**")
+    with pytest.raises(ValueError, match="judged seeds"):
+        Budget(tuning_seeds=(3000, 3910))
+    with pytest.raises(ValueError, match="two or more"):
+        Budget(tuning_seeds=(3910,))
+    with pytest.raises(ValueError, match="worlds"):
+        Budget(worlds=("moon",))
+    with pytest.raises(ValueError, match="the grid has 1 settings, the budget 9"):
+        contest(CONFIG, [{}])
+    with pytest.raises(ValueError, match="names a published learner"):
+        contest(CONFIG, [{}, {}], small, label="linear")
+
+    @dataclasses.dataclass(frozen=True)
+    class Unregistered:
+        name: str = "unregistered"
+        world: object = None
+        heldout_trials: int = 1
+
+    with pytest.raises(TypeError, match="registered with docking.learners.register"):
+        contest(Unregistered(), [{}, {}], small)
+
+
+def test_the_contest_reads_the_published_rows_and_never_computes_them(tmp_path):
+    """With no ledger, the contest fails before it computes anything."""
+    with pytest.raises(LookupError, match="published contest's rows are read from"):
+        contest(CONFIG, [{}, {"alpha": 0.1}], small_budget(), results_dir=tmp_path)
+    assert not any(tmp_path.iterdir())
+
+
+# ------------------------------------------------------------------------------------------
+# The guide.
+# ------------------------------------------------------------------------------------------
+
+
+def _guide_example() -> str:
+    (code,) = re.findall(r"```python\n(.*?)```", GUIDE.read_text(), re.S)
+    return code
+
+
+def test_the_guides_example_is_at_most_40_lines_of_a_new_kind_of_learner():
+    code = _guide_example()
+    assert len([line for line in code.splitlines() if line.strip()]) <= 40
+    assert "learners.register(" in code and "contest(" in code and "small_budget(" in code
+    assert "guide/bring_your_own_learner.md" in (ROOT / "docs" / "mkdocs.yml").read_text()
+
+
+@pytest.mark.slow
+def test_the_guides_example_prints_its_row_beside_the_published_rows(tmp_path, monkeypatch, capsys):
+    from test_examples import remembered
+
+    monkeypatch.setenv("DOCKING_RESULTS", str(tmp_path / "results"))
+    monkeypatch.delenv("DOCKING_LEDGER")
+    monkeypatch.chdir(tmp_path)
+    code = _guide_example()
+    namespace = {"__name__": "example"}
+    exec(compile(code, remembered(code), "exec", dont_inherit=True), namespace)
+    table = capsys.readouterr().out
+    assert table.startswith("**Not the contest: a smaller budget**")
+    rows = [line for line in table.splitlines() if line.startswith("| ")]
+    assert rows[1].startswith("| **kmeans-q, tuned (yours)** | 3 | 20 |")
+    assert rows[2].startswith("| pose oracle | 5 | 500 |")
+    assert any(r.startswith("| linear SARSA, tuned | 20 | 500 |") for r in rows)
+    assert namespace["found"].results.sources["sideboard/kmeans-q-tuned"] == ["computed"] * 3
