@@ -64,7 +64,8 @@ def _register_envs() -> None:
         if env_id not in gymnasium.registry:
             gymnasium.register(
                 id=env_id,
-                entry_point="docking.gym:DockingGymEnv",
+                # the adapter with its seed and actions checked (docking/gym_ids.py)
+                entry_point="docking.gym_ids:CheckedDockingGymEnv",
                 kwargs={"preset": preset},
                 max_episode_steps=steps,
             )

@@ -923,10 +923,33 @@ def _reflowed_help():
         _strings.remove_single_line_breaks = original
 
 
+#: The narrowest help tyro is given: at a few columns its formatter never ends (issue 41).
+MIN_COLUMNS = 40
+
+
+@contextlib.contextmanager
+def _wide_enough():
+    """``COLUMNS`` at least :data:`MIN_COLUMNS` while tyro builds the parser and its help: a
+    narrower terminal (or ``COLUMNS=5``) gets the help at that width, wrapped by the
+    terminal."""
+    import shutil
+
+    saved = os.environ.get("COLUMNS")
+    if shutil.get_terminal_size().columns < MIN_COLUMNS:
+        os.environ["COLUMNS"] = str(MIN_COLUMNS)
+    try:
+        yield
+    finally:
+        if saved is None:
+            os.environ.pop("COLUMNS", None)
+        else:
+            os.environ["COLUMNS"] = saved
+
+
 def parse(argv: list[str]) -> Command:
     """The command ``argv`` names, parsed and checked, not run (``SystemExit`` as argparse
     exits: on bad input, and after printing ``--help``)."""
-    with _reflowed_help():
+    with _reflowed_help(), _wide_enough():
         return tyro.cli(
             Command,
             args=argv,
@@ -947,10 +970,17 @@ def main(argv=None) -> int:
             file=sys.stderr,
         )
         return 2
-    command = parse(argv)
+    try:
+        command = parse(argv)
+    except KeyboardInterrupt:  # Ctrl-C while tyro builds the parser
+        print(f"{PROG}: interrupted", file=sys.stderr)
+        return 130
     signal.signal(signal.SIGTERM, _exit_on_sigterm)
     try:
         return command.execute()
+    except KeyboardInterrupt:  # Ctrl-C: a running sweep has closed its cluster on the way
+        print(f"{PROG}: interrupted", file=sys.stderr)
+        return 130
     except ValueError as exc:  # bad input (seeds, grid entries, configuration values)
         print(f"{PROG}: error: {exc}", file=sys.stderr)
         return 2

@@ -180,6 +180,8 @@ class ExperimentConfig:
             pretrain_rule=check_choice(owner, "pretrain_rule", self.pretrain_rule, PRETRAIN_RULES),
             policy=check_choice(owner, "policy", self.policy, POLICIES),
         )
+        if self.heldout_world is not None:  # before anything reads it as a world
+            check_instance(owner, "heldout_world", self.heldout_world, WorldConfig)
         if self.policy == "network" and self.train_trials < 1:
             raise ValueError(
                 f"ExperimentConfig.train_trials must be >= 1 for the learner (policy='network'), "

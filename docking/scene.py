@@ -309,6 +309,77 @@ class WorldConfig:
                 f"meets the {what} at {closest:.2f} m), got "
                 f"dock_center={self.dock_center}"
             )
+        # A distractor stands clear of where the robot starts and docks: its floor footprint
+        # keeps the robot's radius from the start trapezoid and the docking region (a box
+        # over the start region would hold the robot inside it, and the robot pushes it).
+        tan = math.tan(math.radians(self.start_half_angle_deg))
+        near, far = self.start_near, self.start_far
+        back, front = (
+            -(self.dock_center + self.dock_depth / 2),
+            -(self.dock_center - self.dock_depth / 2),
+        )
+        w = self.dock_width / 2
+        regions = {
+            "the start region": [
+                (-near, -near * tan),
+                (-far, -far * tan),
+                (-far, far * tan),
+                (-near, near * tan),
+            ],
+            "the docking region": [(front, -w), (back, -w), (back, w), (front, w)],
+        }
+
+        def gap(footprint, radius: float, region) -> float:
+            """The floor distance between a convex ``footprint`` (corners; one point for a
+            disc of ``radius``) and the convex polygon ``region`` (0 if they meet)."""
+            a, b = np.array(footprint, float), np.array(region, float)
+            for poly in (a, b) if len(a) > 2 else (b,):  # a separating axis: they do not meet
+                edges = np.roll(poly, -1, axis=0) - poly
+                for normal in np.stack([-edges[:, 1], edges[:, 0]], axis=1):
+                    pa, pb = a @ normal, b @ normal
+                    if pa.max() < pb.min() or pb.max() < pa.min():
+                        break
+                else:
+                    continue
+                break
+            else:
+                return 0.0  # no separating axis: they overlap (a disc's centre is inside)
+
+            def to_edges(points, poly):
+                ends = np.roll(poly, -1, axis=0)
+                d = ends - poly
+                length = np.maximum((d * d).sum(-1), 1e-12)  # a degenerate edge: a point
+                t = np.clip(((points[:, None] - poly) * d).sum(-1) / length, 0, 1)
+                return np.linalg.norm(points[:, None] - (poly + t[..., None] * d), axis=-1).min()
+
+            far_apart = min(to_edges(a, b), to_edges(b, a) if len(a) > 2 else np.inf)
+            return max(float(far_apart) - radius, 0.0)
+
+        def footprint(d) -> tuple[list, float]:
+            """A distractor's floor footprint: a box's corners, or an upright cylinder's or a
+            sphere's centre and radius."""
+            x, y = d.position[:2]
+            if d.shape != "box":
+                return [(x, y)], d.size[0]
+            sx, sy = d.size[:2]
+            return [(x - sx, y - sy), (x + sx, y - sy), (x + sx, y + sy), (x - sx, y + sy)], 0.0
+
+        clash = next(
+            (
+                (k, d, name)
+                for k, d in enumerate(self.distractors)
+                for name, region in regions.items()
+                if gap(*footprint(d), region) < facts.robot_radius
+            ),
+            None,
+        )
+        if clash is not None:
+            k, d, name = clash
+            raise ValueError(
+                f"WorldConfig.distractors[{k}] (a {d.shape} at {d.position}) comes within the "
+                f"robot's radius ({facts.robot_radius:g} m) of {name}: the robot would start or "
+                f"dock inside it; move it at least that far away"
+            )
 
     @property
     def continuous(self) -> bool:

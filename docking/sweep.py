@@ -30,6 +30,7 @@ import asyncio
 import contextlib
 import dataclasses
 import itertools
+import json
 import logging
 import os
 import signal
@@ -113,7 +114,8 @@ def parse_seeds(text: str) -> list[int]:
     """Seeds from ``"0-19"``, ``"0,3,5"``, ``"0 3 5"`` or ``"0-4,10-12"`` (ranges include both
     ends; commas and/or whitespace separate the items, spaces around a range's ``-`` are
     allowed), at most :data:`MAX_SEEDS` of them, each at most
-    :data:`docking.validate.MAX_SEED`."""
+    :data:`docking.validate.MAX_SEED`. Seeds are ASCII digits: ``int`` would also read
+    ``1_0`` as 10 and other scripts' digits (``١``) as theirs."""
     import re
 
     usage = (
@@ -129,7 +131,7 @@ def parse_seeds(text: str) -> list[int]:
         for part in items:
             bounds = part.split("-")
             try:
-                if len(bounds) > 2:
+                if len(bounds) > 2 or not all(re.fullmatch(r"[0-9]+", b) for b in bounds):
                     raise ValueError
                 lo, hi = int(bounds[0]), int(bounds[-1])
                 if lo < 0 or hi < lo:
@@ -192,20 +194,34 @@ def apply_override(config, path: str, value: str):
 
 def grid_configs(base: ExperimentConfig, grid: Sequence[str]) -> list[ExperimentConfig]:
     """The configurations of a parameter grid: every combination of the values of each
-    ``"path=v1,v2,..."`` entry (e.g. ``"network.eps_w=0,0.05"``) applied to ``base``."""
-    axes = []
+    ``"path=v1,v2,..."`` entry (e.g. ``"network.eps_w=0,0.05"``) applied to ``base``. A field
+    named twice, or two values that give the same configuration (``0,0.0``), are refused as
+    repeated seeds are."""
+    axes, named = [], {}
     for entry in grid:
         path, sep, values = entry.partition("=")
         if not sep or not path or not values:
             raise ValueError(
                 f"a grid entry is PATH=V1,V2,... (e.g. network.eps_w=0,0.05); got {entry!r}"
             )
+        field = path.strip().replace("-", "_")
+        if field in named:
+            raise ValueError(f"the grid names {field} twice ({named[field]!r} and {entry!r})")
+        named[field] = entry
         axes.append([(path.strip(), v.strip()) for v in values.split(",")])
-    configs = []
+    configs, seen = [], {}
     for combination in itertools.product(*axes):
         config = base
         for path, value in combination:
             config = apply_override(config, path, value)
+        text = json.dumps(config.to_dict(), sort_keys=True)
+        point = " ".join(f"{path}={value}" for path, value in combination)
+        if text in seen:
+            raise ValueError(
+                f"the grid's values must differ; {seen[text]} and {point} are the same "
+                f"configuration"
+            )
+        seen[text] = point
         configs.append(config)
     return configs
 

@@ -1,0 +1,255 @@
+"""Bad input found by fuzzing (issue 41, points 3-5) is a clear one-line error or an honest
+result: continuous actions of the wrong kind, seeds in other digits, distractors where the
+robot starts or docks, repeated grid values, held-out worlds of the wrong type, a bogus
+``MUJOCO_GL``, Ctrl-C, a terminal a few columns wide."""
+
+from __future__ import annotations
+
+import dataclasses
+import os
+import signal
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import gymnasium
+import numpy as np
+import psutil
+import pytest
+
+import docking  # noqa: F401  (registers the Gymnasium ids)
+from docking.camera import CameraConfig
+from docking.cli import main
+from docking.gym import DockingGymEnv
+from docking.presets import EXPERIMENT_1, EXPERIMENT_2, FLOOR_WORLD, NAO_WORLD
+from docking.scene import Distractor, WorldConfig
+from docking.sweep import grid_configs, parse_seeds
+
+REPO = Path(__file__).resolve().parent.parent
+
+
+def _cli(args, tmp_path, timeout=120, **env):
+    return subprocess.run(
+        [sys.executable, "-m", "docking", *args],
+        cwd=tmp_path,
+        env={
+            **os.environ,
+            "PYTHONPATH": os.pathsep.join([str(REPO), os.environ.get("PYTHONPATH", "")]),
+            "DOCKING_LEDGER": "off",
+            "DOCKING_RESULTS": str(tmp_path / "results"),
+            **env,
+        },
+        capture_output=True,
+        text=True,
+        timeout=timeout,
+    )
+
+
+def _one_error_line(err: str) -> str:
+    lines = err.strip().splitlines()
+    assert "Traceback" not in err, err
+    assert len(lines) == 1 and lines[0].startswith("python -m docking: "), err
+    return lines[0]
+
+
+# Continuous-v0: actions of the wrong kind; gym.make's seed -------------------------------------
+
+
+@pytest.mark.parametrize(
+    "action",
+    [["0.5", "0.5"], np.ones(2, bool), np.full(2, 0.5 + 0.5j), [0.5, "x"], [True, False]],
+    ids=["strings", "bools", "complex", "mixed", "bool-list"],
+)
+def test_a_continuous_action_of_the_wrong_kind_is_refused(action):
+    env = gymnasium.make("docking/Continuous-v0", seed=0)
+    env.reset(seed=0)
+    with pytest.raises(ValueError, match=r"action must be 2 finite numbers in \[-1, 1\]"):
+        env.step(action)
+    discrete = gymnasium.make("docking/Docking-v0", seed=0)
+    discrete.reset(seed=0)
+    with pytest.raises(ValueError, match="action must be an integer"):
+        discrete.step(np.asarray(action).ravel()[0] if np.ndim(action) else action)
+
+
+def test_a_valid_continuous_action_is_the_adapters():
+    """The check passes a valid action on unchanged: the same episode as the adapter's."""
+    made = gymnasium.make("docking/Continuous-v0", seed=3).unwrapped
+    plain = DockingGymEnv(seed=3, preset="continuous")
+    for env in (made, plain):
+        env.reset(seed=3)
+    for action in ([0.5, -0.25], np.array([1, 0]), np.float32([0.1, 0.9])):
+        a, b = made.step(action), plain.step(action)
+        np.testing.assert_array_equal(a[0], b[0])
+        assert a[1:4] == b[1:4] and np.array_equal(a[4]["pose"], b[4]["pose"])
+
+
+@pytest.mark.parametrize("seed", [True, False, 1.0, "1", -1])
+def test_gym_make_refuses_a_seed_that_is_no_integer(seed):
+    with pytest.raises((TypeError, ValueError), match=r"DockingGymEnv.seed must be"):
+        gymnasium.make("docking/Docking-v0", seed=seed)
+
+
+def test_gym_make_takes_integer_seeds():
+    a = gymnasium.make("docking/Docking-v0", seed=np.int64(4))
+    b = gymnasium.make("docking/Docking-v0", seed=4)
+    np.testing.assert_array_equal(a.reset()[0], b.reset()[0])
+
+
+# Seeds: ASCII digits only -----------------------------------------------------------------------
+
+
+@pytest.mark.parametrize("text", ["1_0", "\u0661", "\u0663-5", "0-1_0", "+1", "1e3", "\uff11"])
+def test_seeds_are_ascii_digits(text):
+    with pytest.raises(ValueError, match="seeds must be integers >= 0"):
+        parse_seeds(text)
+
+
+def test_seeds_in_ascii_digits_still_parse():
+    assert parse_seeds("0-2, 7 9") == [0, 1, 2, 7, 9]
+
+
+def test_the_command_line_refuses_other_digits(tmp_path):
+    out = _cli(["run", "experiment1", "--seeds", "\u0661"], tmp_path)
+    assert out.returncode == 2
+    assert "seeds must be integers >= 0" in _one_error_line(out.stderr)
+
+
+# --grid: repeated values, as repeated seeds --------------------------------------------------
+
+
+@pytest.mark.parametrize(
+    "grid, says",
+    [
+        (["network.eps_w=0,0.0"], "network.eps_w=0 and network.eps_w=0.0 are the same"),
+        (["network.eps_w=0.05,0.05"], "are the same configuration"),
+        (["network.eps_w=0,0.05", "network.eps-w=0.1"], "names network.eps_w twice"),
+        (["world.heading_hold=true,yes"], "are the same configuration"),
+    ],
+)
+def test_a_grid_that_names_one_configuration_twice_is_refused(grid, says):
+    with pytest.raises(ValueError, match=says):
+        grid_configs(EXPERIMENT_1, grid)
+
+
+def test_a_grid_of_distinct_values_is_every_combination():
+    configs = grid_configs(EXPERIMENT_1, ["network.eps_w=0,0.05", "world.step_noise_xy=0,0.01"])
+    assert len({str(c.to_dict()) for c in configs}) == 4
+
+
+# ExperimentConfig.heldout_world of the wrong type ---------------------------------------------
+
+
+@pytest.mark.parametrize("value", [1, "x", {}, CameraConfig()], ids=str)
+def test_a_heldout_world_of_the_wrong_type_is_a_clear_type_error(value):
+    with pytest.raises(TypeError, match="ExperimentConfig.heldout_world must be a WorldConfig"):
+        dataclasses.replace(EXPERIMENT_2, heldout_world=value)
+
+
+# Distractors where the robot starts or docks --------------------------------------------------
+
+
+@pytest.mark.parametrize(
+    "distractor, region",
+    [
+        (Distractor("box", (1.0, 1.0, 1.0), (-1.0, 0.0, 1.0)), "the start region"),  # the issue's
+        (Distractor("box", (0.04, 0.04, 0.04), (-0.48, 0.0, 0.04)), "the docking region"),
+        (Distractor("sphere", (0.05,), (-1.0, 0.3, 0.05)), "the start region"),  # 3 cm clear
+        (Distractor("cylinder", (0.05, 0.3), (-0.48, 0.18, 0.3)), "the docking region"),
+    ],
+)
+def test_a_distractor_where_the_robot_starts_or_docks_is_refused(distractor, region):
+    world = dataclasses.replace(EXPERIMENT_2.world, start_near=0.8)  # the regions 0.26 m apart
+    with pytest.raises(ValueError, match=rf"WorldConfig.distractors\[0\] .* of {region}"):
+        dataclasses.replace(world, distractors=(distractor,))
+
+
+def test_distractors_clear_of_the_robot_are_accepted():
+    cup = Distractor.cup(0.3)
+    floor_cup = Distractor("cylinder", cup.size, (0.03, 0.3, cup.size[1]))
+    for world in (WorldConfig(), EXPERIMENT_2.world, NAO_WORLD):
+        dataclasses.replace(world, distractors=(cup,))
+    dataclasses.replace(FLOOR_WORLD, distractors=(floor_cup,))
+    beside = Distractor("sphere", (0.05,), (-1.0, 0.5, 0.05))  # 0.25 m beside the wedge
+    dataclasses.replace(EXPERIMENT_2.world, distractors=(beside,))
+
+
+# MUJOCO_GL, Ctrl-C, narrow terminals, a closed pipe -------------------------------------------
+
+
+@pytest.mark.parametrize("value", ["bogus", ""])
+def test_a_bogus_rendering_backend_is_one_clear_line(value, tmp_path):
+    out = _cli(["ledger", "show"], tmp_path, MUJOCO_GL=value)
+    assert out.returncode == 1
+    assert "is not a rendering backend MuJoCo knows" in _one_error_line(out.stderr)
+
+
+def test_ctrl_c_while_a_command_runs_is_one_line_and_130(monkeypatch, capsys):
+    from docking import cli
+
+    def interrupted(self):
+        raise KeyboardInterrupt
+
+    monkeypatch.setattr(cli.Verify, "execute", interrupted)
+    handler = signal.getsignal(signal.SIGTERM)
+    try:
+        assert main(["verify"]) == 130
+    finally:
+        signal.signal(signal.SIGTERM, handler)
+    assert capsys.readouterr().err == "python -m docking: interrupted\n"
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize(
+    "args, after",
+    [
+        (["run", "experiment1", "--seeds", "0", "--processes", "1"], 1.0),  # still importing
+        (["run", "experiment1", "--seeds", "0", "--processes", "1"], 8.0),
+        (["sweep", "experiment1", "--seeds", "0,1", "--processes", "2"], 15.0),
+    ],
+    ids=["run-importing", "run", "sweep"],
+)
+def test_ctrl_c_prints_one_line_exits_130_and_leaves_no_process(args, after, tmp_path):
+    env = {
+        **os.environ,
+        "PYTHONPATH": os.pathsep.join([str(REPO), os.environ.get("PYTHONPATH", "")]),
+        "DOCKING_LEDGER": "off",
+        "DOCKING_RESULTS": str(tmp_path / "results"),
+    }
+    proc = subprocess.Popen(
+        [sys.executable, "-m", "docking", *args, "--train-trials", "300"],
+        cwd=tmp_path,
+        env=env,
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
+        start_new_session=True,  # its own process group, as a terminal's foreground job
+    )
+    time.sleep(after)
+    family = [psutil.Process(proc.pid), *psutil.Process(proc.pid).children(recursive=True)]
+    os.killpg(proc.pid, signal.SIGINT)  # Ctrl-C: the terminal signals the whole group
+    _, err = proc.communicate(timeout=120)
+    assert proc.returncode == 130, err
+    assert _one_error_line(err) == "python -m docking: interrupted"
+    _, alive = psutil.wait_procs(family, timeout=20)
+    assert not alive, alive
+
+
+@pytest.mark.parametrize("columns", ["5", "2", "1"])
+def test_help_at_a_few_columns_ends(columns, tmp_path):
+    out = _cli(["run", "--help"], tmp_path, timeout=60, COLUMNS=columns)
+    assert out.returncode == 0 and "--seeds" in out.stdout
+
+
+def test_help_into_a_closed_pipe_is_no_traceback(tmp_path):
+    env = {**os.environ, "PYTHONPATH": str(REPO), "COLUMNS": "100"}
+    out = subprocess.run(
+        f"'{sys.executable}' -m docking run --help | head -1",
+        shell=True,
+        cwd=tmp_path,
+        env=env,
+        capture_output=True,
+        text=True,
+        timeout=60,
+    )
+    assert out.stdout.startswith("usage: python -m docking run") and out.stderr == ""
