@@ -494,7 +494,9 @@ class Report:
             contest, claims, untested, decisions, changed_here = self._third_edition()
             changed |= changed_here
             added = self._addendum()
-        summary = report.summary_text(*results, comparisons, first, contest, claims)
+        summary = report.summary_text(
+            *results, comparisons, first, contest, claims, corrected=added is not None
+        )
         if added is not None:
             from docking.designs import addendum
 
@@ -567,8 +569,15 @@ class Report:
 
         fig = figures.fig_glance(*report.glance_data(contest, added))
         png = Path(report.save_named(fig, report.GLANCE_FIGURE))
+        tuned = None
+        if added is not None:
+            from docking.designs import addendum
+
+            tuned = {
+                w: addendum.TUNING.tuned(added, w, "paper")["beta_a_train"] for w in addendum.WORLDS
+            }
         text = report.glance_text(
-            *results, comparisons, contest, added, contest.design.claims, decisions
+            *results, comparisons, contest, added, contest.design.claims, decisions, tuned
         )
         image = (
             "![Held-out success per world of the paper's learner, linear SARSA and PPO, each "
