@@ -1,13 +1,24 @@
-"""Bad input to ``python -m docking``, counted: a clear error, a traceback, silence or a hang.
+"""Bad input to ``python -m docking``, counted per class: clear / traceback / silent / hang /
+recovered.
 
-Run from the checkout (``python3 tools/fuzz_cli.py``). Each case is a command line a user
-could mistype, an environment variable set wrongly, a scheduler that never answers, or a
-copy of the committed ledger damaged as an attacker or a bad merge would; a *clear error*
-exits non-zero with a message and no Python traceback, a *traceback* shows one, *silent*
-exits 0 (the bad input was accepted, or a damaged ledger served), a *hang* has not exited
-after :data:`TIMEOUT` seconds. Nothing is computed: every case fails (or should fail) before
-a run starts. Prints one line per case and the counts; exits 1 unless every case is a clear
-error.
+Run from the checkout (``python3 tools/fuzz_cli.py [CLASS ...]``; a few minutes). Each case
+is a command line a user could mistype, an environment variable set wrongly, a scheduler
+that never answers, a copy of the committed ledger damaged as an attacker or a bad merge
+would, a Ctrl-C, or a request that once never ended. A case either expects an error or an
+honest result (a text its output must hold):
+
+* *clear*: an expected error: a non-zero exit with a message and no Python traceback (for a
+  Ctrl-C: exit 130 and the one line ``python -m docking: interrupted``);
+* *traceback*: a Python traceback (or death by a signal);
+* *silent*: exit 0 where an error was due (bad input accepted, a damaged ledger served), or
+  an honest result's text missing (a computation that does not say why);
+* *hang*: no exit (or no answer) after :data:`TIMEOUT` seconds;
+* *recovered*: the honest result: exit 0 with its text (the help at a clamped width, a run
+  that names the missing ledger before it computes, ``verify`` saying what it will do).
+
+Nothing long is computed: the damaged-ledger cases fail before a run starts, the cases that
+recover compute a run of a few trials. Prints one line per case and the counts per class;
+exits 1 if any case is silent, a traceback or a hang.
 """
 
 from __future__ import annotations
@@ -16,11 +27,13 @@ import hashlib
 import json
 import os
 import shutil
+import signal
 import socket
 import subprocess
 import sys
 import tempfile
 import threading
+import time
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parent.parent
@@ -66,6 +79,26 @@ CASES = [
     ["run", "experiment1", "--seeds", "1 x"],
     ["run", "experiment1", "--seeds", "0", "--results-dir", ""],
 ]
+
+#: Seeds and grids (issue 41): other digits, underscores, repeated grid values.
+SEEDS_AND_GRIDS = [
+    ["run", "experiment1", "--seeds", "1_0"],
+    ["run", "experiment1", "--seeds", "\u0661"],
+    ["run", "experiment1", "--seeds", "\u0663-5"],
+    ["run", "experiment1", "--seeds", "\uff11"],
+    ["run", "experiment1", "--seeds", "+1"],
+    ["run", "experiment1", "--seeds", "1e3"],
+    ["run", "experiment1", "--seeds", "0-1_0"],
+    ["sweep", "experiment1", "--seeds", "9999", "--grid", "network.eps_w=0,0.0"],
+    ["sweep", "experiment1", "--seeds", "9999", "--grid", "network.eps_w=0.05,0.05"],
+    ["sweep", "experiment1", "--seeds", "9999", "--grid", "network.eps_w=0", "network.eps-w=1"],
+    ["sweep", "experiment1", "--seeds", "9999", "--grid", "world.heading_hold=true,yes"],
+    ["benchmark", "--seeds", "\u0661"],
+]
+
+#: A run of a few trials (seconds): what the cases that recover compute.
+TINY = ["--train-trials", "4", "--test-trials", "3", "--eval-every", "2", "--eval-trials", "2"]
+TINY += ["--processes", "1"]
 
 #: Seconds after which a case counts as a hang.
 TIMEOUT = 120
@@ -124,6 +157,30 @@ def _damaged_ledgers(tmp: Path) -> list[tuple[str, dict]]:
         (folder / "tables" / "experiment1.npz").write_bytes(b"not an npz")
         data["tables"]["experiment1"] = hashlib.sha256(b"not an npz").hexdigest()
 
+    table_run = next(
+        k for k, r in manifest["runs"].items() if r["name"] == "experiment1" and r["seed"] == 1
+    )
+
+    def edit(key, **fields):
+        return lambda data, folder: data["runs"][key].update(fields)
+
+    def damage(relative, how):
+        def apply(data, folder):
+            path = folder / relative
+            raw = path.read_bytes()
+            if how == "flip":
+                path.write_bytes(
+                    raw[: len(raw) // 2]
+                    + bytes([raw[len(raw) // 2] ^ 1])
+                    + raw[len(raw) // 2 + 1 :]
+                )
+            elif how == "cut":
+                path.write_bytes(raw[: len(raw) // 2])
+            else:
+                path.unlink()
+
+        return apply
+
     cases = {
         "a record points at another run's whole file": other_seeds_entry,
         "a record's file outside the ledger": outside,
@@ -134,6 +191,27 @@ def _damaged_ledgers(tmp: Path) -> list[tuple[str, dict]]:
         "a results table that is not an npz, its digest matching": table_not_npz,
         "a manifest holding []": lambda data, folder: "[]",
         "a manifest that is not JSON": lambda data, folder: "{nope",
+        # issue 41: the digests and wall times outside every file, the files themselves
+        "a whole run's digest edited": edit(k0, digest="0" * 64),
+        "a table run's digest edited": edit(table_run, digest="0" * 64),
+        "a table run's wall time edited (+90 s)": edit(
+            table_run, wall_time_train=manifest["runs"][table_run]["wall_time_train"] + 90
+        ),
+        "a whole run's wall seconds edited": edit(k0, wall_seconds=1.0),
+        "a run's computation time edited": edit(
+            table_run, computed_utc="2020-01-01T00:00:00+00:00"
+        ),
+        "the seals removed": lambda data, folder: data.pop("seals") and None,
+        "a results table bit-flipped": damage("tables/experiment1.npz", "flip"),
+        "a results table truncated": damage("tables/experiment1.npz", "cut"),
+        "a results table deleted": damage("tables/experiment1.npz", "gone"),
+        "another results table bit-flipped": damage("tables/experiment2.npz", "flip"),
+        "another results table deleted": damage("tables/yardsticks.npz", "gone"),
+        "a whole run bit-flipped": damage(r0["whole"], "flip"),
+        "a whole run truncated": damage(r0["whole"], "cut"),
+        "a whole run deleted": damage(r0["whole"], "gone"),
+        "another whole run bit-flipped": damage(r1["whole"], "flip"),
+        "another whole run truncated": damage(r1["whole"], "cut"),
     }
     return [
         (what, {"DOCKING_LEDGER": str(copy(f"l{i}", edit))})
@@ -141,8 +219,19 @@ def _damaged_ledgers(tmp: Path) -> list[tuple[str, dict]]:
     ]
 
 
-def classify(args: list[str], extra_env: dict | None = None) -> tuple[str, str]:
-    env = {**os.environ, "MUJOCO_GL": "egl", "PYOPENGL_PLATFORM": "egl", **(extra_env or {})}
+def _env(extra: dict | None) -> dict:
+    return {
+        **os.environ,
+        "MUJOCO_GL": "egl",
+        "PYOPENGL_PLATFORM": "egl",
+        "PYTHONPATH": str(ROOT),
+        **(extra or {}),
+    }
+
+
+def classify(args: list[str], extra_env: dict | None = None, expect: str | None = None):
+    """``(kind, what it said)`` of one command line (see the module docstring): ``expect``
+    None if an error is due, else the text an honest result holds."""
     try:
         done = subprocess.run(
             [PYTHON, "-m", "docking", *args],
@@ -150,51 +239,237 @@ def classify(args: list[str], extra_env: dict | None = None) -> tuple[str, str]:
             capture_output=True,
             text=True,
             timeout=TIMEOUT,
-            env=env,
+            env=_env(extra_env),
         )
     except subprocess.TimeoutExpired:
         return "hang", f"no exit after {TIMEOUT} s"
     text = (done.stderr or done.stdout).strip().splitlines()
     last = text[-1] if text else ""
-    if "Traceback (most recent call last)" in done.stderr:
+    if "Traceback (most recent call last)" in done.stderr or done.returncode < 0:
         return "traceback", last
-    if done.returncode == 0:
+    if done.returncode != 0:
+        return "clear", last
+    if expect is None:
         return "silent", last
-    return "clear error", last
+    found = expect in done.stdout + done.stderr
+    return ("recovered", expect) if found else ("silent", f"no {expect!r}: {last}")
+
+
+def interrupt(args: list[str], after: float, signum: int = signal.SIGINT, extra_env=None):
+    """A command sent ``signum`` after ``after`` seconds, as a terminal sends Ctrl-C to its
+    foreground job (the whole process group): clear if it exits 130 (143 for SIGTERM) with at
+    most one line on stderr, no traceback and no process left."""
+    import psutil
+
+    proc = subprocess.Popen(
+        [PYTHON, "-m", "docking", *args],
+        cwd=ROOT,
+        env=_env(extra_env),
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
+        start_new_session=True,
+    )
+    time.sleep(after)
+    if proc.poll() is not None:  # the case is wrong, not the command: say so
+        return "silent", f"exited {proc.returncode} before the signal; make the case longer"
+    try:
+        family = [psutil.Process(proc.pid), *psutil.Process(proc.pid).children(recursive=True)]
+    except psutil.NoSuchProcess:
+        family = []
+    os.killpg(proc.pid, signum)
+    try:
+        _, err = proc.communicate(timeout=TIMEOUT)
+    except subprocess.TimeoutExpired:
+        os.killpg(proc.pid, signal.SIGKILL)
+        proc.communicate()
+        return "hang", f"no exit {TIMEOUT} s after signal {signum}"
+    _, alive = psutil.wait_procs(family, timeout=20)
+    lines = err.strip().splitlines()
+    last = lines[-1] if lines else ""
+    if "Traceback (most recent call last)" in err or proc.returncode < 0:
+        return "traceback", last or f"died by signal {-proc.returncode}"
+    if alive:
+        return "silent", f"left {len(alive)} processes running"
+    if proc.returncode == 128 + signum and len(lines) <= 1:
+        return "clear", last or "(quiet)"
+    return "silent", f"exit {proc.returncode}: {last}"
+
+
+def first_line(args: list[str], expect: str, extra_env=None):
+    """A command that starts a long computation: recovered if its first line of output,
+    within :data:`TIMEOUT` seconds, holds ``expect`` (then it is stopped); a hang if no line
+    comes."""
+    proc = subprocess.Popen(
+        [PYTHON, "-m", "docking", *args],
+        cwd=ROOT,
+        env=_env(extra_env),
+        stdout=subprocess.PIPE,
+        stderr=subprocess.STDOUT,
+        text=True,
+        start_new_session=True,
+    )
+    found: list[str] = []
+    reader = threading.Thread(target=lambda: found.append(proc.stdout.readline()), daemon=True)
+    reader.start()
+    reader.join(TIMEOUT)
+    os.killpg(proc.pid, signal.SIGTERM)
+    proc.wait(timeout=60)
+    if not found:
+        return "hang", f"no line after {TIMEOUT} s"
+    line = found[0].strip()
+    if "Traceback" in line:
+        return "traceback", line
+    return ("recovered", line) if expect in line else ("silent", line)
+
+
+def cases(tmp: Path) -> dict[str, list]:
+    """``{class: [(label, runner, arguments)]}``; a runner returns ``(kind, what it said)``."""
+    port = _silent_server()
+    results = str(tmp / "results")  # a damaged ledger must not fall back to computing
+    stores = iter(range(10**6))
+
+    def fresh() -> dict:  # an empty store of its own: the case computes what it asks for
+        return {"DOCKING_RESULTS": str(tmp / f"fresh{next(stores)}"), "DOCKING_LEDGER": "off"}
+
+    def cli(args, env=None, expect=None, label=""):
+        shown = " ".join(f"{k}={v!r}" for k, v in (env or {}).items() if k != "DOCKING_RESULTS")
+        return (label or f"{shown} {' '.join(args)}".strip(), classify, (args, env, expect))
+
+    found: dict[str, list] = {}
+    found["command line"] = [cli(args) for args in CASES] + [
+        cli(["run", "experiment1", "--seeds", "9999", "--scheduler", f"tcp://127.0.0.1:{port}"]),
+    ]
+    found["seeds and grids"] = [cli(args) for args in SEEDS_AND_GRIDS]
+    found["environment variables"] = [
+        cli(["ledger", "show"], {"DOCKING_LEDGER": "off"}),
+        cli(["ledger", "show"], {"DOCKING_LEDGER": "ledgr"}),
+        cli(["ledger", "show"], {"DOCKING_LEDGER": "/nonexistent/ledger"}),
+        cli(["ledger", "show"], {"DOCKING_LEDGER": ""}),
+        cli(["ledger", "show"], {"DOCKING_LEDGER": "/etc"}),
+        cli(["run", "experiment1", "--seeds", "0"], {"DOCKING_RESULTS": ""}),
+        cli(
+            ["run", "experiment1", "--seeds", "0", *TINY], {**fresh(), "DOCKING_RESULTS": "/proc/x"}
+        ),
+        *(
+            cli(["ledger", "show"], {"MUJOCO_GL": value})
+            for value in ("bogus", "", "EGL", "osmesa")
+        ),
+        *(
+            cli(["run", "--help"], {"COLUMNS": value}, expect="--seeds")
+            for value in ("5", "2", "1", "0", "-3", "abc", "40")
+        ),
+        cli(
+            ["run", "experiment1", "--seeds", "0", *TINY],
+            {**fresh(), "DOCKING_LEDGER": "/etc"},
+            expect="note: /etc is not a ledger",
+        ),
+        cli(
+            ["run", "experiment1", "--seeds", "0", *TINY],
+            {**fresh(), "DOCKING_LEDGER": "/"},
+            expect="note: / is not a ledger",
+        ),
+        cli(
+            ["run", "experiment1", "--seeds", "0", *TINY],
+            {**fresh(), "DOCKING_LEDGER": str(tmp)},
+            expect=f"note: {tmp} is not a ledger",
+        ),
+    ]
+    found["damaged ledgers: run"], found["damaged ledgers: ledger show"] = [], []
+    for what, env in _damaged_ledgers(tmp):
+        found["damaged ledgers: run"].append(
+            # seed 9999 makes the command compute: the whole ledger is checked first
+            cli(
+                ["run", "experiment1", "--seeds", "0-1,9999", "--processes", "1"],
+                {**env, "DOCKING_RESULTS": results},
+                label=what,
+            )
+        )
+        found["damaged ledgers: ledger show"].append(cli(["ledger", "show"], env, label=what))
+    no_manifest = tmp / "no-manifest"
+    shutil.copytree(ROOT / "ledger", no_manifest)
+    (no_manifest / "manifest.json").unlink()
+    found["damaged ledgers: run"].append(
+        cli(
+            ["run", "experiment1", "--seeds", "0", *TINY],
+            {**fresh(), "DOCKING_LEDGER": str(no_manifest)},
+            expect=f"note: {no_manifest} is not a ledger",
+            label="the manifest deleted",
+        )
+    )
+    found["damaged ledgers: ledger show"].append(
+        cli(["ledger", "show"], {"DOCKING_LEDGER": str(no_manifest)}, label="the manifest deleted")
+    )
+    slow = ["--train-trials", "5000"]  # minutes: still running when the signal comes
+    found["signals"] = [
+        (f"Ctrl-C {what}", interrupt, (args, after, signal.SIGINT, fresh()))
+        for what, args, after in [
+            ("while importing", ["run", "experiment1", "--seeds", "0", *TINY], 0.8),
+            ("while parsing", ["run", "experiment1", "--seeds", "0", *TINY[-2:], *slow], 2.5),
+            ("during run", ["run", "experiment1", "--seeds", "0", "--processes", "1", *slow], 8),
+            (
+                "during sweep",
+                ["sweep", "experiment1", "--seeds", "0,1", "--processes", "2", *slow],
+                15,
+            ),
+            (
+                "during sweep, later",
+                ["sweep", "experiment1", "--seeds", "0,1", "--processes", "2", *slow],
+                40,
+            ),
+        ]
+    ] + [
+        (
+            "SIGTERM during sweep",
+            interrupt,
+            (
+                ["sweep", "experiment1", "--seeds", "0,1", "--processes", "2", *slow],
+                15,
+                signal.SIGTERM,
+                fresh(),
+            ),
+        ),
+    ]
+    found["hangs"] = [
+        (
+            "verify --sample 1000000000000",
+            first_line,
+            (["verify", "--sample", "1000000000000"], "capped at", None),
+        ),
+        (
+            "verify --all --processes 2",
+            first_line,
+            (["verify", "--all", "--processes", "2"], "every run of the ledger", None),
+        ),
+        cli(["run", "--help"], {"COLUMNS": "5"}, expect="--seeds"),
+        cli(["sweep", "--help"], {"COLUMNS": "1"}, expect="--grid"),
+        cli(["design", "run", "--help"], {"COLUMNS": "2"}, expect="--seeds"),
+        cli(["run", "experiment1", "--seeds", "9999", "--scheduler", f"tcp://127.0.0.1:{port}"]),
+    ]
+    return found
+
+
+KINDS = ("clear", "traceback", "silent", "hang", "recovered")
 
 
 def main() -> int:
-    counts: dict[str, int] = {}
-    port = _silent_server()
+    wanted = set(sys.argv[1:])
+    totals: dict[str, dict[str, int]] = {}
     with tempfile.TemporaryDirectory() as tmp:
-        results = str(Path(tmp) / "results")  # a damaged ledger must not fall back to computing
-        cases = [(args, {}) for args in CASES]
-        cases += [
-            (
-                ["run", "experiment1", "--seeds", "9999", "--scheduler", f"tcp://127.0.0.1:{port}"],
-                {},
-            ),
-            (["ledger", "show"], {"DOCKING_LEDGER": "off"}),
-            (["ledger", "show"], {"DOCKING_LEDGER": "ledgr"}),
-            (["ledger", "show"], {"DOCKING_LEDGER": "/nonexistent/ledger"}),
-            (["run", "experiment1", "--seeds", "0"], {"DOCKING_RESULTS": ""}),
-        ]
-        cases += [
-            (
-                ["run", "experiment1", "--seeds", "0-1", "--processes", "1"],
-                {**env, "DOCKING_RESULTS": results, "what": what},
-            )
-            for what, env in _damaged_ledgers(Path(tmp))
-        ]
-        for args, env in cases:
-            what = env.pop("what", "")
-            kind, last = classify(args, env)
-            counts[kind] = counts.get(kind, 0) + 1
-            shown = " ".join(f"{k}={v!r}" for k, v in env.items() if k != "DOCKING_RESULTS")
-            print(f"{kind:12s} {what + ': ' if what else ''}{shown} {' '.join(args)}")
-            print(f"             {last[:150]}")
-    print(", ".join(f"{k}: {v}" for k, v in sorted(counts.items())))
-    return 0 if set(counts) == {"clear error"} else 1
+        for name, found in cases(Path(tmp)).items():
+            if wanted and name not in wanted:
+                continue
+            counts = totals.setdefault(name, dict.fromkeys(KINDS, 0))
+            print(f"== {name}", flush=True)
+            for label, runner, arguments in found:
+                kind, said = runner(*arguments)
+                counts[kind] += 1
+                print(f"{kind:9s} {label}\n          {said[:150]}", flush=True)
+    print("\nclass: clear / traceback / silent / hang / recovered")
+    for name, counts in totals.items():
+        print(f"{name}: " + " / ".join(str(counts[k]) for k in KINDS))
+    bad = sum(c[k] for c in totals.values() for k in ("traceback", "silent", "hang"))
+    return 1 if bad else 0
 
 
 if __name__ == "__main__":
