@@ -331,29 +331,38 @@ class WorldConfig:
 
         def gap(footprint, radius: float, region) -> float:
             """The floor distance between a convex ``footprint`` (corners; one point for a
-            disc of ``radius``) and the convex polygon ``region`` (0 if they meet)."""
-            a, b = np.array(footprint, float), np.array(region, float)
-            for poly in (a, b) if len(a) > 2 else (b,):  # a separating axis: they do not meet
-                edges = np.roll(poly, -1, axis=0) - poly
-                for normal in np.stack([-edges[:, 1], edges[:, 0]], axis=1):
-                    pa, pb = a @ normal, b @ normal
-                    if pa.max() < pb.min() or pb.max() < pa.min():
-                        break
-                else:
-                    continue
-                break
-            else:
-                return 0.0  # no separating axis: they overlap (a disc's centre is inside)
+            disc of ``radius``) and the convex polygon ``region`` (0 if they meet), in plain
+            floats (a check, not a run's arithmetic)."""
 
-            def to_edges(points, poly):
-                ends = np.roll(poly, -1, axis=0)
-                d = ends - poly
-                length = np.maximum((d * d).sum(-1), 1e-12)  # a degenerate edge: a point
-                t = np.clip(((points[:, None] - poly) * d).sum(-1) / length, 0, 1)
-                return np.linalg.norm(points[:, None] - (poly + t[..., None] * d), axis=-1).min()
+            def edges(poly):
+                return [(p, poly[(i + 1) % len(poly)]) for i, p in enumerate(poly)]
 
-            far_apart = min(to_edges(a, b), to_edges(b, a) if len(a) > 2 else np.inf)
-            return max(float(far_apart) - radius, 0.0)
+            def separated(a, b) -> bool:  # a separating axis among the edges' normals
+                for poly in (a, b) if len(a) > 2 else (b,):
+                    for (x0, y0), (x1, y1) in edges(poly):
+                        nx, ny = y0 - y1, x1 - x0
+                        pa = [x * nx + y * ny for x, y in a]
+                        pb = [x * nx + y * ny for x, y in b]
+                        if max(pa) < min(pb) or max(pb) < min(pa):
+                            return True
+                return False
+
+            def to_edges(points, poly) -> float:
+                best = math.inf
+                for (x0, y0), (x1, y1) in edges(poly):
+                    dx, dy = x1 - x0, y1 - y0
+                    length = max(dx * dx + dy * dy, 1e-24)  # a degenerate edge: a point
+                    for x, y in points:
+                        t = min(max(((x - x0) * dx + (y - y0) * dy) / length, 0.0), 1.0)
+                        best = min(best, math.hypot(x - x0 - t * dx, y - y0 - t * dy))
+                return best
+
+            if not separated(footprint, region):
+                return 0.0  # they overlap (a disc's centre is inside the region)
+            apart = to_edges(footprint, region)
+            if len(footprint) > 2:
+                apart = min(apart, to_edges(region, footprint))
+            return max(apart - radius, 0.0)
 
         def footprint(d) -> tuple[list, float]:
             """A distractor's floor footprint: a box's corners, or an upright cylinder's or a
