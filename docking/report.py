@@ -1395,11 +1395,11 @@ GLANCE_YARDSTICKS = (
     ("centroid", "centroid rule (one line of code)"),
     ("random", "random actions"),
 )
-#: The worlds' labels under the first screen's figure.
+#: The worlds' labels under the first screen's figure (and how their learners were tuned).
 GLANCE_WORLDS = {
-    "sideboard": "sideboard world\n(calibrated; contest tuning)",
-    "floor": "floor world\n(bracketed tuning)",
-    "nao": "Nao-like world\n(bracketed tuning)",
+    "sideboard": "sideboard world (calibrated)",
+    "floor": "floor world",
+    "nao": "Nao-like world",
 }
 
 
@@ -1408,11 +1408,14 @@ def glance_data(contest, added) -> tuple[list, list, dict, dict]:
     the contest, each learner's per-seed held-out success (the addendum's where it ran, the
     contest's in the sideboard world) and the yardsticks' means."""
     keys = {c.key for c in added.cells} if added is not None else set()
-    worlds, learners = list(GLANCE_WORLDS.values()), [label for *_, label in GLANCE_LEARNERS]
+    worlds, learners = [], [label for *_, label in GLANCE_LEARNERS]
     seeds, yardsticks = {}, {}
-    for world, name in GLANCE_WORLDS.items():
+    for world, label in GLANCE_WORLDS.items():
+        bracketed = f"{world}/paper-tuned" in keys
+        name = f"{label}\n({'bracketed' if bracketed else 'contest'} tuning)"
+        worlds.append(name)
         for in_addendum, in_contest, label in GLANCE_LEARNERS:
-            if f"{world}/{in_addendum}" in keys:
+            if bracketed:
                 seeds[name, label] = added.score(f"{world}/{in_addendum}")
             else:
                 seeds[name, label] = contest.score(f"{world}/{in_contest}")

@@ -356,11 +356,18 @@ def test_project_readme_has_the_markers():
         (report.EXPERIMENT3_START, report.EXPERIMENT3_END),
         (report.TIMINGS_START, report.TIMINGS_END),
         (report.SUMMARY_START, report.SUMMARY_END),
+        (report.GLANCE_START, report.GLANCE_END),
     ):
         assert text.count(start) == 1 and text.count(end) == 1
-    # The summary answers first: before how to run anything, within the first screen.
+    # The answer first: the first screen's figure and sentences, then the two commands,
+    # within the first 30 lines; the detailed summary before how to run anything.
+    first = text[: text.index(report.GLANCE_END)]
+    assert first.count("\n") < 30 and text.index(report.GLANCE_END) < text.index("```bash")
+    figure = re.search(r"!\[[^]]+\]\((figures/[^)]+\.png)\)", first)
+    assert figure and (REPO / figure.group(1)).is_file(), "the first screen has no figure"
+    sentences = first[first.index(report.GLANCE_START) :].split("\n")
+    assert len([line for line in sentences if re.match(r"\d\. ", line)]) <= 5
     assert text.index(report.SUMMARY_START) < text.index("## Start here")
-    assert text[: text.index(report.SUMMARY_END)].count("\n") < 30
     # No verdict table of an archived edition; the third edition's will be the one
     assert "| claim, in the paper's words | verdict |" not in text
     assert "second-edition:start" not in text
