@@ -569,15 +569,28 @@ class Report:
 
         fig = figures.fig_glance(*report.glance_data(contest, added))
         png = Path(report.save_named(fig, report.GLANCE_FIGURE))
-        tuned = None
+        tuned, unbracketed = None, False
         if added is not None:
             from docking.designs import addendum
 
             tuned = {
                 w: addendum.TUNING.tuned(added, w, "paper")["beta_a_train"] for w in addendum.WORLDS
             }
+            unbracketed = any(
+                where != "interior"
+                for r in report.bracketed_rows(added, addendum)
+                if r["learner"] == "paper"
+                for _, where in r["positions"].values()
+            )
         text = report.glance_text(
-            *results, comparisons, contest, added, contest.design.claims, decisions, tuned
+            *results,
+            comparisons,
+            contest,
+            added,
+            contest.design.claims,
+            decisions,
+            tuned,
+            unbracketed,
         )
         image = (
             "![Held-out success per world of the paper's learner, linear SARSA and PPO, each "

@@ -1231,7 +1231,8 @@ def fig_decomposition(
       columns: Bar labels, left to right; the first three are linear SARSA, the paper's W
         with the oracle-labelled Q, and the paper's learner.
       seeds: ``{(world, column): per-seed success (fractions)}``.
-      split: ``{world: (representation, learning Q)}`` in percentage points.
+      split: ``{world: (representation, learning Q)}`` in percentage points; a world
+        absent has no arrows.
     """
     fig = _new_figure(4.6 * len(worlds), 4.6)
     axes = np.atleast_1d(fig.subplots(1, len(worlds), sharey=True))
@@ -1244,16 +1245,18 @@ def fig_decomposition(
             ax.bar(k, means[-1], color=colors[k % len(colors)], alpha=0.85)
             ax.plot(k + np.linspace(-0.25, 0.25, len(values)), values, ".", color="k", ms=3)
             ax.text(k, means[-1] + 1.5, f"{means[-1]:.0f}%", ha="center", fontsize=8)
-        representation, learning_q = split[world]
+        ax.set_title(world, fontsize=10)
+        representation, learning_q = split.get(world, (None, None))
         for top, bottom, text, x in (
-            (means[0], means[1], f"representation\n{representation:.0f} pp", 0.5),
-            (means[1], means[2], f"learning Q\n{learning_q:.0f} pp", 1.5),
+            (means[0], means[1], f"representation\n{representation} pp", 0.5),
+            (means[1], means[2], f"learning Q\n{learning_q} pp", 1.5),
         ):
+            if world not in split:
+                break
             ax.annotate(
                 "", (x, bottom), (x, top), arrowprops=dict(arrowstyle="->", color="k", lw=1.2)
             )
             ax.text(x + 0.06, (top + bottom) / 2, text, fontsize=8, va="center")
-        ax.set_title(world, fontsize=10)
         ax.set_xticks(np.arange(len(columns)), columns, rotation=35, ha="right", fontsize=8)
         ax.grid(axis="y", alpha=0.3, lw=0.5)
         ax.set_ylim(0, 105)

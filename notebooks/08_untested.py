@@ -50,6 +50,7 @@ from IPython.display import Image, Markdown, display
 import docking  # noqa: F401  (registers the Gymnasium ids)
 from docking import analysis, figures, report
 from docking.claims import design_verdicts, judge_family, rate_interval
+from docking.designs import addendum as ad
 from docking.designs import measures
 from docking.designs import third_edition as te
 from docking.designs import untested as ut
@@ -635,3 +636,115 @@ display(
 assert all(gap["floor", v][1] == "remains" for v in mechanism_variants)
 assert best == "units576+local"
 assert gap["floor", best][0].estimate < 0.6 * gap["floor", "paper"][0].estimate
+
+# %% [markdown]
+# ## 7. Which part breaks: the representation, or learning Q on it
+#
+# The variants above change one part at a time and none closes the gap. The third edition's
+# addendum (notebook 07) tuned both SARSA learners until every optimum was bracketed; here its
+# networks are taken apart. For each judged network of the tuned paper's learner, its W is
+# kept and Q is replaced by the **oracle-labelled Q**: each feature unit takes the action the
+# pose oracle takes most often on the views it wins (the views of 300 oracle trials from the
+# whole start region, a stream no run uses). What that Q docks is what W's partition of the
+# views allows when every part of it gets the best single action; per seed and paired:
+#
+# * linear SARSA minus the oracle-labelled Q on the paper's W: what the **representation**
+#   loses (W puts views that need different actions into one unit);
+# * the oracle-labelled Q minus the Q the paper's rule learned: what **learning Q** loses.
+#
+# The reverse check: SARSA on a fixed partition (W from 200 random-walk trials of competitive
+# learning, i.e. online k-means of views, then frozen) against the oracle-labelled Q on the
+# same W.
+
+# %%
+added = ad.DESIGN.run(progress=False)
+labelled = {w: analysis.oracle_views(ad.WORLDS[w], 300, seed=0) for w in ad.WORLDS}
+parts = {d.world: d for d in report.decomposition(added, labelled)}
+columns = [
+    "linear SARSA, tuned",
+    "paper's W, oracle-labelled Q",
+    "paper's learner, tuned",
+    "k-means W, oracle-labelled Q",
+    "SARSA on k-means W",
+]
+seeds = {}
+for w, d in parts.items():
+    for label, values in zip(
+        columns, (d.linear, d.labelled, d.paper, d.fixed_labelled, d.fixed), strict=True
+    ):
+        seeds[report.CONTEST_WORLDS[w], label] = values
+split = {
+    report.CONTEST_WORLDS[w]: (100 * d.representation.estimate, 100 * d.learning_q.estimate)
+    for w, d in parts.items()
+}
+# no arrows: the runs show the oracle-labelled Q is no bound (below), so there is no split to draw
+fig = figures.fig_decomposition([report.CONTEST_WORLDS[w] for w in parts], columns, seeds, {})
+display(Image(save_named(fig, "addendum_decomposition")))
+display(
+    md_table(
+        ["world", "gap", "representation", "learning Q", "purity of W's partition"],
+        [
+            [
+                report.CONTEST_WORLDS[w],
+                pp(d.gap),
+                pp(d.representation),
+                pp(d.learning_q),
+                f"{100 * d.purity.mean():.0f}%",
+            ]
+            for w, d in parts.items()
+        ],
+    )
+)
+
+# %% [markdown]
+# **The answer** (computed from the runs; the asserts hold the sentence):
+
+# %%
+answer = []
+for w, d in parts.items():
+    learned = t_paired_ci(d.paper, d.labelled)
+    answer.append(
+        f"In {report.CONTEST_NAMES[w]} the Q the paper's rule learned docks {learned.format(unit=' pp')} "
+        f"more often than the oracle-labelled Q on the same W ({100 * d.paper.mean():.1f}% against "
+        f"{100 * d.labelled.mean():.1f}%; {100 * d.purity.mean():.0f}% of the oracle's views share their "
+        f"unit's majority action), and linear SARSA's lead over it is {pp(d.gap)}. SARSA on a fixed "
+        f"k-means W docks {100 * d.fixed.mean():.1f}%, the oracle-labelled Q on that W "
+        f"{100 * d.fixed_labelled.mean():.1f}%."
+    )
+answer.append(
+    "**So the oracle-labelled Q is no bound on what a partition allows, and this decomposition, "
+    "committed before the runs, cannot split the gap:** W's units hold views on which the oracle "
+    "acts differently, and a Q learned on-policy picks, per unit, the action that works from "
+    "where the learner's own policy brings it, which the oracle's majority action is not. What "
+    "broke the paper's learner in these worlds was not a part of it but its exploration "
+    "temperature: tuned (notebook 07's addendum), linear SARSA's lead falls to the intervals "
+    "above (the contest's gaps: notebook 07)."
+)
+for d in parts.values():
+    assert t_paired_ci(d.paper, d.labelled).low > 0  # the learned Q beats the oracle's labels
+    assert d.gap.high < 0.06  # the gap after tuning is a few points at most
+display(Markdown("\n\n".join(answer)))
+
+# %% [markdown]
+# The levers the contest had not tried, on the same judged seeds: eps_W past 0.5 and the
+# exploration temperature were the search's own knobs (notebook 07's addendum table gives where
+# each landed), and W initialised from views (the same k-means start, then learned by Eq. 8):
+
+# %%
+levers = []
+for w in ad.WORLDS:
+    init = report.paired_over_shared_seeds(added, f"{w}/views-init", f"{w}/paper-tuned")
+    levers.append(
+        [
+            report.CONTEST_WORLDS[w],
+            pct(rate_interval(added, f"{w}/paper-tuned")),
+            pct(rate_interval(added, f"{w}/views-init")),
+            pp(init),
+        ]
+    )
+display(
+    md_table(
+        ["world", "tuned (W uniform random)", "tuned, W from views", "W from views minus random"],
+        levers,
+    )
+)

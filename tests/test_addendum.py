@@ -10,7 +10,9 @@ import types
 from pathlib import Path
 
 import numpy as np
+import pytest
 
+from docking import report
 from docking.designs import addendum as ad
 
 #: The SHA-256 of rules_text() when the rules were committed, before any run of the addendum.
@@ -134,3 +136,57 @@ def test_ppo_trains_for_the_paper_learners_mean_training_steps():
         assert ppo.learning_rate == ad.PPO_SETTINGS[world]["learning_rate"]
         views = fake.cell(f"{world}/views-frozen").config
         assert views.network.eps_w == 0.0 and views.pretrain_trials == ad.PRETRAIN_TRIALS
+
+
+#: The commit that added the addendum's rules, and its time (what the runs are compared with;
+#: checked against the repository's history where the history is there).
+RULES_COMMIT = report.RULES_COMMITS[ad.NAME]
+
+
+def _rules_commit_time():
+    from docking.report import utc
+
+    return utc(RULES_COMMIT[1])
+
+
+def test_the_rules_commit_is_the_one_history_holds():
+    import subprocess
+
+    root = Path(__file__).resolve().parents[1]
+    git = ["git", "log", "--diff-filter=A", "--format=%H %cI", "--", "docking/designs/addendum.py"]
+    shallow = subprocess.run(
+        ["git", "rev-parse", "--is-shallow-repository"], capture_output=True, text=True, cwd=root
+    ).stdout.strip()
+    if shallow != "false":
+        pytest.skip("a shallow clone (or no git): the history that added the rules is not here")
+    log = subprocess.run(git, capture_output=True, text=True, check=True, cwd=root).stdout
+    assert log.split() == list(RULES_COMMIT)
+
+
+def _early(runs, rules) -> list:
+    """The seeds of ``runs`` (ledger records) without a time or computed before ``rules``."""
+    from docking.report import utc
+
+    return [r["seed"] for r in runs if "computed_utc" not in r or utc(r["computed_utc"]) <= rules]
+
+
+def test_every_run_of_the_addendum_was_computed_after_its_rules_commit():
+    """Provenance from the ledger: each addendum run records when it was computed, and every
+    one is later than the commit that added its rules."""
+    manifest = Path(__file__).resolve().parents[1] / "ledger" / "manifest.json"
+    runs = [r for r in json.loads(manifest.read_text())["runs"].values() if r["name"] == ad.NAME]
+    assert runs, "the ledger holds no run of the addendum"
+    assert _early(runs, _rules_commit_time()) == []
+
+
+def test_a_run_older_than_its_rules_or_without_a_time_is_caught():
+    rules = _rules_commit_time()
+    runs = [
+        {"seed": 1, "computed_utc": "2026-01-01T00:00:00+00:00"},
+        {"seed": 2},
+        {
+            "seed": 3,
+            "computed_utc": (rules + __import__("datetime").timedelta(seconds=1)).isoformat(),
+        },
+    ]
+    assert _early(runs, rules) == [1, 2]
