@@ -593,11 +593,12 @@ class Report:
             unbracketed,
         )
         image = (
-            "![Held-out success per world of the paper's learner, linear SARSA and PPO, each "
-            f"seed a dot, against the pose oracle, the centroid rule and random actions]"
-            f"(figures/{png.name})"
+            f"![The answer per world](figures/{png.name}) **The answer per world:** held-out "
+            "success of the paper's learner, linear SARSA and PPO (each seed a dot, the mean "
+            "with its 95% interval), against the pose oracle, the centroid rule and random "
+            "actions (lines)."
         )
-        return self._write(f"{image}\n\n{text}", report.GLANCE_START, report.GLANCE_END)
+        return self._write(f"\n{image}\n\n{text}\n", report.GLANCE_START, report.GLANCE_END)
 
     def _untested(self) -> list:
         """The untested claims' rows of the verdict table

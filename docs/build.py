@@ -96,7 +96,8 @@ def _readme_captions(readme: str) -> dict[str, str]:
     bold title set off by a dash unless the sentence runs on: "Fig. 2 — the scene: ...",
     "Where W changed in Experiment 2 ...")."""
     captions = {}
-    for m in re.finditer(r"!\[[^\]]*\]\((figures/[^)\s]+)\)([^|]*)", readme):
+    # the caption runs to the table's next cell, or to the end of its paragraph
+    for m in re.finditer(r"!\[[^\]]*\]\((figures/[^)\s]+)\)((?:[^|\n]|\n(?!\s*\n))*)", readme):
         caption = re.sub(
             r"^\s*\*\*([^*]+)\*\*\s+(?=[A-Za-z])(?!(?:in|of|on|at|for|from|with)\b)",
             r"\1 — ",
