@@ -366,6 +366,13 @@ def seeds_for_power(
 COVERAGE_KINDS = ("paired", "interaction", "share")
 
 
+def _beta(rng: np.random.Generator, m: float, s: float, size) -> np.ndarray:
+    """Draws of a Beta distribution with mean ``m`` and standard deviation ``s`` (moments
+    matched): the synthetic seeds' true rates of the coverage checks."""
+    k = m * (1 - m) / s**2 - 1
+    return rng.beta(m * k, (1 - m) * k, size=size)
+
+
 def rule_coverage(
     kind: str,
     n: int,
@@ -389,8 +396,7 @@ def rule_coverage(
     rng = np.random.default_rng(seed)
 
     def beta(m, s, size):
-        k = m * (1 - m) / s**2 - 1
-        return rng.beta(m * k, (1 - m) * k, size=size)
+        return _beta(rng, m, s, size)
 
     def arms(size):
         base = beta(0.85, 0.08, size)
@@ -523,8 +529,7 @@ def rate_coverage(
     rng = np.random.default_rng(seed)
 
     def beta(m, s, size):
-        k = m * (1 - m) / s**2 - 1
-        return rng.beta(m * k, (1 - m) * k, size=size)
+        return _beta(rng, m, s, size)
 
     def rates(size):
         if scenario == "near one":
