@@ -18,6 +18,7 @@ MODULES = {
     "experiment3-oracle": "docking.designs.experiment3",
     "third-edition": "docking.designs.third_edition",
     "third-edition-addendum": "docking.designs.addendum",
+    "addendum-bracketing": "docking.designs.bracketing",
     "untested": "docking.designs.untested",
 }
 
