@@ -20,6 +20,7 @@ MODULES = {
     "third-edition-addendum": "docking.designs.addendum",
     "addendum-bracketing": "docking.designs.bracketing",
     "untested": "docking.designs.untested",
+    "untested-revisited": "docking.designs.revisited",
 }
 
 
