@@ -602,13 +602,15 @@ def _header(alpha: float) -> list[str]:
     ]
 
 
-def verdicts_table(claims, results, per_claim, family, alpha: float) -> str:
+def verdicts_table(claims, results, per_claim, family, alpha: float, notes=None) -> str:
     """The verdict table of claims judged both ways: per claim, the paper's words and
     section, what is compared, each comparison's paired interval (95%, unadjusted) with its
     Holm-adjusted p-value (or, where it has no spread over seeds, :func:`spread_words`) and
     its decision under Holm within the claim (``per_claim``, the decision rule), and the
     verdict under one family of every comparison (``family``), at ``alpha``; a finding's
-    intervals, not judged."""
+    intervals, not judged. ``notes``: ``{claim key: why}`` for a claim whose verdict is
+    reported outside every count (e.g. a test that holds by construction): its verdicts
+    carry the note."""
     within, overall_ = family_verdicts(claims, per_claim), family_verdicts(claims, family)
     lines = _header(alpha)
     for claim, rows in claim_rows(claims, results, per_claim):
@@ -622,6 +624,8 @@ def verdicts_table(claims, results, per_claim, family, alpha: float) -> str:
             if claim.judged
             else ("finding", "finding")
         )
+        if notes and claim.key in notes:
+            verdicts = tuple(f"{v}, {notes[claim.key]}: outside the counts" for v in verdicts)
         words, compares = markdown_cell(claim.words), markdown_cell(claim.compares)
         lines.append(
             f"| **{claim.key}**: {words} ({claim.source}) | {compares} | "
@@ -630,11 +634,11 @@ def verdicts_table(claims, results, per_claim, family, alpha: float) -> str:
     return "\n".join(lines)
 
 
-def design_verdicts(*judged) -> str:
+def design_verdicts(*judged, notes=None) -> str:
     """The verdict table (:func:`verdicts_table`) of one or more designs, under the sentence
     that names the decision rule: ``judged`` is ``results`` (every claim of its design) or
     ``(results, keys)`` (the claims named), each design's rows judged within its own claims
-    and its own family."""
+    and its own family; ``notes`` as :func:`verdicts_table`'s."""
     rows, alphas = [], set()
     for entry in judged:
         results, keys = entry if isinstance(entry, tuple) else (entry, None)
@@ -643,7 +647,8 @@ def design_verdicts(*judged) -> str:
         family = judge_family(design.claims, results, alpha=design.alpha)
         per = judge_family(design.claims, results, alpha=design.alpha, per_claim=True)
         claims = [c for c in design.claims if keys is None or c.key in keys]
-        rows += verdicts_table(claims, results, per, family, design.alpha).splitlines()[2:]
+        table = verdicts_table(claims, results, per, family, design.alpha, notes)
+        rows += table.splitlines()[2:]
     if len(alphas) != 1:
         raise ValueError(f"design_verdicts: the designs judge at different levels {alphas}")
     (alpha,) = alphas

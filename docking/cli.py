@@ -501,8 +501,13 @@ class Report:
             from docking.designs import addendum
 
             summary += "\n\n" + report.addendum_summary(added, contest, addendum)
-        if untested:
-            summary += "\n\n" + report.untested_summary(untested[0][0])
+        for found, _ in untested:
+            if found.design.name == "untested":
+                summary += "\n\n" + report.untested_summary(found)
+            else:
+                from docking.designs import revisited
+
+                summary += "\n\n" + report.revisited_summary(found, revisited)
         changed |= self._write(summary, report.SUMMARY_START, report.SUMMARY_END)
         if contest is not None:
             changed |= self._glance(results, comparisons, contest, added, decisions)
@@ -545,7 +550,9 @@ class Report:
             report.THIRD_EDITION_END,
         )
         changed |= self._write(
-            design_verdicts(contest, *untested), report.VERDICTS_START, report.VERDICTS_END
+            design_verdicts(contest, *untested, notes=report.OUTSIDE_COUNTS),
+            report.VERDICTS_START,
+            report.VERDICTS_END,
         )
         design = contest.design
         decisions = judge_family(design.claims, contest, alpha=design.alpha, per_claim=True)
@@ -602,17 +609,22 @@ class Report:
 
     def _untested(self) -> list:
         """The untested claims' rows of the verdict table
-        (:data:`docking.report.UNTESTED_IN_README`), once every run of their judged part
-        (``untested.part("judged")``) is stored or in the ledger; none before."""
+        (:data:`docking.report.UNTESTED_IN_README`) and their revisit's
+        (:data:`docking.report.REVISITED_IN_README`), each once every run of its design
+        (``untested.part("judged")``, ``revisited.DESIGN``) is stored or in the ledger."""
         from docking.design import absent_runs
-        from docking.designs import untested
-        from docking.report import UNTESTED_IN_README
+        from docking.designs import revisited, untested
+        from docking.report import REVISITED_IN_README, UNTESTED_IN_README
 
-        judged = untested.part("judged")
-        if absent_runs(judged, self.results_dir):
-            return []
-        found = judged.run(results_dir=self.results_dir, workers=self.processes)
-        return [(found, UNTESTED_IN_README)]
+        found = []
+        for design, keys in (
+            (untested.part("judged"), UNTESTED_IN_README),
+            (revisited.DESIGN, REVISITED_IN_README),
+        ):
+            if not absent_runs(design, self.results_dir):
+                runs = design.run(results_dir=self.results_dir, workers=self.processes)
+                found.append((runs, keys))
+        return found
 
 
 def _write_timings(readme: Path) -> bool:
