@@ -1413,12 +1413,49 @@ def decomposition(results, labelled_views: dict) -> list[Decomposition]:
     return found
 
 
+def bracketed_addendum(added, own, br):
+    """The addendum's results (``added``) with each tuned learner the bracketing (``own``:
+    the results of ``br``, :mod:`docking.designs.bracketing`) changed in its place: the cell
+    ``{world}/{learner}-tuned`` holds the bracketed setting's judged runs, and
+    ``{world}/ppo-matched`` PPO's re-matched runs where the bracketing trained PPO again;
+    every other cell as the addendum ran it. What the README and notebook 07 report as the
+    tuned learners once the bracketing is in."""
+    import dataclasses
+
+    from docking.design import Results
+
+    swap = {}
+    for c in own.cells:
+        variant = c.coords.get("variant", "")
+        if variant.endswith("-bracketed"):
+            swap[f"{c['world']}/{variant.removesuffix('-bracketed')}-tuned"] = c.key
+        elif variant == "ppo-matched":
+            swap[c.key] = c.key
+    cells, runs, logs = [], dict(added.runs), dict(added.logs)
+    for c in added.cells:
+        if c.key in swap:
+            mine = own.cell(swap[c.key])
+            cells.append(dataclasses.replace(mine, key=c.key, coords=dict(c.coords)))
+            runs[c.key], logs[c.key] = own.runs[mine.key], own.logs[mine.key]
+        else:
+            cells.append(c)
+    return Results(added.design, cells, runs, logs)
+
+
 #: ``{design name: (the commit that added its rules, that commit's time)}``: what its runs'
 #: computed times are compared with (tests/test_addendum.py checks each against the history).
 RULES_COMMITS = {
     "third-edition-addendum": (
         "d1c52e9bf46ba23103503e7970b191404d74bc41",
         "2026-11-26T21:41:44+00:00",
+    ),
+    "addendum-bracketing": (
+        "670c9e6773a9e2035b391bce4e358110d9ff574a",
+        "2026-11-27T00:51:06+00:00",
+    ),
+    "untested-revisited": (
+        "52625147765c7d4dc7461dbebe4ae30eb3ce338f",
+        "2026-11-27T00:57:05+00:00",
     ),
 }
 

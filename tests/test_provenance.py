@@ -1,0 +1,60 @@
+"""Rules before runs, provable from the ledger: for every design whose rules commit is
+recorded (:data:`docking.report.RULES_COMMITS`), the commit is the one the history holds,
+and every run of its ledger table was computed after it."""
+
+from __future__ import annotations
+
+import json
+import subprocess
+from pathlib import Path
+
+import pytest
+
+from docking import report
+from docking.designs import MODULES
+
+ROOT = Path(__file__).resolve().parents[1]
+
+
+def _manifest_runs(name: str) -> list[dict]:
+    runs = json.loads((ROOT / "ledger" / "manifest.json").read_text())["runs"].values()
+    return [r for r in runs if r["name"] == name]
+
+
+def early(runs, rules_time) -> list:
+    """The seeds of ``runs`` (ledger records) without a time or computed before the rules."""
+    return [
+        r["seed"]
+        for r in runs
+        if "computed_utc" not in r or report.utc(r["computed_utc"]) <= rules_time
+    ]
+
+
+@pytest.mark.parametrize("name", sorted(report.RULES_COMMITS))
+def test_the_rules_commit_is_the_one_history_holds(name):
+    shallow = subprocess.run(
+        ["git", "rev-parse", "--is-shallow-repository"], capture_output=True, text=True, cwd=ROOT
+    ).stdout.strip()
+    if shallow != "false":
+        pytest.skip("a shallow clone (or no git): the history that added the rules is not here")
+    module = MODULES[name].replace(".", "/") + ".py"
+    git = ["git", "log", "--diff-filter=A", "--format=%H %cI", "--", module]
+    log = subprocess.run(git, capture_output=True, text=True, check=True, cwd=ROOT).stdout
+    assert log.split() == list(report.RULES_COMMITS[name])
+
+
+@pytest.mark.parametrize("name", sorted(report.RULES_COMMITS))
+def test_every_run_was_computed_after_its_rules_commit(name):
+    runs = _manifest_runs(name)
+    assert runs, f"the ledger holds no run of {name}"
+    assert early(runs, report.utc(report.RULES_COMMITS[name][1])) == []
+
+
+def test_a_run_older_than_its_rules_or_without_a_time_is_caught():
+    import datetime
+
+    rules = report.utc("2026-11-27T00:00:00+00:00")
+    later = (rules + datetime.timedelta(seconds=1)).isoformat()
+    runs = [{"seed": 1, "computed_utc": "2026-01-01T00:00:00+00:00"}, {"seed": 2}]
+    runs.append({"seed": 3, "computed_utc": later})
+    assert early(runs, rules) == [1, 2]
