@@ -1413,6 +1413,76 @@ def decomposition(results, labelled_views: dict) -> list[Decomposition]:
     return found
 
 
+def bracketing_rows(own, br) -> list[dict]:
+    """Per world and learner of the bracketing (``own``: the results of ``br``,
+    :mod:`docking.designs.bracketing`): the addendum's tuned setting it started from, the
+    tuned setting it ended on, the runs it used, whether it is bracketed, each knob's value
+    with the compared values on its line through the tuned setting (the other knobs at their
+    tuned values; complete settings only) and where it lies, and the tuned setting's mean
+    over the compared seeds."""
+    ad = br.ad
+    rows = []
+    for world in ad.WORLDS:
+        for learner in ad.LEARNERS:
+            found = br.scores(own, world, learner)
+            means = br.complete(found)
+            tuned = br.tuned(own, world, learner)
+            positions = {}
+            for knob, value in tuned.items():
+                line = sorted(
+                    dict(s)[knob]
+                    for s in means
+                    if all(dict(s)[k] == v for k, v in tuned.items() if k != knob)
+                )
+                ladder = ad.LADDERS[knob]
+                if line[0] < value < line[-1]:
+                    where = "interior"
+                elif value in (ladder[0], ladder[-1]) and value in (line[0], line[-1]):
+                    where = f"at its limit: {ad.LIMITS[knob][value == ladder[-1]]}"
+                else:
+                    where = "at the edge: the search stopped"
+                positions[knob] = (tuple(line), where)
+            rows.append(
+                dict(
+                    world=world,
+                    learner=learner,
+                    start=ad.TUNING.tuned(br.addendum(), world, learner),
+                    tuned=tuned,
+                    changed=br.changed(own, world, learner),
+                    runs=br.runs_used(own, world, learner),
+                    bracketed=br.bracketed(own, world, learner),
+                    positions=positions,
+                    mean=means[tuple(tuned.items())],
+                    n=len(br.COMPARE_SEEDS),
+                )
+            )
+    return rows
+
+
+def bracketing_table(rows: list[dict]) -> str:
+    """The Markdown table of :func:`bracketing_rows`."""
+    found = []
+    for r in rows:
+        knobs = []
+        for knob, value in r["tuned"].items():
+            line, where = r["positions"][knob]
+            shown = " · ".join(f"**{v:g}**" if v == value else f"{v:g}" for v in line)
+            knobs.append(f"{knob}: {shown} ({where})")
+        found.append(
+            (
+                CONTEST_WORLDS.get(r["world"], r["world"]),
+                r["learner"],
+                ", ".join(f"{k} = {v:g}" for k, v in r["start"].items()),
+                "<br>".join(knobs),
+                "changed" if r["changed"] else "the same",
+                str(r["runs"]),
+                f"{100 * r['mean']:.1f}% (n = {r['n']})",
+            )
+        )
+    header = ("world", "learner", "the addendum's tuned setting", "bracketed: tried on its line")
+    return md_table((*header, "tuned setting", "runs", "its tuning success"), found)
+
+
 def bracketed_addendum(added, own, br):
     """The addendum's results (``added``) with each tuned learner the bracketing (``own``:
     the results of ``br``, :mod:`docking.designs.bracketing`) changed in its place: the cell
