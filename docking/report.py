@@ -1530,6 +1530,58 @@ RULES_COMMITS = {
 }
 
 
+@dataclasses.dataclass(frozen=True)
+class Deviation:
+    """A departure from "rules before runs, code fixed while they run" in a design's
+    history: what happened, the commit that shows it (None: no commit does) and the file it
+    touched, and what it means for the design's verdicts."""
+
+    design: str
+    what: str
+    commit: str | None
+    path: str | None
+    means: str
+
+
+#: Every deviation known, listed in its design's notebook; tests/test_provenance.py checks
+#: each commit against the history (that it exists, touched its file, and came after the
+#: design's rules).
+DEVIATIONS = (
+    Deviation(
+        "untested",
+        "code changed after runs were seen: continuous PPO's actions clipped by the world, "
+        "not inside the policy (its first runs stopped on NaN actions)",
+        "fbd2835ed3689dc7e09575068460ac29c076fc6f",
+        "docking/ppo.py",
+        "every PPO run was re-keyed and computed again on the changed code; the judged "
+        "comparisons of continuous actions read only those runs, but the change was made "
+        "after seeing the first ones",
+    ),
+    Deviation(
+        "third-edition",
+        "runs on judged seeds before the rules: the Nao-like world's pose oracle ran on the "
+        "judged seeds 3000-3004 before the third edition's rules were committed (a review's "
+        "reading of the history, issue 42)",
+        None,
+        None,
+        "the oracle is a yardstick (it fixes no verdict's arm), so no verdict was chosen on "
+        "those runs; the ledger of that time kept no computed times, so the order cannot be "
+        "recomputed from it",
+    ),
+)
+
+
+def deviations_table(design: str) -> str:
+    """The Markdown table of :data:`DEVIATIONS` of ``design`` (nothing: "none known")."""
+    found = [d for d in DEVIATIONS if d.design == design]
+    if not found:
+        return "Deviations from the rules' order: none known."
+    return md_table(
+        ("deviation", "the commit", "what it means"),
+        [(d.what, (d.commit or "none")[:7], d.means) for d in found],
+    )
+
+
 def utc(text: str):
     """An ISO 8601 time (a run's ``computed_utc``, a commit's ``%cI``) as an aware UTC
     datetime."""

@@ -52,6 +52,7 @@
 
 # %%
 
+import dataclasses
 import subprocess
 import sys
 from itertools import pairwise
@@ -94,6 +95,24 @@ rows = [
     ("actions per trial", side.max_steps, NAO_WORLD.max_steps),
 ]
 display(Markdown(report.md_table(("quantity", "sideboard world", "Nao-like world"), rows)))
+floor = te.WORLDS["floor"][1]
+shared = [  # what the Nao-like world takes from the floor world, not from the sideboard world
+    f.name
+    for f in dataclasses.fields(NAO_WORLD)
+    if getattr(NAO_WORLD, f.name) == getattr(floor, f.name) != getattr(side, f.name)
+]
+display(
+    Markdown(
+        "**Not independent of the floor world.** The Nao-like world shares with it, and not "
+        f"with the sideboard world: {', '.join(shared)}. The floor scene (the landmark on the "
+        "floor, seen whole, nothing stopping the robot at the dock) was chosen after the second "
+        "edition had shown that it breaks the paper's learner; the Nao-like world's published "
+        "values (steps, camera) came after, on that scene. Its results are a second world of the "
+        "same kind, not an independent check.\n\n"
+        + report.deviations_table(te.NAME)
+    )
+)
+assert "scene" in shared
 
 # %% [markdown]
 # The rule fixed with the world: the pose oracle must dock at least 99% of held-out trials

@@ -58,3 +58,33 @@ def test_a_run_older_than_its_rules_or_without_a_time_is_caught():
     runs = [{"seed": 1, "computed_utc": "2026-01-01T00:00:00+00:00"}, {"seed": 2}]
     runs.append({"seed": 3, "computed_utc": later})
     assert early(runs, rules) == [1, 2]
+
+
+def _history() -> bool:
+    shallow = subprocess.run(
+        ["git", "rev-parse", "--is-shallow-repository"], capture_output=True, text=True, cwd=ROOT
+    ).stdout.strip()
+    return shallow == "false"
+
+
+@pytest.mark.parametrize("deviation", [d for d in report.DEVIATIONS if d.commit], ids=str)
+def test_each_deviation_is_the_history_s(deviation):
+    """A listed deviation's commit exists, touched the file named, and came after the
+    commit that added its design's rules."""
+    if not _history():
+        pytest.skip("a shallow clone (or no git): the history is not here")
+    git = ["git", "show", "--name-only", "--format=%cI", deviation.commit]
+    shown = subprocess.run(git, capture_output=True, text=True, check=True, cwd=ROOT).stdout
+    when, *paths = [line for line in shown.splitlines() if line]
+    assert deviation.path in paths
+    module = MODULES[deviation.design].replace(".", "/") + ".py"
+    added = ["git", "log", "--diff-filter=A", "--format=%cI", "--", module]
+    rules = subprocess.run(added, capture_output=True, text=True, check=True, cwd=ROOT).stdout
+    assert report.utc(when) > report.utc(rules.split()[-1])
+
+
+def test_every_deviation_names_a_design_and_is_shown_in_its_table():
+    for d in report.DEVIATIONS:
+        assert d.design in MODULES
+        assert d.what in report.deviations_table(d.design)
+    assert "none known" in report.deviations_table("paper")
