@@ -761,8 +761,14 @@ class Ledger:
                     key = (json.dumps(config.to_dict(), sort_keys=True), seed)
                     old = runs.get(key, (config, seed, False, frozenset()))
                     runs[key] = (config, seed, whole or old[2], keep | old[3])
+            from docking.designs import rules_digest
+
+            rules = {name: rules_digest(name) for name in self.only or names()}
             data = ledger.update(
-                list(runs.values()), results_dir=self.results_dir, only=self.only or None
+                list(runs.values()),
+                results_dir=self.results_dir,
+                only=self.only or None,
+                rules=rules,
             )
         else:
             data = ledger.manifest(folder)

@@ -52,6 +52,8 @@ _RECOMPUTE = "make reproduce (recomputes the runs, then python -m docking ledger
 _RESTORE = "check out the committed ledger again (git checkout -- ledger)"
 #: What a table's seal covers of each of its runs' records: what no file of the ledger holds.
 SEALED = ("digest", "wall_time_train", "wall_time_test", "wall_seconds", "computed_utc")
+#: Sealed too where a record has them (records written before them are sealed as they were).
+SEALED_IF_PRESENT = ("rules_sha256",)
 
 
 class StaleLedger(RuntimeError):
@@ -166,7 +168,9 @@ def _seals(runs: dict) -> dict[str, str]:
     rows: dict[str, list] = {}
     for key in sorted(runs):
         record = runs[key]
-        rows.setdefault(str(record["name"]), []).append([key, *(record.get(f) for f in SEALED)])
+        fields = [record.get(f) for f in SEALED]
+        fields += [record[f] for f in SEALED_IF_PRESENT if f in record]
+        rows.setdefault(str(record["name"]), []).append([key, *fields])
     return {
         name: hashlib.sha256(json.dumps(found, allow_nan=False).encode()).hexdigest()
         for name, found in sorted(rows.items())
@@ -443,7 +447,7 @@ def _columns(runs: list[tuple[str, dict, frozenset]]) -> dict[str, np.ndarray]:
     return table
 
 
-def update(runs, folder: Path | str | None = None, results_dir=None, only=None) -> dict:
+def update(runs, folder: Path | str | None = None, results_dir=None, only=None, rules=None) -> dict:
     """Write the ledger of ``runs`` (``(config, seed, whole, keep)`` each: keep the stored
     file whole; what the table keeps) from the results store, replacing the ledger's files;
     returns the manifest.
@@ -451,7 +455,11 @@ def update(runs, folder: Path | str | None = None, results_dir=None, only=None) 
     ``only``: the names of the tables ``runs`` replace (or add); every other table of the
     ledger in ``folder``, its runs, configurations and whole runs, is kept as it is, after
     checking it against its manifest and this code (:class:`StaleLedger` otherwise). So one
-    design's runs enter the ledger without the results store holding every other's."""
+    design's runs enter the ledger without the results store holding every other's.
+
+    ``rules``: ``{table name: the SHA-256 of its design's rules}``
+    (:func:`docking.designs.rules_digest`), recorded (and sealed) with each of its runs
+    computed here, so that the ledger shows which rules each run was judged by."""
     from docking.platform_info import numeric_platform
 
     folder = Path(folder) if folder is not None else paths.ledger_dir()
@@ -491,6 +499,8 @@ def update(runs, folder: Path | str | None = None, results_dir=None, only=None) 
         }
         if computed is not None:  # runs stored before the time was recorded have none
             records[key]["computed_utc"] = computed
+        if rules and rules.get(config.name):
+            records[key]["rules_sha256"] = rules[config.name]
         if whole:
             records[key]["whole"] = name = f"whole/{config.name}/{key[:16]}/seed{seed}.npz"
             files[name] = _npz(arrays)

@@ -88,3 +88,28 @@ def test_every_deviation_names_a_design_and_is_shown_in_its_table():
         assert d.design in MODULES
         assert d.what in report.deviations_table(d.design)
     assert "none known" in report.deviations_table("paper")
+
+
+#: The designs whose every ledger run records the rules it was judged by (the designs whose
+#: runs were written after the ledger began recording them; the earlier ones' runs record
+#: their computed time at most).
+RULES_RECORDED = ("addendum-bracketing", "untested-revisited")
+
+
+@pytest.mark.parametrize("name", RULES_RECORDED)
+def test_every_run_carries_the_digest_of_its_designs_rules(name):
+    from docking.designs import rules_digest
+
+    runs = _manifest_runs(name)
+    assert runs and {r.get("rules_sha256") for r in runs} == {rules_digest(name)}
+
+
+def test_a_run_with_other_rules_breaks_its_tables_seal():
+    from docking import ledger
+
+    records = {"k1": {"name": "t", "digest": "d", "rules_sha256": "a"}}
+    sealed = ledger._seals(records)
+    records["k1"]["rules_sha256"] = "b"
+    assert ledger._seals(records) != sealed
+    del records["k1"]["rules_sha256"]  # a record from before the field: sealed as it was
+    assert ledger._seals(records) == ledger._seals({"k1": {"name": "t", "digest": "d"}})

@@ -39,3 +39,17 @@ def design(name: str):
 def names() -> list[str]:
     """Every design's name."""
     return list(MODULES)
+
+
+def rules_digest(name: str) -> str | None:
+    """The SHA-256 of design ``name``'s rules (its module's ``rules_text()``, what its test
+    pins), or None for a design without committed rules: what the ledger records beside each
+    of its runs (:func:`docking.ledger.update`'s ``rules``)."""
+    import hashlib
+
+    design(name)  # ValueError naming the designs
+    module = importlib.import_module(MODULES[name])
+    text = getattr(module, "rules_text", None)
+    if text is None or getattr(module, "NAME", None) != name:
+        return None
+    return hashlib.sha256(text().encode()).hexdigest()
