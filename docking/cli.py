@@ -508,6 +508,8 @@ class Report:
                 from docking.designs import revisited
 
                 summary += "\n\n" + report.revisited_summary(found, revisited)
+        if self.third_edition:
+            summary += "\n\n" + report.candour_text()
         changed |= self._write(summary, report.SUMMARY_START, report.SUMMARY_END)
         if contest is not None:
             changed |= self._glance(results, comparisons, contest, added, decisions)

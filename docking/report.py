@@ -1571,6 +1571,42 @@ DEVIATIONS = (
 )
 
 
+#: Choices made after earlier results had been seen, each with what it affects (the
+#: candid summary's third part; issue 42).
+CHOICES_AFTER_RESULTS = (
+    (
+        "the sideboard world's steps and its sideboard",
+        "chosen while calibrating towards the paper's numbers (notebooks 03-04)",
+    ),
+    (
+        "the floor scene",
+        "chosen after the second edition had shown that it breaks the paper's learner; the "
+        "Nao-like world builds on it, so the two are not independent worlds",
+    ),
+    (
+        "the addendum's and the bracketing's knobs",
+        "chosen after the contest had been seen to stop at the edge of its grids (rules "
+        "committed before their own runs)",
+    ),
+)
+
+
+def candour_text() -> str:
+    """The candid summary's sentences: which claims hold by construction and which verdicts
+    are limited by a measure's resolution (:data:`OUTSIDE_COUNTS`), which choices were made
+    after earlier results were seen (:data:`CHOICES_AFTER_RESULTS`), and the deviations from
+    the rules' order (:data:`DEVIATIONS`)."""
+    outside = "; ".join(f"{k}: {why}" for k, why in OUTSIDE_COUNTS.items())
+    choices = "; ".join(f"{what}, {why}" for what, why in CHOICES_AFTER_RESULTS)
+    deviations = "; ".join(f"{d.design}: {d.what}" for d in DEVIATIONS)
+    return (
+        f"**Read with care.** Outside every count of verdicts, as tests that could not fail "
+        f"or could not see: {outside} (notebook 09 tests both again by rules that can fail). "
+        f"Chosen after earlier results were seen: {choices}. Deviations from the rules' "
+        f"order, listed in their notebooks: {deviations}."
+    )
+
+
 def deviations_table(design: str) -> str:
     """The Markdown table of :data:`DEVIATIONS` of ``design`` (nothing: "none known")."""
     found = [d for d in DEVIATIONS if d.design == design]

@@ -433,6 +433,7 @@ results = contest
 per_claim = judge_family(te.CLAIMS, results, alpha=te.ALPHA, per_claim=True)
 family = judge_family(te.CLAIMS, results, alpha=te.ALPHA)
 display(Markdown(design_verdicts(results)))
+display(Markdown(report.candour_text()))  # what the verdicts cannot say (notebooks 08, 09)
 fig = figures.fig_verdicts(report.verdict_panels(te.CLAIMS, results, per_claim))
 display(Image(save_named(fig, "third_edition_verdicts")))
 
