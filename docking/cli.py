@@ -563,13 +563,23 @@ class Report:
 
     def _addendum(self):
         """The third edition's addendum's results, once every run of it is stored or in the
-        ledger; None before."""
+        ledger (None before), with the bracketing's tuned learners in place once its runs
+        are in (:func:`docking.report.bracketed_addendum`; its rows kept for the first
+        screen)."""
         from docking.design import absent_runs
         from docking.designs import addendum
 
         if absent_runs(addendum.DESIGN, self.results_dir):
             return None
-        return addendum.DESIGN.run(results_dir=self.results_dir, workers=self.processes)
+        added = addendum.DESIGN.run(results_dir=self.results_dir, workers=self.processes)
+        from docking import report
+        from docking.designs import bracketing
+
+        if absent_runs(bracketing.DESIGN, self.results_dir):
+            return added
+        own = bracketing.DESIGN.run(results_dir=self.results_dir, workers=self.processes)
+        self._bracketing = report.bracketing_rows(own, bracketing)
+        return report.bracketed_addendum(added, own, bracketing)
 
     def _glance(self, results, comparisons, contest, added, decisions) -> bool:
         """The README's first screen: the figure of every learner's held-out success per
@@ -583,11 +593,13 @@ class Report:
             from docking.designs import addendum
 
             tuned = {
-                w: addendum.TUNING.tuned(added, w, "paper")["beta_a_train"] for w in addendum.WORLDS
+                w: added.cell(f"{w}/paper-tuned").config.network.beta_a_train
+                for w in addendum.WORLDS
             }
+            rows = getattr(self, "_bracketing", None) or report.bracketed_rows(added, addendum)
             unbracketed = any(
-                where != "interior"
-                for r in report.bracketed_rows(added, addendum)
+                where.startswith("at the edge")
+                for r in rows
                 if r["learner"] == "paper"
                 for _, where in r["positions"].values()
             )
