@@ -179,6 +179,57 @@ def decisions(net: Network, observations) -> Decisions:
     )
 
 
+def furniture_contacts(world: WorldConfig, poses) -> np.ndarray:
+    """Per pose of ``poses`` (``(n, 3)``: x, y, yaw), whether the robot placed there touches
+    anything of the room but the floor (a contact of one of its geoms with a geom outside
+    its body tree, MuJoCo's collision detection after ``mj_forward``)."""
+    import mujoco
+
+    from docking.world import DockingEnv
+
+    poses = np.asarray(poses, dtype=np.float64)
+    if poses.ndim != 2 or poses.shape[1] != 3:
+        raise ValueError(f"poses must be (n, 3), got shape {poses.shape}")
+    env = DockingEnv(world, seed=0)
+    m, d = env.physics.model.ptr, env.physics.data.ptr
+    robot, floor = m.body("robot").id, m.geom("floor").id
+
+    def in_robot(geom: int) -> bool:
+        body = int(m.geom_bodyid[geom])
+        while body not in (0, robot):
+            body = int(m.body_parentid[body])
+        return body == robot
+
+    found = []
+    for pose in poses:
+        env.physics.set_pose(pose)
+        mujoco.mj_forward(m, d)
+        pairs = [(int(c.geom1), int(c.geom2)) for c in d.contact[: d.ncon]]
+        found.append(any(in_robot(a) != in_robot(b) and floor not in (a, b) for a, b in pairs))
+    env.close()
+    return np.array(found, dtype=bool)
+
+
+def walking_poses(world: WorldConfig, n: int, seed: int = 0, points: int = 10) -> np.ndarray:
+    """``(n * points, 3)`` poses of the robot's walk: ``n`` start poses of ``world``'s start
+    region and ``points - 1`` more on the straight line from each to the docking region's
+    centre, the start's heading kept."""
+    from docking.world import DockingEnv
+
+    env = DockingEnv(world, seed=seed)
+    starts = []
+    for _ in range(n):
+        env.reset()
+        starts.append(env.pose)
+    env.close()
+    dock = np.array([-world.dock_center, 0.0])
+    found = []
+    for start in starts:
+        for t in np.linspace(0.0, 1.0, points):
+            found.append([*((1 - t) * start[:2] + t * dock), start[2]])
+    return np.array(found)
+
+
 @functools.lru_cache(maxsize=8)
 def start_views(world: WorldConfig, n: int, seed: int) -> np.ndarray:
     """``(n, rows, cols)`` network inputs at ``n`` start poses of ``world``'s start region

@@ -90,8 +90,9 @@ NAO_WORLD = WorldConfig(
 #: (WorldConfig.room_shift, WorldConfig.room): along the front wall 0.6 m to the left, next
 #: to the plant; against the room's right-hand wall (the room turned by 90 deg), the shelf
 #: beside it; and in the second room (other walls, floor and furniture, a bookcase and a
-#: lamp near the approach). Chosen so that no furniture stands where the robot walks; not
-#: tried with any learner.
+#: lamp near the approach). Chosen so that no furniture stands in the start region or on the
+#: straight walk to the dock (tests/test_walking_area.py); along the wall, the shifted table
+#: stands where a robot that wanders off that walk can reach it. Not tried with any learner.
 RELOCATIONS = {
     "along the wall": WorldConfig(room_shift=(0.0, -0.6, 0.0)),
     "another wall": WorldConfig(room_shift=(-1.75, 1.375, 90.0)),
