@@ -500,7 +500,10 @@ class Report:
         if added is not None:
             from docking.designs import addendum
 
-            summary += "\n\n" + report.addendum_summary(added, contest, addendum)
+            unmerged = getattr(self, "_unmerged", None) or added  # the addendum as it ran
+            summary += "\n\n" + report.addendum_summary(unmerged, contest, addendum)
+            if getattr(self, "_bracketing", None):
+                summary += "\n\n" + report.bracketing_summary(self._bracketing, added, addendum)
         for found, _ in untested:
             if found.design.name == "untested":
                 summary += "\n\n" + report.untested_summary(found)
@@ -579,6 +582,7 @@ class Report:
             return added
         own = bracketing.DESIGN.run(results_dir=self.results_dir, workers=self.processes)
         self._bracketing = report.bracketing_rows(own, bracketing)
+        self._unmerged = added
         return report.bracketed_addendum(added, own, bracketing)
 
     def _glance(self, results, comparisons, contest, added, decisions) -> bool:

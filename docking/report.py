@@ -1485,6 +1485,46 @@ def bracketing_table(rows: list[dict]) -> str:
     return md_table((*header, "tuned setting", "runs", "its tuning success"), found)
 
 
+def bracketing_summary(rows: list[dict], final, ad) -> str:
+    """The README's sentences on the bracketing (``rows``: :func:`bracketing_rows`;
+    ``final``: :func:`bracketed_addendum`'s results; ``ad``: the addendum's module): per
+    world, where each learner's tuned setting moved and whether it is bracketed, then the
+    tuned learners' held-out success on the judged seeds and the gap by the addendum's
+    rule."""
+    from docking.claims import rate_interval
+
+    def setting(values: dict) -> str:
+        return ", ".join(f"{k} {v:g}" for k, v in values.items())
+
+    gaps = {g.world: g for g in contest_gaps(final, ad.WORLDS, ad.GAP_CLOSED)}
+    parts = []
+    for world in ad.WORLDS:
+        moves = []
+        for r in (r for r in rows if r["world"] == world):
+            name = "the paper's learner" if r["learner"] == "paper" else "linear SARSA"
+            where = "bracketed" if r["bracketed"] else "not bracketed: the search stopped"
+            if r["changed"]:
+                moves.append(
+                    f"{name} moved from {setting(r['start'])} to {setting(r['tuned'])} ({where})"
+                )
+            else:
+                moves.append(f"{name} stayed at {setting(r['tuned'])} ({where})")
+        paper = rate_interval(final, f"{world}/paper-tuned").estimate
+        linear = rate_interval(final, f"{world}/linear-tuned").estimate
+        parts.append(
+            f"in {CONTEST_NAMES[world]} {'; '.join(moves)}; judged, the paper's learner docks "
+            f"{_pct(paper)}, linear SARSA {_pct(linear)}, a gap of "
+            f"{gaps[world].interval.format(unit=' pp')}, **{gaps[world].verdict}**"
+        )
+    return (
+        "**Bracketed** (the addendum's search continued by a second rule committed before its "
+        "runs, notebook 07: every neighbour of the best setting run on the same 10 tuning seeds, "
+        "stage after stage, until none did better; the same rule for both learners): "
+        + "; ".join(parts)
+        + "."
+    )
+
+
 def bracketed_addendum(added, own, br):
     """The addendum's results (``added``) with each tuned learner the bracketing (``own``:
     the results of ``br``, :mod:`docking.designs.bracketing`) changed in its place: the cell
