@@ -1849,7 +1849,8 @@ def glance_text(
                 ", and the search stopped with it at the edge of what it tried (linear "
                 "SARSA's optimum is bracketed), so the paper's learner may do better still."
                 if unbracketed
-                else "."
+                else ", and every tuned value of both learners is bracketed (a neighbour on "
+                "each side tried and worse) or at its ladder's stated limit."
             )
         )
     lines.append(
