@@ -554,15 +554,40 @@ class Report:
             report.THIRD_EDITION_START,
             report.THIRD_EDITION_END,
         )
-        changed |= self._write(
+        changed |= self._verdicts(
             design_verdicts(contest, *untested, notes=report.OUTSIDE_COUNTS),
-            report.VERDICTS_START,
-            report.VERDICTS_END,
+            report.claims_glance_rows(contest, *untested, notes=report.OUTSIDE_COUNTS),
         )
         design = contest.design
         decisions = judge_family(design.claims, contest, alpha=design.alpha, per_claim=True)
         claims = report.claims_summary(design.claims, decisions)
         return contest, claims, untested, decisions, changed
+
+    def _verdicts(self, table: str, rows: list) -> bool:
+        """The full verdict table into the site's page beside the README
+        (:data:`docking.report.VERDICTS_PAGE`, where it exists), and into the README the
+        claims at a glance (its figure, saved into the figures folder) with a link to the
+        page; whether either file changed."""
+        from docking import figures, report
+        from docking.report import update_readme
+
+        print(table)
+        fig = figures.fig_claims(rows)
+        png = Path(report.save_named(fig, report.CLAIMS_FIGURE))
+        text = (
+            f"\n![The paper's claims at a glance](figures/{png.name}) **The paper's claims at a "
+            "glance:** one row per claim, one box per comparison (its world or setting, its 95% "
+            "interval, its decision by the committed rule), coloured by the decision (green "
+            "supported, red contradicted, orange at the bound, grey not supported; pale: outside "
+            "the counts). The full verdict table, with the paper's words, every p-value and the "
+            f"verdicts under both decision rules, is [a page of its own]({report.VERDICTS_PAGE}).\n"
+        )
+        changed = self._write(text, report.VERDICTS_START, report.VERDICTS_END)
+        if self.readme is not None:
+            page = self.readme.parent / report.VERDICTS_PAGE
+            if page.exists():
+                changed |= update_readme(page, table, report.VERDICTS_START, report.VERDICTS_END)
+        return changed
 
     def _addendum(self):
         """The third edition's addendum's results, once every run of it is stored or in the

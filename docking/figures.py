@@ -35,7 +35,7 @@ from matplotlib import colormaps, patheffects
 from matplotlib.backends.backend_agg import FigureCanvasAgg
 from matplotlib.figure import Figure
 from matplotlib.lines import Line2D
-from matplotlib.patches import Circle, Polygon, Rectangle
+from matplotlib.patches import Circle, FancyBboxPatch, Polygon, Rectangle
 
 from docking.analysis import (
     Decisions,
@@ -1328,4 +1328,51 @@ def fig_glance(
     ax.set_ylabel("held-out success (%), each seed a dot")
     ax.grid(axis="y", alpha=0.3, lw=0.5)
     ax.legend(loc="upper center", bbox_to_anchor=(0.5, -0.16), ncol=3, fontsize=8, frameon=False)
+    return fig
+
+
+def fig_claims(rows: list[tuple]) -> Figure:
+    """The paper's claims at a glance: one row per claim (its key and the bound its rule
+    tests, left), one box per comparison (its world or setting, its 95% interval, its
+    decision), coloured by the decision; a claim outside the counts is greyed, with why.
+
+    Args:
+      rows: :func:`docking.report.claims_glance_rows`' rows.
+    """
+    from docking.claims import VERDICT_COLOURS
+
+    if not rows:
+        raise ValueError("fig_claims needs at least one claim")
+    columns = max(len(r[2]) for r in rows)
+    fig = _new_figure(3.2 + 2.9 * columns, 0.62 * len(rows) + 0.7)
+    ax = fig.add_subplot()
+    ax.set_xlim(0, 3.2 + 2.9 * columns)
+    ax.set_ylim(len(rows), -0.6)
+    ax.axis("off")
+    for y, (key, bound, comparisons, note) in enumerate(rows):
+        ax.text(0.05, y + 0.22, key, fontsize=9.5, weight="bold", va="center")
+        wrapped = textwrap.fill(f"outside the counts: {note}" if note else bound, 52)
+        ax.text(0.05, y + 0.42, wrapped, fontsize=6.3, va="top", color="0.35", linespacing=1.0)
+        for x, (label, interval, verdict) in enumerate(comparisons):
+            colour = "0.75" if note else VERDICT_COLOURS.get(verdict, "C0")
+            left = 3.2 + 2.9 * x
+            ax.add_patch(
+                FancyBboxPatch(
+                    (left, y + 0.08),
+                    2.75,
+                    0.78,
+                    boxstyle="round,pad=0.0,rounding_size=0.08",
+                    facecolor=colour,
+                    alpha=0.22,
+                    edgecolor=colour,
+                )
+            )
+            ax.text(left + 0.08, y + 0.3, f"{label}: {verdict}", fontsize=7.5, va="center")
+            ax.text(left + 0.08, y + 0.64, interval, fontsize=7, va="center", color="0.2")
+    ax.set_title(
+        "The paper's claims, judged on fresh seeds (rules committed before the runs): each "
+        "box one comparison, its 95% interval and decision",
+        fontsize=9,
+        loc="left",
+    )
     return fig

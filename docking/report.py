@@ -424,7 +424,8 @@ def summary_text(
     if claims is not None:
         text.append(
             "**The paper's claims** (the third edition, notebook 07: fresh seeds, paired "
-            f"intervals; the verdict table below). {claims}"
+            f"intervals; the claims at a glance below, every interval and p-value on the "
+            f"verdict table's page, docs/guide/verdicts.md). {claims}"
         )
     return "\n\n".join(text)
 
@@ -1055,6 +1056,10 @@ OUTSIDE_COUNTS = {
 #: The markers of the README's verdict table of the third edition (notebook 07).
 VERDICTS_START = "<!-- verdicts:start -->"
 VERDICTS_END = "<!-- verdicts:end -->"
+#: The site's page of the full verdict table (beside the README, between the same markers);
+#: the README shows the claims at a glance (:data:`CLAIMS_FIGURE`) and links it.
+VERDICTS_PAGE = "docs/guide/verdicts.md"
+CLAIMS_FIGURE = "claims"
 
 
 def verdict_panels(claims, results, decisions) -> list[dict]:
@@ -1085,6 +1090,34 @@ def verdict_panels(claims, results, decisions) -> list[dict]:
             )
         )
     return panels
+
+
+def claims_glance_rows(*judged, notes=None) -> list[tuple]:
+    """The claims at a glance (the README's figure, :func:`docking.figures.fig_claims`): per
+    claim of ``judged`` (as :func:`docking.claims.design_verdicts` takes them), ``(key, the
+    bound its rule tests, [(comparison, its interval as text, its decision), ...], note)``,
+    decided by the committed rule (Holm within each claim); ``note``: why the claim stands
+    outside the counts (``notes``), else None. Findings are left out."""
+    from docking.claims import _identical, claim_rows, judge_family, spread_words
+
+    def shown(claim, results, entry, ci) -> str:
+        words = spread_words(ci, _identical(claim, results, entry))
+        return words if words else claim.format(ci)
+
+    found = []
+    for entry in judged:
+        results, keys = entry if isinstance(entry, tuple) else (entry, None)
+        design = results.design
+        per = judge_family(design.claims, results, alpha=design.alpha, per_claim=True)
+        claims = [c for c in design.claims if c.judged and (keys is None or c.key in keys)]
+        for claim, rows in claim_rows(claims, results, per):
+            entries = [e for keys in claim.cells.values() for e in keys]  # claim_rows' order
+            boxes = [
+                (label, shown(claim, results, entry, ci), verdict)
+                for (label, ci, verdict, _), entry in zip(rows, entries, strict=True)
+            ]
+            found.append((claim.key, claim.rule.describe(), boxes, (notes or {}).get(claim.key)))
+    return found
 
 
 #: The groups of claims the summaries count, in order.
@@ -1191,7 +1224,7 @@ def untested_summary(results) -> str:
     decisions = judge_family(design.claims, results, alpha=design.alpha, per_claim=True)
     return (
         "**The claims nobody had tested** (notebook 08: fresh seeds, its own rules committed "
-        "before the runs; relocation and coping in the verdict table below, continuous "
+        "before the runs; relocation and coping among the claims below, continuous "
         "actions as the paper's future work). "
         + claims_summary(design.claims, decisions, design.alpha)
     )

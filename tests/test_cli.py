@@ -509,8 +509,13 @@ def test_the_readme_is_what_report_writes_from_the_ledger(tmp_path):
     """Every number of the README's blocks (the summary, the results, Experiment 3, the third
     edition, the verdicts, the timings) is what `report --readme` writes from the committed
     ledger: run on a copy, it changes nothing."""
+    from docking.report import VERDICTS_PAGE
+
     copy = tmp_path / "README.md"
     copy.write_text((REPO / "README.md").read_text())
+    page = tmp_path / VERDICTS_PAGE  # the full verdict table, beside the README
+    page.parent.mkdir(parents=True)
+    page.write_text((REPO / VERDICTS_PAGE).read_text())
     out = subprocess.run(
         [sys.executable, "-m", "docking", "report", "--readme", str(copy)],
         cwd=tmp_path,
@@ -521,6 +526,7 @@ def test_the_readme_is_what_report_writes_from_the_ledger(tmp_path):
     )
     assert out.returncode == 0, out.stderr[-3000:]
     assert copy.read_text() == (REPO / "README.md").read_text()
+    assert page.read_text() == (REPO / VERDICTS_PAGE).read_text()
     assert f"{copy}: already up to date" in out.stdout
 
 
