@@ -344,6 +344,35 @@ for r in bracketing:
     )
 times = report.computed_times(br.NAME)
 assert min(times) > report.utc(report.RULES_COMMITS[br.NAME][1])  # every run after its rules
+assert all(r["bracketed"] for r in bracketing if r["learner"] == "linear")
+
+# %% [markdown]
+# **How flat the top is.** For each learner, its best settings' mean success over the same 10
+# tuning seeds, beside the standard error of one setting's mean (its seeds' spread over
+# √10): where the best few lie within about one standard error of each other, which of
+# them the search ends on is a draw of its seeds, not a property of the learner.
+
+# %%
+flat = []
+for r in bracketing:
+    found = br.scores(own, r["world"], r["learner"])
+    means = sorted(br.complete(found).values(), reverse=True)
+    tuned_seeds = [found[tuple(r["tuned"].items())][s] for s in br.COMPARE_SEEDS]
+    se = float(np.std(tuned_seeds, ddof=1) / np.sqrt(len(tuned_seeds)))
+    flat.append(
+        (
+            names[r["world"]],
+            r["learner"],
+            " · ".join(f"{100 * m:.1f}" for m in means[:4]),
+            f"{100 * se:.1f} pp",
+            "bracketed"
+            if r["bracketed"]
+            else f"stopped: {'its runs' if r['runs'] + 10 > br.BUDGET else 'its stages'} ran out",
+        )
+    )
+header = ("world", "learner", "the 4 best settings (%)", "one setting's s.e.", "search")
+display(Markdown(report.md_table(header, flat)))
+display(Markdown(report.bracketing_summary(bracketing, final, ad)))
 
 # %% [markdown]
 # ### Training steps, and PPO's budget matched to them
