@@ -33,3 +33,35 @@ def test_the_committed_contest_and_verdicts_have_no_degenerate_rate_and_no_p_0(
     verdicts = design_verdicts(contest, (judged, report.UNTESTED_IN_README))
     assert not re.search(r", p 0( |<|$)", verdicts)
     assert "identical in every trial" in verdicts  # relocation: "another wall", "second room"
+
+
+def _outputs(notebook: Path) -> str:
+    """Every text and Markdown output of an executed notebook, joined."""
+    import json
+
+    found = []
+    for cell in json.loads(notebook.read_text())["cells"]:
+        for output in cell.get("outputs", []):
+            data = output.get("data", {})
+            for kind in ("text/markdown", "text/plain"):
+                text = data.get(kind)
+                if text:
+                    found.append("".join(text) if isinstance(text, list) else text)
+            if output.get("text"):
+                found.append("".join(output["text"]))
+    return "\n".join(found)
+
+
+@pytest.mark.docs
+@pytest.mark.parametrize("name", sorted(p.stem for p in (REPO / "notebooks").glob("[0-9]*.py")))
+def test_no_rendered_percentage_has_a_zero_width_interval_or_exceeds_100(name):
+    """The executed notebooks (make test writes their outputs before the docs tests): no
+    percentage with an interval of zero width, none above 100%, and no "p 0"."""
+    notebook = REPO / "notebooks" / f"{name}.ipynb"
+    if not notebook.exists():
+        pytest.skip(f"{notebook.name} is not executed here (make test executes it)")
+    text = _outputs(notebook)
+    for found in RATE.findall(text):
+        estimate, low, high = map(float, found)
+        assert low < high and high <= 100 and estimate <= 100, (name, found)
+    assert not re.search(r", p 0( |<|$)", text), name
