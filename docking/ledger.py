@@ -177,9 +177,36 @@ def _seals(runs: dict) -> dict[str, str]:
     }
 
 
+#: Per runner, the modules of the optional dependencies its runs need and the extra of the
+#: package that installs them (pyproject.toml's [project.optional-dependencies]).
+EXTRAS = {"ppo": (("skrl", "jax", "flax", "optax"), "ppo")}
+
+
+def missing_extra(runner_name: str) -> str | None:
+    """If the optional dependencies of ``runner_name``'s runs are not installed, what is
+    missing and the ``pip install`` line that installs them; else None."""
+    import importlib.util
+
+    modules, extra = EXTRAS.get(runner_name, ((), ""))
+    absent = [m for m in modules if importlib.util.find_spec(m) is None]
+    if not absent:
+        return None
+    return (
+        f"the [{extra}] extra is not installed ({', '.join(absent)} missing): "
+        f"pip install 'docking[{extra}]'"
+    )
+
+
 def _check(data: dict, runner: store.Runner) -> None:
-    """:class:`StaleLedger` unless ``runner``'s runs were computed by this code; a warning
-    (once) if by another rendering stack."""
+    """:class:`StaleLedger` unless ``runner``'s runs were computed by this code (first, if
+    the extra its runs need is not installed, saying so); a warning (once) if by another
+    rendering stack."""
+    missing = missing_extra(runner.name)
+    if missing is not None:
+        raise StaleLedger(
+            f"the ledger in {data['folder']} holds {runner.name} runs, which this package reads "
+            f"only with an optional extra; {missing}"
+        )
     if data["fingerprints"].get(runner.name) != runner.fingerprint():
         ours, theirs = runner.module_digests(), data["modules"].get(runner.name, {})
         changed = sorted(k for k in set(ours) | set(theirs) if ours.get(k) != theirs.get(k))

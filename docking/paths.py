@@ -5,8 +5,10 @@
   ``docking`` folder, as after ``pip install -e .`` or in a clone), the checkout's
   ``results/`` and ``figures/``, so notebooks (whose working directory is ``notebooks/``),
   the CLI and the tests all use the same folders.
-* Otherwise (an installed package) ``./results`` and ``./figures`` of the current working
-  directory, never a folder inside site-packages.
+* Otherwise (an installed package, such as a wheel) ``results/`` and ``figures/`` of the
+  per-user data folder, by the platform's convention (:func:`user_data_dir`, through
+  ``platformdirs``: ``~/.local/share/docking`` on Linux), never a folder inside
+  site-packages nor the current working directory.
 """
 
 from __future__ import annotations
@@ -14,7 +16,14 @@ from __future__ import annotations
 import os
 from pathlib import Path
 
-__all__ = ["checkout_root", "figures_dir", "ledger_dir", "ledger_off", "results_dir"]
+__all__ = [
+    "checkout_root",
+    "figures_dir",
+    "ledger_dir",
+    "ledger_off",
+    "results_dir",
+    "user_data_dir",
+]
 
 #: The values of ``DOCKING_LEDGER`` that turn the ledger off (in any case).
 LEDGER_OFF = ("off", "0", "none", "false")
@@ -26,6 +35,15 @@ def checkout_root() -> Path | None:
     return root if (root / "pyproject.toml").is_file() else None
 
 
+def user_data_dir() -> Path:
+    """The per-user data folder of an installed package (``platformdirs``' user data
+    folder of ``docking``: ``$XDG_DATA_HOME/docking`` or ``~/.local/share/docking`` on
+    Linux)."""
+    import platformdirs
+
+    return Path(platformdirs.user_data_dir("docking", appauthor=False))
+
+
 def _folder(variable: str, name: str) -> Path:
     value = os.environ.get(variable)
     if value is not None:
@@ -33,17 +51,26 @@ def _folder(variable: str, name: str) -> Path:
             raise ValueError(f"{variable} is set but empty; unset it or name a folder")
         return Path(value).expanduser()
     root = checkout_root()
-    return (root if root is not None else Path.cwd()) / name
+    return (root if root is not None else user_data_dir()) / name
 
 
 def results_dir() -> Path:
-    """The results store's folder (``DOCKING_RESULTS``, the checkout's or ``./results``)."""
+    """The results store's folder (``DOCKING_RESULTS``, the checkout's ``results/`` or the
+    per-user data folder's)."""
     return _folder("DOCKING_RESULTS", "results")
 
 
 def figures_dir() -> Path:
-    """The figures' folder (``DOCKING_FIGURES``, the checkout's or ``./figures``)."""
+    """The figures' folder (``DOCKING_FIGURES``, the checkout's ``figures/`` or the per-user
+    data folder's)."""
     return _folder("DOCKING_FIGURES", "figures")
+
+
+def in_user_data(folder: Path) -> bool:
+    """Whether ``folder`` is inside the per-user data folder (an installed package's default)."""
+    return checkout_root() is None and Path(folder).resolve().is_relative_to(
+        user_data_dir().resolve()
+    )
 
 
 def ledger_off() -> bool:
