@@ -8,7 +8,12 @@ One run reports:
   crop band, group 2, headlight only) + the bare ``mj_step`` calls of one action +
   ``preprocess`` of the band; and the ratio env step / floor;
 * the CPU time (``time.process_time``) of a full Experiment 2 seed and its env steps;
-* the speedup of two processes over one on two seeds (wall time; one seed per process).
+* the speed-up of two processes over one on two seeds: the wall time of the seeds run one
+  after the other in one process over that of the seeds run at once, one per process (2.00x
+  at best on two cores; below 1.00x the two processes took longer than one).
+
+``--quick`` (a smoke test, and the step time ``tools/time_tiers.py`` records) shortens every
+part: fewer, shorter repetitions and a 40-trial Experiment 2 without its learning curve.
 
 The machine may be shared: every measurement is repeated, the minimum and the median are
 reported, and CPU time is preferred over wall time wherever one process is measured.
@@ -21,6 +26,7 @@ from __future__ import annotations
 import contextlib
 import dataclasses
 import multiprocessing
+import os
 import time
 
 import numpy as np
@@ -155,19 +161,18 @@ def _run_seeds(args) -> dict:
 
 def experiment_times(config: ExperimentConfig, seeds) -> dict:
     """Run the seeds one after the other in one worker process, then each in its own worker
-    process at the same time: per-seed CPU times and the speedup of the parallel run."""
+    process at the same time: per-seed CPU times and the speed-up of the parallel run (the
+    serial wall time over the parallel one). The workers are started once, before either
+    (their start-up, imports and GL context, is not part of a run)."""
     ctx = multiprocessing.get_context("spawn")
-    with ctx.Pool(1) as pool:
-        pool.apply(_noop)  # start-up (imports, GL context) is not part of the run
+    with ctx.Pool(len(seeds)) as pool:
+        pool.map(_noop, range(len(seeds)), chunksize=1)
         w0 = time.perf_counter()
         serial = pool.apply(_run_seeds, ((config, list(seeds)),))
         serial_wall = time.perf_counter() - w0
-        pool.close()
-        pool.join()
-    with ctx.Pool(len(seeds)) as pool:
-        pool.map(_noop, range(len(seeds)))
         w0 = time.perf_counter()
-        parallel = [r for rs in pool.map(_run_seeds, [(config, [s]) for s in seeds]) for r in rs]
+        jobs = [(config, [s]) for s in seeds]
+        parallel = [r for rs in pool.map(_run_seeds, jobs, chunksize=1) for r in rs]
         parallel_wall = time.perf_counter() - w0
         pool.close()
         pool.join()
@@ -183,14 +188,26 @@ def experiment_times(config: ExperimentConfig, seeds) -> dict:
 def _noop(*_):
     import docking.world  # noqa: F401
 
+    time.sleep(0.2)  # every worker takes one: each has started before the runs
     return None
 
 
-def run(repeats: int = 5, steps: int = 2000, seeds=(0, 1), quick: bool = False) -> dict:
+#: ``repeats`` and ``steps`` by default, and with ``quick``.
+DEFAULTS = {"repeats": 5, "steps": 2000}
+QUICK = {"repeats": 3, "steps": 500}
+
+
+def run(
+    repeats: int | None = None, steps: int | None = None, seeds=(0, 1), quick: bool = False
+) -> dict:
     """Run the benchmark and print its report (``python -m docking benchmark``); returns the
     figures as a dict. ``repeats`` repetitions of ``steps`` environment steps for the step
-    and floor timings; Experiment 2 for each of ``seeds`` (``quick``: a shortened Experiment
-    2, a smoke test)."""
+    and floor timings (default :data:`DEFAULTS`, with ``quick`` :data:`QUICK`); Experiment 2
+    for each of ``seeds`` (``quick``: 30 training and 10 test trials without the learning
+    curve, a smoke test)."""
+    chosen = QUICK if quick else DEFAULTS
+    repeats = chosen["repeats"] if repeats is None else repeats
+    steps = chosen["steps"] if steps is None else steps
     for name, value, lo, hi in (("repeats", repeats, 1, 1000), ("steps", steps, 1, 1_000_000)):
         if isinstance(value, bool) or not isinstance(value, int) or not lo <= value <= hi:
             raise ValueError(f"--{name} must be an integer in [{lo}, {hi}], got {value!r}")
@@ -199,7 +216,7 @@ def run(repeats: int = 5, steps: int = 2000, seeds=(0, 1), quick: bool = False) 
         raise ValueError(f"--seeds must be in [0, {2**32 - 1}], got {list(seeds)}")
     config = EXPERIMENT_2
     if quick:
-        config = dataclasses.replace(config, train_trials=20, test_trials=10, eval_every=10)
+        config = dataclasses.replace(config, train_trials=30, test_trials=10, eval_trials=0)
     world = config.world
 
     step = env_step_time(world, steps, repeats)
@@ -217,14 +234,18 @@ def run(repeats: int = 5, steps: int = 2000, seeds=(0, 1), quick: bool = False) 
         f"{ms * floor['physics']['median']:.3f} + preprocess "
         f"{ms * floor['preprocess']['median']:.3f} (medians)"
     )
-    print(f"  env step / floor (medians): {ratio:.2f}")
+    print(
+        f"  time ratio env step / floor (medians): {ratio:.2f} "
+        "(1.00: the environment adds nothing to its floor)"
+    )
 
     runs = experiment_times(config, list(seeds))
     cpus = [r["cpu"] for r in runs["serial"]]
     cpu = _stats(cpus)
     r0 = runs["serial"][0]
+    curve = " + learning curve" if config.eval_trials else ""
     print(
-        f"{config.name} ({config.train_trials} training + learning curve + "
+        f"{config.name} ({config.train_trials} training{curve} + "
         f"{config.test_trials} test trials), one process, seeds {list(seeds)} in turn:"
     )
     for r in runs["serial"]:
@@ -234,11 +255,14 @@ def run(repeats: int = 5, steps: int = 2000, seeds=(0, 1), quick: bool = False) 
         )
     print(f"  CPU time per seed (min / median): {cpu['min']:.1f} / {cpu['median']:.1f} s")
     print(
-        f"two processes over one on {len(seeds)} seeds (wall): "
-        f"{runs['serial_wall']:.1f} s / {runs['parallel_wall']:.1f} s = "
-        f"{runs['speedup']:.2f}x (CPU per seed in parallel: "
-        + ", ".join(f"{r['cpu']:.1f} s" for r in runs["parallel"])
-        + ")"
+        f"{len(seeds)} processes at once, one seed each: {runs['parallel_wall']:.1f} s of wall "
+        "time (CPU per seed: " + ", ".join(f"{r['cpu']:.1f} s" for r in runs["parallel"]) + ")"
+    )
+    print(
+        f"  speed-up over one process (its {runs['serial_wall']:.1f} s of wall time / "
+        f"{runs['parallel_wall']:.1f} s): {runs['speedup']:.2f}x "
+        f"(at best {min(len(seeds), os.cpu_count() or 1)}.00x on {os.cpu_count()} cores; "
+        "below 1.00x the processes at once took longer than one)"
     )
     return {
         "env_step": step,

@@ -24,6 +24,7 @@ from __future__ import annotations
 import collections
 import contextlib
 import dataclasses
+import functools
 import inspect
 import json
 import os
@@ -58,6 +59,10 @@ DESCRIPTION = (
     "cluster, print the results table, benchmark the environment."
 )
 
+#: The option that prints every option of an experiment (``--help`` shows the common ones,
+#: :data:`COMMON`).
+HELP_ALL = "--help-all"
+
 # One subcommand per named experiment, its configuration as the defaults.
 _Experiment = Union[  # noqa: UP007 (tyro needs a runtime Union of Annotated members)
     tuple(
@@ -66,7 +71,10 @@ _Experiment = Union[  # noqa: UP007 (tyro needs a runtime Union of Annotated mem
             tyro.conf.subcommand(
                 name,
                 default=config,
-                description=f"{name} as in docking.experiments; any field can be overridden",
+                description=(
+                    f"{name} as in docking.experiments; any field can be overridden. --help "
+                    f"shows the common options, {HELP_ALL} every one."
+                ),
             ),
         ]
         for name, config in EXPERIMENTS.items()
@@ -101,8 +109,28 @@ CONFIGS = (ExperimentConfig, Curriculum, WorldConfig, CameraConfig, NetworkConfi
 #: distractors, which no option can give.
 HIDDEN: dict[type, tuple[str, ...]] = {ExperimentConfig: ("heldout_world", "before")}
 
+#: The options ``run EXPERIMENT --help`` (and ``sweep``'s) shows, per configuration: the
+#: common fields; a nested configuration absent from this table (the camera, distractors) is
+#: shown by ``--help-all`` alone. Every field is an option either way.
+COMMON: dict[type, tuple[str, ...]] = {
+    ExperimentConfig: ("train_trials", "test_trials", "heldout_trials", "policy"),
+    Curriculum: ("grow_trials",),
+    WorldConfig: ("scene", "actions", "room", "start_near", "start_far"),
+    NetworkConfig: ("n_features", "beta_a_train", "eps_q", "eps_w", "rule"),
+}
+
+#: Added to an option's help (the dataclasses' docstrings are part of the runs' fingerprint).
+NOTES: dict[tuple[type, str], str] = {
+    (ExperimentConfig, "train_trials"): (
+        "Fewer than --curriculum.grow-trials cut the curriculum short: the training region's "
+        "far edge never reaches the test region's (a warning says which range training sees)."
+    ),
+}
+
 _registry = tyro.constructors.ConstructorRegistry()
 _expanding: set[type] = set()
+#: Whether the parser being built is for ``--help`` (the common options, :data:`COMMON`).
+_brief = False
 
 
 @_registry.struct_rule
@@ -121,17 +149,29 @@ def _as_options(info):
         return spec
     choices = CHOICES.get(info.type, {})
     hidden = HIDDEN.get(info.type, ())
+    common = COMMON.get(info.type, ())
     fields = []
     for field in spec.fields:
-        kind = field.type
+        kind, helptext = field.type, field.helptext
         if field.name in choices:
             kind = Literal[choices[field.name]]
         elif field.name in hidden:
             kind = Annotated[kind, tyro.conf.Suppress]
         elif kind in _OPTIONAL_METAVARS:
             kind = Annotated[kind, tyro.conf.arg(metavar=_OPTIONAL_METAVARS[kind])]
-        fields.append(dataclasses.replace(field, type=kind))
+        if _brief and field.name not in common and field.type not in COMMON:
+            kind = Annotated[kind, tyro.conf.Suppress]  # --help: the common options only
+        note = NOTES.get((info.type, field.name))
+        if note is not None:
+            helptext = functools.partial(_noted, helptext, note)
+        fields.append(dataclasses.replace(field, type=kind, helptext=helptext))
     return dataclasses.replace(spec, fields=tuple(fields))
+
+
+def _noted(helptext, note: str) -> str:
+    """An option's help (a text, or tyro's callable that gives it) with ``note`` after it."""
+    text = (helptext() if callable(helptext) else helptext) or ""
+    return f"{text.rstrip()} {note}".strip()
 
 
 #: The optional values of the configurations, as their options show them (tyro's own is
@@ -148,9 +188,13 @@ def _shown(metavar: str, default: str):
 _Processes = Annotated[int | None, _shown("INT", "one per core")]
 _Scheduler = Annotated[str | None, _shown("STR", "an embedded cluster on 127.0.0.1")]
 _ResultsDir = Annotated[
-    Path | None, _shown("PATH", "DOCKING_RESULTS, the checkout's results/ or ./results")
+    Path | None,
+    _shown("PATH", "DOCKING_RESULTS, the checkout's results/ or the per-user data folder's"),
 ]
-_FiguresDir = Annotated[Path | None, _shown("PATH", "DOCKING_FIGURES or the checkout's figures/")]
+_FiguresDir = Annotated[
+    Path | None,
+    _shown("PATH", "DOCKING_FIGURES, the checkout's figures/ or the per-user data folder's"),
+]
 _ExperimentSeeds = Annotated[
     str | None, _shown("STR", "the experiment's seeds, docking.presets.SEEDS")
 ]
@@ -195,10 +239,84 @@ class Run:
     def execute(self) -> int:
         config = self.experiment
         seeds = _seeds_of(config, self.seeds)
+        _warn_short_curriculum(config)
         sources, paths, results = _run(self, [config], seeds, f"{config.name}, {len(seeds)} seeds")
-        print(f"{config.name}: {_summary(results)}")
+        print(f"{_label(config)}: {_summary(results)}")
         print(_sources_text(seeds, sources, paths[0].parent))
         return 0
+
+
+def _preset_of(config: ExperimentConfig) -> ExperimentConfig:
+    """The preset (:data:`docking.presets.EXPERIMENTS`) ``config`` differs least from (its
+    namesake first)."""
+    return min(
+        EXPERIMENTS.values(),
+        key=lambda p: (len(_overrides(config, p)), p.name != config.name),
+    )
+
+
+def _flat(value, prefix: str = "") -> dict[str, object]:
+    """``{dotted.field: value}`` of a configuration's :meth:`to_dict` (a list of
+    configurations, such as the distractors, is one value)."""
+    if isinstance(value, dict):
+        return {
+            k: v
+            for name, part in value.items()
+            for k, v in _flat(part, prefix + name + ".").items()
+        }
+    return {prefix[:-1]: value}
+
+
+def _option(field: str, value) -> str:
+    """The command-line option that sets ``field`` (dotted) to ``value``."""
+    head, _, name = field.rpartition(".")
+    flag = f"--{head + '.' if head else ''}{name}".replace("_", "-")
+    if isinstance(value, bool):
+        return flag if value else f"--{head + '.' if head else ''}no-{name}".replace("_", "-")
+    if isinstance(value, list) and not any(isinstance(v, dict | list) for v in value):
+        return f"{flag} {' '.join(map(str, value))}"
+    return f"{flag} {value}"
+
+
+def _overrides(config: ExperimentConfig, preset: ExperimentConfig) -> list[str]:
+    """The options that turn ``preset`` into ``config``, in the order of the fields."""
+    ours, theirs = _flat(config.to_dict()), _flat(preset.to_dict())
+    return [_option(k, v) for k, v in ours.items() if theirs.get(k, v) != v or k not in theirs]
+
+
+def _label(config: ExperimentConfig) -> str:
+    """How a run's line names ``config``: its name, and the options by which it differs from
+    its preset (``experiment2 (--train-trials 100, --network.eps-w 0.0)``)."""
+    preset = _preset_of(config)
+    changed = [o for o in _overrides(config, preset) if not o.startswith("--name ")]
+    if preset.name != config.name:
+        changed.insert(0, f"{preset.name} --name {config.name}")
+    return f"{config.name} ({', '.join(changed)})" if changed else config.name
+
+
+def _curriculum_cut(config: ExperimentConfig) -> str | None:
+    """If ``config`` trains for fewer trials than its curriculum grows over, what training
+    then sees and what to do (None if the curriculum is whole, or there is none)."""
+    grow, trials = config.curriculum.grow_trials, config.train_trials
+    if config.policy != "network" or trials == 0 or not trials < grow:
+        return None
+    world = config.world
+    final = world.start_far if config.curriculum.far_final is None else config.curriculum.far_final
+    first, last = (config.curriculum.far_at(t, world.start_far) for t in (0, trials - 1))
+    return (
+        f"--train-trials {trials} is shorter than the curriculum's growth "
+        f"(--curriculum.grow-trials {grow}): the training region's far edge only grows from "
+        f"{first:.2f} m to {last:.2f} m, so training sees starts {world.start_near:.2f}-"
+        f"{last:.2f} m away, never the {final:.2f} m the curriculum grows to"
+        + (" (the test region's far edge)" if final == world.start_far else "")
+        + f". Pass --curriculum.grow-trials {trials} (or fewer) to grow it within the training"
+    )
+
+
+def _warn_short_curriculum(*configs: ExperimentConfig) -> None:
+    """A warning on stderr for each configuration whose training cuts its curriculum short."""
+    for text in dict.fromkeys(filter(None, map(_curriculum_cut, configs))):
+        print(f"{PROG}: warning: {text}", file=sys.stderr)
 
 
 def _run(command: Run | Sweep, configs, seeds, desc: str) -> tuple[list, list, list]:
@@ -221,6 +339,7 @@ def _run(command: Run | Sweep, configs, seeds, desc: str) -> tuple[list, list, l
         note = _ledger_note()
         if note:
             print(f"{PROG}: note: {note}; computing {computed} runs", file=sys.stderr)
+        _say_where(command.results_dir)
     paths = run_jobs(
         jobs,
         command.results_dir,
@@ -234,6 +353,21 @@ def _run(command: Run | Sweep, configs, seeds, desc: str) -> tuple[list, list, l
         for k, j in enumerate(jobs)
     ]
     return sources, paths, results
+
+
+def _say_where(results_dir) -> None:
+    """Before an installed package first stores runs in the per-user data folder (the results
+    store when no checkout, ``DOCKING_RESULTS`` nor ``--results-dir`` names one), a note on
+    stderr that names it."""
+    if results_dir is not None:
+        return
+    folder = paths.results_dir()
+    if paths.in_user_data(folder) and not folder.exists():
+        print(
+            f"{PROG}: note: this installed package stores its runs in the per-user data folder "
+            f"{folder} (DOCKING_RESULTS or --results-dir names another)",
+            file=sys.stderr,
+        )
 
 
 def _ledger_note() -> str | None:
@@ -328,22 +462,15 @@ class Sweep:
 
         configs = grid_configs(self.experiment, self.grid)
         seeds = _seeds_of(self.experiment, self.seeds)
+        _warn_short_curriculum(*configs)
         desc = f"sweep: {len(configs)} configurations x {len(seeds)} seeds"
         sources, paths, results = _run(self, configs, seeds, desc)
         for k, config in enumerate(configs):
             rows = slice(k * len(seeds), (k + 1) * len(seeds))
-            label = " ".join(f"{e.partition('=')[0]}={_value(config, e)}" for e in self.grid)
-            print(f"{label or config.name}: {_summary(results[rows])}")
+            print(f"{_label(config)}: {_summary(results[rows])}")
             where = _sources_text(seeds, sources[rows], paths[rows][0].parent)
             print("\n".join(f"  {line}" for line in where.splitlines()))
         return 0
-
-
-def _value(config, entry: str):
-    value = config
-    for name in entry.partition("=")[0].strip().replace("-", "_").split("."):
-        value = getattr(value, name)
-    return value
 
 
 #: The designs' names (docking.designs), as choices.
@@ -385,6 +512,7 @@ class DesignRun:
         if not self.names:
             raise ValueError("name at least one design (python -m docking design list)")
         seeds = None if self.seeds is None else parse_seeds(self.seeds)
+        _say_where(self.results_dir)
         for name in self.names:
             found = design(name).only(self.cells) if self.cells else design(name)
             results = run_design(
@@ -760,7 +888,7 @@ class Figures:
             results.append(runs)
         for fig in save_figures(*results, self.folder):
             del fig
-        print(f"figures written to {self.folder or 'the figures folder'}")
+        print(f"figures written to {self.folder or paths.figures_dir()}")
         return 0
 
 
@@ -818,24 +946,70 @@ class Ledger:
             if data is None:
                 raise ValueError(f"no ledger in {folder} (it has no manifest.json)")
         checked = ledger.check_files(folder)  # CorruptLedger naming the first damaged file
-        size = ledger.size_bytes(folder)
-        kinds = collections.Counter(r["runner"] for r in data["runs"].values())
-        sources = ", ".join(f"{k} {v[:16]}" for k, v in sorted(data["fingerprints"].items()))
-        print(
+        print(_ledger_table(data, folder, checked, ledger.size_bytes(folder)))
+        return 0
+
+
+#: The widest line ``ledger show`` prints.
+LEDGER_WIDTH = 100
+
+
+def _ledger_table(data: dict, folder: Path, checked: dict, size: int) -> str:
+    """What ``ledger show`` prints of the manifest ``data`` of the ledger in ``folder``
+    (``size`` bytes; ``checked``: :func:`docking.ledger.check_files`'s counts): a line of
+    totals, one row per results table (its runs by runner, configurations, whole runs, bytes
+    and the runs' recorded wall time), the code and rendering stack, and what was checked;
+    no line wider than :data:`LEDGER_WIDTH`."""
+    import textwrap
+
+    runs = data["runs"].values()
+    runners = sorted({r["runner"] for r in runs})
+    kinds = collections.Counter(r["runner"] for r in runs)
+
+    def fill(text: str) -> str:
+        return textwrap.fill(text, LEDGER_WIDTH, subsequent_indent="  ", break_on_hyphens=False)
+
+    def row(name, mine, mib) -> str:
+        configs = {json.dumps(r["config"], sort_keys=True) for r in mine}
+        counts = collections.Counter(r["runner"] for r in mine)
+        hours = sum(r["wall_seconds"] for r in mine) / 3600
+        cells = [f"{counts[k]:>7d}" for k in runners]
+        whole = sum(1 for r in mine if r.get("whole"))
+        return (
+            f"{name[:30]:30s} {len(mine):>6d} {' '.join(cells)} {len(configs):>7d} "
+            f"{whole:>5d} {mib:>6.1f} {hours:>7.1f}"
+        )
+
+    lines = [
+        fill(
             f"{folder}: {len(data['runs'])} runs ("
             + ", ".join(f"{n} {k}" for k, n in sorted(kinds.items()))
             + f") of {len(data['configs'])} configurations in {len(data['tables'])} results "
-            f"tables ({', '.join(sorted(data['tables']))}), {size / 2**20:.1f} MiB; source "
-            f"{sources}; rendered by {data['rendering_stack']}"
-        )
-        print(
-            f"checked: the manifest (this code's fingerprints; the seals of the {checked['runs']} "
-            f"runs' content digests and wall times), the {checked['tables']} results tables "
+            f"tables, {size / 2**20:.1f} MiB"
+        ),
+        f"{'results table':30s} {'runs':>6s} {' '.join(f'{k[:7]:>7s}' for k in runners)} "
+        f"{'configs':>7s} {'whole':>5s} {'MiB':>6s} {'run (h)':>7s}",
+    ]
+    for name in sorted(data["tables"]):
+        mine = [r for r in runs if r["name"] == name]
+        files = [folder / "tables" / f"{name}.npz"] + [
+            folder / r["whole"] for r in mine if r.get("whole")
+        ]
+        mib = sum(p.stat().st_size for p in files if p.is_file()) / 2**20
+        lines.append(row(name, mine, mib))
+    lines.append(row("all", list(runs), size / 2**20))
+    sources = ", ".join(f"{k} {v[:16]}" for k, v in sorted(data["fingerprints"].items()))
+    lines.append(fill(f"code: {sources}; rendered by {data['rendering_stack']}"))
+    lines.append(
+        fill(
+            f"checked: the manifest against this code's fingerprints and the seals of the "
+            f"{checked['runs']} runs' digests and wall times; the {checked['tables']} tables "
             f"and {checked['whole']} whole runs against their SHA-256, each table's runs "
-            f"against the manifest's, the whole runs' arrays against their digests; a table "
-            f"run's arrays against its digest only by recomputing it (python -m docking verify)"
+            "against the manifest's, the whole runs' arrays against their digests. A table "
+            "run's arrays are checked only by recomputing it (python -m docking verify)."
         )
-        return 0
+    )
+    return "\n".join(lines)
 
 
 @dataclasses.dataclass
@@ -920,14 +1094,15 @@ class Benchmark:
     """Environment steps per second against their floor (rendering + physics + preprocessing
     alone), and full Experiment 2 runs, one process and two (docking.benchmark)."""
 
-    repeats: int = 5
+    repeats: Annotated[int | None, _shown("INT", "5; 3 with --quick")] = None
     """Repetitions of each timing (min and median are reported)."""
-    steps: int = 2000
+    steps: Annotated[int | None, _shown("INT", "2000; 500 with --quick")] = None
     """Environment steps per repetition."""
     seeds: str = "0-1"
     """Seeds of the Experiment 2 runs, as ranges or lists (0-1, 0,3)."""
     quick: bool = False
-    """A shortened Experiment 2 (a smoke test)."""
+    """A smoke test of about 10 s on two idle cores: fewer, shorter repetitions and an
+    Experiment 2 of 30 training and 10 test trials without its learning curve."""
 
     def execute(self) -> int:
         from docking.benchmark import run
@@ -1030,13 +1205,27 @@ def _wide_enough():
             os.environ["COLUMNS"] = saved
 
 
+@contextlib.contextmanager
+def _help_of(argv: list[str]):
+    """``argv`` with :data:`HELP_ALL` read as ``--help``; while tyro builds the parser for a
+    ``--help`` (not :data:`HELP_ALL`), an experiment's options are its common ones
+    (:data:`COMMON`)."""
+    global _brief
+    saved = _brief
+    _brief = HELP_ALL not in argv and any(a in ("-h", "--help") for a in argv)
+    try:
+        yield ["--help" if a == HELP_ALL else a for a in argv]
+    finally:
+        _brief = saved
+
+
 def parse(argv: list[str]) -> Command:
     """The command ``argv`` names, parsed and checked, not run (``SystemExit`` as argparse
     exits: on bad input, and after printing ``--help``)."""
-    with _reflowed_help(), _wide_enough():
+    with _reflowed_help(), _wide_enough(), _help_of(argv) as args:
         return tyro.cli(
             Command,
-            args=argv,
+            args=args,
             prog=PROG,
             description=DESCRIPTION,
             config=(tyro.conf.CascadeSubcommandArgs,),

@@ -87,6 +87,7 @@ def _cli_on_a_terminal(args, tmp_path, timeout=300):
         [],
         ["run"],
         ["run", "experiment2"],
+        ["run", "experiment2", "--help-all"],
         ["sweep"],
         ["sweep", "experiment1"],
         ["report"],
@@ -269,7 +270,9 @@ def test_run_stores_runs_and_loads_them_again(tmp_path):
     args = ["run", "experiment1", "--seeds", "0-1", "--processes", "1", *TINY_ARGS]
     out = _cli([*args, "--network.eps-w", "0"], tmp_path)
     assert out.returncode == 0, out.stderr
-    assert "experiment1: test success mean" in out.stdout
+    # The line names the options that differ from the preset (issue 44).
+    assert out.stdout.startswith("experiment1 (--network.eps-w 0.0, --train-trials 4, ")
+    assert "): test success mean" in out.stdout
     files = sorted((tmp_path / "results").rglob("seed*.npz"))
     assert [f.name for f in files] == ["seed0.npz", "seed1.npz"]
     assert "experiment1, 2 seeds" not in out.stderr  # no bar when stderr is not a terminal
