@@ -168,9 +168,10 @@ def test_ledger_show_refuses_a_table_that_holds_other_runs(copy, capsys, restore
 
 def test_ledger_show_says_what_it_checked(copy, capsys, restore_sigterm):
     assert main(["ledger", "show"]) == 0
-    out = capsys.readouterr().out.splitlines()
-    assert out[1].startswith("checked: ") and "2 results tables and 1 whole runs" in out[1]
-    assert "only by recomputing" in out[1]
+    out = capsys.readouterr().out
+    checked = " ".join(out[out.index("\nchecked: ") :].split())  # its last lines, wrapped
+    assert "the 2 tables and 1 whole runs against their SHA-256" in checked
+    assert "only by recomputing" in checked
 
 
 # run names a ledger it cannot use before it computes ------------------------------------------
