@@ -234,10 +234,7 @@ def run(
         f"{ms * floor['physics']['median']:.3f} + preprocess "
         f"{ms * floor['preprocess']['median']:.3f} (medians)"
     )
-    print(
-        f"  time ratio env step / floor (medians): {ratio:.2f} "
-        "(1.00: the environment adds nothing to its floor)"
-    )
+    print(f"  time ratio env step / floor (medians): {ratio:.2f} (1.00: nothing above the floor)")
 
     runs = experiment_times(config, list(seeds))
     cpus = [r["cpu"] for r in runs["serial"]]
@@ -258,11 +255,11 @@ def run(
         f"{len(seeds)} processes at once, one seed each: {runs['parallel_wall']:.1f} s of wall "
         "time (CPU per seed: " + ", ".join(f"{r['cpu']:.1f} s" for r in runs["parallel"]) + ")"
     )
+    best = min(len(seeds), os.cpu_count() or 1)
     print(
-        f"  speed-up over one process (its {runs['serial_wall']:.1f} s of wall time / "
-        f"{runs['parallel_wall']:.1f} s): {runs['speedup']:.2f}x "
-        f"(at best {min(len(seeds), os.cpu_count() or 1)}.00x on {os.cpu_count()} cores; "
-        "below 1.00x the processes at once took longer than one)"
+        f"  speed-up over one process ({runs['serial_wall']:.1f} s / "
+        f"{runs['parallel_wall']:.1f} s of wall time): {runs['speedup']:.2f}x (at best "
+        f"{best}.00x; below 1.00x slower)"
     )
     return {
         "env_step": step,

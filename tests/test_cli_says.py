@@ -145,7 +145,8 @@ def test_benchmark_quick_is_short_and_names_its_ratios(tmp_path):
     assert spent < 15, f"benchmark --quick took {spent:.1f} s of CPU"
     text = out.stdout
     assert "time ratio env step / floor (medians): " in text
-    assert "speed-up over one process (its " in text and "at best 2.00x" in text
+    assert "speed-up over one process (" in text and "(at best 2.00x; below 1.00x" in text
+    assert max(map(len, text.splitlines())) <= 100
     assert "3 repetitions of 500" in text and "(30 training + 10 test trials)" in text
     assert not (tmp_path / "results").exists()
 
