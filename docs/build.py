@@ -298,6 +298,16 @@ def _site_notebook(path: Path, captions: dict[str, str]) -> None:
     path.write_text(json.dumps(nb, indent=1, ensure_ascii=False))
 
 
+def _layers():
+    """tools/layers.py (the core's and the study layer's modules and lines), as a module."""
+    import importlib.util
+
+    spec = importlib.util.spec_from_file_location("layers", ROOT / "tools" / "layers.py")
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module
+
+
 def _executed(path: Path) -> bool:
     cells = json.loads(path.read_text())["cells"]
     return any(c.get("outputs") for c in cells if c["cell_type"] == "code")
@@ -360,8 +370,10 @@ def prepare() -> Path:
     (SOURCE / "contributing.md").write_text(_markdown((ROOT / "CONTRIBUTING.md").read_text()))
     # The guides (docs/guide/): the README's long material, one page each.
     (SOURCE / "guide").mkdir()
+    layers = _layers()
     for guide in sorted((ROOT / "docs" / "guide").glob("*.md")):
         text = _markdown(guide.read_text()).replace("](guide/", "](")
+        text = text.replace(layers.MARK, layers.table())  # layers.md: the sizes, as built
         (SOURCE / "guide" / guide.name).write_text(text.replace("](notebooks/", "](../notebooks/"))
     shutil.copytree(ROOT / "figures", SOURCE / "figures")
     shutil.copy(ROOT / "docs" / "extra.css", SOURCE / "extra.css")
