@@ -18,7 +18,11 @@ __all__ = ["compare", "cpu_features", "numeric_platform", "x86_64_level"]
 
 def cpu_features() -> dict[str, bool]:
     """numpy's view of the CPU's features (``{"AVX2": True, ...}``), as numpy dispatches by
-    them: a feature switched off by ``NPY_DISABLE_CPU_FEATURES`` reads False."""
+    them: a feature switched off by ``NPY_DISABLE_CPU_FEATURES`` reads False.
+
+    Read from numpy's private table because ``numpy.show_config(mode="dicts")`` lists only
+    numpy's dispatch targets (``X86_V3``, ...), not the CPU's features (``FMA3``,
+    ``AVX512F``, ...) that :func:`x86_64_level` and tests/test_platform.py need."""
     import numpy as np
 
     try:
@@ -45,11 +49,13 @@ def x86_64_level(features: dict[str, bool] | None = None) -> str:
     return "x86-64"
 
 
-def _numpy_levels(features: dict[str, bool]) -> str:
-    """numpy's dispatch levels above its baseline that are on (``NPY_DISABLE_CPU_FEATURES``
-    switches them off by these names)."""
-    on = [k for k in ("X86_V3", "X86_V4", "AVX512_ICL", "AVX512_SPR") if features.get(k)]
-    return " ".join(on) or "its baseline only"
+def _numpy_levels() -> str:
+    """numpy's dispatch targets above its baseline that are on, as ``numpy.show_config`` lists
+    them (a target switched off by ``NPY_DISABLE_CPU_FEATURES`` is not listed)."""
+    import numpy as np
+
+    simd = np.show_config(mode="dicts").get("SIMD Extensions", {})
+    return " ".join(simd.get("found", ())) or "its baseline only"
 
 
 def _openblas_core() -> str:
@@ -76,7 +82,7 @@ def numeric_platform() -> dict[str, str]:
     return {
         "architecture": platform.machine(),
         "level": x86_64_level(features),
-        "numpy": f"{np.__version__}, dispatching to {_numpy_levels(features)}",
+        "numpy": f"{np.__version__}, dispatching to {_numpy_levels()}",
         "openblas": _openblas_core(),
         "libc": " ".join(platform.libc_ver()) or "unknown",
         "opencv": f"{cv2.__version__}, optimised code {'on' if cv2.useOptimized() else 'off'}",

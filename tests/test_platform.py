@@ -136,6 +136,33 @@ def test_a_run_is_the_same_at_every_numpy_dispatch_level(level):
     assert got == recorded["digest"], f"{level}: another run than the recording"
 
 
+@pytest.mark.parametrize("level", ["this process", *sorted(NUMPY_LEVELS)])
+def test_the_recorded_platform_names_the_dispatch_levels_that_are_on(level):
+    """numeric_platform()'s numpy line reads numpy.show_config: a level switched off by
+    NPY_DISABLE_CPU_FEATURES is not named, and the others are, as numpy's own table has them."""
+    off = [] if level == "this process" else list(NUMPY_LEVELS[level])
+    features = platform_info.cpu_features()
+    off = [f for f in off if features.get(f)]
+    if level != "this process" and not off:
+        pytest.skip(f"not available on this machine: its CPU has none of {NUMPY_LEVELS[level]}")
+    code = (
+        "from docking import platform_info as p; import json; "
+        "print(json.dumps([p.numeric_platform()['numpy'], p.cpu_features()]))"
+    )
+    out = subprocess.run(
+        [sys.executable, "-c", code],
+        env={**os.environ, "NPY_DISABLE_CPU_FEATURES": " ".join(off)},
+        capture_output=True,
+        text=True,
+        timeout=300,
+    )
+    assert out.returncode == 0, out.stderr[-2000:]
+    line, seen = json.loads(out.stdout.strip().splitlines()[-1])
+    levels = ("X86_V3", "X86_V4", "AVX512_ICL", "AVX512_SPR")
+    on = " ".join(k for k in levels if seen.get(k)) or "its baseline only"
+    assert line.endswith(f"dispatching to {on}") and not set(off) & set(line.split())
+
+
 @pytest.mark.parametrize("core", sorted(OPENBLAS_CORES))
 def test_a_run_is_the_same_under_every_openblas_core_type(core):
     recorded = _recorded()
