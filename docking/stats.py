@@ -166,6 +166,11 @@ def removed_share_ci(
 
 # ------------------------------------------------------------------------------------------
 # Student-t intervals (the study's second edition; coverage checked by :func:`coverage`).
+# They are scipy's (ttest_1samp, ttest_rel, ttest_ind(equal_var=False); to 1e-12, not to the
+# bit: tests/test_stats.py), written out because an Interval carries the standard error that
+# scipy's result keeps private (p_value needs it), every t interval shares one formula
+# (t_paired_ci(a, b) is t_mean_ci(a - b) bit for bit, and the rules' digests pin
+# t_paired_ci's text), and scipy warns on seeds of one rate (every seed docking every time).
 # ------------------------------------------------------------------------------------------
 
 

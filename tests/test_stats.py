@@ -90,6 +90,32 @@ def test_the_paired_interval_pairs_seeds_and_covers():
     assert 0.93 <= coverage("paired", n=10, repeats=800, seed=3) <= 0.97
 
 
+def test_the_student_t_intervals_are_scipys():
+    """t_mean_ci, t_paired_ci and t_difference_ci are scipy's ttest_1samp, ttest_rel and
+    ttest_ind(equal_var=False) intervals (to 1e-12; the last bits differ), with their degrees
+    of freedom and p-values; docking.stats says why they are computed by hand."""
+    from docking.stats import t_difference_ci, t_mean_ci, t_paired_ci
+
+    rng = np.random.default_rng(43)
+    for k in range(300):
+        x, y = rng.beta(8, 2, rng.integers(2, 21)), rng.beta(6, 3, rng.integers(2, 21))
+        if k % 5 == 0:
+            x = np.round(x * 500) / 500  # rates over 500 held-out trials
+        confidence = (0.9, 0.95, 0.99)[k % 3]
+        z = x + rng.normal(0, 0.05, len(x))
+        assert t_paired_ci(z, x, confidence) == t_mean_ci(z - x, confidence)  # one formula
+        for ours, theirs in (
+            (t_mean_ci(x, confidence), stats.ttest_1samp(x, 0.0)),
+            (t_paired_ci(z, x, confidence), stats.ttest_rel(z, x)),
+            (t_difference_ci(x, y, confidence), stats.ttest_ind(x, y, equal_var=False)),
+        ):
+            low, high = theirs.confidence_interval(confidence)
+            assert ours.low == pytest.approx(low, abs=1e-12, rel=0)
+            assert ours.high == pytest.approx(high, abs=1e-12, rel=0)
+            assert ours.df == pytest.approx(theirs.df, rel=1e-12)
+            assert ours.p_value(0.0) == pytest.approx(theirs.pvalue, rel=1e-9, abs=1e-300)
+
+
 def test_a_rate_where_every_trial_succeeds_or_fails_has_an_interval_in_0_1_of_some_width():
     """Ten seeds at 500/500: the Student-t interval is the point [1, 1]; the interval for a
     rate is Wilson's of the 5000 pooled trials, [0.99923, 1], and prints as such."""
