@@ -18,8 +18,11 @@ PY      := $(VENV)/bin/python
 STAMP   := $(VENV)/.installed
 # JupyterLab reads settings overrides from <sys.prefix>/share/jupyter/lab/settings/overrides.d;
 # ours make the jupytext notebook the default viewer of .py files (the user's settings stay
-# untouched).
+# untouched). The server's config in <sys.prefix>/etc/jupyter hides the generated .ipynb files
+# (ContentsManager.hide_globs: [0-9]*.ipynb) from the file browser, so each notebook is listed
+# once, as its .py; jupytext still reads the outputs from the hidden .ipynb.
 LAB_OVERRIDES := $(VENV)/share/jupyter/lab/settings/overrides.d/docking.json
+LAB_SERVER_CONFIG := $(VENV)/etc/jupyter/jupyter_server_config.json
 NOTEBOOK_SOURCES := $(sort $(wildcard notebooks/[0-9]*.py))
 NOTEBOOKS := $(NOTEBOOK_SOURCES:.py=.ipynb)
 
@@ -79,7 +82,7 @@ lab: setup notebooks
 benchmark: setup
 	$(PY) -m docking benchmark
 
-setup: system-deps $(STAMP) $(LAB_OVERRIDES)
+setup: system-deps $(STAMP) $(LAB_OVERRIDES) $(LAB_SERVER_CONFIG)
 
 # Mesa's EGL/GL libraries render MuJoCo frames without a display or GPU; Debian's chromium is
 # the browser of tests/test_browser.py (playwright drives it; it never downloads a browser).
@@ -103,6 +106,10 @@ $(STAMP): pyproject.toml constraints.txt
 	touch $@
 
 $(LAB_OVERRIDES): jupyterlab/overrides.json $(STAMP)
+	mkdir -p $(dir $@)
+	cp $< $@
+
+$(LAB_SERVER_CONFIG): jupyterlab/jupyter_server_config.json $(STAMP)
 	mkdir -p $(dir $@)
 	cp $< $@
 
