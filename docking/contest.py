@@ -279,18 +279,7 @@ def contest(
     label = check_name("contest", "label", first.name if label is None else label)
     if label in _RESERVED:
         raise ValueError(f"contest: the label {label!r} names a published learner or yardstick")
-    tuning = Tuning(
-        budget.worlds, {label: grid}, budget.tuning_seeds, budget.keep, make=make, cell=_cell
-    )
-    round1 = [c for world in budget.worlds for c in tuning.round1(world, label)]
-    design = Design(
-        name=f"contest-{label}",
-        title=f"{label} through the contest",
-        cells=tuple(round1),
-        seeds=budget.judged_seeds,
-        measure="heldout",
-        stages=tuning.stages(),
-    )
+    tuning, design = _tuning(label, grid, budget, make)
     shown = published(results_dir)  # before any run: a ledger without them fails first
     mine = run_design(
         design, results_dir=results_dir, scheduler=scheduler, workers=workers, progress=progress
@@ -308,6 +297,25 @@ def contest(
     )
     figure = _figure(both, budget, label)
     return Contest(label, budget, grid, tuned, mine, shown, gaps, table, figure)
+
+
+def _tuning(label: str, grid: list[dict], budget: Budget, make: Callable) -> tuple:
+    """``(tuning, design)``: the learner's :class:`Tuning` under ``budget``, and the design
+    that runs it (the first round's cells in every world, the later rounds as its stages,
+    the tuned settings judged on the budget's fresh seeds)."""
+    tuning = Tuning(
+        budget.worlds, {label: grid}, budget.tuning_seeds, budget.keep, make=make, cell=_cell
+    )
+    round1 = [c for world in budget.worlds for c in tuning.round1(world, label)]
+    design = Design(
+        name=f"contest-{label}",
+        title=f"{label} through the contest",
+        cells=tuple(round1),
+        seeds=budget.judged_seeds,
+        measure="heldout",
+        stages=tuning.stages(),
+    )
+    return tuning, design
 
 
 def _maker(learner, heldout_trials: int) -> Callable:

@@ -504,28 +504,10 @@ def update(runs, folder: Path | str | None = None, results_dir=None, only=None, 
         records, files, configs = kept["runs"], kept["files"], kept["configs"]
         runners = {name: store.runner_named(name) for name in kept["runners"]}
     for config, seed, whole, keep in runs:
-        key, path = store.run_key(config, seed), store.result_path(config, seed, results_dir)
-        result = store.load_result(path, key)  # checks the file against the key and digest
+        key, arrays, record = _record(config, seed, results_dir)
         runner = runners.setdefault(store.runner_for(config).name, store.runner_for(config))
-        with np.load(path, allow_pickle=False) as stored:
-            arrays = {k: stored[k] for k in stored.files}
-        computed = json.loads(str(arrays["meta"])).get("computed_utc")
-        text = json.dumps(config.to_dict(), sort_keys=True)
-        ref = hashlib.sha256(text.encode()).hexdigest()[:16]
-        configs[ref] = config.to_dict()
-        walls = float(result.wall_time_train), float(result.wall_time_test)
-        records[key] = {
-            "runner": runner.name,
-            "name": config.name,
-            "seed": seed,
-            "config": ref,
-            "digest": store.content_digest(arrays),
-            "wall_time_train": walls[0],
-            "wall_time_test": walls[1],
-            "wall_seconds": round(sum(walls), 1),
-        }
-        if computed is not None:  # runs stored before the time was recorded have none
-            records[key]["computed_utc"] = computed
+        configs[record["config"]] = config.to_dict()
+        records[key] = {"runner": runner.name, **record}
         if rules and rules.get(config.name):
             records[key]["rules_sha256"] = rules[config.name]
         if whole:
@@ -535,21 +517,8 @@ def update(runs, folder: Path | str | None = None, results_dir=None, only=None, 
         tables.setdefault(config.name, []).append((key, arrays, frozenset(keep)))
     for name, found in tables.items():
         files[f"tables/{name}.npz"] = _npz(_columns(sorted(found, key=lambda r: r[0])))
-    table_names = {p[len("tables/") : -len(".npz")] for p in files if p.startswith("tables/")}
-    data = {
-        "format": LEDGER_FORMAT,
-        "store_format": store.FORMAT_VERSION,
-        "fingerprints": {name: r.fingerprint() for name, r in runners.items()},
-        "modules": {name: r.module_digests() for name, r in runners.items()},
-        "rendering_stack": store.rendering_stack(),
-        "platform": kept["platform"] if only is not None else numeric_platform(),
-        "configs": configs,
-        "tables": {
-            n: hashlib.sha256(files[f"tables/{n}.npz"]).hexdigest() for n in sorted(table_names)
-        },
-        "runs": records,
-        "seals": _seals(records),
-    }
+    platform = kept["platform"] if only is not None else numeric_platform()
+    data = _manifest(files, records, runners, configs, platform)
     if only is not None:  # where the added tables' runs were computed, per table
         platforms = {n: p for n, p in kept["platforms"].items() if n not in only}
         platforms.update({n: numeric_platform() for n in tables})
@@ -560,6 +529,50 @@ def update(runs, folder: Path | str | None = None, results_dir=None, only=None, 
     atomic_write(folder / "manifest.json", lambda f: f.write(text.encode()))
     _read_manifest.cache_clear()
     return manifest(folder)
+
+
+def _manifest(files: dict, records: dict, runners: dict, configs: dict, platform: dict) -> dict:
+    """The manifest of a ledger's ``files`` (its tables among them) and run ``records``, the
+    runs computed by ``runners`` from ``configs`` on ``platform`` (the ledger's)."""
+    table_names = {p[len("tables/") : -len(".npz")] for p in files if p.startswith("tables/")}
+    return {
+        "format": LEDGER_FORMAT,
+        "store_format": store.FORMAT_VERSION,
+        "fingerprints": {name: r.fingerprint() for name, r in runners.items()},
+        "modules": {name: r.module_digests() for name, r in runners.items()},
+        "rendering_stack": store.rendering_stack(),
+        "platform": platform,
+        "configs": configs,
+        "tables": {
+            n: hashlib.sha256(files[f"tables/{n}.npz"]).hexdigest() for n in sorted(table_names)
+        },
+        "runs": records,
+        "seals": _seals(records),
+    }
+
+
+def _record(config, seed: int, results_dir) -> tuple[str, dict, dict]:
+    """A stored run as the ledger takes it: its key, its arrays (the file checked against the
+    key and its content digest) and its record, but for its runner's name."""
+    key, path = store.run_key(config, seed), store.result_path(config, seed, results_dir)
+    result = store.load_result(path, key)  # checks the file against the key and digest
+    with np.load(path, allow_pickle=False) as stored:
+        arrays = {k: stored[k] for k in stored.files}
+    computed = json.loads(str(arrays["meta"])).get("computed_utc")
+    text = json.dumps(config.to_dict(), sort_keys=True)
+    walls = float(result.wall_time_train), float(result.wall_time_test)
+    record = {
+        "name": config.name,
+        "seed": seed,
+        "config": hashlib.sha256(text.encode()).hexdigest()[:16],
+        "digest": store.content_digest(arrays),
+        "wall_time_train": walls[0],
+        "wall_time_test": walls[1],
+        "wall_seconds": round(sum(walls), 1),
+    }
+    if computed is not None:  # runs stored before the time was recorded have none
+        record["computed_utc"] = computed
+    return key, arrays, record
 
 
 def _kept(folder: Path, replaced: frozenset) -> dict:

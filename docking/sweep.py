@@ -520,19 +520,8 @@ def run_jobs(
     if todo:  # a read-only store that holds every run can still be read
         check_writable(root)
 
-    from tqdm.auto import tqdm
-
     trials = [_trials(j.config) for j in jobs]
-    bar = tqdm(
-        total=sum(trials),
-        initial=sum(trials) - sum(trials[k] for k in todo),
-        desc=desc,
-        unit="trial",
-        disable=None if progress else True,  # None: quiet unless stderr is a terminal
-        file=sys.stderr,
-        dynamic_ncols=True,
-        smoothing=0.05,
-    )
+    bar = _trial_bar(sum(trials), sum(trials) - sum(trials[k] for k in todo), desc, progress)
     runs = _RunCount(bar, len(jobs), len(jobs) - len(todo))
     try:
         if not todo:
@@ -547,6 +536,23 @@ def run_jobs(
         return paths_
     finally:
         bar.close()
+
+
+def _trial_bar(total: int, stored: int, desc: str, progress: bool):
+    """:func:`run_jobs`'s bar on stderr: ``total`` trials, ``stored`` of them in runs stored
+    already; quiet when stderr is not a terminal, or without ``progress``."""
+    from tqdm.auto import tqdm
+
+    return tqdm(
+        total=total,
+        initial=stored,
+        desc=desc,
+        unit="trial",
+        disable=None if progress else True,  # None: quiet unless stderr is a terminal
+        file=sys.stderr,
+        dynamic_ncols=True,
+        smoothing=0.05,
+    )
 
 
 class _RunCount:
