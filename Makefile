@@ -114,10 +114,13 @@ $(LAB_SERVER_CONFIG): jupyterlab/jupyter_server_config.json $(STAMP)
 	cp $< $@
 
 # The .ipynb files are generated from the jupytext percent-format sources, never edited by hand.
+# They carry the language_info this environment's kernel reports (jupytext writes none), which
+# JupyterLab would otherwise write into a notebook as its kernel starts, marking it modified.
 notebooks: $(NOTEBOOKS)
 
 notebooks/%.ipynb: notebooks/%.py $(STAMP)
-	$(VENV)/bin/jupytext --quiet --to ipynb --output $@ $<
+	$(VENV)/bin/jupytext --quiet --to ipynb --output $@ \
+	    --update-metadata "$$($(PY) jupyterlab/kernel_metadata.py)" $<
 
 clean:
 	rm -rf $(VENV) notebooks/*.ipynb results build
