@@ -318,7 +318,6 @@ def fig3(
     """
     shape = config.world.camera.input_shape
     camera = config.world.camera
-    best = best_actions(Q)
     n_feat = feature_rf.shape[0]
     order, letters = action_order(config.world), config.world.action_letters
     per_row = max(len(order), min(n_feat, 6))
@@ -339,8 +338,40 @@ def fig3(
     )
     sf_a, sf_b, sf_c = fig.subfigures(3, 1, height_ratios=heights)
 
-    _panel(sf_a, "A", "raw camera images: the feature unit that wins and the greedy action")
-    for k, ax in enumerate(sf_a.subplots(1, len(views.names))):
+    _decided_views(sf_a, views, decisions, camera, letters)
+    _panel(sf_b, "B", "action units: receptive fields $\\Sigma_j\\,Q_{ij} W_j$")
+    for ax, i in zip(sf_b.subplots(1, per_row)[: len(order)], order, strict=True):
+        _weight_map(ax, action_rf[i], f"{letters[i]}", title_size=12)
+    for ax in sf_b.axes[len(order) :]:
+        ax.set_visible(False)
+
+    _feature_fields(sf_c, feature_rf, Q, letters, (feat_rows, per_row))
+    return fig
+
+
+def _feature_fields(sub, feature_rf: np.ndarray, Q: np.ndarray, letters, grid) -> None:
+    """Fig. 3 C: the feature units' receptive fields ``W_j`` on a ``grid`` of (rows,
+    columns), each titled with the action it contributes to most (``argmax_i Q_ij``)."""
+    best = best_actions(Q)
+    _panel(sub, "C", "feature units: receptive fields $W_j$, each with the action it drives most")
+    axes = np.atleast_2d(sub.subplots(*grid))
+    for j, ax in enumerate(axes.flat):
+        if j >= feature_rf.shape[0]:
+            ax.set_visible(False)
+            continue
+        label = (
+            f"unit {j} \u2192 {letters[best[j]]} (Q = {Q[best[j], j]:.2f})"
+            if best[j] >= 0
+            else f"unit {j}: no action"
+        )
+        _weight_map(ax, feature_rf[j], label, title_size=9)
+
+
+def _decided_views(sub, views: ExampleViews, decisions: Decisions, camera, letters) -> None:
+    """Fig. 3 A: each view's camera frame (crop rectangle dotted) with the feature unit that
+    wins for it, its activation and the greedy action."""
+    _panel(sub, "A", "raw camera images: the feature unit that wins and the greedy action")
+    for k, ax in enumerate(sub.subplots(1, len(views.names))):
         winner, activation, action = (
             int(decisions.winners[k]),
             float(decisions.activations[k]),
@@ -353,26 +384,6 @@ def fig3(
             f"unit {winner} wins (s = {activation:.2f}); greedy action {letters[action]}",
             fontsize=8,
         )
-
-    _panel(sf_b, "B", "action units: receptive fields $\\Sigma_j\\,Q_{ij} W_j$")
-    for ax, i in zip(sf_b.subplots(1, per_row)[: len(order)], order, strict=True):
-        _weight_map(ax, action_rf[i], f"{letters[i]}", title_size=12)
-    for ax in sf_b.axes[len(order) :]:
-        ax.set_visible(False)
-
-    _panel(sf_c, "C", "feature units: receptive fields $W_j$, each with the action it drives most")
-    axes = np.atleast_2d(sf_c.subplots(feat_rows, per_row))
-    for j, ax in enumerate(axes.flat):
-        if j >= n_feat:
-            ax.set_visible(False)
-            continue
-        label = (
-            f"unit {j} \u2192 {letters[best[j]]} (Q = {Q[best[j], j]:.2f})"
-            if best[j] >= 0
-            else f"unit {j}: no action"
-        )
-        _weight_map(ax, feature_rf[j], label, title_size=9)
-    return fig
 
 
 def _field_block(
