@@ -1514,7 +1514,7 @@ def bracketing_table(rows: list[dict]) -> str:
                 f"{100 * r['mean']:.1f}% (n = {r['n']})",
             )
         )
-    header = ("world", "learner", "the addendum's tuned setting", "bracketed: tried on its line")
+    header = ("world", "learner", "the addendum's tuned setting", "tuned value: tried on its line")
     return md_table((*header, "tuned setting", "runs", "its tuning success"), found)
 
 
@@ -1772,7 +1772,7 @@ def glance_data(contest, added) -> tuple[list, list, dict, dict]:
     seeds, yardsticks = {}, {}
     for world, label in GLANCE_WORLDS.items():
         bracketed = f"{world}/paper-tuned" in keys
-        name = f"{label}\n({'bracketed' if bracketed else 'contest'} tuning)"
+        name = f"{label}\n({'tuned on the same knobs' if bracketed else 'contest tuning'})"
         worlds.append(name)
         for in_addendum, in_contest, label in GLANCE_LEARNERS:
             if bracketed:
