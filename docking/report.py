@@ -1059,7 +1059,7 @@ VERDICTS_END = "<!-- verdicts:end -->"
 #: The site's page of the full verdict table (beside the README, between the same markers);
 #: the README shows the claims at a glance (:data:`CLAIMS_FIGURE`) and links it.
 VERDICTS_PAGE = "docs/guide/verdicts.md"
-CLAIMS_FIGURE = "claims"
+CLAIMS_FIGURE = "verdicts_glance"
 
 
 def verdict_panels(claims, results, decisions) -> list[dict]:

@@ -101,7 +101,7 @@ def _readme_captions(readme: str) -> dict[str, str]:
         caption = re.sub(
             r"^\s*\*\*([^*]+)\*\*\s+(?=[A-Za-z])(?!(?:in|of|on|at|for|from|with)\b)",
             r"\1 — ",
-            m.group(2),
+            m.group(2).split("<!--")[0],  # a generated block's end marker ends its caption
         )
         captions[m.group(1)] = _plain(caption)
     return captions
