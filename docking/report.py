@@ -1326,16 +1326,23 @@ def bracketed_rows(results, ad) -> list[dict]:
     return rows
 
 
+def _knob_lines(row: dict) -> list[str]:
+    """Per knob of ``row`` (:func:`bracketed_rows`' or :func:`bracketing_rows`'): its tuned
+    value in bold among the values tried on its line, and where it lies."""
+    found = []
+    for knob, value in row["tuned"].items():
+        line, where = row["positions"][knob]
+        shown = " · ".join(f"**{v:g}**" if v == value else f"{v:g}" for v in line)
+        found.append(f"{knob}: {shown} ({where})")
+    return found
+
+
 def bracketed_table(rows: list[dict]) -> str:
     """The Markdown table of :func:`bracketed_rows`: each tuned value in bold among the
     values tried on its line, and where it lies."""
     found = []
     for r in rows:
-        knobs = []
-        for knob, value in r["tuned"].items():
-            line, where = r["positions"][knob]
-            shown = " · ".join(f"**{v:g}**" if v == value else f"{v:g}" for v in line)
-            knobs.append(f"{knob}: {shown} ({where})")
+        knobs = _knob_lines(r)
         found.append(
             (
                 CONTEST_WORLDS.get(r["world"], r["world"]),
@@ -1498,11 +1505,7 @@ def bracketing_table(rows: list[dict]) -> str:
     """The Markdown table of :func:`bracketing_rows`."""
     found = []
     for r in rows:
-        knobs = []
-        for knob, value in r["tuned"].items():
-            line, where = r["positions"][knob]
-            shown = " · ".join(f"**{v:g}**" if v == value else f"{v:g}" for v in line)
-            knobs.append(f"{knob}: {shown} ({where})")
+        knobs = _knob_lines(r)
         found.append(
             (
                 CONTEST_WORLDS.get(r["world"], r["world"]),
