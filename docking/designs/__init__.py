@@ -19,6 +19,7 @@ MODULES = {
     "third-edition": "docking.designs.third_edition",
     "third-edition-addendum": "docking.designs.addendum",
     "addendum-bracketing": "docking.designs.bracketing",
+    "addendum-bracketing-continued": "docking.designs.bracketing_continued",
     "untested": "docking.designs.untested",
     "untested-revisited": "docking.designs.revisited",
 }
