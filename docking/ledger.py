@@ -265,6 +265,22 @@ def _verified(path: Path, sha256: str) -> bytes:
     return raw
 
 
+def _rows(table: dict[str, np.ndarray]) -> list[tuple[str, dict]]:
+    """The rows of a results table's columns ``table``, as :func:`_columns` took them."""
+    names = [n for n in table if n + ".count" in table]
+    found = []
+    for row, key in enumerate(table["key"].tolist()):
+        cells = {n: _cell(table, n, row) for n in names}
+        found.append((key, {n: a for n, a in cells.items() if a is not None}))
+    return found
+
+
+def _table_bytes(raw: bytes) -> dict[str, np.ndarray]:
+    """The columns of a results table's (verified) bytes."""
+    with np.load(io.BytesIO(raw), allow_pickle=False) as found:
+        return {k: found[k] for k in found.files}
+
+
 @functools.lru_cache(maxsize=8)
 def _table(path: Path, sha256: str) -> dict[str, np.ndarray]:
     """The columns of the results table ``path`` (checked against ``sha256``)."""
@@ -464,14 +480,20 @@ def _row(arrays: dict, keep: frozenset) -> dict[str, np.ndarray]:
     return row
 
 
-def _columns(runs: list[tuple[str, dict, frozenset]]) -> dict[str, np.ndarray]:
-    """The results table of ``runs`` (``(key, stored arrays, keep)`` each)."""
-    table, rows = {"key": np.array([key for key, _, _ in runs])}, [_row(a, k) for _, a, k in runs]
+def _columns(runs: list[tuple[str, dict]]) -> dict[str, np.ndarray]:
+    """The results table of ``runs`` (``(key, its row)`` each, :func:`_row`)."""
+    table, rows = {"key": np.array([key for key, _ in runs])}, [row for _, row in runs]
     for name in sorted({n for row in rows for n in row}):
         found = [row.get(name) for row in rows]
         table[name] = np.concatenate([a for a in found if a is not None])
         table[name + ".count"] = np.array([-1 if a is None else len(a) for a in found])
     return table
+
+
+#: The results tables that several designs' runs share (:func:`docking.design.yardstick_config`
+#: names its runs so): :func:`update` with ``only`` adds a design's new runs of them to the
+#: ledger's table, keeping its rows, instead of refusing to replace it whole.
+SHARED_TABLES = frozenset({"yardsticks"})
 
 
 def update(runs, folder: Path | str | None = None, results_dir=None, only=None, rules=None) -> dict:
@@ -483,6 +505,10 @@ def update(runs, folder: Path | str | None = None, results_dir=None, only=None, 
     ledger in ``folder``, its runs, configurations and whole runs, is kept as it is, after
     checking it against its manifest and this code (:class:`StaleLedger` otherwise). So one
     design's runs enter the ledger without the results store holding every other's.
+
+    A run of a table outside ``only`` is refused, unless the table is one that designs
+    share (:data:`SHARED_TABLES`) and the ledger holds it: then the run is added to its rows
+    (one the table holds already is left as it is).
 
     ``rules``: ``{table name: the SHA-256 of its design's rules}``
     (:func:`docking.designs.rules_digest`), recorded (and sealed) with each of its runs
@@ -496,14 +522,20 @@ def update(runs, folder: Path | str | None = None, results_dir=None, only=None, 
     if only is not None:
         kept = _kept(folder, frozenset(only))
         outside = sorted({c.name for c, *_ in runs} - set(only))
-        if outside:
+        if set(outside) - SHARED_TABLES or not {f"tables/{n}.npz" for n in outside} <= set(
+            kept["files"]
+        ):
             raise ValueError(
                 f"runs of the tables {', '.join(outside)} would replace those tables whole: "
                 f"name them too, or write the whole ledger"
             )
         records, files, configs = kept["runs"], kept["files"], kept["configs"]
         runners = {name: store.runner_named(name) for name in kept["runners"]}
+        for name in outside:  # a table designs share: extended, its rows kept as they are
+            tables[name] = _rows(_table_bytes(files.pop(f"tables/{name}.npz")))
     for config, seed, whole, keep in runs:
+        if only is not None and config.name not in only and store.run_key(config, seed) in records:
+            continue  # a shared table's run the ledger holds already
         key, arrays, record = _record(config, seed, results_dir)
         runner = runners.setdefault(store.runner_for(config).name, store.runner_for(config))
         configs[record["config"]] = config.to_dict()
@@ -514,14 +546,19 @@ def update(runs, folder: Path | str | None = None, results_dir=None, only=None, 
             records[key]["whole"] = name = f"whole/{config.name}/{key[:16]}/seed{seed}.npz"
             files[name] = _npz(arrays)
             records[key]["sha256"] = hashlib.sha256(files[name]).hexdigest()
-        tables.setdefault(config.name, []).append((key, arrays, frozenset(keep)))
+        tables.setdefault(config.name, []).append((key, _row(arrays, frozenset(keep))))
     for name, found in tables.items():
         files[f"tables/{name}.npz"] = _npz(_columns(sorted(found, key=lambda r: r[0])))
     platform = kept["platform"] if only is not None else numeric_platform()
     data = _manifest(files, records, runners, configs, platform)
     if only is not None:  # where the added tables' runs were computed, per table
         platforms = {n: p for n, p in kept["platforms"].items() if n not in only}
-        platforms.update({n: numeric_platform() for n in tables})
+        here = numeric_platform()
+        for n in tables:  # an extended shared table: every platform its runs were computed on
+            before = platforms.get(n, kept["platform"]) if n not in only else here
+            before = before if isinstance(before, list) else [before]
+            found = before if here in before else [*before, here]
+            platforms[n] = found[0] if len(found) == 1 else found
         if platforms:
             data["table_platforms"] = dict(sorted(platforms.items()))
     _replace_files(folder, files)

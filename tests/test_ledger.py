@@ -512,3 +512,29 @@ def test_an_update_of_one_table_keeps_every_other_as_it_was(built, tmp_path, mon
     (copy / "tables" / "tiny.npz").write_bytes(b"damaged")
     with pytest.raises(ledger.CorruptLedger, match="digest"):  # what it keeps is checked
         ledger.update([(other, 0, False, KEEP)], copy, results, only={"added"})
+
+
+def test_a_shared_tables_new_runs_are_added_to_its_rows(built, tmp_path, monkeypatch):
+    """A design's new runs of a table that designs share (the yardsticks) join its rows under
+    ``only``: the rows it held stay as they were, the table is the one a whole write of all
+    its runs gives, and the new run is served."""
+    _, _, full, results = built
+    monkeypatch.setattr(ledger, "SHARED_TABLES", frozenset({TINY.name}))
+    other = dataclasses.replace(TINY, name="added")
+    with monkeypatch.context() as mp:
+        mp.setenv("DOCKING_LEDGER", "off")
+        run_or_load(other, 0, results, progress=False)
+    grown, whole = tmp_path / "grown", tmp_path / "whole"
+    before = ledger.update([(TINY, 1, False, KEEP)], grown, results)
+    runs = [(other, 0, False, KEEP), (TINY, 0, False, KEEP), (TINY, 1, False, KEEP)]
+    after = ledger.update(runs, grown, results, only={"added"})
+    ledger.update([(TINY, 0, False, KEEP), (TINY, 1, False, KEEP)], whole, results)
+    table = f"tables/{TINY.name}.npz"
+    assert (grown / table).read_bytes() == (whole / table).read_bytes()
+    assert {k: after["runs"][k] for k in before["runs"]} == before["runs"]
+    assert len(after["runs"]) == 3
+    served = _served(monkeypatch, grown, 0)
+    assert served.heldout.success.tobytes() == full[0].heldout.success.tobytes()
+    monkeypatch.setattr(ledger, "SHARED_TABLES", frozenset())
+    with pytest.raises(ValueError, match="replace those tables whole"):  # not shared: refused
+        ledger.update(runs, grown, results, only={"added"})
