@@ -729,14 +729,18 @@ class Report:
             return None
         added = addendum.DESIGN.run(results_dir=self.results_dir, workers=self.processes)
         from docking import report
-        from docking.designs import bracketing
+        from docking.designs import bracketing, bracketing_continued
 
-        if absent_runs(bracketing.DESIGN, self.results_dir):
+        walk = None  # the last of the bracketing's designs whose every run is in
+        for module in (bracketing, bracketing_continued):
+            if not absent_runs(module.DESIGN, self.results_dir):
+                walk = module
+        if walk is None:
             return added
-        own = bracketing.DESIGN.run(results_dir=self.results_dir, workers=self.processes)
-        self._bracketing = report.bracketing_rows(own, bracketing)
+        own = walk.DESIGN.run(results_dir=self.results_dir, workers=self.processes)
+        self._bracketing = report.bracketing_rows(own, walk)
         self._unmerged = added
-        return report.bracketed_addendum(added, own, bracketing)
+        return report.bracketed_addendum(added, own, walk)
 
     def _glance(self, results, comparisons, contest, added, decisions) -> bool:
         """The README's first screen: the figure of every learner's held-out success per

@@ -1232,7 +1232,7 @@ def untested_summary(results) -> str:
 
 def revisited_rows(results, rv) -> dict:
     """What the revisit of relocation and coping (``results`` of ``rv``:
-    :mod:`docking.designs.revisited`) measured, for its sentences and notebook 08: per
+    :mod:`docking.designs.revisited`) measured, for its sentences and notebook 09: per
     place, the start views it changes and the home networks' held-out success there and at
     home; per change, each arm's early failure (mean over seeds) and the sign test of trials
     to regain (``(sooner, signed pairs, p)``); and the decisions (Holm within each claim)."""
@@ -1268,10 +1268,15 @@ def revisited_summary(results, rv) -> str:
     """The README's paragraph on relocation and coping revisited (:func:`revisited_rows`)."""
     rows = revisited_rows(results, rv)
     design = results.design
+    def gain(r) -> str:  # the equivalence rule is two-sided: a gain counts too
+        if r["there"].estimate <= r["home"].estimate:
+            return ""
+        return ", docking more often than at home, which the two-sided rule counts too"
+
     place_text = "; ".join(
         f"{p}: {r['views'][0]} of {r['views'][1]} start views changed, "
         f"{r['there'].format(unit='%')} against {r['home'].format(unit='%')} at home "
-        f"({rows['verdict']['relocation-height', p]})"
+        f"({rows['verdict']['relocation-height', p]}{gain(r)})"
         for p, r in rows["places"].items()
     )
     change_text = "; ".join(
@@ -1282,7 +1287,7 @@ def revisited_summary(results, rv) -> str:
         for c, r in rows["changes"].items()
     )
     return (
-        "**Relocation and coping, revisited** (notebook 08: tests that can fail, rules "
+        "**Relocation and coping, revisited** (notebook 09: tests that can fail, rules "
         "committed before the runs, fresh seeds). *Relocation*, with the landmark "
         f"{100 * rv.HEIGHT_CHANGE:.0f} cm lower or higher (the home networks' held-out "
         f"success, within +-{100 * rv.RELOCATION_MARGIN:.0f} pp of home to be supported): "
@@ -1496,6 +1501,7 @@ def bracketing_rows(own, br) -> list[dict]:
                     positions=positions,
                     mean=means[tuple(tuned.items())],
                     n=len(br.COMPARE_SEEDS),
+                    design=br.NAME,
                 )
             )
     return rows
@@ -1552,13 +1558,24 @@ def bracketing_summary(rows: list[dict], final, ad) -> str:
             f"{_pct(paper)}, linear SARSA {_pct(linear)}, a gap of "
             f"{gaps[world].interval.format(unit=' pp')}, **{gaps[world].verdict}**"
         )
-    return (
+    return BRACKETING_LEADS[rows[0]["design"]] + "; ".join(parts) + "."
+
+
+#: The first words of :func:`bracketing_summary` per design of the bracketing's walk.
+BRACKETING_LEADS = {
+    "addendum-bracketing": (
         "**Bracketed** (the addendum's search continued by a second rule committed before its "
         "runs, notebook 07: every neighbour of the best setting run on the same 10 tuning seeds, "
         "stage after stage, until none did better; the same rule for both learners): "
-        + "; ".join(parts)
-        + "."
-    )
+    ),
+    "addendum-bracketing-continued": (
+        "**Bracketed, judged on fresh seeds** (the addendum's search continued by the "
+        "bracketing's rule, every neighbour of the best setting run on the same 10 tuning "
+        "seeds until none did better, the same for both learners, with a further budget under "
+        "a third rule committed before its runs, notebook 07; both tuned learners then judged "
+        "on seeds no earlier run used): "
+    ),
+}
 
 
 def bracketed_addendum(added, own, br):
