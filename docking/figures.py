@@ -87,6 +87,9 @@ def action_order(world: WorldConfig) -> tuple[int, ...]:
 
 
 _DPI = 150
+#: The width (inches) of a figure drawn for a page: at ``_DPI``, about 1.25 times the width
+#: a documentation page shows it at, so that its smallest labels (6 pt) stay readable there.
+_PAGE_WIDTH_IN = 7.5
 _WEIGHT_CMAP = "gray_r"  # strong = dark
 _LANDMARK_RED = "#d90d0d"
 _SIDEBOARD_GREY = "#b8b8bc"
@@ -403,7 +406,8 @@ def _field_block(
     panels, the units in ``framed`` framed red."""
     _panel(sub, letter, heading)
     rows = int(np.ceil(units.shape[0] / columns))
-    sf_actions, sf_units = sub.subfigures(2, 1, height_ratios=(1.25, rows * 0.62))
+    top = 0.9 if actions is not None else 0.3  # the action panels, or a line of text
+    sf_actions, sf_units = sub.subfigures(2, 1, height_ratios=(top, rows * 0.52))
     order = action_order(world)
     if actions is None:
         sf_actions.text(
@@ -443,14 +447,16 @@ def fig4(
     columns: int | None = None,
     initial_rf: np.ndarray | None = None,
 ) -> Figure:
-    """The paper's Fig. 4 for Experiment 2 (36 feature units), in two halves, and beside
-    them (if ``initial_rf`` is given) the feature units' weights at their random start.
+    """The paper's Fig. 4 for Experiment 2 (36 feature units), in two blocks one above the
+    other, and below them (if ``initial_rf`` is given) the feature units' weights at their
+    random start: one column of blocks, as wide as a page, so that its labels can be read at
+    the width a page shows it (the documentation site's test checks that).
 
-    Left, the weights (as in the paper): the action units' receptive fields
+    A, the weights (as in the paper): the action units' receptive fields
     ``sum_j Q_ij W_j`` (L, R, F, B) above the feature units' receptive fields ``W_j`` (6x6).
-    Right, what the units respond to: the mean input over the sampled start views for which
+    B, what the units respond to: the mean input over the sampled start views for which
     each action is the greedy one, and for which each feature unit wins (blank where a unit
-    never wins). In both halves the units in ``framed`` (the one that contributes most to each
+    never wins). In both blocks the units in ``framed`` (the one that contributes most to each
     of L, R and F, ``argmax_j Q_ij``) are framed in red. Strong dark, each panel scaled 0..its
     maximum.
 
@@ -472,21 +478,23 @@ def fig4(
 
     rows = int(np.ceil(n_feat / columns))
     blocks = 2 if initial_rf is None else 3
-    fig = _new_figure(7.5 * blocks, 2.2 + rows * 0.62)
+    block = 1.2 + rows * 0.52  # one block's height (inches), as wide as a page
+    heights = [block] * 2 + [block - 0.6] * (blocks - 2)  # C: a line of text, not panels
+    fig = _new_figure(_PAGE_WIDTH_IN, 0.75 + sum(heights))
     fig.suptitle(
         f"Experiment 2 ({n_feat} feature units, {config.network.rule} rule, "
         f"$\\epsilon_W$ = {config.network.eps_w:g}), seed {seed}, after "
         f"{config.train_trials} training trials\nEach panel scaled 0..its own maximum, strong "
-        "dark; framed red: the unit with the largest action weight (argmax$_j$ Q$_{ij}$) for L, "
+        "dark; framed red: the unit with the\nlargest action weight (argmax$_j$ Q$_{ij}$) for L, "
         "R and F.",
         fontsize=10,
     )
-    subs = fig.subfigures(1, blocks, wspace=0.03)
+    subs = fig.subfigures(blocks, 1, hspace=0.02, height_ratios=heights)
     left, right = subs[0], subs[1]
     _field_block(
         left,
         "A",
-        "weights: action units $\\Sigma_j\\,Q_{ij} W_j$ (top), feature units $W_j$ (grid)",
+        "weights: action units $\\Sigma_j\\,Q_{ij} W_j$ (top row), feature units $W_j$ (grid)",
         action_rf,
         feature_rf,
         framed,
@@ -519,7 +527,7 @@ def fig4(
             initial_rf,
             framed,
             columns,
-            action_notes="the same seed's W before training;\nframed: the units framed in A and B",
+            action_notes="the same seed's W before training; framed: the units framed in A and B",
             unit_notes=[f"unit {j}" for j in range(n_feat)],
             world=config.world,
         )
@@ -1345,7 +1353,9 @@ def fig_glance(
 def fig_claims(rows: list[tuple]) -> Figure:
     """The paper's claims at a glance: one row per claim (its key and the bound its rule
     tests, left), one box per comparison (its world or setting, its 95% interval, its
-    decision), coloured by the decision; a claim outside the counts is greyed, with why.
+    decision; three boxes a line), coloured by the decision; a claim outside the counts is
+    greyed, with why. As wide as a page (``_PAGE_WIDTH_IN``), so that it can be read where a
+    page shows it.
 
     Args:
       rows: :func:`docking.report.claims_glance_rows`' rows.
@@ -1354,36 +1364,52 @@ def fig_claims(rows: list[tuple]) -> Figure:
 
     if not rows:
         raise ValueError("fig_claims needs at least one claim")
-    columns = max(len(r[2]) for r in rows)
-    fig = _new_figure(3.2 + 2.9 * columns, 0.62 * len(rows) + 0.7)
-    ax = fig.add_subplot()
-    ax.set_xlim(0, 3.2 + 2.9 * columns)
-    ax.set_ylim(len(rows), -0.6)
+    label_w, box_w, gap, per_line, line_h = 1.95, 1.78, 0.06, 3, 0.5
+    notes = [
+        textwrap.fill(f"outside the counts: {note}" if note else bound, 34)
+        for _, bound, _, note in rows
+    ]
+    heights = [
+        max(line_h * int(np.ceil(len(comparisons) / per_line)), 0.24 + 0.115 * (n.count("\n") + 1))
+        + 0.12
+        for (_, _, comparisons, _), n in zip(rows, notes, strict=True)
+    ]
+    top = 0.55  # the title
+    fig = Figure(figsize=(_PAGE_WIDTH_IN, top + sum(heights)))  # inches as data units
+    FigureCanvasAgg(fig)
+    ax = fig.add_axes((0, 0, 1, 1))
+    ax.set_xlim(0, _PAGE_WIDTH_IN)
+    ax.set_ylim(top + sum(heights), 0)
     ax.axis("off")
-    for y, (key, bound, comparisons, note) in enumerate(rows):
-        ax.text(0.05, y + 0.22, key, fontsize=9.5, weight="bold", va="center")
-        wrapped = textwrap.fill(f"outside the counts: {note}" if note else bound, 52)
-        ax.text(0.05, y + 0.42, wrapped, fontsize=6.3, va="top", color="0.35", linespacing=1.0)
-        for x, (label, interval, verdict) in enumerate(comparisons):
+    y = top
+    for (key, _, comparisons, note), wrapped, height in zip(rows, notes, heights, strict=True):
+        ax.text(0.08, y + 0.14, key, fontsize=9, weight="bold", va="center")
+        ax.text(0.08, y + 0.3, wrapped, fontsize=6.5, va="top", color="0.35", linespacing=1.05)
+        for k, (label, interval, verdict) in enumerate(comparisons):
             colour = "0.75" if note else VERDICT_COLOURS.get(verdict, "C0")
-            left = 3.2 + 2.9 * x
+            left = label_w + (box_w + gap) * (k % per_line)
+            y0 = y + 0.04 + line_h * (k // per_line)
             ax.add_patch(
                 FancyBboxPatch(
-                    (left, y + 0.08),
-                    2.75,
-                    0.78,
-                    boxstyle="round,pad=0.0,rounding_size=0.08",
+                    (left, y0),
+                    box_w,
+                    line_h - 0.08,
+                    boxstyle="round,pad=0.0,rounding_size=0.06",
                     facecolor=colour,
                     alpha=0.22,
                     edgecolor=colour,
                 )
             )
-            ax.text(left + 0.08, y + 0.3, f"{label}: {verdict}", fontsize=7.5, va="center")
-            ax.text(left + 0.08, y + 0.64, interval, fontsize=7, va="center", color="0.2")
-    ax.set_title(
-        "The paper's claims, judged on fresh seeds (rules committed before the runs): each "
+            ax.text(left + 0.06, y0 + 0.14, f"{label}: {verdict}", fontsize=7, va="center")
+            ax.text(left + 0.06, y0 + 0.31, interval, fontsize=7, va="center", color="0.2")
+        y += height
+        ax.axhline(y - 0.04, color="0.88", linewidth=0.6)
+    ax.text(
+        0.08,
+        0.08,
+        "The paper's claims, judged on fresh seeds (rules committed before the runs):\neach "
         "box one comparison, its 95% interval and decision",
         fontsize=9,
-        loc="left",
+        va="top",
     )
     return fig

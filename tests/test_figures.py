@@ -211,7 +211,7 @@ def test_paper_action_order_is_L_R_F_B():
 
 
 @pytest.mark.slow
-def test_fig4_draws_the_random_start_beside_the_learned_weights(result2):
+def test_fig4_draws_the_random_start_below_the_learned_weights(result2):
     from docking.experiments import initial_network
 
     net = result2.network
@@ -226,7 +226,9 @@ def test_fig4_draws_the_random_start_beside_the_learned_weights(result2):
     two = figures.fig4(*args)
     three = figures.fig4(*args, initial_rf=analysis.receptive_fields(start)[1])
     assert len(three.axes) == len(two.axes) + 36
-    assert three.get_figwidth() > two.get_figwidth()
+    # the blocks one above the other, as wide as a page (the site's figures are read there)
+    assert three.get_figheight() > two.get_figheight()
+    assert three.get_figwidth() == two.get_figwidth() == figures._PAGE_WIDTH_IN
 
 
 def test_results_table_rows_of_sample_efficiency_and_held_out_success(result1, result2):
@@ -290,3 +292,15 @@ def test_fig_verdicts_draws_a_reference_where_asked():
     )
     assert len(drawn.axes[0].lines) == len(bare.axes[0].lines) + 1
     assert any(t.get_text() == "linear SARSA" for t in drawn.axes[0].texts)
+
+
+def test_fig_claims_is_as_wide_as_a_page_however_many_comparisons():
+    bound = "supported if the 95% interval lies above 0"
+    seven = [(f"setting {k}", "1 [0, 2]", "contradicted") for k in range(7)]
+    rows = [("claim-a", bound, [("sideboard", "1 [0, 2]", "supported")], None)]
+    rows.append(("claim-b", bound, seven, "why"))
+    one, both = figures.fig_claims(rows[:1]), figures.fig_claims(rows)
+    assert one.get_figwidth() == both.get_figwidth() == figures._PAGE_WIDTH_IN
+    assert both.get_figheight() > one.get_figheight()  # seven boxes: three lines of boxes
+    with pytest.raises(ValueError, match="at least one claim"):
+        figures.fig_claims([])
