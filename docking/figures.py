@@ -69,6 +69,8 @@ __all__ = [
     "fig_trial",
     "draw_floor_plan",
     "draw_trajectory",
+    "episode_frames",
+    "episode_gif",
     "save_figure",
     "to_png",
 ]
@@ -1413,3 +1415,117 @@ def fig_claims(rows: list[tuple]) -> Figure:
         va="top",
     )
     return fig
+
+
+# ------------------------------------------------------------------------------------------
+# An episode as an animation (the site's page of the worlds, as Gymnasium's environment pages).
+# ------------------------------------------------------------------------------------------
+
+
+def episode_frames(
+    world: WorldConfig,
+    seed: int = 0,
+    width: int = 320,
+    height: int = 240,
+    max_frames: int | None = None,
+) -> tuple[list[np.ndarray], list[int], bool]:
+    """One episode of the pose oracle (:func:`docking.oracle.oracle_action`) in ``world``
+    from the start pose that ``seed`` draws, as RGB frames of the scene's ``overview`` camera
+    (the robot and the yellow docking region drawn), one per pose: the start and each action's
+    result, with the robot's thresholded input (what a learner sees) inset at the bottom
+    right. Stops at the episode's end or after ``max_frames`` frames; also returns the actions
+    taken (one fewer than the frames) and whether the robot docked."""
+    from docking.oracle import oracle_action
+    from docking.world import DockingEnv
+
+    env = DockingEnv(world, seed=seed)
+    _widen_overview(env.physics)
+    timestep = env.reset()
+    frames, actions = [], []
+    while True:
+        frame = env.render_view("overview", width, height)
+        _inset(frame, np.asarray(timestep.observation))
+        frames.append(frame)
+        if timestep.last() or (max_frames is not None and len(frames) >= max_frames):
+            return frames, actions, bool(env.docked)
+        actions.append(oracle_action(env.pose, world))
+        timestep = env.step(actions[-1])
+
+
+#: The overview camera of the animations, further back and wider than the scene's (which
+#: frames the dock for figures) so that the robot is in view from the farthest starts.
+_ANIMATION_CAMERA = {"pos": (-2.1, -1.2, 1.4), "fovy": 58.0}
+
+
+def _widen_overview(physics) -> None:
+    """Move this ``physics``' overview camera to :data:`_ANIMATION_CAMERA` (its own compiled
+    model: no other environment's, and not the robot's camera, which the observations use)."""
+    import mujoco
+
+    model = physics.model
+    camera = mujoco.mj_name2id(model.ptr, mujoco.mjtObj.mjOBJ_CAMERA, "overview")
+    model.cam_pos[camera] = _ANIMATION_CAMERA["pos"]
+    model.cam_fovy[camera] = _ANIMATION_CAMERA["fovy"]
+
+
+def _inset(frame: np.ndarray, observation: np.ndarray, scale: int = 3) -> None:
+    """Draw the observation (a map in 0..1, strong dark) into ``frame``'s bottom-right corner,
+    ``scale`` pixels per input, framed in grey."""
+    image = np.repeat(np.repeat(observation, scale, 0), scale, 1)
+    h, w = image.shape
+    if h + 8 > frame.shape[0] or w + 8 > frame.shape[1]:
+        return
+    patch = (255 * (1.0 - np.clip(image, 0.0, 1.0))).astype(np.uint8)
+    y, x = frame.shape[0] - h - 5, frame.shape[1] - w - 5
+    frame[y - 1 : y + h + 1, x - 1 : x + w + 1] = 90
+    frame[y : y + h, x : x + w] = patch[..., None]
+
+
+def episode_gif(
+    world: WorldConfig,
+    path,
+    seed: int = 0,
+    width: int = 320,
+    height: int = 240,
+    step_ms: int = 450,
+    max_frames: int | None = None,
+    label: str = "",
+) -> Path:
+    """Write one episode of the pose oracle in ``world`` (:func:`episode_frames`) as an
+    animated GIF at ``path`` (one frame per action, ``step_ms`` each, the last held three
+    times as long), each frame captioned with ``label``, the step and the action taken, and
+    at the end whether the robot docked; the written path.
+
+    The oracle reads the robot's true pose: the animation shows the task and its world, not
+    what a learner does. Drawn with Pillow (matplotlib's own dependency)."""
+    from PIL import Image, ImageDraw
+
+    frames, actions, docked = episode_frames(world, seed, width, height, max_frames)
+    letters = world.action_letters
+    images = []
+    for k, frame in enumerate(frames):
+        image = Image.fromarray(frame)
+        draw = ImageDraw.Draw(image)
+        if k == 0:
+            text = "start"
+        else:
+            text = f"step {k}: {letters[actions[k - 1]]}"
+        if k == len(frames) - 1 and len(frames) != max_frames:  # the episode's end
+            text += " - docked" if docked else " - not docked"
+        for line, y in ((label, 4), (text, 18)):
+            if line:
+                draw.text((6, y + 1), line, fill=(255, 255, 255))
+                draw.text((5, y), line, fill=(20, 20, 20))
+        images.append(image.quantize(colors=128, method=Image.Quantize.MAXCOVERAGE, dither=0))
+    path = Path(path)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    durations = [step_ms] * (len(images) - 1) + [3 * step_ms]
+    images[0].save(
+        path,
+        save_all=True,
+        append_images=images[1:],
+        duration=durations,
+        loop=0,
+        optimize=True,
+    )
+    return path

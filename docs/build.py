@@ -62,6 +62,25 @@ MathJax.Hub && MathJax.Hub.Config({});
 """
 
 
+#: The worlds' animations (docs/guide/worlds.md): file name, the preset of the Gymnasium id
+#: (:func:`docking.gym.preset_world`), the label on each frame, the start's seed.
+ANIMATIONS = (
+    ("world-sideboard", "experiment2", "sideboard world (docking/Experiment2-v0)", 0),
+    ("world-floor", "floor", "floor world (docking/Floor-v0)", 0),
+    ("world-nao", "nao", "Nao-like world (docking/Nao-v0)", 0),
+)
+
+
+def _animations(folder: Path) -> None:
+    """One episode of each world of :data:`ANIMATIONS` as a GIF in ``folder``
+    (:func:`docking.figures.episode_gif`: the pose oracle, the robot's input inset)."""
+    from docking.figures import episode_gif
+    from docking.gym import preset_world
+
+    for name, preset, label, seed in ANIMATIONS:
+        episode_gif(preset_world(preset), folder / f"{name}.gif", seed=seed, label=label)
+
+
 #: The notebook whose displays carry the paper's equation numbers (the site's copy).
 EQUATIONS = "notebooks/01_gradient.ipynb"
 
@@ -376,6 +395,7 @@ def prepare() -> Path:
         text = text.replace(layers.MARK, layers.table())  # layers.md: the sizes, as built
         (SOURCE / "guide" / guide.name).write_text(text.replace("](notebooks/", "](../notebooks/"))
     shutil.copytree(ROOT / "figures", SOURCE / "figures")
+    _animations(SOURCE / "figures" / "worlds")  # docs/guide/worlds.md
     shutil.copy(ROOT / "docs" / "extra.css", SOURCE / "extra.css")
     sources = sorted((ROOT / "notebooks").glob("[0-9]*.py"))
     if not sources:

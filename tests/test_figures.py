@@ -304,3 +304,20 @@ def test_fig_claims_is_as_wide_as_a_page_however_many_comparisons():
     assert both.get_figheight() > one.get_figheight()  # seven boxes: three lines of boxes
     with pytest.raises(ValueError, match="at least one claim"):
         figures.fig_claims([])
+
+
+def test_episode_gif_writes_an_animation_of_an_episode(tmp_path):
+    """One episode of the pose oracle as a GIF (the site's page of the worlds): a few frames
+    here, each the overview with the robot's input inset; more than one frame, small."""
+    from PIL import Image
+
+    from docking.presets import FLOOR_WORLD
+
+    frames, actions, docked = figures.episode_frames(FLOOR_WORLD, seed=0, width=64, height=48)
+    assert len(frames) == len(actions) + 1 >= 2 and frames[0].shape == (48, 64, 3)
+    assert docked  # the oracle docks from this start
+    path = figures.episode_gif(FLOOR_WORLD, tmp_path / "a" / "floor.gif", max_frames=3, label="x")
+    with Image.open(path) as gif:
+        assert gif.format == "GIF" and gif.n_frames == 3 and gif.size == (320, 240)
+        assert gif.info["loop"] == 0
+    assert path.stat().st_size < 1_000_000
