@@ -5,9 +5,11 @@ outputs, the figures, CONTRIBUTING and the API reference, as a static mkdocs sit
 What the site shows beyond the sources' text: each figure's caption as its alt text (the
 README's figure table for the figures it shows; a caption the notebook passes, as with
 IPython's ``Image(alt=...)``; else the notebook's text before the figure), each notebook
-figure as a PNG file of its own that opens full size (docs/mkdocs.yml: glightbox), and the
-notebooks' import blocks folded (tagged ``hide-input``; docs/hooks.py renders the tag and the
-alt text, which nbconvert's template leaves out).
+figure as a PNG file of its own that opens full size (docs/mkdocs.yml: glightbox), its caption
+visible beneath it, the notebooks' import blocks folded (tagged ``hide-input``), and what the
+notebooks' sources tag ``fold-output`` or ``fold`` folded too (docs/hooks.py renders the tags,
+the alt text and the captions, which nbconvert's template leaves out); and an animation of one
+episode per world (:data:`ANIMATIONS`, docs/guide/worlds.md).
 
 ``make test`` executes every notebook under ``pytest --nbmake --overwrite``, which writes its
 outputs into ``notebooks/*.ipynb``; this script copies those. A notebook that has no
