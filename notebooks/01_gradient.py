@@ -146,7 +146,7 @@ show_code(Network._feature_factor)
 # softmax identities Eq. (14)–(15) on free activations $h$, then Eq. (12) and Eq. (16) on the
 # full composition $v(Q, W) = \sum_{kl} Q_{kl} a_k\, s_l(W I)$.
 
-# %%
+# %% tags=["hide-input"]
 J, N, A = 3, 2, 2  # feature units, inputs, actions
 beta = sp.Symbol("beta_s", positive=True)
 W_sym = sp.Matrix(J, N, lambda j, n: sp.Symbol(f"W_{j}{n}", real=True))
@@ -170,7 +170,7 @@ for j in range(J):
         assert sp.simplify(sp.diff(s_free[j], h_free[k]) - identity) == 0
 print("Eq. (14) and (15) hold (with the factor beta_s).")
 
-# %%
+# %% tags=["hide-input"]
 h_sym = W_sym * I_sym  # Eq. (1)
 s_sym = softmax_sym(list(h_sym))  # Eq. (2)
 v_sym = sum(Q_sym[k, l] * a_sym[k] * s_sym[l] for k in range(A) for l in range(J))  # Eq. (5)
@@ -195,7 +195,7 @@ print("Eq. (12) and Eq. (16) hold: dv/dW_jn = beta_s s_j I_n (Q_ij - sum_k Q_ik 
 # and $W$, compared with `Network.value_gradient`, on the full-size network (320 inputs,
 # 4 features).  The relative error is $\|g_\text{num} - g\| / \|g\|$.
 
-# %%
+# %% tags=["hide-input"]
 from docking.network import finite_difference_gradient  # noqa: E402
 
 
@@ -278,7 +278,7 @@ print("increments = eps * delta * gradient (W: divided by beta_s); each step red
 # Below: many random states at the paper's $\beta^s = 100$ (random feature weights, action
 # weights uniform in $[0, 1]$, sparse random images, random chosen action).
 
-# %%
+# %% tags=["hide-input"]
 cfg_nl = NetworkConfig(beta_s=100.0, rule="nonlocal")
 cfg_loc = dataclasses.replace(cfg_nl, rule="local")
 rng = np.random.default_rng(1)
@@ -341,7 +341,7 @@ assert disagree > 0.3
 # cancel each other out and learning has converged"), while the local one keeps pulling the
 # winner's weights towards the input.
 
-# %%
+# %% tags=["hide-input"]
 net_nl = Network(cfg_nl, np.random.default_rng(2))
 net_nl.Q[:] = np.random.default_rng(3).random(net_nl.Q.shape)
 net_loc = Network.from_weights(cfg_loc, net_nl.W, net_nl.Q)

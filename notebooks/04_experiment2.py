@@ -67,7 +67,7 @@ config = EXPERIMENT_2
 #
 # Read from `docking.presets.EXPERIMENT_2`; everything not named as the paper's is ours.
 
-# %%
+# %% tags=["fold-output"]
 display(Markdown(configuration_table(config)))
 
 # %% [markdown]
@@ -130,7 +130,7 @@ display(Image(filename=str(FIGURES_DIR / "fig4_experiment2.png")))
 # winner (Sec. II-B; notebook 01 shows it). So in our runs the feature weights hardly move
 # from their random start:
 
-# %%
+# %% tags=["hide-input"]
 for r in results:
     change = feature_change(r)
     print(
@@ -186,7 +186,7 @@ display(Image(filename=str(FIGURES_DIR / "fig5_trajectories.png")))
 # **Why trials fail.** Each failed test trial of every seed, classified from its logged poses
 # and actions by `docking.analysis.failure_taxonomy` (a trial can fall in several classes):
 
-# %%
+# %% tags=["hide-input", "fold-output"]
 env = DockingEnv(config.world, seed=0)
 flags = [failure_taxonomy(r.test, env, trials=np.flatnonzero(~r.test.success)) for r in results]
 failed = [~r.test.success for r in results]
@@ -219,7 +219,7 @@ print(
 # resamples each row's seeds independently. "Training trials rewarded" is the share of the
 # 2000 training trials that ended in the dock.
 
-# %%
+# %% tags=["fold-output"]
 calib = design(f"calibration-{config.name}").run(full=True)
 rows = {r.key: r for r in calibration_rows(calib, calibration.BASELINE)}
 display(Markdown(calibration_table(list(rows.values()), calibration.BASELINE)))
@@ -244,7 +244,7 @@ print(
 #   the differences in the share of rewarded training trials, over all trials and over those
 #   that start beyond 1 m, lie below 0.
 
-# %%
+# %% tags=["hide-input"]
 short = calib.runs["8cm-steps"]
 paper = calib.runs[calibration.BASELINE]
 
@@ -294,7 +294,7 @@ display(Markdown("\n".join(lines)))
 # 15 cm steps the walk reaches the dock from far often enough that the values, and the greedy
 # policy, carry out to 1.5 m.
 
-# %%
+# %% tags=["hide-input"]
 spread = max(float(r.network.Q.max() - r.network.Q.min()) for r in paper)
 world = config.world
 dock_edge = world.dock_center + world.dock_depth / 2

@@ -62,7 +62,7 @@ pp = lambda ci: ci.format(unit=" pp")  # noqa: E731
 # the bearing from the reference point to the landmark's centre
 # (`docking.world.heading_error`). One oracle trial of the hardest cell, from above:
 
-# %%
+# %% tags=["hide-input"]
 hardest = next(c for c in experiment3.experiment3_cells() if c.key == "6 actions, precision, 6 deg")
 env = DockingEnv(hardest.config.world, seed=7)
 episode = next(e for e in (run_episode(env, oracle) for _ in range(50)) if 4 in e.actions)
@@ -123,7 +123,7 @@ print(
 # held-out success (mean over seeds, 95% interval), six minus four, and the share of the
 # four-action learner's failures that are gone with six actions.
 
-# %%
+# %% tags=["hide-input"]
 comparisons = report.turning_comparisons(results)
 display(Markdown(report.turning_table(comparisons, oracle_rates)))
 found = {(c.task, c.noise): c for c in comparisons}
@@ -205,7 +205,7 @@ assert verdict == "contradicted" and removed.high < 0
 # heading was outside the tolerance there. Heading drift is measured against facing the
 # landmark's wall (yaw 0), so with six actions it includes the robot's own turns.
 
-# %%
+# %% tags=["hide-input"]
 keys = [c.key for c in results.cells]
 n_taxonomy = len(experiment3.TAXONOMY_SEEDS)
 shares, failures = report.failure_shares(results, keys, n_taxonomy)
@@ -228,7 +228,7 @@ share = {(k, c): shares[i, j] for i, k in enumerate(keys) for j, c in enumerate(
 # at least 95% of cases; their median final |yaw| exceeds the four-action cell's; the share of
 # rewarded training trials, six minus four, has an interval below 0.
 
-# %%
+# %% tags=["hide-input"]
 lines = []
 for c in found.values():
     k4 = experiment3.cell_key("paper", c.task, c.noise)
@@ -256,7 +256,7 @@ display(Markdown(report.md_table(header + ("rewarded, 6 minus 4",), lines)))
 # $\sum_j Q_{ij} W_j$; below, the mean input of the views on which it is the greedy action,
 # over every pose of the network's 500 held-out trials (re-rendered from the logged poses).
 
-# %%
+# %% tags=["hide-input"]
 headline = results.runs["6 actions, precision, 2 deg"][0]
 world = headline.config.world
 action_rf, _ = analysis.receptive_fields(headline.network, world.camera.input_shape)

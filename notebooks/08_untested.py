@@ -103,7 +103,7 @@ assert {c: report.OUTSIDE_COUNTS[c] for c in ("relocation", "coping")}
 # physics of the walk. Beside each learner's success, how many of its held-out trials end
 # otherwise (docked against not) or take another number of actions than the same trial at home.
 
-# %%
+# %% tags=["hide-input", "fold-output"]
 display(
     Markdown(
         f"{len(results.score('home/paper'))} seeds; equivalence margin "
@@ -147,7 +147,7 @@ display(
 # %% [markdown]
 # **What the runs show** (each sentence computed from the runs; the asserts hold it):
 
-# %%
+# %% tags=["hide-input"]
 other, along = moved["along the wall", "paper"][1:], decided["relocation", "along the wall"]
 display(
     Markdown(
@@ -179,7 +179,7 @@ assert other[0] > 0.2 * other[1] and abs(along.interval.estimate) < 0.01
 # where a robot that wanders off that walk reaches it (the trials that differ begin to
 # diverge near (-1.20, 0.70) m).
 
-# %%
+# %% tags=["hide-input"]
 places = {
     p: dataclasses.replace(ut.WORLDS["sideboard"], room=m.room, room_shift=m.room_shift)
     for p, m in ut.RELOCATIONS.items()
@@ -215,7 +215,7 @@ assert not any(touched.values()) and at_table.all()
 # fresh network regains at the first point, it scores 100; the rule then passes or fails at
 # its floor. The table says how often.
 
-# %%
+# %% tags=["hide-input"]
 home_world, curve = ut.WORLDS["sideboard"], results.cell("sensor/paper-fresh").config
 shown = lambda name, v: (  # noqa: E731
     f"the asset's {scene_facts().camera_height:g} m" if name == "camera_height" and v is None else v
@@ -284,7 +284,7 @@ display(Image(save_named(figures.fig_coping(list(ut.CHANGES), curves, levels), "
 # held-out success after the 2000 training trials in the changed world: learning on is not
 # free.
 
-# %%
+# %% tags=["hide-input"]
 home = {learner: mean(f"home/{learner}").estimate for learner in ("paper", "linear")}
 transfer = {(c, learner): mean(f"{c}/{learner}-transfer") for c in ut.CHANGES for learner in home}
 after = {  # held-out success after learning on, minus without learning (paired by seed)
@@ -357,7 +357,7 @@ assert (
 # **path**, the metres walked per docking. The heading error at docking and the actions per
 # docking are shown beside them, not judged.
 
-# %%
+# %% tags=["hide-input", "fold-output"]
 env = gymnasium.make("docking/Continuous-v0")
 check_env(env.unwrapped)  # Gymnasium's own checks of the Box action space
 env.close()
@@ -407,7 +407,7 @@ display(
 # %% [markdown]
 # **What the runs show** (computed; the asserts hold each sentence):
 
-# %%
+# %% tags=["hide-input"]
 by = {(d.claim.split("-")[1], d.key): d for d in per_claim if d.claim.startswith("continuous")}
 oracle_keys = [f"{g}/continuous" for g in ut.CONTINUOUS_GROUPS]
 ppo_keys = list(dict.fromkeys(k for _, k in by if "ppo" in k))
@@ -461,8 +461,11 @@ assert all(v > 0 for v in heading.values())
 # carries relocation and coping beside the third edition's claims), and one family of all
 # their comparisons beside it.
 
-# %%
+# %% tags=["fold-output"]
+# the verdict table: every comparison, its interval, its p-value and its verdict
 display(Markdown(design_verdicts(results)))
+
+# %%
 fig = figures.fig_verdicts(report.verdict_panels(results.design.claims, results, per_claim))
 display(Image(save_named(fig, "untested_verdicts")))
 
@@ -479,7 +482,7 @@ display(Image(save_named(fig, "untested_verdicts")))
 # 32x10 input another start pose shares (*shared*), and of them those the pose oracle answers
 # with another action (*ambiguous*, in groups of one input each).
 
-# %%
+# %% tags=["hide-input"]
 findings = ut.part("findings").run(progress=False)
 fmean = lambda key: rate_interval(findings, key)  # noqa: E731
 variants = ["paper", "winner", *(f"beta{b:g}" for b in ut.BETAS)]
@@ -514,7 +517,7 @@ display(
 # %% [markdown]
 # **What the runs show** (computed; the asserts hold each sentence):
 
-# %%
+# %% tags=["hide-input"]
 softer = {w: [population[w, f"beta{b:g}"] for b in ut.BETAS] for w in ut.WORLDS}
 display(
     Markdown(
@@ -551,7 +554,7 @@ assert all(a.ambiguous <= 0.05 * a.views for a in ambiguity.values())
 # cup, after 250, 1000 and 2000 training trials, against the same seeds' random start (W
 # frozen). The first five seeds (`ut.NEGLECT_SEEDS`), whose networks the ledger keeps.
 
-# %%
+# %% tags=["hide-input", "fold-output"]
 cup_world = with_cup(ut.WORLDS["sideboard"])
 neglect = {}
 for trained in ("without", "with"):
@@ -576,7 +579,7 @@ display(
 # %% [markdown]
 # **What the runs show** (computed; the asserts hold each sentence):
 
-# %%
+# %% tags=["hide-input"]
 largest = max(max(abs(g.low), abs(g.high)) for g in gain.values())
 display(
     Markdown(
@@ -592,7 +595,7 @@ display(
 assert largest < 0.005  # within half a percentage point, every trained state
 
 
-# %% [markdown]
+# %% [markdown] tags=["fold"]
 # ## 6. The mechanism of the failure (exploratory)
 #
 # In the floor world the paper's learner docks far less often than linear SARSA on the same
@@ -620,7 +623,7 @@ display(Image(save_named(figures.fig_verdicts(by_world), "untested_mechanism")))
 # runs): a variant *closes* it if linear SARSA minus the variant, paired by seed, has its 95%
 # interval below 5 pp; the gap *remains* if the interval lies above 5 pp; else undecided.
 
-# %%
+# %% tags=["hide-input", "fold-output"]
 mechanism_variants = ["paper", "winner", *(f"beta{b:g}" for b in ut.BETAS)]
 mechanism_variants += [k.split("/", 1)[1] for _, k in mechanism.cells["floor"]]
 gap = {}
@@ -642,7 +645,7 @@ display(
 # %% [markdown]
 # **What the runs show** (computed; the asserts hold each sentence):
 
-# %%
+# %% tags=["hide-input"]
 closes = {w: [v for v in mechanism_variants if gap[w, v][1] == "closed"] for w in ut.WORLDS}
 display(
     Markdown(
@@ -669,7 +672,7 @@ assert all(gap["floor", v][1] == "remains" for v in mechanism_variants)
 assert best == "units576+local"
 assert gap["floor", best][0].estimate < 0.6 * gap["floor", "paper"][0].estimate
 
-# %% [markdown]
+# %% [markdown] tags=["fold"]
 # ## 7. Which part breaks: the representation, or learning Q on it
 #
 # The variants above change one part at a time and none closes the gap. The third edition's
@@ -688,7 +691,7 @@ assert gap["floor", best][0].estimate < 0.6 * gap["floor", "paper"][0].estimate
 # learning, i.e. online k-means of views, then frozen) against the oracle-labelled Q on the
 # same W.
 
-# %%
+# %% tags=["hide-input"]
 added = ad.DESIGN.run(progress=False)
 labelled = {w: analysis.oracle_views(ad.WORLDS[w], 300, seed=0) for w in ad.WORLDS}
 parts = {d.world: d for d in report.decomposition(added, labelled)}
@@ -731,7 +734,7 @@ display(
 # %% [markdown]
 # **The answer** (computed from the runs; the asserts hold the sentence):
 
-# %%
+# %% tags=["hide-input"]
 answer = []
 for w, d in parts.items():
     learned = t_paired_ci(d.paper, d.labelled)
@@ -762,7 +765,7 @@ display(Markdown("\n\n".join(answer)))
 # exploration temperature were the search's own knobs (notebook 07's addendum table gives where
 # each landed), and W initialised from views (the same k-means start, then learned by Eq. 8):
 
-# %%
+# %% tags=["hide-input"]
 levers = []
 for w in ad.WORLDS:
     init = report.paired_over_shared_seeds(added, f"{w}/views-init", f"{w}/paper-tuned")
