@@ -1498,10 +1498,13 @@ def episode_gif(
 
     The oracle reads the robot's true pose: the animation shows the task and its world, not
     what a learner does. Drawn with Pillow (matplotlib's own dependency)."""
-    from PIL import Image, ImageDraw
+    from PIL import Image, ImageDraw, ImageFont
 
     frames, actions, docked = episode_frames(world, seed, width, height, max_frames)
-    letters = world.action_letters
+    try:  # Pillow >= 10.1: its own scalable font; before, a small bitmap one
+        font = ImageFont.load_default(size=max(10, height // 18))
+    except TypeError:  # pragma: no cover
+        font = ImageFont.load_default()
     images = []
     for k, frame in enumerate(frames):
         image = Image.fromarray(frame)
@@ -1509,13 +1512,13 @@ def episode_gif(
         if k == 0:
             text = "start"
         else:
-            text = f"step {k}: {letters[actions[k - 1]]}"
+            text = f"step {k}: {world.action_names[actions[k - 1]]}"
         if k == len(frames) - 1 and len(frames) != max_frames:  # the episode's end
-            text += " - docked" if docked else " - not docked"
-        for line, y in ((label, 4), (text, 18)):
+            text += ", docked" if docked else ", not docked"
+        for line, y in ((label, 4), (text, 6 + max(10, height // 18))):
             if line:
-                draw.text((6, y + 1), line, fill=(255, 255, 255))
-                draw.text((5, y), line, fill=(20, 20, 20))
+                draw.text((6, y + 1), line, fill=(255, 255, 255), font=font)
+                draw.text((5, y), line, fill=(20, 20, 20), font=font)
         images.append(image.quantize(colors=128, method=Image.Quantize.MAXCOVERAGE, dither=0))
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
