@@ -181,18 +181,26 @@ def _leading_comment(code: str) -> str:
 
 
 def _output_summary(code: str, outputs) -> str:
-    """What a folded output holds: the code's leading comment if it has one, else its
-    tables' rows, its figures and its text lines ("table: 12 rows; figure")."""
+    """What a folded output holds: the code's leading comment if it has one, else its first
+    table's columns and rows, how many more tables, its figures and its text lines ("table of
+    place, room (3 rows); 2 more tables")."""
     comment = _leading_comment(code)
     if comment:
         return comment
     parts = []
-    for table in outputs.select("table"):
-        parts.append(f"table: {max(len(table.select('tr')) - 1, 0)} rows")
+    tables = outputs.select("table")
+    if tables:
+        head = [th.get_text(" ", strip=True) for th in tables[0].select("tr")[0].select("th, td")]
+        columns = ", ".join(h for h in head if h)
+        columns = columns if len(columns) <= 90 else columns[:90].rsplit(" ", 1)[0] + " …"
+        rows = max(len(tables[0].select("tr")) - 1, 0)
+        parts.append(f"table of {columns} ({rows} rows)" if columns else f"table ({rows} rows)")
+        if len(tables) > 1:
+            parts.append(f"{len(tables) - 1} more table{'s' if len(tables) > 2 else ''}")
     figures = len(outputs.select("img"))
     if figures:
         parts.append("figure" if figures == 1 else f"{figures} figures")
     lines = sum(len(pre.get_text().strip().splitlines()) for pre in outputs.select("pre"))
     if lines:
-        parts.append(f"output: {lines} lines")
+        parts.append(f"output: {lines} line{'s' if lines > 1 else ''}")
     return "; ".join(parts) or "output"
