@@ -59,6 +59,34 @@ API_MODULES = (
     "docking.ppo",
 )
 
+#: The API reference's pages, one per layer (pyproject.toml's import contract names them).
+API_TITLES = {"core": "the docking library", "study": "the study layer"}
+API_INTROS = {
+    "core": "The world, the camera, the network and its trials, the experiments: what a run "
+    "computes. It never imports the study layer (`lint-imports` checks it).",
+    "study": "Runs stored, keyed and served from the ledger; designs, claims and statistics; "
+    "sweeps, learners and the contest: how the study asks its questions.",
+}
+
+
+def _api_layers() -> dict[str, list[str]]:
+    """``{"core": [...], "study": [...]}``: :data:`API_MODULES` by the layer the import
+    contract in pyproject.toml puts them in (a module in neither is refused)."""
+    import tomllib
+
+    contracts = tomllib.loads((ROOT / "pyproject.toml").read_text())["tool"]["importlinter"]
+    (contract,) = [c for c in contracts["contracts"] if c["type"] == "forbidden"]
+    found = {"core": [], "study": []}
+    for module in API_MODULES:
+        if module in contract["source_modules"]:
+            found["core"].append(module)
+        elif module in contract["forbidden_modules"]:
+            found["study"].append(module)
+        else:
+            raise ValueError(f"{module} is in neither layer of pyproject.toml's import contract")
+    return found
+
+
 MATHJAX_CONFIG = """window.MathJax = window.MathJax || {};
 MathJax.Hub && MathJax.Hub.Config({});
 """
@@ -426,17 +454,19 @@ def prepare() -> Path:
             if cell["cell_type"] == "markdown":
                 cell["source"] = _linked("".join(cell["source"]), target, numbers)
         nb.write_text(json.dumps(notebook, indent=1, ensure_ascii=False))
-    api = ["# API reference", ""]
-    for module in API_MODULES:
-        api += [
-            f"## `{module}`",
-            "",
-            f"::: {module}",
-            "    options:",
-            "      show_root_heading: false",
-            "",
-        ]
-    (SOURCE / "api.md").write_text("\n".join(api))
+    (SOURCE / "api").mkdir(exist_ok=True)
+    for layer, modules in _api_layers().items():
+        api = [f"# API reference: {API_TITLES[layer]}", "", API_INTROS[layer], ""]
+        for module in modules:
+            api += [
+                f"## `{module}`",
+                "",
+                f"::: {module}",
+                "    options:",
+                "      show_root_heading: false",
+                "",
+            ]
+        (SOURCE / "api" / f"{layer}.md").write_text("\n".join(api))
     import jupyter_server_mathjax
 
     mathjax = Path(jupyter_server_mathjax.__file__).parent / "static"

@@ -615,3 +615,21 @@ def test_each_world_has_an_animation_of_one_episode(shown_images):
             frames = gif.n_frames
         assert frames > 1 and path.stat().st_size < 1_000_000, (path.name, frames)
         assert image["shown"] >= image["natural"] * 0.99 and image["visible"], image
+
+
+def test_the_api_reference_is_split_by_layer():
+    """One API page per layer of the import contract: the core's page documents no module of
+    the study layer, and the reverse."""
+    import sys
+
+    sys.path.insert(0, str(ROOT / "docs"))
+    try:
+        import build
+    finally:
+        sys.path.remove(str(ROOT / "docs"))
+    layers = build._api_layers()
+    assert layers["core"] and layers["study"]
+    for layer, modules in layers.items():
+        page = (SITE / "api" / f"{layer}.html").read_text()
+        for module in build.API_MODULES:
+            assert (f'id="{module}"' in page) == (module in modules), (layer, module)
