@@ -93,7 +93,7 @@ def test_every_deviation_names_a_design_and_is_shown_in_its_table():
 #: The designs whose every ledger run records the rules it was judged by (the designs whose
 #: runs were written after the ledger began recording them; the earlier ones' runs record
 #: their computed time at most).
-RULES_RECORDED = ("addendum-bracketing", "untested-revisited")
+RULES_RECORDED = ("addendum-bracketing", "addendum-bracketing-continued", "untested-revisited")
 
 
 @pytest.mark.parametrize("name", RULES_RECORDED)
