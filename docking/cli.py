@@ -639,6 +639,7 @@ class Report:
                 from docking.designs import revisited
 
                 summary += "\n\n" + report.revisited_summary(found, revisited)
+                self._revisited = report.revisited_rows(found, revisited)
         if self.third_edition:
             summary += "\n\n" + report.candour_text()
         changed |= self._write(summary, report.SUMMARY_START, report.SUMMARY_END)
@@ -749,7 +750,7 @@ class Report:
 
         fig = figures.fig_glance(*report.glance_data(contest, added))
         png = Path(report.save_named(fig, report.GLANCE_FIGURE))
-        tuned, unbracketed = None, False
+        tuned, unbracketed = None, ()
         if added is not None:
             from docking.designs import addendum
 
@@ -758,11 +759,14 @@ class Report:
                 for w in addendum.WORLDS
             }
             rows = getattr(self, "_bracketing", None) or report.bracketed_rows(added, addendum)
-            unbracketed = any(
-                where.startswith("at the edge")
-                for r in rows
-                if r["learner"] == "paper"
-                for _, where in r["positions"].values()
+            unbracketed = tuple(
+                dict.fromkeys(
+                    knob
+                    for r in rows
+                    if r["learner"] == "paper"
+                    for knob, (_, where) in r["positions"].items()
+                    if where.startswith("at the edge")
+                )
             )
         text = report.glance_text(
             *results,
@@ -773,6 +777,7 @@ class Report:
             decisions,
             tuned,
             unbracketed,
+            getattr(self, "_revisited", None),
         )
         image = (
             f"![The answer per world](figures/{png.name}) **The answer per world:** held-out "

@@ -78,7 +78,7 @@ pct = lambda ci: ci.format(unit="%")  # noqa: E731
 # Its values, read from the world's configuration (`docking.presets.NAO_WORLD`), beside the
 # sideboard world's:
 
-# %%
+# %% tags=["hide-input", "fold-output"]
 side = te.WORLDS["sideboard"][1]
 rows = [
     ("forward or backward step (m)", side.step_forward, NAO_WORLD.step_forward),
@@ -134,7 +134,7 @@ assert NAO_WORLD.max_steps == 25 and oracle.mean() >= 0.99  # 25 actions are eno
 # seed), the round-2 settings' means over the three tuning seeds, and the setting chosen
 # (`#0` is each learner's default).
 
-# %%
+# %% tags=["fold-output"]
 tuning = report.tuning_rows(contest, te.CONTEST, te.LEARNERS, te.GRIDS, te.TUNING.tuned_setting)
 display(Markdown(report.tuning_table(tuning)))
 for r in tuning:  # the chosen setting is the best of round 2 by its three-seed mean
@@ -172,7 +172,7 @@ gaps = report.contest_gaps(contest, te.CONTEST, te.GAP_CLOSED)
 ppo_gaps = report.contest_gaps(contest, te.CONTEST, te.GAP_CLOSED, other="ppo-tuned")
 display(Markdown(report.gaps_table(gaps + ppo_gaps)))
 
-# %% [markdown]
+# %% [markdown] tags=["fold"]
 # ## The intervals' coverage at the seed counts used
 #
 # Every interval this edition decides by, checked on synthetic studies like it (2000 each):
@@ -182,7 +182,7 @@ display(Markdown(report.gaps_table(gaps + ppo_gaps)))
 # `interaction`: the distractor's four arms; `share`: the delta method's share of failures
 # removed (rotation). The equivalence rule decides by the paired interval too.
 
-# %%
+# %% tags=["hide-input"]
 counts = (5, 10, 20)
 found = {
     (k, n, b): rule_coverage(k, n, b, seed=n)
@@ -201,7 +201,7 @@ assert all(0.93 <= v <= 0.97 for v in found.values())  # each within 2 points of
 #
 # Each sentence below is computed from the runs; the asserts hold what the sentences say.
 
-# %%
+# %% tags=["hide-input"]
 by_world = {g.world: g for g in gaps}
 by_ppo = {g.world: g for g in ppo_gaps}
 mean = lambda key: 100 * float(np.mean(contest.score(key)))  # noqa: E731
@@ -230,7 +230,7 @@ display(Markdown("\n".join(lines)))
 # world, where the package's choices were calibrated, is the gap below the rule's 5 pp, and
 # even there linear SARSA and PPO dock more often.
 
-# %%
+# %% tags=["hide-input"]
 paper_gain = {
     w: report.paired_over_shared_seeds(contest, f"{w}/paper-tuned", f"{w}/paper")
     for w in te.CONTEST
@@ -292,7 +292,7 @@ assert len(times) == n_runs and min(times) > report.utc(rules_time)  # every run
 # Each tuned value in bold among the values tried on its line (the other knobs at their tuned
 # values); *interior* means values on both sides were tried and did worse.
 
-# %%
+# %% tags=["hide-input", "fold-output"]
 bracketed = report.bracketed_rows(added, ad)
 display(Markdown(report.bracketed_table(bracketed)))
 edges = {
@@ -318,7 +318,7 @@ for r in bracketed:
     assert r["runs"] == ad.BUDGET or r["runs"] > ad.BUDGET - ad.ROUND_2  # equal budgets
 assert edges and {learner for _, learner, _ in edges} == {"paper"}  # linear SARSA bracketed
 
-# %% [markdown]
+# %% [markdown] tags=["fold"]
 # ### The bracketing: the search continued until each optimum is inside
 #
 # A second labelled analysis, its rules committed before its runs
@@ -330,13 +330,12 @@ assert edges and {learner for _, learner, _ in edges} == {"paper"}  # linear SAR
 # setting that changes is judged on the addendum's judged seeds; one that does not keeps
 # the addendum's judged runs.
 
-# %%
+# %% tags=["hide-input"]
 from docking.designs import bracketing as br  # noqa: E402
 
-own = br.DESIGN.run(progress=False)
+walk, own = br, br.DESIGN.run(progress=False)
 bracketing = report.bracketing_rows(own, br)
 display(Markdown(report.bracketing_table(bracketing)))
-final = report.bracketed_addendum(added, own, br)  # the tuned learners from here on
 for r in bracketing:
     assert r["runs"] <= br.BUDGET
     assert r["bracketed"] == all(
@@ -345,6 +344,48 @@ for r in bracketing:
 times = report.computed_times(br.NAME)
 assert min(times) > report.utc(report.RULES_COMMITS[br.NAME][1])  # every run after its rules
 assert all(r["bracketed"] for r in bracketing if r["learner"] == "linear")
+edges = [r for r in bracketing if not r["bracketed"]]
+display(
+    Markdown(
+        "Not bracketed when its runs ran out: "
+        + "; ".join(
+            f"{names[r['world']]}, {r['learner']}'s "
+            + ", ".join(k for k, (_, w) in r["positions"].items() if w.startswith("at the edge"))
+            for r in edges
+        )
+        + "."
+    )
+)
+
+# %% [markdown]
+# ### The bracketing continued, judged on fresh seeds
+#
+# A third labelled analysis, written after the bracketing's runs were seen (which is why it
+# is a new analysis, not a change of the bracketing's rules), its rules committed before its
+# own runs (`docking/designs/bracketing_continued.py`, pinned by
+# `tests/test_bracketing_continued.py`'s digest): the bracketing's walk, unchanged, with a
+# further budget of runs per learner and world, the same for both learners; then **both**
+# tuned SARSA learners, and PPO at the paper's learner's training steps, judged on fresh
+# seeds that no earlier run used (the addendum's judged seeds had had two judged looks).
+# From here on, "tuned" means tuned by this walk and judged on these seeds.
+
+# %% tags=["hide-input"]
+from docking.designs import bracketing_continued as bc  # noqa: E402
+
+walk, own = bc, bc.DESIGN.run(progress=False)
+bracketing = report.bracketing_rows(own, bc)
+display(Markdown(report.bracketing_table(bracketing)))
+final = report.bracketed_addendum(added, own, bc)  # the tuned learners from here on
+for r in bracketing:
+    assert r["runs"] <= bc.BUDGET
+    assert r["bracketed"] == all(
+        not w.startswith("at the edge") for _, w in r["positions"].values()
+    )
+times = report.computed_times(bc.NAME)
+assert min(times) > report.utc(report.RULES_COMMITS[bc.NAME][1])  # every run after its rules
+for w in ad.WORLDS:  # every tuned learner judged on the fresh seeds
+    for v in ("paper-tuned", "linear-tuned", "ppo-matched"):
+        assert {r.seed for r in final.runs[f"{w}/{v}"]} == set(bc.SEEDS)
 
 # %% [markdown]
 # **How flat the top is.** For each learner, its best settings' mean success over the same 10
@@ -352,12 +393,12 @@ assert all(r["bracketed"] for r in bracketing if r["learner"] == "linear")
 # √10): where the best few lie within about one standard error of each other, which of
 # them the search ends on is a draw of its seeds, not a property of the learner.
 
-# %%
+# %% tags=["hide-input", "fold-output"]
 flat = []
 for r in bracketing:
-    found = br.scores(own, r["world"], r["learner"])
-    means = sorted(br.complete(found).values(), reverse=True)
-    tuned_seeds = [found[tuple(r["tuned"].items())][s] for s in br.COMPARE_SEEDS]
+    found = walk.scores(own, r["world"], r["learner"])
+    means = sorted(walk.complete(found).values(), reverse=True)
+    tuned_seeds = [found[tuple(r["tuned"].items())][s] for s in walk.COMPARE_SEEDS]
     se = float(np.std(tuned_seeds, ddof=1) / np.sqrt(len(tuned_seeds)))
     flat.append(
         (
@@ -367,7 +408,7 @@ for r in bracketing:
             f"{100 * se:.1f} pp",
             "bracketed"
             if r["bracketed"]
-            else f"stopped: {'its runs' if r['runs'] + 10 > br.BUDGET else 'its stages'} ran out",
+            else f"stopped: {'its runs' if r['runs'] + 10 > walk.BUDGET else 'its stages'} ran out",
         )
     )
 header = ("world", "learner", "the 4 best settings (%)", "one setting's s.e.", "search")
@@ -377,7 +418,7 @@ display(Markdown(report.bracketing_summary(bracketing, final, ad)))
 # %% [markdown]
 # ### Training steps, and PPO's budget matched to them
 
-# %%
+# %% tags=["hide-input"]
 variants = {
     "paper-tuned": "the paper's learner, tuned",
     "linear-tuned": "linear SARSA, tuned",
@@ -394,7 +435,7 @@ for w in ad.WORLDS:
 # %% [markdown]
 # ### The gap, tuned to each learner's optimum
 
-# %%
+# %% tags=["hide-input"]
 added_gaps = report.contest_gaps(final, ad.WORLDS, ad.GAP_CLOSED)
 added_ppo = report.contest_gaps(final, ad.WORLDS, ad.GAP_CLOSED, other="ppo-matched")
 display(Markdown(report.gaps_table(added_gaps + added_ppo)))
@@ -404,12 +445,12 @@ rows = [
         *(pct(rate_interval(results, f"{w}/{v}")) for w in ad.WORLDS),
     )
     for label, results, v in (
-        ("the paper's learner, tuned (bracketed)", final, "paper-tuned"),
+        ("the paper's learner, tuned (bracketed, fresh seeds)", final, "paper-tuned"),
         ("the paper's learner, tuned (addendum)", added, "paper-tuned"),
         ("the paper's learner, tuned (contest)", contest, "paper-tuned"),
-        ("linear SARSA, tuned (bracketed)", final, "linear-tuned"),
+        ("linear SARSA, tuned (bracketed, fresh seeds)", final, "linear-tuned"),
         ("linear SARSA, tuned (contest)", contest, "linear-tuned"),
-        ("PPO, matched steps", final, "ppo-matched"),
+        ("PPO, matched steps (fresh seeds)", final, "ppo-matched"),
         ("pose oracle (contest)", contest, "oracle"),
         ("centroid rule (contest)", contest, "centroid"),
     )
@@ -421,14 +462,14 @@ display(Markdown(report.md_table(("", *(names[w] for w in ad.WORLDS)), rows)))
 #
 # Each sentence is computed from the runs; the asserts hold what they say.
 
-# %%
+# %% tags=["hide-input"]
 added_by = {g.world: g for g in added_gaps}
 contest_by = {g.world: g for g in gaps}
 lines = []
 for w in ad.WORLDS:
     tuned = {r["learner"]: r["tuned"] for r in bracketing if r["world"] == w}
     lines.append(
-        f"* **{names[w]}:** tuned by the addendum's search and its bracketing, the paper's "
+        f"* **{names[w]}:** tuned by the addendum's search and its bracketing's walk, the paper's "
         f"learner docks {pct(rate_interval(final, f'{w}/paper-tuned'))} (the contest's tuning: "
         f"{pct(rate_interval(contest, f'{w}/paper-tuned'))}) with "
         f"{', '.join(f'{k} = {v:g}' for k, v in tuned['paper'].items())}; linear SARSA "
@@ -473,7 +514,7 @@ display(Markdown("\n".join(lines)))
 # verdict of "not supported" means "not shown", not "shown absent". The path's intermediate
 # worlds got 10 seeds: the second edition measured their drops as large.
 
-# %%
+# %% tags=["hide-input", "fold-output"]
 tool = Path(te.__file__).resolve().parents[2] / "tools" / "power_third_edition.py"
 power = subprocess.run([sys.executable, tool], capture_output=True, text=True, check=True)
 display(Markdown(power.stdout))
@@ -484,11 +525,14 @@ for k, line in enumerate(power.stdout.splitlines()[2:]):
 assert all(n is not None and n <= 20 for (w, _), n in needed.items() if w == "sideboard")
 assert all(n is None or n >= 10 for n in needed.values()) and len(needed) >= 10
 
-# %%
+# %% tags=["fold-output"]
+# the verdict table: every claim, comparison, interval and p-value
 results = contest
 per_claim = judge_family(te.CLAIMS, results, alpha=te.ALPHA, per_claim=True)
 family = judge_family(te.CLAIMS, results, alpha=te.ALPHA)
 display(Markdown(design_verdicts(results)))
+
+# %%
 display(Markdown(report.candour_text()))  # what the verdicts cannot say (notebooks 08, 09)
 fig = figures.fig_verdicts(report.verdict_panels(te.CLAIMS, results, per_claim))
 display(Image(save_named(fig, "third_edition_verdicts")))
@@ -500,7 +544,7 @@ display(Image(save_named(fig, "third_edition_verdicts")))
 # wins (units that win at least 20 of 1500 views), averaged over its units: learned W against
 # the same seed's random start (W frozen). Mean over seeds, 95% interval:
 
-# %%
+# %% tags=["hide-input"]
 fid = {
     w: (te.fidelity(results, f"{w}/paper"), te.fidelity(results, f"{w}/frozen"))
     for w in ("experiment1", *te.VERDICT_WORLDS)
@@ -519,7 +563,7 @@ display(Markdown(report.md_table(header, rows)))
 # the sideboard world: over the held-out trials that docked, the |heading error| at docking
 # and the actions per docking, beside held-out success.
 
-# %%
+# %% tags=["hide-input"]
 turning = {
     k: (
         results.score(k),
@@ -543,7 +587,7 @@ display(Markdown(report.md_table((*header, "actions per docking"), rows)))
 # exceeds 5 pp" (over the four steps; the two branches towards 8 cm steps a family of their
 # own) is below 0.05; it *does not* if the drop's interval lies below 5 pp; else undecided.
 
-# %%
+# %% tags=["hide-input"]
 what = {k: v[0] for k, v in te.WORLDS.items()}
 steps = report.path_steps(results, list(pairwise(te.PATH)), te.BREAK_DROP, te.ALPHA)
 branches = report.path_steps(results, te.BRANCHES, te.BREAK_DROP, te.ALPHA)
@@ -567,7 +611,7 @@ print(
 # Each sentence below is computed from the runs; the asserts hold the decisions (Holm within
 # each claim) and the path's, as the tables above show them.
 
-# %%
+# %% tags=["hide-input", "fold-output"]
 decided = {(d.claim, d.world): d.verdict for d in per_claim}
 S, C, NS, B, NJ = "supported", "contradicted", "not supported", "at the bound", "not judged"
 assert decided == {
