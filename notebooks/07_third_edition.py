@@ -147,7 +147,8 @@ for r in tuning:  # the chosen setting is the best of round 2 by its three-seed 
 # untuned learners beside the tuned ones and the yardsticks: the pose oracle (the motor
 # task's bound), the one-line centroid rule, always-forward and random actions.
 
-# %%
+# %% tags=["hide-input", "fold-output"]
+# the third edition's contest: each learner's held-out success per world (table and figure)
 names = report.CONTEST_WORLDS  # the worlds' names in tables and figures
 display(Markdown(report.contest_table(contest, names)))
 labels = dict(report.CONTEST_COLUMNS)
@@ -167,7 +168,8 @@ display(Image(save_named(fig, "third_edition_contest")))
 # %% [markdown]
 # ## The finding: does tuning close the gap?
 
-# %%
+# %% tags=["fold-output"]
+# the third edition's gaps: linear SARSA and PPO minus the tuned paper's learner
 gaps = report.contest_gaps(contest, te.CONTEST, te.GAP_CLOSED)
 ppo_gaps = report.contest_gaps(contest, te.CONTEST, te.GAP_CLOSED, other="ppo-tuned")
 display(Markdown(report.gaps_table(gaps + ppo_gaps)))
@@ -275,7 +277,7 @@ print({w: paper_gain[w].format(unit=" pp") for w in te.CONTEST})
 # own tuning (it docks in nearly every trial; it bounds the others), the yardsticks (the
 # contest's serve, same worlds and protocol).
 
-# %%
+# %% tags=["hide-input"]
 added = ad.DESIGN.run(progress=False)
 rules_commit, rules_time = report.RULES_COMMITS[ad.NAME]  # tests/test_addendum.py checks it
 times = report.computed_times(ad.NAME)
@@ -418,7 +420,8 @@ display(Markdown(report.bracketing_summary(bracketing, final, ad)))
 # %% [markdown]
 # ### Training steps, and PPO's budget matched to them
 
-# %% tags=["hide-input"]
+# %% tags=["hide-input", "fold-output"]
+# training steps per run of each tuned learner, and PPO's budget matched to the paper's
 variants = {
     "paper-tuned": "the paper's learner, tuned",
     "linear-tuned": "linear SARSA, tuned",
@@ -501,7 +504,7 @@ display(Markdown("\n".join(lines)))
 # is better, so both are measured and shown, not judged. No row re-uses data seen before its
 # rules: every run of this edition is on its own fresh seeds.
 
-# %% [markdown]
+# %% [markdown] tags=["fold"]
 # **How many seeds.** The seeds per row came from a power analysis on the second edition's
 # effects and spreads, made before the rules were committed (`tools/power_third_edition.py`,
 # which reads the archived second edition's verdict table): each comparison's per-seed
@@ -534,6 +537,9 @@ display(Markdown(design_verdicts(results)))
 
 # %%
 display(Markdown(report.candour_text()))  # what the verdicts cannot say (notebooks 08, 09)
+
+# %% tags=["fold-output"]
+# the verdicts as a figure: each comparison's interval against its rule's bound
 fig = figures.fig_verdicts(report.verdict_panels(te.CLAIMS, results, per_claim))
 display(Image(save_named(fig, "third_edition_verdicts")))
 
@@ -587,7 +593,8 @@ display(Markdown(report.md_table((*header, "actions per docking"), rows)))
 # exceeds 5 pp" (over the four steps; the two branches towards 8 cm steps a family of their
 # own) is below 0.05; it *does not* if the drop's interval lies below 5 pp; else undecided.
 
-# %% tags=["hide-input"]
+# %% tags=["hide-input", "fold-output"]
+# the path from the sideboard world to the floor world: each step's cost to each learner
 what = {k: v[0] for k, v in te.WORLDS.items()}
 steps = report.path_steps(results, list(pairwise(te.PATH)), te.BREAK_DROP, te.ALPHA)
 branches = report.path_steps(results, te.BRANCHES, te.BREAK_DROP, te.ALPHA)
