@@ -1307,7 +1307,7 @@ def fig_glance(
     """
     from docking.stats import rate_ci
 
-    fig = _new_figure(7.6, 4.3)
+    fig = _new_figure(7.6, 2.7)
     ax = fig.subplots()
     width = 0.8 / max(len(learners), 1)
     markers = "oDs^v"
@@ -1346,9 +1346,9 @@ def fig_glance(
     ax.set_xticks(range(len(worlds)), worlds, fontsize=9)
     ax.set_xlim(-0.5, len(worlds) - 0.5)
     ax.set_ylim(0, 104)
-    ax.set_ylabel("held-out success (%), each seed a dot")
+    ax.set_ylabel("held-out success (%)")
     ax.grid(axis="y", alpha=0.3, lw=0.5)
-    ax.legend(loc="upper center", bbox_to_anchor=(0.5, -0.16), ncol=3, fontsize=8, frameon=False)
+    ax.legend(loc="upper center", bbox_to_anchor=(0.5, -0.25), ncol=3, fontsize=8, frameon=False)
     return fig
 
 
