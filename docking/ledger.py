@@ -520,19 +520,9 @@ def update(runs, folder: Path | str | None = None, results_dir=None, only=None, 
         raise ValueError("no ledger folder: DOCKING_LEDGER is off and no folder was given")
     records, files, tables, runners, configs, kept = {}, {}, {}, {}, {}, {}
     if only is not None:
-        kept = _kept(folder, frozenset(only))
-        outside = sorted({c.name for c, *_ in runs} - set(only))
-        if set(outside) - SHARED_TABLES or not {f"tables/{n}.npz" for n in outside} <= set(
-            kept["files"]
-        ):
-            raise ValueError(
-                f"runs of the tables {', '.join(outside)} would replace those tables whole: "
-                f"name them too, or write the whole ledger"
-            )
+        kept, tables = _kept_and_shared(folder, only, runs)
         records, files, configs = kept["runs"], kept["files"], kept["configs"]
         runners = {name: store.runner_named(name) for name in kept["runners"]}
-        for name in outside:  # a table designs share: extended, its rows kept as they are
-            tables[name] = _rows(_table_bytes(files.pop(f"tables/{name}.npz")))
     for config, seed, whole, keep in runs:
         if only is not None and config.name not in only and store.run_key(config, seed) in records:
             continue  # a shared table's run the ledger holds already
@@ -551,21 +541,46 @@ def update(runs, folder: Path | str | None = None, results_dir=None, only=None, 
         files[f"tables/{name}.npz"] = _npz(_columns(sorted(found, key=lambda r: r[0])))
     platform = kept["platform"] if only is not None else numeric_platform()
     data = _manifest(files, records, runners, configs, platform)
-    if only is not None:  # where the added tables' runs were computed, per table
-        platforms = {n: p for n, p in kept["platforms"].items() if n not in only}
-        here = numeric_platform()
-        for n in tables:  # an extended shared table: every platform its runs were computed on
-            before = platforms.get(n, kept["platform"]) if n not in only else here
-            before = before if isinstance(before, list) else [before]
-            found = before if here in before else [*before, here]
-            platforms[n] = found[0] if len(found) == 1 else found
+    if only is not None:
+        platforms = _table_platforms(kept, only, tables, numeric_platform())
         if platforms:
-            data["table_platforms"] = dict(sorted(platforms.items()))
+            data["table_platforms"] = platforms
     _replace_files(folder, files)
     text = json.dumps(data, indent=1, sort_keys=True) + "\n"
     atomic_write(folder / "manifest.json", lambda f: f.write(text.encode()))
     _read_manifest.cache_clear()
     return manifest(folder)
+
+
+def _kept_and_shared(folder: Path, only, runs) -> tuple[dict, dict]:
+    """What :func:`update` with ``only`` keeps of the ledger in ``folder`` (:func:`_kept`,
+    the shared tables it extends taken out of its files) and the rows of each shared table
+    that ``runs`` add to; ValueError for runs of a table it would replace whole."""
+    kept = _kept(folder, frozenset(only))
+    outside = sorted({c.name for c, *_ in runs} - set(only))
+    if set(outside) - SHARED_TABLES or not {f"tables/{n}.npz" for n in outside} <= set(
+        kept["files"]
+    ):
+        raise ValueError(
+            f"runs of the tables {', '.join(outside)} would replace those tables whole: "
+            f"name them too, or write the whole ledger"
+        )
+    # a table designs share: extended, its rows kept as they are
+    tables = {n: _rows(_table_bytes(kept["files"].pop(f"tables/{n}.npz"))) for n in outside}
+    return kept, tables
+
+
+def _table_platforms(kept: dict, only, tables, here: dict) -> dict:
+    """Where each table's runs were computed, as :func:`update` with ``only`` records it:
+    the kept tables' as they were, the written tables' ``here``, and an extended shared
+    table's every platform its runs came from (a list where there are several)."""
+    platforms = {n: p for n, p in kept["platforms"].items() if n not in only}
+    for n in tables:
+        before = platforms.get(n, kept["platform"]) if n not in only else here
+        before = before if isinstance(before, list) else [before]
+        found = before if here in before else [*before, here]
+        platforms[n] = found[0] if len(found) == 1 else found
+    return dict(sorted(platforms.items()))
 
 
 def _manifest(files: dict, records: dict, runners: dict, configs: dict, platform: dict) -> dict:

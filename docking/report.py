@@ -1863,6 +1863,33 @@ def _and(words) -> str:
     return words[0] if len(words) == 1 else ", ".join(words[:-1]) + " and " + words[-1]
 
 
+def _main_finding(contest, added, worlds, where: str, gaps: dict, unbracketed) -> str:
+    """The first screen's sentence on the main finding: the contest's (``added`` None) or
+    the addendum's walk's, with the contest's gaps it corrects."""
+    worlds_text = "the *floor world* and the *Nao-like world*"
+    if added is None:
+        return (
+            f"**The main finding:** in {worlds_text}, *linear SARSA* (one Q-value per pixel, no "
+            f"feature layer) docks more often than the paper's learner, both tuned alike: "
+            f"{where} (notebook 07)."
+        )
+    before = {g.world: g for g in contest_gaps(contest, worlds, 0.05)}
+    was = " and ".join(f"{100 * before[k].interval.estimate:.0f}" for k in worlds)
+    how = (
+        "tuned alike to bracketed optima"
+        if not unbracketed
+        else f"tuned on the same knobs (the paper's learner's {_and(unbracketed)} left at "
+        "the edge of the search)"
+    )
+    verdicts = {g.verdict for g in gaps.values()}
+    close = "docks within 5 pp of" if verdicts == {"closed"} else "closes part of its gap to"
+    return (
+        f"**The main finding, corrected:** {how}, the paper's learner {close} *linear "
+        f"SARSA* (no feature layer) in {worlds_text}: {where}; our earlier gaps of {was} pp "
+        "were too strong (notebook 07)."
+    )
+
+
 def glance_text(
     results1,
     results2,
@@ -1914,27 +1941,5 @@ def glance_text(
     paper = {k: rate_interval(source, f"{k}/paper-tuned").estimate for k in worlds}
     linear = {k: rate_interval(source, f"{k}/linear-tuned").estimate for k in worlds}
     where = " and ".join(f"{_pct(paper[k])} against {_pct(linear[k])}" for k in worlds)
-    verdicts = {g.verdict for g in gaps.values()}
-    worlds_text = "the *floor world* and the *Nao-like world*"
-    if added is None:
-        lines.append(
-            f"**The main finding:** in {worlds_text}, *linear SARSA* (one Q-value per pixel, no "
-            f"feature layer) docks more often than the paper's learner, both tuned alike: "
-            f"{where} (notebook 07)."
-        )
-    else:
-        before = {g.world: g for g in contest_gaps(contest, worlds, 0.05)}
-        was = " and ".join(f"{100 * before[k].interval.estimate:.0f}" for k in worlds)
-        how = (
-            "tuned alike to bracketed optima"
-            if not unbracketed
-            else f"tuned on the same knobs (the paper's learner's {_and(unbracketed)} left at "
-            "the edge of the search)"
-        )
-        close = "docks within 5 pp of" if verdicts == {"closed"} else "closes part of its gap to"
-        lines.append(
-            f"**The main finding, corrected:** {how}, the paper's learner {close} *linear "
-            f"SARSA* (no feature layer) in {worlds_text}: {where}; our earlier gaps of {was} pp "
-            "were too strong (notebook 07)."
-        )
+    lines.append(_main_finding(contest, added, worlds, where, gaps, unbracketed))
     return "\n".join(f"{k + 1}. {line}" for k, line in enumerate(lines))
