@@ -638,8 +638,8 @@ class Report:
             else:
                 from docking.designs import revisited
 
-                summary += "\n\n" + report.revisited_summary(found, revisited)
                 self._revisited = report.revisited_rows(found, revisited)
+                summary += "\n\n" + report.revisited_summary(self._revisited, found, revisited)
         if self.third_edition:
             summary += "\n\n" + report.candour_text()
         changed |= self._write(summary, report.SUMMARY_START, report.SUMMARY_END)

@@ -288,8 +288,7 @@ def _table(path: Path, sha256: str) -> dict[str, np.ndarray]:
     if not zipfile.is_zipfile(io.BytesIO(raw)):  # np.load would call it pickled data
         raise CorruptLedger(f"the ledger table {path} is not an .npz (zip) file; {_RESTORE}")
     try:
-        with np.load(io.BytesIO(raw), allow_pickle=False) as found:
-            return {k: found[k] for k in found.files}
+        return _table_bytes(raw)
     except (OSError, ValueError, zipfile.BadZipFile) as exc:
         raise CorruptLedger(
             f"the ledger table {path} is not readable ({exc}); {_RESTORE}"

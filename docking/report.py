@@ -1270,9 +1270,9 @@ def revisited_rows(results, rv) -> dict:
     )
 
 
-def revisited_summary(results, rv) -> str:
-    """The README's paragraph on relocation and coping revisited (:func:`revisited_rows`)."""
-    rows = revisited_rows(results, rv)
+def revisited_summary(rows: dict, results, rv) -> str:
+    """The README's paragraph on relocation and coping revisited (``rows``:
+    :func:`revisited_rows` of ``results`` of ``rv``)."""
     design = results.design
 
     def gain(r) -> str:  # the equivalence rule is two-sided: a gain counts too

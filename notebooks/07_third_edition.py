@@ -335,16 +335,25 @@ assert edges and {learner for _, learner, _ in edges} == {"paper"}  # linear SAR
 # %% tags=["hide-input"]
 from docking.designs import bracketing as br  # noqa: E402
 
-walk, own = br, br.DESIGN.run(progress=False)
-bracketing = report.bracketing_rows(own, br)
-display(Markdown(report.bracketing_table(bracketing)))
-for r in bracketing:
-    assert r["runs"] <= br.BUDGET
-    assert r["bracketed"] == all(
-        not w.startswith("at the edge") for _, w in r["positions"].values()
-    )
-times = report.computed_times(br.NAME)
-assert min(times) > report.utc(report.RULES_COMMITS[br.NAME][1])  # every run after its rules
+
+def shown_walk(walk):
+    """A walk of the bracketing (its design module): its results and rows, its table shown,
+    its budget, its "bracketed" and its rules-before-runs asserted."""
+    own = walk.DESIGN.run(progress=False)
+    rows = report.bracketing_rows(own, walk)
+    display(Markdown(report.bracketing_table(rows)))
+    for r in rows:
+        assert r["runs"] <= walk.BUDGET
+        assert r["bracketed"] == all(
+            not w.startswith("at the edge") for _, w in r["positions"].values()
+        )
+    times = report.computed_times(walk.NAME)
+    assert min(times) > report.utc(report.RULES_COMMITS[walk.NAME][1])  # runs after rules
+    return own, rows
+
+
+walk = br
+own, bracketing = shown_walk(br)
 assert all(r["bracketed"] for r in bracketing if r["learner"] == "linear")
 edges = [r for r in bracketing if not r["bracketed"]]
 display(
@@ -374,17 +383,9 @@ display(
 # %% tags=["hide-input"]
 from docking.designs import bracketing_continued as bc  # noqa: E402
 
-walk, own = bc, bc.DESIGN.run(progress=False)
-bracketing = report.bracketing_rows(own, bc)
-display(Markdown(report.bracketing_table(bracketing)))
+walk = bc
+own, bracketing = shown_walk(bc)
 final = report.bracketed_addendum(added, own, bc)  # the tuned learners from here on
-for r in bracketing:
-    assert r["runs"] <= bc.BUDGET
-    assert r["bracketed"] == all(
-        not w.startswith("at the edge") for _, w in r["positions"].values()
-    )
-times = report.computed_times(bc.NAME)
-assert min(times) > report.utc(report.RULES_COMMITS[bc.NAME][1])  # every run after its rules
 for w in ad.WORLDS:  # every tuned learner judged on the fresh seeds
     for v in ("paper-tuned", "linear-tuned", "ppo-matched"):
         assert {r.seed for r in final.runs[f"{w}/{v}"]} == set(bc.SEEDS)

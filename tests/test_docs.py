@@ -262,16 +262,24 @@ NO_DESCRIPTION = "No description has been provided for this image"
 @pytest.fixture(scope="module")
 def site_images(browser) -> dict[str, list[dict]]:
     """Every page's images (``_IMAGES``), by the page's path in the site."""
-    page = browser.new_page(viewport=VIEWPORT)
-    images = {}
+    return _on_every_page(browser, VIEWPORT, _IMAGES)
+
+
+def _on_every_page(browser, viewport: dict, script: str, before: str | None = None) -> dict:
+    """``script``'s value on every page at ``viewport`` (``before`` run first), by the
+    page's path in the site."""
+    page = browser.new_page(viewport=viewport)
+    found = {}
     try:
         for html in PAGES:
             page.goto(html.as_uri())
             page.wait_for_load_state("load")
-            images[html.relative_to(SITE).as_posix()] = page.evaluate(_IMAGES)
+            if before is not None:
+                page.evaluate(before)
+            found[html.relative_to(SITE).as_posix()] = page.evaluate(script)
     finally:
         page.close()
-    return images
+    return found
 
 
 def test_every_figure_has_its_caption_as_alt_text(site_images):
@@ -459,17 +467,8 @@ _SHOWN = """() => Array.from(document.querySelectorAll('article img')).map(i => 
 def shown_images(browser) -> dict[str, list[dict]]:
     """Every page's images (``_SHOWN``) at :data:`SCREEN`, by the page's path in the site,
     with every fold open (a folded figure is read at the same width once opened)."""
-    page = browser.new_page(viewport=SCREEN)
-    images = {}
-    try:
-        for html in PAGES:
-            page.goto(html.as_uri())
-            page.wait_for_load_state("load")
-            page.evaluate("document.querySelectorAll('details').forEach(d => { d.open = true; })")
-            images[html.relative_to(SITE).as_posix()] = page.evaluate(_SHOWN)
-    finally:
-        page.close()
-    return images
+    opened = "document.querySelectorAll('details').forEach(d => { d.open = true; })"
+    return _on_every_page(browser, SCREEN, _SHOWN, before=opened)
 
 
 def test_every_figure_is_readable_at_the_pages_width(shown_images):
