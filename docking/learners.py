@@ -23,7 +23,7 @@ The paper's learner and linear SARSA (:class:`~docking.experiments.ExperimentCon
 ``heldout_trials``, ``to_dict``/``from_dict``; run functions of that signature, whose
 results hold ``heldout`` (drawn from the same streams), the training and the wall times
 (:func:`training_steps`). They are the package's built-in kinds of run (``"learner"``,
-``"ppo"``: :data:`docking.store.BUILT_IN`); :func:`register` makes a kind of run of any
+``"ppo"``: :func:`docking.store.built_in`); :func:`register` makes a kind of run of any
 other.
 
 **Keys.** A registered learner's runs are keyed as the built-in ones are
@@ -248,6 +248,7 @@ def register(
 
 def registered() -> dict[str, store.Runner]:
     """Every kind of run by name: the built-in ones and the registered learners."""
+    store.built_in()  # PPO's runner is made on first use
     return {r.name: r for r in store.RUNNERS.values()}
 
 
@@ -290,8 +291,8 @@ def _check_config_type(config_type) -> None:
             f"register: {config_type.__name__} lacks the learner protocol's fields "
             f"{', '.join(missing)} (docking.learners)"
         )
-    for built_in in store.BUILT_IN:
-        if config_type is built_in.config_type:
+    for own in store.built_in():
+        if config_type is own.config_type:
             raise ValueError(f"register: {config_type.__name__} is a built-in kind of run")
 
 

@@ -36,7 +36,7 @@ from pathlib import Path
 
 import numpy as np
 
-from docking import paths, ppo, store
+from docking import paths, store
 from docking.experiments import ExperimentResult, TrialLog
 from docking.fileio import atomic_write
 from docking.network import Network
@@ -332,7 +332,9 @@ def load_run(config, seed: int, results_dir: Path | str | None = None):
     from_table = getattr(runner, "from_table", None)  # a registered learner's (docking.learners)
     if from_table is not None:
         return from_table(config, seed, got, logs, walls)
-    if runner is store.PPO:
+    if runner.name == "ppo":
+        from docking import ppo
+
         train = [got.get(f"train.{f}") for f in ("success", "steps")]
         return ppo.PPOResult(config, seed, *train, logs["heldout"], *walls)
     net = config.network

@@ -63,7 +63,7 @@ from pathlib import Path
 
 import numpy as np
 
-from docking import fingerprint, paths, ppo
+from docking import fingerprint, paths
 from docking.experiments import (
     ExperimentConfig,
     ExperimentResult,
@@ -78,7 +78,8 @@ from docking.validate import MAX_SEED, check_int
 __all__ = [
     "CorruptResult",
     "FORMAT_VERSION",
-    "BUILT_IN",
+    "BUILT_IN_NAMES",
+    "built_in",
     "RUNNERS",
     "Runner",
     "StaleCode",
@@ -523,9 +524,12 @@ def _parse_learner(data, config: ExperimentConfig, seed: int, walls) -> Experime
     )
 
 
-def _parse_ppo(data, config: ppo.PPOConfig, seed: int, walls) -> ppo.PPOResult:
-    """PPO's run of the file ``data`` (its meta record checked already): its training
-    episodes (at most one per environment step) and its held-out trial log."""
+def _parse_ppo(data, config, seed: int, walls):
+    """PPO's run (a :class:`docking.ppo.PPOResult`) of the file ``data`` (its meta record
+    checked already): its training episodes (at most one per environment step) and its
+    held-out trial log."""
+    from docking import ppo
+
     expected = {"meta", "train.success", "train.steps"}
     expected |= {f"heldout.{name}" for name in _TRIAL_LOG_LAYOUT}
     _expect_members(data, expected)
@@ -670,26 +674,57 @@ LEARNER = Runner(
     test_elsewhere=True,
 )
 
-#: The pixel-level bound: PPO on the same pixels.
-PPO = Runner(
-    name="ppo",
-    config_type=ppo.PPOConfig,
-    root=ppo.__name__,
-    libraries=ppo.LIBRARIES,
-    format=ppo.FORMAT_VERSION,
-    key_prefix="ppo ",
-    run=lambda config, seed, **kwargs: ppo.run_ppo(config, seed, **kwargs),
-    arrays=ppo.result_arrays,
-    parse=_parse_ppo,
-    trials_in_run=ppo.trials_in_run,
-    test_elsewhere=False,
-)
+#: The names of the package's own kinds of run (:func:`register` never replaces them).
+BUILT_IN_NAMES = ("learner", "ppo")
+#: Every kind of run, by its configuration's type (:func:`register` adds one; PPO's is added
+#: when first asked for, :func:`_ppo_runner`).
+RUNNERS: dict[type, Runner] = {LEARNER.config_type: LEARNER}
+_BY_NAME: dict[str, Runner] = {LEARNER.name: LEARNER}
+#: The module of the pixel-level bound, imported only when a PPO run is asked for: a run of
+#: the paper's learner loads no PPO code (issue 43).
+_PPO_MODULE = "docking.ppo"
 
-#: The kinds of run of the package itself (:func:`register` never replaces them).
-BUILT_IN: tuple[Runner, ...] = (LEARNER, PPO)
-#: Every kind of run, by its configuration's type (:func:`register` adds one).
-RUNNERS: dict[type, Runner] = {runner.config_type: runner for runner in BUILT_IN}
-_BY_NAME: dict[str, Runner] = {runner.name: runner for runner in RUNNERS.values()}
+
+def _ppo_runner() -> Runner:
+    """The pixel-level bound's kind of run, PPO on the same pixels (made and added to
+    :data:`RUNNERS` on first use)."""
+    runner = _BY_NAME.get("ppo")
+    if runner is not None:
+        return runner
+    from docking import ppo
+
+    runner = Runner(
+        name="ppo",
+        config_type=ppo.PPOConfig,
+        root=ppo.__name__,
+        libraries=ppo.LIBRARIES,
+        format=ppo.FORMAT_VERSION,
+        key_prefix="ppo ",
+        run=lambda config, seed, **kwargs: ppo.run_ppo(config, seed, **kwargs),
+        arrays=ppo.result_arrays,
+        parse=_parse_ppo,
+        trials_in_run=ppo.trials_in_run,
+        test_elsewhere=False,
+    )
+    RUNNERS[runner.config_type], _BY_NAME[runner.name] = runner, runner
+    return runner
+
+
+def built_in() -> tuple[Runner, ...]:
+    """The package's own kinds of run: the paper's learner and PPO."""
+    return (LEARNER, _ppo_runner())
+
+
+def __getattr__(name: str):
+    """``store.PPO`` (the pixel-level bound's :class:`Runner`) and ``store.BUILT_IN``, made
+    when first asked for (:func:`_ppo_runner`)."""
+    if name == "PPO":
+        return _ppo_runner()
+    if name == "BUILT_IN":
+        return built_in()
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+
+
 #: Names of the runners adopted from a configuration's class (:func:`runner_for`).
 _CARRIED: set[str] = set()
 #: The environment variable naming modules to import for their learners (:func:`runner_named`).
@@ -705,8 +740,8 @@ def register(runner: Runner) -> Runner:
     Returns ``runner``."""
     if not isinstance(runner, Runner):
         raise TypeError(f"register takes a Runner, got {runner!r:.80}")
-    for built_in in BUILT_IN:
-        if runner.name == built_in.name or runner.config_type is built_in.config_type:
+    for own in built_in():
+        if runner.name == own.name or runner.config_type is own.config_type:
             raise ValueError(f"{runner.name!r} would replace the built-in kind of run")
     for config_type, old in list(RUNNERS.items()):
         if old.name == runner.name or config_type is runner.config_type:
@@ -723,6 +758,8 @@ def runner_for(config) -> Runner:
     A registered learner's configuration class carries its runner (:data:`RUNNER_ATTRIBUTE`):
     where the class arrived by value (a Dask worker given a job of a learner defined in a
     notebook), that runner is adopted, unless this process registered one of its name."""
+    if type(config).__module__ == _PPO_MODULE:
+        _ppo_runner()
     runner = RUNNERS.get(type(config))
     carried = getattr(type(config), RUNNER_ATTRIBUTE, None)
     if runner is None and isinstance(carried, Runner) and carried.config_type is type(config):
@@ -730,7 +767,7 @@ def runner_for(config) -> Runner:
             runner = register(carried)
             _CARRIED.add(carried.name)
     if runner is None:
-        known = " or ".join(r.config_type.__name__ for r in BUILT_IN)
+        known = " or ".join(r.config_type.__name__ for r in built_in())
         raise TypeError(
             f"a run's configuration must be a {known}, got {config!r:.80} (or the "
             "configuration of a learner registered with docking.learners.register)"
@@ -743,12 +780,15 @@ def runner_named(name: str) -> Runner:
     A name not registered yet is looked up again after importing the modules that the
     environment variable :data:`LEARNERS_VARIABLE` names (comma-separated; a module that
     registers learners, e.g. for ``python -m docking verify`` of their runs)."""
+    if name == "ppo":
+        return _ppo_runner()
     runner = _BY_NAME.get(name) if isinstance(name, str) else None
     if runner is None and isinstance(name, str) and _import_learners():
         runner = _BY_NAME.get(name)
     if runner is None:
         raise ValueError(
-            f"no kind of run is called {name!r:.40}; known: {', '.join(_BY_NAME)} (a learner "
+            f"no kind of run is called {name!r:.40}; known: "
+            f"{', '.join(dict.fromkeys([*BUILT_IN_NAMES, *_BY_NAME]))} (a learner "
             f"from outside the package: import its module first, or name it in "
             f"{LEARNERS_VARIABLE})"
         )

@@ -40,13 +40,12 @@ import time
 import uuid
 from collections.abc import Iterable, Mapping, Sequence
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 from docking import ledger, paths
 from docking.experiments import ExperimentConfig
 from docking.ledger import load_run
-from docking.ppo import PPOConfig
 from docking.store import (
-    RUNNERS,
     check_writable,
     is_valid,
     result_path,
@@ -56,8 +55,10 @@ from docking.store import (
 )
 from docking.validate import MAX_SEED, check_instance, check_int
 
+if TYPE_CHECKING:
+    from docking.ppo import PPOConfig
+
 __all__ = [
-    "CONFIG_TYPES",
     "Job",
     "apply_override",
     "grid_configs",
@@ -68,15 +69,10 @@ __all__ = [
 ]
 
 
-#: What a job may run: the configuration types of :data:`docking.store.RUNNERS`, the paper's
-#: learner or a yardstick (``ExperimentConfig``), or the pixel-level bound
-#: (``docking.ppo.PPOConfig``).
-CONFIG_TYPES = tuple(RUNNERS)
-
-
 @dataclasses.dataclass(frozen=True)
 class Job:
-    """One run of a sweep: a configuration (one of :data:`CONFIG_TYPES`) and a seed."""
+    """One run of a sweep: a configuration of a kind of run (:func:`docking.store.runner_for`:
+    the paper's learner or a yardstick, PPO, or a registered learner) and a seed."""
 
     config: ExperimentConfig | PPOConfig
     seed: int

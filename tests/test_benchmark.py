@@ -1,8 +1,10 @@
 """Smoke tests of the benchmark's measurements (issue 9); the acceptance figures come from a
 full run of ``python -m docking benchmark`` on an idle machine."""
 
-from docking.benchmark import env_step_time, floor_time
+from docking.cli import benchmark_module
 from docking.world import WorldConfig
+
+env_step_time, floor_time = benchmark_module().env_step_time, benchmark_module().floor_time
 
 
 def test_env_step_and_floor_are_measured():

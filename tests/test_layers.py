@@ -1,10 +1,13 @@
 """The package's layers: the import-linter contract holds, and CONTRIBUTING.md's layer table
 is that contract (issue 18: no import cycles, the table checked against the contract)."""
 
+import os
 import re
 import subprocess
 import sys
 from pathlib import Path
+
+import pytest
 
 try:
     import tomllib
@@ -176,3 +179,37 @@ def test_contributings_example_design_is_a_valid_design_in_one_file(tmp_path):
     assert design.cell("cups").config.world.distractors and design.claims[0].cells == {
         "floor": ("cups",)
     }
+
+
+# What a preset's run loads: python -m docking run, with the ledger off, on a tiny run.
+_LOADED = """
+import atexit, runpy, sys
+atexit.register(lambda: print("LOADED", *sorted(m for m in sys.modules if m.startswith("docking")),
+                              file=sys.stderr))
+sys.argv = ["docking", "run", "experiment1", "--seeds", "0", "--train-trials", "2",
+            "--test-trials", "1", "--eval-every", "2", "--eval-trials", "1",
+            "--results-dir", sys.argv[1]]
+runpy.run_module("docking", run_name="__main__")
+"""
+
+
+@pytest.mark.slow
+def test_a_presets_run_loads_no_ppo_code_and_no_design_file(tmp_path):
+    """Issue 43: no module is loaded only to reach another kind of run. A run of the paper's
+    learner loads neither docking.ppo (PPO's runner is made when a PPO run is asked for) nor
+    a design file (docking.designs' package, which names the designs for the command line's
+    choices, imports none of them)."""
+    env = {**os.environ, "DOCKING_LEDGER": "off", "MUJOCO_GL": os.environ.get("MUJOCO_GL", "egl")}
+    done = subprocess.run(
+        [sys.executable, "-c", _LOADED, str(tmp_path)],
+        env=env,
+        capture_output=True,
+        text=True,
+        timeout=300,
+        cwd=ROOT,
+    )
+    assert done.returncode == 0, done.stderr[-2000:]
+    loaded = done.stderr.split("LOADED", 1)[1].split()
+    assert "docking.experiments" in loaded and "docking.store" in loaded  # it ran, and stored
+    assert "docking.ppo" not in loaded
+    assert [m for m in loaded if m.startswith("docking.designs.")] == []

@@ -51,8 +51,8 @@ def timed(command: list[str]) -> dict:
 def step_time() -> dict:
     """``benchmark --quick``'s CPU milliseconds per environment step (min and median)."""
     code = (
-        "import contextlib, io, json; from docking.benchmark import run\n"
-        "with contextlib.redirect_stdout(io.StringIO()): r = run(quick=True)\n"
+        "import contextlib, io, json; from docking.cli import benchmark_module\n"
+        "with contextlib.redirect_stdout(io.StringIO()): r = benchmark_module().run(quick=True)\n"
         "print(json.dumps(r['env_step']))"
     )
     out = subprocess.run(
