@@ -21,7 +21,7 @@ Rules:
 Each rule computes its interval by the first edition's percentile bootstrap
 (``method="bootstrap"``), by Welch's Student-t (``method="t"``, the second edition's) or by
 the paired Student-t over seeds (``method="paired"``, for arms that share each seed's
-networks or held-out streams); :func:`docking.stats.coverage` checks the intervals'
+networks or held-out streams); ``tools/interval_coverage.py`` checks the intervals'
 coverage. A family of claims is
 judged together by :func:`judge_family`: a p-value per comparison, Holm's adjustment over
 the family, and "at the bound" where a deciding interval ends within 1 pp of the rule's

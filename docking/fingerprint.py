@@ -85,6 +85,21 @@ _WHOLE_LINE = "<whole line>"
 _HINT = "<hint>"
 
 
+def _imported(node, package: str) -> set[str]:
+    """The names an import statement ``node`` of a module in ``package`` imports (a module,
+    or a name in one: ``docking.world`` and ``docking.world.DockingEnv``); none for any other
+    statement."""
+    if isinstance(node, ast.Import):
+        return {alias.name for alias in node.names}
+    if not isinstance(node, ast.ImportFrom):
+        return set()
+    base = node.module or ""
+    if node.level:  # relative import
+        parts = package.split(".")[: len(package.split(".")) - node.level + 1]
+        base = ".".join(parts + ([base] if base else []))
+    return {base} | {f"{base}.{alias.name}" for alias in node.names}
+
+
 def _spans(source: str, module: str) -> tuple[list, set[str]]:
     """``([(start, end, replacement)], {docking modules imported by the kept code})``:
     the regions of ``source`` the fingerprint leaves out (see the module docstring)."""
@@ -133,15 +148,7 @@ def _spans(source: str, module: str) -> tuple[list, set[str]]:
                 exc = child.exc.func if isinstance(child.exc, ast.Call) else child.exc
                 span(child, replacement=f"raise {ast.unparse(exc) if exc else ''}")
             else:
-                if isinstance(child, ast.Import):
-                    imports.update(alias.name for alias in child.names)
-                elif isinstance(child, ast.ImportFrom):
-                    base = child.module or ""
-                    if child.level:  # relative import
-                        parts = package.split(".")[: len(package.split(".")) - child.level + 1]
-                        base = ".".join(parts + ([base] if base else []))
-                    imports.add(base)
-                    imports.update(f"{base}.{alias.name}" for alias in child.names)
+                imports.update(_imported(child, package))
                 visit(child, prefix)
 
     visit(tree, "")

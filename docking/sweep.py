@@ -378,7 +378,10 @@ class _EmbeddedCluster:
     without in-process workers) and ``n_workers`` worker processes, ``dask worker --no-nanny``
     with one thread each, that end with this process (:func:`dask_setup`). Workers are plain
     subprocesses, not ``multiprocessing`` children, so a killed parent leaves neither
-    orphans nor semaphores behind."""
+    orphans nor semaphores behind. Why not a stock ``LocalCluster(processes=True)``: its
+    nannies start the workers through ``multiprocessing``, and when its process is ended by
+    SIGKILL or SIGTERM the resource tracker reports leaked semaphores
+    (distributed 2026.8; tests/test_sweep.py's ``test_workers_end_with_their_parent``)."""
 
     def __init__(self, n_workers: int):
         import subprocess
@@ -411,39 +414,40 @@ class _EmbeddedCluster:
         try:
             for k in range(n_workers):
                 self._procs.append(
-                    subprocess.Popen(
-                        [
-                            sys.executable,
-                            "-m",
-                            "dask",
-                            "worker",
-                            self._cluster.scheduler_address,
-                            "--no-nanny",
-                            "--nthreads",
-                            "1",
-                            "--host",
-                            "127.0.0.1",
-                            "--no-dashboard",
-                            # The worker's HTTP server (metrics, health) listens here even
-                            # without a dashboard: on loopback only.
-                            "--dashboard-address",
-                            "127.0.0.1:0",
-                            "--name",
-                            f"docking-{k}",
-                            "--local-directory",
-                            self._scratch.name,
-                            "--preload",
-                            "docking.sweep",
-                        ],
-                        env=env,
-                        stdin=subprocess.DEVNULL,
-                    )
+                    subprocess.Popen(self._worker_command(k), env=env, stdin=subprocess.DEVNULL)
                 )
             self.client = Client(self._cluster)
             self._wait_for_workers(n_workers)
         except BaseException:
             self.close()
             raise
+
+    def _worker_command(self, k: int) -> list[str]:
+        """The command of worker ``k``: ``dask worker`` without a nanny, one thread, every
+        server on loopback, this module preloaded (:func:`dask_setup`)."""
+        return [
+            sys.executable,
+            "-m",
+            "dask",
+            "worker",
+            self._cluster.scheduler_address,
+            "--no-nanny",
+            "--nthreads",
+            "1",
+            "--host",
+            "127.0.0.1",
+            "--no-dashboard",
+            # The worker's HTTP server (metrics, health) listens here even without a
+            # dashboard: on loopback only.
+            "--dashboard-address",
+            "127.0.0.1:0",
+            "--name",
+            f"docking-{k}",
+            "--local-directory",
+            self._scratch.name,
+            "--preload",
+            "docking.sweep",
+        ]
 
     def _wait_for_workers(self, n: int, timeout: float = 120.0) -> None:
         deadline = time.monotonic() + timeout

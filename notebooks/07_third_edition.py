@@ -53,6 +53,7 @@
 # %%
 
 import dataclasses
+import importlib.util
 import subprocess
 import sys
 from itertools import pairwise
@@ -68,9 +69,19 @@ from docking.designs import measures
 from docking.designs import third_edition as te
 from docking.presets import NAO_WORLD
 from docking.report import save_named
-from docking.stats import COVERAGE_KINDS, rate_ci, rule_coverage, t_mean_ci
+from docking.stats import rate_ci, t_mean_ci
 
 pct = lambda ci: ci.format(unit="%")  # noqa: E731
+TOOLS = Path(te.__file__).resolve().parents[2] / "tools"  # scripts beside the package
+
+
+def load_tool(name):
+    """tools/NAME.py as a module."""
+    spec = importlib.util.spec_from_file_location(name, TOOLS / f"{name}.py")
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module
+
 
 # %% [markdown]
 # ## The Nao-like world
@@ -185,9 +196,11 @@ display(Markdown(report.gaps_table(gaps + ppo_gaps)))
 # removed (rotation). The equivalence rule decides by the paired interval too.
 
 # %% tags=["hide-input"]
+checks = load_tool("interval_coverage")  # tools/interval_coverage.py
+COVERAGE_KINDS = checks.COVERAGE_KINDS
 counts = (5, 10, 20)
 found = {
-    (k, n, b): rule_coverage(k, n, b, seed=n)
+    (k, n, b): checks.rule_coverage(k, n, b, seed=n)
     for k in COVERAGE_KINDS
     for n in counts
     for b in (False, True)
@@ -519,7 +532,7 @@ display(Markdown("\n".join(lines)))
 # worlds got 10 seeds: the second edition measured their drops as large.
 
 # %% tags=["hide-input", "fold-output"]
-tool = Path(te.__file__).resolve().parents[2] / "tools" / "power_third_edition.py"
+tool = TOOLS / "power_third_edition.py"
 power = subprocess.run([sys.executable, tool], capture_output=True, text=True, check=True)
 display(Markdown(power.stdout))
 needed = {}  # (world, row) -> seeds for 80% power ("> 60": None)

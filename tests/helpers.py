@@ -4,8 +4,12 @@ tests (tests/test_ledger.py, tests/test_fuzz_defects.py) build their stores and 
 from __future__ import annotations
 
 import dataclasses
+import importlib.util
+from pathlib import Path
 
 from docking.presets import EXPERIMENT_1
+
+ROOT = Path(__file__).resolve().parent.parent
 
 #: A learner run of a few trials (seconds): what a tiny store and ledger hold.
 TINY = dataclasses.replace(
@@ -51,3 +55,12 @@ def unquoted(claims, paper_text: str, skip=()) -> list[tuple[str, str]]:
             if part.lower() not in text:
                 found.append((claim.key, part))
     return found
+
+
+def tool(name: str):
+    """``tools/NAME.py`` as a module (the tools are scripts beside the package, not a
+    package)."""
+    spec = importlib.util.spec_from_file_location(name, ROOT / "tools" / f"{name}.py")
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module

@@ -8,6 +8,7 @@ import sys
 from pathlib import Path
 
 import pytest
+from helpers import tool
 
 try:
     import tomllib
@@ -114,16 +115,6 @@ def test_the_core_facade_exports_the_core_and_says_why_it_is_not_a_folder():
     assert "re-key every stored run" in " ".join(core.__doc__.split())
 
 
-def _tool(name: str):
-    """tools/NAME.py as a module."""
-    import importlib.util
-
-    spec = importlib.util.spec_from_file_location(name, ROOT / "tools" / f"{name}.py")
-    module = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(module)
-    return module
-
-
 LAYERS_PAGE = ROOT / "docs" / "guide" / "layers.md"
 
 
@@ -145,7 +136,7 @@ def test_the_layers_page_names_each_module_once_on_its_side():
 def test_the_layers_sizes_are_counted_by_code_when_the_site_is_built():
     """The page holds no measured number: tools/layers.py counts each module's lines (a
     subpackage's files summed) and docs/build.py writes its table at the page's mark."""
-    layers = _tool("layers")
+    layers = tool("layers")
     assert layers.MARK in LAYERS_PAGE.read_text()
     assert "layers.table()" in (ROOT / "docs" / "build.py").read_text()
     table = layers.table()

@@ -2,6 +2,7 @@
 
 import numpy as np
 import pytest
+from helpers import tool
 from scipy import stats
 
 from docking.stats import Interval, difference_ci, mean_ci
@@ -61,7 +62,8 @@ def test_removed_share_ci_paired_and_unpaired():
 
 
 def test_power_matches_a_simulation_and_gives_the_seeds_it_needs():
-    from docking.stats import power, seeds_for_power
+    power_tool = tool("power_third_edition")
+    power, seeds_for_power = power_tool.power, power_tool.seeds_for_power
 
     rng = np.random.default_rng(7)
     n, effect, sd = 10, 0.05, 0.06
@@ -77,7 +79,9 @@ def test_power_matches_a_simulation_and_gives_the_seeds_it_needs():
 
 
 def test_the_paired_interval_pairs_seeds_and_covers():
-    from docking.stats import coverage, t_paired_ci
+    from docking.stats import t_paired_ci
+
+    coverage = tool("interval_coverage").coverage
 
     base = np.array([0.9, 0.8, 0.95, 0.7, 0.85])
     ci = t_paired_ci(base - 0.05, base)  # every seed 5 pp worse: no spread of differences
@@ -170,9 +174,10 @@ def test_a_rate_interval_refuses_what_is_not_a_rate_over_seeds(bad, trials, matc
 @pytest.mark.parametrize("n", [5, 10, 20])
 @pytest.mark.parametrize("scenario", ["near one", "near one, skewed", "mid-range", "bimodal"])
 def test_the_rate_interval_covers_near_95_percent(scenario, n):
-    """Coverage on synthetic studies (:func:`docking.stats.rate_coverage`: 500 trials per
-    seed), near 1 and mid-range, with 5, 10 and 20 seeds: within 2.5 points of 95%."""
-    from docking.stats import rate_coverage
+    """Coverage on synthetic studies (``rate_coverage`` of tools/interval_coverage.py: 500
+    trials per seed), near 1 and mid-range, with 5, 10 and 20 seeds: within 2.5 points of
+    95%."""
+    rate_coverage = tool("interval_coverage").rate_coverage
 
     assert 0.925 <= rate_coverage(scenario, n, seed=n) <= 0.975
     with pytest.raises(ValueError, match="scenario"):

@@ -7,11 +7,10 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from helpers import unknown_cells, unquoted
+from helpers import tool, unknown_cells, unquoted
 
 from docking import report
 from docking.designs import third_edition as te
-from docking.stats import COVERAGE_KINDS, rule_coverage
 
 #: The SHA-256 of rules_text() when the rules were committed, before any run of the edition.
 RULES_DIGEST = "cd2a0602b296679342c67a9afe926c24a0baa8901a6f55c48a4e2fbac2984ac4"
@@ -110,7 +109,9 @@ def test_the_path_is_decided_by_intervals():
 
 
 def test_rule_coverage_is_near_its_level_and_refuses_an_unknown_kind():
-    for kind in COVERAGE_KINDS:
+    checks = tool("interval_coverage")
+    rule_coverage = checks.rule_coverage
+    for kind in checks.COVERAGE_KINDS:
         assert 0.9 <= rule_coverage(kind, 10, repeats=300) <= 0.99
     with pytest.raises(ValueError, match="kind must be one of"):
         rule_coverage("bootstrap", 10)

@@ -13,7 +13,7 @@ percentage points:
   ``--least-effect`` percentage points (a smaller effect is not one a claim rests on);
 * its level: ``0.05 / k`` for a claim of ``k`` comparisons (Holm's first step within the
   claim, the strictest), and the seeds at which the paired rule (the interval lies above 0)
-  reaches ``--power`` (:func:`docking.stats.seeds_for_power`), at least 10.
+  reaches ``--power`` (:func:`seeds_for_power`), at least 10.
 
 Prints a Markdown table. Usage: ``python tools/power_third_edition.py [--power 0.8]``.
 """
@@ -29,12 +29,40 @@ from pathlib import Path
 import numpy as np
 from scipy import stats
 
-from docking.stats import power, seeds_for_power
-
 ROOT = Path(__file__).resolve().parent.parent
 NOTEBOOK = ROOT / "archive" / "07_second_edition.ipynb"
 #: One comparison of the verdict table: "world: 9.6 pp [5.4, 13.8]; p ..."
 COMPARISON = re.compile(r"([\w ,.-]+): (-?[\d.]+) pp \[(-?[\d.]+), (-?[\d.]+)\]")
+
+
+def power(n: int, effect: float, sd: float, alpha: float = 0.05) -> float:
+    """The power of the paired Student-t rule "the two-sided ``1 - alpha`` interval of the
+    mean difference lies above 0" with ``n`` seeds, when the true mean difference is
+    ``effect > 0`` and the per-seed differences have standard deviation ``sd``: the
+    probability that the lower bound exceeds 0 (noncentral t)."""
+    if n < 2 or not effect > 0 or not sd > 0 or not 0 < alpha < 1:
+        raise ValueError(
+            f"power needs n >= 2, effect > 0, sd > 0, 0 < alpha < 1: {n}, {effect}, {sd}, {alpha}"
+        )
+    df = n - 1
+    critical = stats.t.ppf(1 - alpha / 2, df)
+    return float(stats.nct.sf(critical, df, effect / sd * np.sqrt(n)))
+
+
+def seeds_for_power(
+    effect: float,
+    sd: float,
+    alpha: float = 0.05,
+    target: float = 0.8,
+    least: int = 10,
+    most: int = 200,
+) -> int | None:
+    """The fewest seeds, at least ``least``, at which :func:`power` reaches ``target``; None
+    if even ``most`` seeds do not."""
+    for n in range(max(least, 2), most + 1):
+        if power(n, effect, sd, alpha) >= target:
+            return n
+    return None
 
 
 def verdict_rows(notebook: Path = NOTEBOOK) -> list[tuple[str, list[tuple[str, float, float]]]]:
