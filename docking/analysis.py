@@ -568,6 +568,25 @@ def landmark_lost(env: DockingEnv, poses) -> bool:
         check.physics.place(saved)
 
 
+def _taxonomy_geometry(config: WorldConfig) -> tuple[tuple, np.ndarray, float]:
+    """The dock's rectangle, its centre, and the x at which the robot meets what stops it."""
+    plan = floor_plan(config)
+    dock = plan["dock"]
+    dock_centre = np.array([-config.dock_center, 0.0])
+    # The robot's reference point where its body meets what stops it in front of the landmark:
+    # the sideboard's front, or in the floor scene the landmark's own front face.
+    stop = plan["sideboard"] if "sideboard" in plan else plan["landmark_slab"]
+    return dock, dock_centre, stop[0] - scene_facts().robot_radius
+
+
+def _reversals(actions: np.ndarray) -> int:
+    """How often an action is at once undone: a sidestep's or a turn's reverse follows it."""
+    # Reversal pairs: sidesteps, and turns in a world that has them.
+    pairs = [(LEFT, RIGHT), (RIGHT, LEFT), (TURN_LEFT, TURN_RIGHT), (TURN_RIGHT, TURN_LEFT)]
+    a, b = actions[:-1], actions[1:]
+    return sum(int(np.sum((a == p) & (b == q))) for p, q in pairs)
+
+
 def failure_taxonomy(
     log: TrialLog,
     env: DockingEnv,
@@ -592,15 +611,7 @@ def failure_taxonomy(
             f"contact_tol >= 0; got {heading_deg}, {near_m}, {min_reversals}, {contact_tol}"
         )
     config = env.config
-    plan = floor_plan(config)
-    dock = plan["dock"]
-    dock_centre = np.array([-config.dock_center, 0.0])
-    # The robot's reference point where its body meets what stops it in front of the landmark:
-    # the sideboard's front, or in the floor scene the landmark's own front face.
-    stop = plan["sideboard"] if "sideboard" in plan else plan["landmark_slab"]
-    contact_x = stop[0] - scene_facts().robot_radius
-    # Reversal pairs: sidesteps, and turns in a world that has them.
-    pairs = [(LEFT, RIGHT), (RIGHT, LEFT), (TURN_LEFT, TURN_RIGHT), (TURN_RIGHT, TURN_LEFT)]
+    dock, dock_centre, contact_x = _taxonomy_geometry(config)
     precise = config.dock_heading_deg is not None
     limit = np.radians(heading_deg)
     flags = {name: np.zeros(len(log), dtype=bool) for name in FAILURE_CLASSES}
@@ -615,9 +626,7 @@ def failure_taxonomy(
         flags["ended_farther"][k] = bool(
             np.linalg.norm(end[:2] - dock_centre) > np.linalg.norm(start[:2] - dock_centre)
         )
-        a, b = actions[:-1], actions[1:]
-        reversals = sum(int(np.sum((a == p) & (b == q))) for p, q in pairs)
-        flags["oscillating"][k] = bool(reversals >= min_reversals)
+        flags["oscillating"][k] = bool(_reversals(actions) >= min_reversals)
         timed_out = not log.success[k] and log.steps[k] >= config.max_steps
         flags["timed_out_near"][k] = bool(
             timed_out and _distance_to_rectangle(end[0], end[1], dock) <= near_m

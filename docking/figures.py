@@ -439,6 +439,97 @@ def _field_block(
             )
 
 
+def _fig4_blocks(
+    config: ExperimentConfig, seed: int, n_feat: int, rows: int, blocks: int
+) -> tuple[Figure, np.ndarray]:
+    """Fig. 4's page-wide figure with its title, and its blocks' subfigures, top to bottom."""
+    block = 1.2 + rows * 0.52  # one block's height (inches), as wide as a page
+    heights = [block] * 2 + [block - 0.6] * (blocks - 2)  # C: a line of text, not panels
+    fig = _new_figure(_PAGE_WIDTH_IN, 0.75 + sum(heights))
+    fig.suptitle(
+        f"Experiment 2 ({n_feat} feature units, {config.network.rule} rule, "
+        f"$\\epsilon_W$ = {config.network.eps_w:g}), seed {seed}, after "
+        f"{config.train_trials} training trials\nEach panel scaled 0..its own maximum, strong "
+        "dark; framed red: the unit with the\nlargest action weight (argmax$_j$ Q$_{ij}$) for L, "
+        "R and F.",
+        fontsize=10,
+    )
+    return fig, fig.subfigures(blocks, 1, hspace=0.02, height_ratios=heights)
+
+
+def _fig4_weights(
+    sub,
+    config: ExperimentConfig,
+    action_rf: np.ndarray,
+    feature_rf: np.ndarray,
+    framed: dict[int, list[str]],
+    columns: int,
+) -> None:
+    """Fig. 4's block A: the action units' and the feature units' receptive fields."""
+    _field_block(
+        sub,
+        "A",
+        "weights: action units $\\Sigma_j\\,Q_{ij} W_j$ (top row), feature units $W_j$ (grid)",
+        action_rf,
+        feature_rf,
+        framed,
+        columns,
+        action_notes=[f"max {np.max(f):.3g}" for f in action_rf],
+        unit_notes=[f"unit {j}" for j in range(feature_rf.shape[0])],
+        world=config.world,
+    )
+
+
+def _fig4_responses(
+    sub,
+    config: ExperimentConfig,
+    mean_inputs: MeanInputs,
+    framed: dict[int, list[str]],
+    columns: int,
+) -> None:
+    """Fig. 4's block B: the mean input for which each action is chosen, each unit wins."""
+    action_mean, unit_mean, action_counts, unit_counts = mean_inputs
+    n_samples = int(np.sum(action_counts))
+    _field_block(
+        sub,
+        "B",
+        f"mean input when the action is chosen / the unit wins ({n_samples} start views)",
+        action_mean,
+        unit_mean,
+        framed,
+        columns,
+        action_notes=[f"{c} views" for c in action_counts],
+        unit_notes=[
+            f"unit {j}: {c} views" if c else f"unit {j}: never wins"
+            for j, c in enumerate(unit_counts)
+        ],
+        world=config.world,
+    )
+
+
+def _fig4_start(
+    sub,
+    config: ExperimentConfig,
+    initial_rf: np.ndarray,
+    n_feat: int,
+    framed: dict[int, list[str]],
+    columns: int,
+) -> None:
+    """Fig. 4's block C: the feature units' receptive fields at their random start."""
+    _field_block(
+        sub,
+        "C",
+        "feature units $W_j$ at their random start (what W frozen, eps_W = 0, keeps)",
+        None,
+        initial_rf,
+        framed,
+        columns,
+        action_notes="the same seed's W before training; framed: the units framed in A and B",
+        unit_notes=[f"unit {j}" for j in range(n_feat)],
+        world=config.world,
+    )
+
+
 def fig4(
     config: ExperimentConfig,
     seed: int,
@@ -473,66 +564,14 @@ def fig4(
         seed's initial ``W``: what W frozen, eps_W = 0, keeps), drawn as a third block C, so
         that a reader can see what training changed.
     """
-    action_mean, unit_mean, action_counts, unit_counts = mean_inputs
-    n_samples = int(np.sum(action_counts))
     n_feat = feature_rf.shape[0]
     columns = columns or int(np.ceil(np.sqrt(n_feat)))
-
-    rows = int(np.ceil(n_feat / columns))
     blocks = 2 if initial_rf is None else 3
-    block = 1.2 + rows * 0.52  # one block's height (inches), as wide as a page
-    heights = [block] * 2 + [block - 0.6] * (blocks - 2)  # C: a line of text, not panels
-    fig = _new_figure(_PAGE_WIDTH_IN, 0.75 + sum(heights))
-    fig.suptitle(
-        f"Experiment 2 ({n_feat} feature units, {config.network.rule} rule, "
-        f"$\\epsilon_W$ = {config.network.eps_w:g}), seed {seed}, after "
-        f"{config.train_trials} training trials\nEach panel scaled 0..its own maximum, strong "
-        "dark; framed red: the unit with the\nlargest action weight (argmax$_j$ Q$_{ij}$) for L, "
-        "R and F.",
-        fontsize=10,
-    )
-    subs = fig.subfigures(blocks, 1, hspace=0.02, height_ratios=heights)
-    left, right = subs[0], subs[1]
-    _field_block(
-        left,
-        "A",
-        "weights: action units $\\Sigma_j\\,Q_{ij} W_j$ (top row), feature units $W_j$ (grid)",
-        action_rf,
-        feature_rf,
-        framed,
-        columns,
-        action_notes=[f"max {np.max(f):.3g}" for f in action_rf],
-        unit_notes=[f"unit {j}" for j in range(n_feat)],
-        world=config.world,
-    )
-    _field_block(
-        right,
-        "B",
-        f"mean input when the action is chosen / the unit wins ({n_samples} start views)",
-        action_mean,
-        unit_mean,
-        framed,
-        columns,
-        action_notes=[f"{c} views" for c in action_counts],
-        unit_notes=[
-            f"unit {j}: {c} views" if c else f"unit {j}: never wins"
-            for j, c in enumerate(unit_counts)
-        ],
-        world=config.world,
-    )
+    fig, subs = _fig4_blocks(config, seed, n_feat, int(np.ceil(n_feat / columns)), blocks)
+    _fig4_weights(subs[0], config, action_rf, feature_rf, framed, columns)
+    _fig4_responses(subs[1], config, mean_inputs, framed, columns)
     if initial_rf is not None:
-        _field_block(
-            subs[2],
-            "C",
-            "feature units $W_j$ at their random start (what W frozen, eps_W = 0, keeps)",
-            None,
-            initial_rf,
-            framed,
-            columns,
-            action_notes="the same seed's W before training; framed: the units framed in A and B",
-            unit_notes=[f"unit {j}" for j in range(n_feat)],
-            world=config.world,
-        )
+        _fig4_start(subs[2], config, initial_rf, n_feat, framed, columns)
     return fig
 
 
@@ -923,6 +962,51 @@ def fig_rewards(curves: LearningCurves, headline_seed: int, paper_rewards: float
 # ------------------------------------------------------------------------------------------
 
 
+def _experiment3_points(
+    ax,
+    t: int,
+    k: int,
+    label: str,
+    x: np.ndarray,
+    offset: float,
+    values: np.ndarray,
+    seeds: dict[str, np.ndarray],
+    oracle: dict[str, np.ndarray],
+) -> None:
+    """The ``k``-th action set in task ``t``'s panel of :func:`fig_experiment3`: learner, oracle."""
+    color = f"C{k}"
+    mean, low, high = (100 * np.asarray(values)[t, :, i] for i in range(3))
+    ax.errorbar(
+        x,
+        mean,
+        yerr=(mean - low, high - mean),
+        fmt="o",
+        color=color,
+        ms=5,
+        capsize=3,
+        label=f"{label}: learner",
+        zorder=3,
+    )
+    points = 100 * np.asarray(seeds[label])[t]
+    for n in range(len(x)):
+        jitter = np.linspace(-0.06, 0.06, points.shape[1])
+        ax.plot(x[n] + jitter, points[n], ".", color=color, ms=3, alpha=0.5)
+    # Each action set's oracle beside its learner (not at the tick), so that equal
+    # bounds (both at 100%) stay two visible diamonds.
+    ax.plot(
+        x + 0.5 * offset,
+        100 * np.asarray(oracle[label])[t],
+        "--",
+        marker="D" if k == 0 else "s",
+        mfc="none",
+        mew=1.3,
+        color=color,
+        lw=0.9,
+        ms=6,
+        label=f"{label}: oracle (the bound)",
+    )
+
+
 def fig_experiment3(
     noise: np.ndarray,
     tasks: list[str],
@@ -951,37 +1035,8 @@ def fig_experiment3(
     offsets = np.linspace(-0.18, 0.18, len(series))
     for t, (ax, task) in enumerate(zip(axes, tasks, strict=True)):
         for k, (label, values) in enumerate(series.items()):
-            color = f"C{k}"
-            x = noise + offsets[k]
-            mean, low, high = (100 * np.asarray(values)[t, :, i] for i in range(3))
-            ax.errorbar(
-                x,
-                mean,
-                yerr=(mean - low, high - mean),
-                fmt="o",
-                color=color,
-                ms=5,
-                capsize=3,
-                label=f"{label}: learner",
-                zorder=3,
-            )
-            points = 100 * np.asarray(seeds[label])[t]
-            for n in range(len(noise)):
-                jitter = np.linspace(-0.06, 0.06, points.shape[1])
-                ax.plot(x[n] + jitter, points[n], ".", color=color, ms=3, alpha=0.5)
-            # Each action set's oracle beside its learner (not at the tick), so that equal
-            # bounds (both at 100%) stay two visible diamonds.
-            ax.plot(
-                x + 0.5 * offsets[k],
-                100 * np.asarray(oracle[label])[t],
-                "--",
-                marker="D" if k == 0 else "s",
-                mfc="none",
-                mew=1.3,
-                color=color,
-                lw=0.9,
-                ms=6,
-                label=f"{label}: oracle (the bound)",
+            _experiment3_points(
+                ax, t, k, label, noise + offsets[k], offsets[k], values, seeds, oracle
             )
         ax.set_title(task, fontsize=10)
         ax.set_xticks(noise, [f"{v:g}" for v in noise])
@@ -1128,6 +1183,46 @@ def fig_contest(
     return fig
 
 
+def _verdict_bounds(ax, p: dict) -> None:
+    """The lines behind a claim's panel of :func:`fig_verdicts`: margin, bound, reference."""
+    s = p["scale"]
+    if p.get("band") is not None:
+        ax.axvspan(s * p["band"][0], s * p["band"][1], color="0.9", zorder=0)
+    ax.axvline(s * p["bound"], color="0.25", lw=0.9, ls="--", zorder=1)
+    if p.get("reference") is not None:  # (value, label): e.g. another learner's level
+        value, label = p["reference"]
+        ax.axvline(s * value, color="C0", lw=1.2, ls=":", zorder=1)
+        ax.annotate(
+            label,
+            (s * value, 1.0),
+            xycoords=("data", "axes fraction"),
+            xytext=(3, -9),
+            textcoords="offset points",
+            fontsize=7,
+            color="C0",
+        )
+
+
+def _verdict_panel(ax, p: dict, title: str, colours: dict[str, str]) -> None:
+    """One claim's panel of :func:`fig_verdicts`: a row per comparison, over its bound lines."""
+    s, rows = p["scale"], p["rows"]
+    y = np.arange(len(rows))[::-1].astype(float)
+    _verdict_bounds(ax, p)
+    for yk, (_, ci, verdict, per_seed) in zip(y, rows, strict=True):
+        color = colours.get(verdict, "C0")
+        if per_seed is not None:
+            jitter = np.linspace(-0.2, 0.2, len(per_seed))
+            ax.plot(s * np.asarray(per_seed), yk + jitter, ".", color=color, ms=3, alpha=0.5)
+        ax.plot([s * ci.low, s * ci.high], [yk, yk], color=color, lw=3, solid_capstyle="butt")
+        ax.plot(s * ci.estimate, yk, "o", color=color, ms=6, mec="black", mew=0.6, zorder=3)
+    ax.set_yticks(y, [f"{r[0]}: {r[2]}" for r in rows], fontsize=8)
+    ax.set_ylim(-0.7, len(rows) - 0.3)
+    ax.set_title(title, loc="left", fontsize=9)
+    ax.set_xlabel(p["xlabel"], fontsize=8)
+    ax.tick_params(axis="x", labelsize=8)
+    ax.grid(axis="x", alpha=0.3, lw=0.5)
+
+
 def fig_verdicts(panels: list[dict]) -> Figure:
     """A study's verdicts, one panel per claim: per comparison the 95% interval of its
     statistic (a bar, the estimate a dot), each seed's paired value (small dots) where the
@@ -1156,36 +1251,7 @@ def fig_verdicts(panels: list[dict]) -> Figure:
     fig = _new_figure(9.5, 0.36 * sum(heights) + 0.6)
     axes = np.atleast_1d(fig.subplots(len(panels), 1, height_ratios=heights))
     for ax, p, title in zip(axes, panels, titles, strict=True):
-        s, rows = p["scale"], p["rows"]
-        y = np.arange(len(rows))[::-1].astype(float)
-        if p.get("band") is not None:
-            ax.axvspan(s * p["band"][0], s * p["band"][1], color="0.9", zorder=0)
-        ax.axvline(s * p["bound"], color="0.25", lw=0.9, ls="--", zorder=1)
-        if p.get("reference") is not None:  # (value, label): e.g. another learner's level
-            value, label = p["reference"]
-            ax.axvline(s * value, color="C0", lw=1.2, ls=":", zorder=1)
-            ax.annotate(
-                label,
-                (s * value, 1.0),
-                xycoords=("data", "axes fraction"),
-                xytext=(3, -9),
-                textcoords="offset points",
-                fontsize=7,
-                color="C0",
-            )
-        for yk, (_, ci, verdict, per_seed) in zip(y, rows, strict=True):
-            color = VERDICT_COLOURS.get(verdict, "C0")
-            if per_seed is not None:
-                jitter = np.linspace(-0.2, 0.2, len(per_seed))
-                ax.plot(s * np.asarray(per_seed), yk + jitter, ".", color=color, ms=3, alpha=0.5)
-            ax.plot([s * ci.low, s * ci.high], [yk, yk], color=color, lw=3, solid_capstyle="butt")
-            ax.plot(s * ci.estimate, yk, "o", color=color, ms=6, mec="black", mew=0.6, zorder=3)
-        ax.set_yticks(y, [f"{r[0]}: {r[2]}" for r in rows], fontsize=8)
-        ax.set_ylim(-0.7, len(rows) - 0.3)
-        ax.set_title(title, loc="left", fontsize=9)
-        ax.set_xlabel(p["xlabel"], fontsize=8)
-        ax.tick_params(axis="x", labelsize=8)
-        ax.grid(axis="x", alpha=0.3, lw=0.5)
+        _verdict_panel(ax, p, title, VERDICT_COLOURS)
     fig.suptitle(
         "each comparison: its 95% interval (bar), estimate (circle) and seeds (dots), "
         "coloured by the decision; dashed: the rule's bound; grey: its margin",
@@ -1285,6 +1351,57 @@ def fig_decomposition(
     return fig
 
 
+def _glance_yardsticks(
+    ax, i: int, world: str, names: list[str], yardsticks: dict[tuple[str, str], float]
+) -> None:
+    """World ``i``'s yardsticks in :func:`fig_glance`: each one's mean a line across the group."""
+    styles = ("--", ":", "-.", (0, (1, 3)))
+    for j, name in enumerate(names):
+        if (world, name) in yardsticks:
+            value = 100 * yardsticks[world, name]
+            ax.plot(
+                [i - 0.45, i + 0.45],
+                [value, value],
+                color="0.35",
+                lw=1.1,
+                ls=styles[j % len(styles)],
+                label=name if i == 0 else None,
+            )
+
+
+def _glance_learners(
+    ax,
+    i: int,
+    world: str,
+    learners: list[str],
+    seeds: dict[tuple[str, str], np.ndarray],
+    trials: int,
+) -> None:
+    """World ``i``'s learners in :func:`fig_glance`: the seeds' dots, the mean and its interval."""
+    from docking.stats import rate_ci
+
+    width = 0.8 / max(len(learners), 1)
+    markers = "oDs^v"
+    for k, learner in enumerate(learners):
+        values = seeds.get((world, learner))
+        if values is None:
+            continue
+        x = i - 0.4 + width * (k + 0.5)
+        values = 100 * np.asarray(values)
+        ax.plot(np.full(len(values), x), values, ".", color=f"C{k}", alpha=0.3, ms=4)
+        ci = rate_ci(values / 100, trials)
+        ax.errorbar(
+            x,
+            values.mean(),
+            yerr=[[values.mean() - 100 * ci.low], [100 * ci.high - values.mean()]],
+            fmt=markers[k % len(markers)],
+            color=f"C{k}",
+            ms=7,
+            capsize=3,
+            label=learner if i == 0 else None,
+        )
+
+
 def fig_glance(
     worlds: list[str],
     learners: list[str],
@@ -1305,44 +1422,12 @@ def fig_glance(
       yardsticks: ``{(world, yardstick): mean success (fraction)}``.
       trials: Held-out trials per seed.
     """
-    from docking.stats import rate_ci
-
     fig = _new_figure(7.6, 2.7)
     ax = fig.subplots()
-    width = 0.8 / max(len(learners), 1)
-    markers = "oDs^v"
-    styles = ("--", ":", "-.", (0, (1, 3)))
     names = list(dict.fromkeys(y for _, y in yardsticks))
     for i, world in enumerate(worlds):
-        for j, name in enumerate(names):
-            if (world, name) in yardsticks:
-                value = 100 * yardsticks[world, name]
-                ax.plot(
-                    [i - 0.45, i + 0.45],
-                    [value, value],
-                    color="0.35",
-                    lw=1.1,
-                    ls=styles[j % len(styles)],
-                    label=name if i == 0 else None,
-                )
-        for k, learner in enumerate(learners):
-            values = seeds.get((world, learner))
-            if values is None:
-                continue
-            x = i - 0.4 + width * (k + 0.5)
-            values = 100 * np.asarray(values)
-            ax.plot(np.full(len(values), x), values, ".", color=f"C{k}", alpha=0.3, ms=4)
-            ci = rate_ci(values / 100, trials)
-            ax.errorbar(
-                x,
-                values.mean(),
-                yerr=[[values.mean() - 100 * ci.low], [100 * ci.high - values.mean()]],
-                fmt=markers[k % len(markers)],
-                color=f"C{k}",
-                ms=7,
-                capsize=3,
-                label=learner if i == 0 else None,
-            )
+        _glance_yardsticks(ax, i, world, names, yardsticks)
+        _glance_learners(ax, i, world, learners, seeds, trials)
     ax.set_xticks(range(len(worlds)), worlds, fontsize=9)
     ax.set_xlim(-0.5, len(worlds) - 0.5)
     ax.set_ylim(0, 104)
@@ -1350,6 +1435,41 @@ def fig_glance(
     ax.grid(axis="y", alpha=0.3, lw=0.5)
     ax.legend(loc="upper center", bbox_to_anchor=(0.5, -0.25), ncol=3, fontsize=8, frameon=False)
     return fig
+
+
+def _inch_canvas(width: float, height: float):
+    """A figure on the Agg canvas with one frameless axes over it, in inches, y downwards."""
+    fig = Figure(figsize=(width, height))  # inches as data units
+    FigureCanvasAgg(fig)
+    ax = fig.add_axes((0, 0, 1, 1))
+    ax.set_xlim(0, width)
+    ax.set_ylim(height, 0)
+    ax.axis("off")
+    return fig, ax
+
+
+def _claim_box(
+    ax,
+    corner: tuple[float, float],
+    size: tuple[float, float],
+    colour: str,
+    heading: str,
+    interval: str,
+) -> None:
+    """One comparison's box in :func:`fig_claims`: a tinted rounded box, two lines of text."""
+    left, y0 = corner
+    ax.add_patch(
+        FancyBboxPatch(
+            (left, y0),
+            *size,
+            boxstyle="round,pad=0.0,rounding_size=0.06",
+            facecolor=colour,
+            alpha=0.22,
+            edgecolor=colour,
+        )
+    )
+    ax.text(left + 0.06, y0 + 0.14, heading, fontsize=7, va="center")
+    ax.text(left + 0.06, y0 + 0.31, interval, fontsize=7, va="center", color="0.2")
 
 
 def fig_claims(rows: list[tuple]) -> Figure:
@@ -1377,12 +1497,7 @@ def fig_claims(rows: list[tuple]) -> Figure:
         for (_, _, comparisons, _), n in zip(rows, notes, strict=True)
     ]
     top = 0.55  # the title
-    fig = Figure(figsize=(_PAGE_WIDTH_IN, top + sum(heights)))  # inches as data units
-    FigureCanvasAgg(fig)
-    ax = fig.add_axes((0, 0, 1, 1))
-    ax.set_xlim(0, _PAGE_WIDTH_IN)
-    ax.set_ylim(top + sum(heights), 0)
-    ax.axis("off")
+    fig, ax = _inch_canvas(_PAGE_WIDTH_IN, top + sum(heights))
     y = top
     for (key, _, comparisons, note), wrapped, height in zip(rows, notes, heights, strict=True):
         ax.text(0.08, y + 0.14, key, fontsize=9, weight="bold", va="center")
@@ -1391,19 +1506,9 @@ def fig_claims(rows: list[tuple]) -> Figure:
             colour = "0.75" if note else VERDICT_COLOURS.get(verdict, "C0")
             left = label_w + (box_w + gap) * (k % per_line)
             y0 = y + 0.04 + line_h * (k // per_line)
-            ax.add_patch(
-                FancyBboxPatch(
-                    (left, y0),
-                    box_w,
-                    line_h - 0.08,
-                    boxstyle="round,pad=0.0,rounding_size=0.06",
-                    facecolor=colour,
-                    alpha=0.22,
-                    edgecolor=colour,
-                )
+            _claim_box(
+                ax, (left, y0), (box_w, line_h - 0.08), colour, f"{label}: {verdict}", interval
             )
-            ax.text(left + 0.06, y0 + 0.14, f"{label}: {verdict}", fontsize=7, va="center")
-            ax.text(left + 0.06, y0 + 0.31, interval, fontsize=7, va="center", color="0.2")
         y += height
         ax.axhline(y - 0.04, color="0.88", linewidth=0.6)
     ax.text(

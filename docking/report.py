@@ -147,20 +147,10 @@ def heldout_rows(
     return rows
 
 
-def configuration_table(config: ExperimentConfig) -> str:
-    """A Markdown table of every choice behind ``config``: value and whether it is the
-    paper's or ours (ours = the paper leaves it open; the reasons are in the notebooks)."""
-    w, n, c = config.world, config.network, config.curriculum
-    if c.grow_trials:
-        region = (
-            f"far edge {c.far_initial:.2f} m -> {w.start_far:.2f} m, linearly over the "
-            f"first {c.grow_trials} trials"
-        )
-        region_source = "ours: the paper says only 'incrementally enlarged', up to 1.5 m"
-    else:
-        region = "fixed (no curriculum)"
-        region_source = "paper"
-    rows = [
+def _network_choices(config: ExperimentConfig) -> list[tuple[str, str, str]]:
+    """The configuration table's rows of the network: units, rule, rates and initial weights."""
+    n = config.network
+    return [
         ("feature units / rule", f"{n.n_features} / {n.rule}", "paper"),
         (
             "beta_s, beta_a (train, test), gamma",
@@ -174,6 +164,25 @@ def configuration_table(config: ExperimentConfig) -> str:
             f"uniform random, rows unit length / uniform in [0, {n.q_init:g}]",
             "ours",
         ),
+    ]
+
+
+def _training_region(config: ExperimentConfig) -> tuple[str, str]:
+    """The configuration table's start region in training (the curriculum) and its source."""
+    w, c = config.world, config.curriculum
+    if c.grow_trials:
+        region = (
+            f"far edge {c.far_initial:.2f} m -> {w.start_far:.2f} m, linearly over the "
+            f"first {c.grow_trials} trials"
+        )
+        return region, "ours: the paper says only 'incrementally enlarged', up to 1.5 m"
+    return "fixed (no curriculum)", "paper"
+
+
+def _world_choices(config: ExperimentConfig) -> list[tuple[str, str, str]]:
+    """The configuration table's rows of the world: start regions, steps, noise and dock."""
+    w = config.world
+    return [
         (
             "test start region",
             f"{w.start_near:.2f}-{w.start_far:.2f} m from the landmark, "
@@ -181,7 +190,7 @@ def configuration_table(config: ExperimentConfig) -> str:
             f"heading +-{w.start_yaw_deg:g} deg",
             "ours (the paper: a trapezoid)",
         ),
-        ("start region in training", region, region_source),
+        ("start region in training", *_training_region(config)),
         (
             "steps",
             f"forward/back {100 * w.step_forward:.0f} cm, sideways {100 * w.step_side:.0f} cm",
@@ -197,10 +206,16 @@ def configuration_table(config: ExperimentConfig) -> str:
             f"{100 * w.dock_width:.0f} cm across x {100 * w.dock_depth:.0f} cm deep",
             "paper: 8x20 cm",
         ),
+    ]
+
+
+def _run_choices(config: ExperimentConfig) -> list[tuple[str, str, str]]:
+    """The configuration table's rows of the runs: trials, SARSA's target, curve and seeds."""
+    return [
         (
             "trials",
             f"{config.train_trials} training, {config.test_trials} test, at most "
-            f"{w.max_steps} actions",
+            f"{config.world.max_steps} actions",
             "paper",
         ),
         (
@@ -220,6 +235,12 @@ def configuration_table(config: ExperimentConfig) -> str:
             "ours (the paper reports one run)",
         ),
     ]
+
+
+def configuration_table(config: ExperimentConfig) -> str:
+    """A Markdown table of every choice behind ``config``: value and whether it is the
+    paper's or ours (ours = the paper leaves it open; the reasons are in the notebooks)."""
+    rows = [*_network_choices(config), *_world_choices(config), *_run_choices(config)]
     return md_table(("choice", "value", "source"), rows)
 
 
