@@ -13,3 +13,28 @@ def test_env_step_and_floor_are_measured():
     assert step["n"] == 2 and 0 < step["min"] <= step["median"] < 0.1
     assert set(floor) == {"floor", "render", "physics", "preprocess"}
     assert all(0 < f["min"] <= f["median"] < 0.1 for f in floor.values())
+
+
+def test_outside_a_clone_the_benchmark_says_where_it_is(tmp_path):
+    """An installed package holds no benchmarks/ folder: python -m docking benchmark says so
+    and exits 2, rather than failing on an import."""
+    import os
+    import shutil
+    import subprocess
+    import sys
+    from pathlib import Path
+
+    import docking
+
+    shutil.copytree(Path(docking.__file__).parent, tmp_path / "docking")
+    done = subprocess.run(
+        [sys.executable, "-m", "docking", "benchmark", "--quick"],
+        env={**os.environ, "PYTHONPATH": str(tmp_path)},
+        cwd=tmp_path,
+        capture_output=True,
+        text=True,
+        timeout=120,
+    )
+    assert done.returncode == 2, done.stderr
+    assert "benchmarks/env_speed.py of the repository" in done.stderr
+    assert "run it from a clone" in done.stderr
