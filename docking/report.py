@@ -1724,11 +1724,12 @@ CHOICES_AFTER_RESULTS = (
 )
 
 
-def candour_text() -> str:
+def candour_text(folder=None) -> str:
     """The candid summary's sentences: which claims hold by construction and which verdicts
     are limited by a measure's resolution (:data:`OUTSIDE_COUNTS`), which choices were made
-    after earlier results were seen (:data:`CHOICES_AFTER_RESULTS`), and the deviations from
-    the rules' order (:data:`DEVIATIONS`)."""
+    after earlier results were seen (:data:`CHOICES_AFTER_RESULTS`), the deviations from
+    the rules' order (:data:`DEVIATIONS`), and where the ledger can prove that rules came
+    before runs (:func:`provenance_text`, from the ledger in ``folder``)."""
     outside = "; ".join(f"{k}: {why}" for k, why in OUTSIDE_COUNTS.items())
     choices = "; ".join(f"{what}, {why}" for what, why in CHOICES_AFTER_RESULTS)
     deviations = "; ".join(f"{d.design}: {d.what}" for d in DEVIATIONS)
@@ -1736,7 +1737,42 @@ def candour_text() -> str:
         f"**Read with care.** Outside every count of verdicts, as tests that could not fail "
         f"or could not see: {outside} (notebook 09 tests both again by rules that can fail). "
         f"Chosen after earlier results were seen: {choices}. Deviations from the rules' "
-        f"order, listed in their notebooks: {deviations}."
+        f"order, listed in their notebooks: {deviations}. {provenance_text(folder)}"
+    )
+
+
+def provenance_counts(folder=None) -> tuple[dict[str, int], dict[str, int]]:
+    """The ledger's runs per table, in two parts: ``(timed, untimed)``, the runs of the
+    designs whose rules commit is recorded (:data:`RULES_COMMITS`), and the runs of every
+    other table that carry no computed time (the ledger recorded none before issue 42)."""
+    from docking import ledger
+
+    data = ledger.manifest(folder)
+    if data is None:
+        raise ValueError("no ledger: the times runs were computed are read from its manifest")
+    timed: dict[str, int] = {}
+    untimed: dict[str, int] = {}
+    for run in data["runs"].values():
+        name = run["name"]
+        if name in RULES_COMMITS:
+            timed[name] = timed.get(name, 0) + 1
+        elif "computed_utc" not in run:
+            untimed[name] = untimed.get(name, 0) + 1
+    return timed, untimed
+
+
+def provenance_text(folder=None) -> str:
+    """Where "rules before runs" is proven by the ledger's run times and where it rests on
+    the order of commits alone (:func:`provenance_counts`)."""
+    timed, untimed = provenance_counts(folder)
+    proven = ", ".join(f"{name} ({n:,})" for name, n in sorted(timed.items()))
+    unproven = ", ".join(f"{name} ({n:,})" for name, n in sorted(untimed.items()))
+    return (
+        f"Rules before runs, proven from the ledger's run times (tests/test_provenance.py): "
+        f"every run of {proven} was computed after its rules' commit. The ledger recorded no "
+        f"times before issue 42: the runs of {unproven} carry none, so for their verdicts only "
+        f"the order of the commits speaks; computing them again would give new times, not "
+        f"evidence, since the first computations had been seen."
     )
 
 

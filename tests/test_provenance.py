@@ -113,3 +113,19 @@ def test_a_run_with_other_rules_breaks_its_tables_seal():
     assert ledger._seals(records) != sealed
     del records["k1"]["rules_sha256"]  # a record from before the field: sealed as it was
     assert ledger._seals(records) == ledger._seals({"k1": {"name": "t", "digest": "d"}})
+
+
+def test_the_summary_says_where_rules_before_runs_is_proven_and_where_not():
+    """report.provenance_text: the designs whose runs' times prove their rules came first,
+    and every other table whose runs carry no time, with their counts from the manifest."""
+    folder = ROOT / "ledger"
+    timed, untimed = report.provenance_counts(folder)
+    assert set(timed) == set(report.RULES_COMMITS)
+    for name, n in timed.items():
+        assert n == len(_manifest_runs(name))
+    for name, n in untimed.items():
+        assert name not in timed
+        assert n == sum("computed_utc" not in r for r in _manifest_runs(name)) > 0
+    text = report.provenance_text(folder)
+    assert all(f"{name} ({n:,})" in text for name, n in {**timed, **untimed}.items())
+    assert text in report.candour_text(folder)
