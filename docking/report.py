@@ -1768,11 +1768,9 @@ def provenance_text(folder=None) -> str:
     proven = ", ".join(f"{name} ({n:,})" for name, n in sorted(timed.items()))
     unproven = ", ".join(f"{name} ({n:,})" for name, n in sorted(untimed.items()))
     return (
-        f"Rules before runs, proven from the ledger's run times (tests/test_provenance.py): "
-        f"every run of {proven} was computed after its rules' commit. The ledger recorded no "
-        f"times before issue 42: the runs of {unproven} carry none, so for their verdicts only "
-        f"the order of the commits speaks; computing them again would give new times, not "
-        f"evidence, since the first computations had been seen."
+        f"Rules before runs, proven by the ledger's run times (tests/test_provenance.py) for "
+        f"{proven}; the runs of {unproven} carry no time (the ledger recorded none before "
+        f"issue 42), so for their verdicts only the order of the commits speaks."
     )
 
 
