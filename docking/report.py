@@ -1745,14 +1745,9 @@ def provenance_counts(folder=None) -> tuple[dict[str, int], dict[str, int]]:
     """The ledger's runs per table, in two parts: ``(timed, untimed)``, the runs of the
     designs whose rules commit is recorded (:data:`RULES_COMMITS`), and the runs of every
     other table that carry no computed time (the ledger recorded none before issue 42)."""
-    from docking import ledger
-
-    data = ledger.manifest(folder)
-    if data is None:
-        raise ValueError("no ledger: the times runs were computed are read from its manifest")
     timed: dict[str, int] = {}
     untimed: dict[str, int] = {}
-    for run in data["runs"].values():
+    for run in _manifest_runs(folder):
         name = run["name"]
         if name in RULES_COMMITS:
             timed[name] = timed.get(name, 0) + 1
@@ -1797,13 +1792,19 @@ def computed_times(name: str, folder=None) -> list:
     """When each run of the ledger's table ``name`` was computed (UTC datetimes, sorted),
     from its manifest; a run stored before the time was recorded has none and is left out
     (compare the count with the runs')."""
+    runs = _manifest_runs(folder)
+    return sorted(utc(r["computed_utc"]) for r in runs if r["name"] == name and "computed_utc" in r)
+
+
+def _manifest_runs(folder=None) -> list[dict]:
+    """The run records of the ledger's manifest in ``folder`` (the ledger's by default), where
+    the times runs were computed are kept; ValueError if there is no ledger."""
     from docking import ledger
 
     data = ledger.manifest(folder)
     if data is None:
         raise ValueError("no ledger: the times runs were computed are read from its manifest")
-    runs = data["runs"].values()
-    return sorted(utc(r["computed_utc"]) for r in runs if r["name"] == name and "computed_utc" in r)
+    return list(data["runs"].values())
 
 
 def addendum_summary(added, contest, ad) -> str:

@@ -78,7 +78,6 @@ from docking.validate import MAX_SEED, check_int
 __all__ = [
     "CorruptResult",
     "FORMAT_VERSION",
-    "BUILT_IN_NAMES",
     "built_in",
     "RUNNERS",
     "Runner",
@@ -674,8 +673,6 @@ LEARNER = Runner(
     test_elsewhere=True,
 )
 
-#: The names of the package's own kinds of run (:func:`register` never replaces them).
-BUILT_IN_NAMES = ("learner", "ppo")
 #: Every kind of run, by its configuration's type (:func:`register` adds one; PPO's is added
 #: when first asked for, :func:`_ppo_runner`).
 RUNNERS: dict[type, Runner] = {LEARNER.config_type: LEARNER}
@@ -786,9 +783,9 @@ def runner_named(name: str) -> Runner:
     if runner is None and isinstance(name, str) and _import_learners():
         runner = _BY_NAME.get(name)
     if runner is None:
+        built_in()  # the known names include PPO's, made on first use
         raise ValueError(
-            f"no kind of run is called {name!r:.40}; known: "
-            f"{', '.join(dict.fromkeys([*BUILT_IN_NAMES, *_BY_NAME]))} (a learner "
+            f"no kind of run is called {name!r:.40}; known: {', '.join(_BY_NAME)} (a learner "
             f"from outside the package: import its module first, or name it in "
             f"{LEARNERS_VARIABLE})"
         )

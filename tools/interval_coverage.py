@@ -49,22 +49,17 @@ def coverage(
     if method not in ("percentile", "bca", "t", "paired"):
         raise ValueError(f"coverage: method must be percentile, bca, t or paired, got {method!r}")
     rng = np.random.default_rng(seed)
-
-    def beta(m):
-        k = m * (1 - m) / spread**2 - 1
-        return m * k, (1 - m) * k
-
     hits = 0
     for r in range(repeats):
         if method == "paired":  # one seed's two arms share its network: correlated
-            true = rng.beta(*beta(mean), size=n)
+            true = _beta(rng, mean, spread, n)
             arms = (true, np.clip(true - 0.05 + rng.normal(0, spread / 2, n), 0, 1))
             groups = [rng.binomial(trials, p) / trials for p in arms]
             ci = t_paired_ci(*groups, confidence=confidence)
             hits += ci.low <= 0.05 <= ci.high
             continue
         groups = [
-            rng.binomial(trials, rng.beta(*beta(m), size=n)) / trials for m in (mean, mean - 0.05)
+            rng.binomial(trials, _beta(rng, m, spread, n)) / trials for m in (mean, mean - 0.05)
         ]
         if method == "t":
             ci = t_difference_ci(*groups, confidence=confidence)
