@@ -15,6 +15,30 @@ world is imported lazily, so ``docking.network`` works without OpenGL.
 
 __version__ = "0.1.0"
 
+import os as _os  # noqa: E402
+import signal as _signal  # noqa: E402
+import sys as _sys  # noqa: E402
+
+
+def _exit_on_ctrl_c(signum, frame):
+    """Ctrl-C while ``python -m docking`` is importing: one line and status 130, nothing to
+    undo. (A KeyboardInterrupt there is a traceback, or an ImportError when an extension
+    module's initialisation meets it.)"""
+    print("python -m docking: interrupted", file=_sys.stderr, flush=True)
+    _os._exit(130)
+
+
+# ``python -m docking ...`` imports this package before docking.__main__, while argv[0] is
+# still "-m": the handler then covers the imports below too (gymnasium and numpy, the larger
+# part of the command's start). ``import docking`` anywhere else leaves Ctrl-C alone, and so
+# does a command started with SIGINT ignored (a shell's background job, as Python itself).
+if (
+    _sys.argv[:1] == ["-m"]
+    and "docking" in getattr(_sys, "orig_argv", ())
+    and _signal.getsignal(_signal.SIGINT) is not _signal.SIG_IGN
+):
+    _signal.signal(_signal.SIGINT, _exit_on_ctrl_c)
+
 # The rendering environment's defaults (MUJOCO_GL=egl, ...), before anything imports mujoco.
 from docking import glenv as _glenv  # noqa: E402, F401
 

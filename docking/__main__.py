@@ -1,17 +1,19 @@
 """``python -m docking``: the command line (:mod:`docking.cli`)."""
 
 if __name__ == "__main__":
+    import atexit
     import os
     import signal
     import sys
 
-    def _interrupted(signum, frame):  # Ctrl-C while the package is imported: nothing to undo
-        print("python -m docking: interrupted", file=sys.stderr, flush=True)
-        os._exit(130)
+    from docking import _exit_on_ctrl_c
 
-    # Not KeyboardInterrupt while importing: an extension module's initialisation turns it
-    # into an ImportError, or Python exits by SIGINT after it was handled.
-    signal.signal(signal.SIGINT, _interrupted)
+    # Ctrl-C while the command's modules are imported: one line, 130 (the package set this
+    # already under ``python -m docking``; ``runpy.run_module`` comes here without it). A
+    # command started with SIGINT ignored (a shell's background job) keeps it ignored.
+    ctrl_c = signal.getsignal(signal.SIGINT) is not signal.SIG_IGN
+    if ctrl_c:
+        signal.signal(signal.SIGINT, _exit_on_ctrl_c)
     from docking.glenv import RenderingUnavailable, check_gl_backend
 
     try:  # before docking.cli imports MuJoCo, whose own failure is a traceback
@@ -24,11 +26,20 @@ if __name__ == "__main__":
 
     # A command is interrupted by KeyboardInterrupt, so that a sweep closes its cluster on the
     # way out; main says so in one line and returns 130.
-    signal.signal(signal.SIGINT, signal.default_int_handler)
+    if ctrl_c:
+        signal.signal(signal.SIGINT, signal.default_int_handler)
     try:
         status = main()
         sys.stdout.flush()
     except BrokenPipeError:  # the reader of the output left (``... --help | head``)
         os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
         status = 141  # as a shell reports SIGPIPE
+    if status == 130:
+        # main caught a KeyboardInterrupt and said so in one line. CPython 3.11 can still hold
+        # it unhandled (seen under load, with the interrupt met inside code that namedtuple
+        # evaluates while dm_control is imported) and then ends ``python -m`` by SIGINT after
+        # finalising, whatever the status. So end here: atexit handlers run, then status 130.
+        sys.stderr.flush()
+        atexit._run_exitfuncs()
+        os._exit(130)
     raise SystemExit(status)
