@@ -29,9 +29,17 @@ from docking.sweep import grid_configs, parse_seeds
 REPO = Path(__file__).resolve().parent.parent
 
 
-def _cli(args, tmp_path, timeout=120, **env):
+def _foreground_job():
+    """Run in a child before it starts: SIGINT at its default, as a terminal's foreground job
+    has it, even where the tests run with SIGINT ignored (a script's background job), which
+    the child would inherit and python -m docking, as Python, would keep."""
+    signal.signal(signal.SIGINT, signal.SIG_DFL)
+
+
+def _cli(args, tmp_path, timeout=120, preexec_fn=None, **env):
     return subprocess.run(
         [sys.executable, "-m", "docking", *args],
+        preexec_fn=preexec_fn,
         cwd=tmp_path,
         env={
             **os.environ,
@@ -226,6 +234,7 @@ def test_ctrl_c_prints_one_line_exits_130_and_leaves_no_process(args, after, tmp
         stderr=subprocess.PIPE,
         text=True,
         start_new_session=True,  # its own process group, as a terminal's foreground job
+        preexec_fn=_foreground_job,
     )
     time.sleep(after)
     family = [psutil.Process(proc.pid), *psutil.Process(proc.pid).children(recursive=True)]
@@ -264,6 +273,7 @@ def _ctrl_c_at_import(tmp_path, module, when="True", before="pass"):
     return _cli(
         ["run", "experiment1", "--seeds", "0", "--train-trials", "2", "--test-trials", "1"],
         tmp_path,
+        preexec_fn=_foreground_job,
         PYTHONPATH=os.pathsep.join([str(site), str(REPO), os.environ.get("PYTHONPATH", "")]),
     )
 
@@ -320,7 +330,13 @@ def test_import_docking_leaves_ctrl_c_alone():
     """Only python -m docking handles Ctrl-C itself; a notebook or a script that imports the
     package keeps Python's KeyboardInterrupt."""
     code = "import signal, docking; print(signal.getsignal(2) is signal.default_int_handler)"
-    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=60)
+    out = subprocess.run(
+        [sys.executable, "-c", code],
+        capture_output=True,
+        text=True,
+        timeout=60,
+        preexec_fn=_foreground_job,
+    )
     assert out.stdout.strip() == "True", out.stderr
 
 
