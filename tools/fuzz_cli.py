@@ -269,6 +269,10 @@ def interrupt(args: list[str], after: float, signum: int = signal.SIGINT, extra_
         stderr=subprocess.PIPE,
         text=True,
         start_new_session=True,
+        # SIGINT at its default, as a terminal's foreground job has it, even where this tool
+        # runs with SIGINT ignored (a script's background job): python -m docking keeps an
+        # inherited SIG_IGN, as Python does.
+        preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL),
     )
     time.sleep(after)
     if proc.poll() is not None:  # the case is wrong, not the command: say so
