@@ -19,25 +19,33 @@ import os as _os  # noqa: E402
 import signal as _signal  # noqa: E402
 import sys as _sys  # noqa: E402
 
+#: The command line's name in its messages (:data:`docking.cli.PROG`), here because
+#: ``python -m docking`` may need it before the command line is imported.
+_PROG = "python -m docking"
+
 
 def _exit_on_ctrl_c(signum, frame):
     """Ctrl-C while ``python -m docking`` is importing: one line and status 130, nothing to
     undo. (A KeyboardInterrupt there is a traceback, or an ImportError when an extension
     module's initialisation meets it.)"""
-    print("python -m docking: interrupted", file=_sys.stderr, flush=True)
+    print(f"{_PROG}: interrupted", file=_sys.stderr, flush=True)
     _os._exit(130)
+
+
+def _take_ctrl_c() -> bool:
+    """Make Ctrl-C :func:`_exit_on_ctrl_c`, unless SIGINT is ignored (a shell's background
+    job: it stays ignored, as Python leaves it); whether it did."""
+    if _signal.getsignal(_signal.SIGINT) is _signal.SIG_IGN:
+        return False
+    _signal.signal(_signal.SIGINT, _exit_on_ctrl_c)
+    return True
 
 
 # ``python -m docking ...`` imports this package before docking.__main__, while argv[0] is
 # still "-m": the handler then covers the imports below too (gymnasium and numpy, the larger
-# part of the command's start). ``import docking`` anywhere else leaves Ctrl-C alone, and so
-# does a command started with SIGINT ignored (a shell's background job, as Python itself).
-if (
-    _sys.argv[:1] == ["-m"]
-    and "docking" in getattr(_sys, "orig_argv", ())
-    and _signal.getsignal(_signal.SIGINT) is not _signal.SIG_IGN
-):
-    _signal.signal(_signal.SIGINT, _exit_on_ctrl_c)
+# part of the command's start). ``import docking`` anywhere else leaves Ctrl-C alone.
+if _sys.argv[:1] == ["-m"] and "docking" in getattr(_sys, "orig_argv", ()):
+    _take_ctrl_c()
 
 # The rendering environment's defaults (MUJOCO_GL=egl, ...), before anything imports mujoco.
 from docking import glenv as _glenv  # noqa: E402, F401

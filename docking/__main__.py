@@ -6,20 +6,17 @@ if __name__ == "__main__":
     import signal
     import sys
 
-    from docking import _exit_on_ctrl_c
+    from docking import _PROG, _take_ctrl_c
 
-    # Ctrl-C while the command's modules are imported: one line, 130 (the package set this
-    # already under ``python -m docking``; ``runpy.run_module`` comes here without it). A
-    # command started with SIGINT ignored (a shell's background job) keeps it ignored.
-    ctrl_c = signal.getsignal(signal.SIGINT) is not signal.SIG_IGN
-    if ctrl_c:
-        signal.signal(signal.SIGINT, _exit_on_ctrl_c)
+    # Ctrl-C while the command's modules are imported: one line, 130 (the package did this
+    # already under ``python -m docking``; ``runpy.run_module`` comes here without it).
+    ctrl_c = _take_ctrl_c()
     from docking.glenv import RenderingUnavailable, check_gl_backend
 
     try:  # before docking.cli imports MuJoCo, whose own failure is a traceback
         check_gl_backend()
     except RenderingUnavailable as exc:
-        print(f"python -m docking: error: {exc}", file=sys.stderr)
+        print(f"{_PROG}: error: {exc}", file=sys.stderr)
         raise SystemExit(1) from None
 
     from docking.cli import main

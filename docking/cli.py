@@ -37,7 +37,7 @@ from typing import Annotated, Literal, Union
 import numpy as np
 import tyro
 
-from docking import paths
+from docking import _PROG, paths
 from docking.camera import CameraConfig
 from docking.designs import names as _design_names
 from docking.experiments import POLICIES, PRETRAIN_RULES, Curriculum, ExperimentConfig
@@ -53,7 +53,7 @@ from docking.scene import (
     WorldConfig,
 )
 
-PROG = "python -m docking"
+PROG = _PROG  # the name in every message: one place, docking/__init__.py
 DESCRIPTION = (
     "Kleesiek et al. (2011) on dm-control: run the experiments, sweep parameters on a Dask "
     "cluster, print the results table, benchmark the environment."
