@@ -14,6 +14,7 @@ them; :func:`save_figures` makes every figure from the runs of both experiments.
 
 from __future__ import annotations
 
+import collections
 import dataclasses
 import functools
 from pathlib import Path
@@ -1745,15 +1746,12 @@ def provenance_counts(folder=None) -> tuple[dict[str, int], dict[str, int]]:
     """The ledger's runs per table, in two parts: ``(timed, untimed)``, the runs of the
     designs whose rules commit is recorded (:data:`RULES_COMMITS`), and the runs of every
     other table that carry no computed time (the ledger recorded none before issue 42)."""
-    timed: dict[str, int] = {}
-    untimed: dict[str, int] = {}
-    for run in _manifest_runs(folder):
-        name = run["name"]
-        if name in RULES_COMMITS:
-            timed[name] = timed.get(name, 0) + 1
-        elif "computed_utc" not in run:
-            untimed[name] = untimed.get(name, 0) + 1
-    return timed, untimed
+    runs = _manifest_runs(folder)
+    timed = collections.Counter(r["name"] for r in runs if r["name"] in RULES_COMMITS)
+    untimed = collections.Counter(
+        r["name"] for r in runs if r["name"] not in RULES_COMMITS and "computed_utc" not in r
+    )
+    return dict(timed), dict(untimed)
 
 
 def provenance_text(folder=None) -> str:
