@@ -258,14 +258,20 @@ def _die_with_parent(parent: int) -> None:
     threading.Thread(target=watch, name="docking-parent-watchdog", daemon=True).start()
 
 
+#: What a worker logs, at ERROR with a traceback, when it closes its connections while a
+#: heartbeat still waits for the scheduler's answer (distributed's ``Worker.heartbeat``).
+_HEARTBEAT_CUT = "Failed to communicate with scheduler during heartbeat."
+
+
 class _QuietFailures(logging.Filter):
     """Drops what an embedded worker reports of a failed job: "Compute Failed" (the job's
     exception and its traceback; the client re-raises the exception and the command prints
     it once, in one line) and the jobs cancelled when the failed sweep closes the cluster;
     and, once the file ``closing`` exists (the cluster that started the worker is closing
-    it), every record below ERROR: the races of our own shutdown ("Scheduler was unaware of
-    this worker; shutting down.") are not news. A worker lost while the cluster runs is
-    still reported."""
+    it), every record below ERROR and the heartbeat its own close cut (``_HEARTBEAT_CUT``):
+    the races of our own shutdown ("Scheduler was unaware of this worker; shutting down.")
+    are not news. A worker lost while the cluster runs is still reported, and so is any
+    other error while it closes."""
 
     def __init__(self, closing: str | None = None):
         super().__init__()
@@ -276,11 +282,9 @@ class _QuietFailures(logging.Filter):
             return False
         if record.name.startswith("distributed.worker") and "CancelledError" in record.getMessage():
             return False
-        return not (
-            record.levelno < logging.ERROR
-            and self.closing is not None
-            and os.path.exists(self.closing)
-        )
+        if self.closing is None or not os.path.exists(self.closing):
+            return True
+        return record.levelno >= logging.ERROR and record.getMessage() != _HEARTBEAT_CUT
 
 
 def dask_setup(worker=None) -> None:
@@ -414,7 +418,15 @@ class _EmbeddedCluster:
         try:
             for k in range(n_workers):
                 self._procs.append(
-                    subprocess.Popen(self._worker_command(k), env=env, stdin=subprocess.DEVNULL)
+                    subprocess.Popen(
+                        self._worker_command(k),
+                        env=env,
+                        stdin=subprocess.DEVNULL,
+                        # A session of their own: a terminal's Ctrl-C (SIGINT to its
+                        # foreground group) reaches the command only, which then closes its
+                        # workers in order (close()); reaching them too, it raced that close.
+                        start_new_session=True,
+                    )
                 )
             self.client = Client(self._cluster)
             self._wait_for_workers(n_workers)

@@ -460,6 +460,48 @@ def test_closing_our_cluster_logs_no_warning_of_its_own_shutdown():
     assert logging.getLogger("distributed").level <= logging.WARNING  # restored
 
 
+def test_a_heartbeat_cut_by_the_workers_own_close_is_no_traceback_once_its_cluster_closes(
+    tmp_path,
+):
+    """CI, stop 47: a sweep interrupted by Ctrl-C printed a worker's "Failed to communicate
+    with scheduler during heartbeat." and its traceback (a heartbeat still waiting when the
+    closing worker shut its connections). distributed logs it at ERROR: while the cluster
+    runs it is news; once the cluster that started the worker closes it, it is our race."""
+    from docking.sweep import _QuietFailures
+
+    closing = tmp_path / "closing"
+    quiet = _QuietFailures(str(closing))
+    cut = logging.LogRecord(
+        "distributed.worker",
+        logging.ERROR,
+        __file__,
+        1,
+        "Failed to communicate with scheduler during heartbeat.",
+        None,
+        None,
+    )
+    assert quiet.filter(cut)
+    closing.touch()
+    assert not quiet.filter(cut)
+
+
+@pytest.mark.slow
+def test_a_terminals_ctrl_c_reaches_the_command_not_its_workers():
+    """A terminal's Ctrl-C signals its foreground process group. The embedded cluster's
+    workers live in a session of their own, so only the command hears it and closes them in
+    order (the file they watch first); hearing it too, they raced that close (CI, stop 47)."""
+    from docking.sweep import _EmbeddedCluster
+
+    cluster = _EmbeddedCluster(2)
+    try:
+        for proc in cluster._procs:
+            assert os.getpgid(proc.pid) != os.getpgid(0)
+            assert os.getsid(proc.pid) != os.getsid(0)
+    finally:
+        cluster.close()
+    assert all(proc.poll() is not None for proc in cluster._procs)
+
+
 def test_an_embedded_worker_is_quiet_below_error_once_its_cluster_closes(tmp_path):
     from docking.sweep import _QuietFailures
 
