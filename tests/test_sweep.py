@@ -460,6 +460,11 @@ def test_closing_our_cluster_logs_no_warning_of_its_own_shutdown():
     assert logging.getLogger("distributed").level <= logging.WARNING  # restored
 
 
+def _worker_record(level: int, msg: str) -> logging.LogRecord:
+    """A record an embedded worker's ``distributed.worker`` logger would make."""
+    return logging.LogRecord("distributed.worker", level, __file__, 1, msg, None, None)
+
+
 def test_a_heartbeat_cut_by_the_workers_own_close_is_no_traceback_once_its_cluster_closes(
     tmp_path,
 ):
@@ -471,15 +476,7 @@ def test_a_heartbeat_cut_by_the_workers_own_close_is_no_traceback_once_its_clust
 
     closing = tmp_path / "closing"
     quiet = _QuietFailures(str(closing))
-    cut = logging.LogRecord(
-        "distributed.worker",
-        logging.ERROR,
-        __file__,
-        1,
-        "Failed to communicate with scheduler during heartbeat.",
-        None,
-        None,
-    )
+    cut = _worker_record(logging.ERROR, "Failed to communicate with scheduler during heartbeat.")
     assert quiet.filter(cut)
     closing.touch()
     assert not quiet.filter(cut)
@@ -508,13 +505,10 @@ def test_an_embedded_worker_is_quiet_below_error_once_its_cluster_closes(tmp_pat
     closing = tmp_path / "closing"
     quiet = _QuietFailures(str(closing))
 
-    def record(level, msg):
-        return logging.LogRecord("distributed.worker", level, __file__, 1, msg, None, None)
-
     unaware = "Scheduler was unaware of this worker; shutting down."
-    assert quiet.filter(record(logging.WARNING, unaware))  # while it runs: news
-    assert not quiet.filter(record(logging.ERROR, "Compute Failed\nKey: x"))
+    assert quiet.filter(_worker_record(logging.WARNING, unaware))  # while it runs: news
+    assert not quiet.filter(_worker_record(logging.ERROR, "Compute Failed\nKey: x"))
     closing.touch()
-    assert not quiet.filter(record(logging.WARNING, unaware))
-    assert quiet.filter(record(logging.ERROR, "an error"))
-    assert _QuietFailures().filter(record(logging.WARNING, unaware))  # no file to watch
+    assert not quiet.filter(_worker_record(logging.WARNING, unaware))
+    assert quiet.filter(_worker_record(logging.ERROR, "an error"))
+    assert _QuietFailures().filter(_worker_record(logging.WARNING, unaware))  # no file to watch
