@@ -22,6 +22,7 @@ MODULES = {
     "addendum-bracketing-continued": "docking.designs.bracketing_continued",
     "untested": "docking.designs.untested",
     "untested-revisited": "docking.designs.revisited",
+    "bracketing-replication": "docking.designs.replication",
 }
 
 
