@@ -904,12 +904,15 @@ class Figures:
 class Ledger:
     """Write the results ledger (ledger/, committed) from the results store: the runs of every
     design (python -m docking design list), as results tables and the few runs the designs
-    keep whole; or show what the ledger holds."""
+    keep whole; show what the ledger holds; or migrate its runs to this code."""
 
-    action: tyro.conf.Positional[Literal["update", "show"]]
-    """update: write the ledger from the results store; show: its runs, size, fingerprint."""
+    action: tyro.conf.Positional[Literal["update", "show", "migrate"]]
+    """update: write the ledger from the results store; show: its runs, size, fingerprint,
+    every file checked; migrate: after a change of code that changes no number, recompute a
+    sample covering every table, kind of run and world, and only if every recomputed run
+    equals the ledger, re-key the ledger's runs (and the results store's) to this code."""
     results_dir: _ResultsDir = None
-    """The results store (update only)."""
+    """The results store (update, and migrate: its runs are re-keyed too)."""
     under_way: Annotated[tuple[str, ...], _shown("NAME ...", "none: every design complete")] = ()
     """Designs whose runs are under way: only the cells whose runs the store holds are
     written (update only)."""
@@ -924,6 +927,8 @@ class Ledger:
         folder = paths.ledger_dir()  # ValueError if DOCKING_LEDGER is not off or a folder
         if folder is None:
             raise ValueError(_no_ledger())
+        if self.action == "migrate":
+            return _migrate(folder, self.results_dir)
         if self.action == "update":
             from docking.design import ledger_runs
             from docking.designs import design, names
@@ -956,6 +961,40 @@ class Ledger:
         checked = ledger.check_files(folder)  # CorruptLedger naming the first damaged file
         print(_ledger_table(data, folder, checked, ledger.size_bytes(folder)))
         return 0
+
+
+def _migrate(folder: Path, results_dir) -> int:
+    """``ledger migrate``: what :func:`docking.migrate.migrate` did, in a few lines; 1 if a
+    recomputed run differs (nothing migrated)."""
+    from docking import migrate
+
+    done = migrate.migrate(folder, results_dir)
+    if done.differ:
+        print(f"{PROG}: nothing migrated: this code computes other arrays for", file=sys.stderr)
+        for name, seed, what in done.differ:
+            print(f"  {name} seed {seed}: {what} differ", file=sys.stderr)
+        return 1
+    if done.record is None:
+        print(f"{folder}: its runs are keyed by this code already: nothing to migrate")
+    else:
+        record = done.record
+        for name in sorted(record["to"]):
+            print(
+                f"{folder}: {record['moved'][name]} {name} runs re-keyed from "
+                f"{record['from'][name][:16]} to {record['to'][name][:16]} "
+                f"(changed: {', '.join(record['changed'][name])[:200]})"
+            )
+        print(
+            f"proof: {len(record['recomputed'])} runs recomputed, covering every table, "
+            "kind of run and world, each equal to the ledger (digest and table row)"
+        )
+    if done.store is not None:
+        moved = done.store
+        print(
+            f"results store: {moved['moved']} runs re-keyed, {moved['current']} keyed by "
+            f"this code already, {moved['left']} left (other code, no proven migration)"
+        )
+    return 0
 
 
 #: The widest line ``ledger show`` prints.
@@ -1010,11 +1049,14 @@ def _ledger_table(data: dict, folder: Path, checked: dict, size: int) -> str:
     lines.append(fill(f"code: {sources}; rendered by {data['rendering_stack']}"))
     lines.append(
         fill(
-            f"checked: the manifest against this code's fingerprints and the seals of the "
-            f"{checked['runs']} runs' digests and wall times; the {checked['tables']} tables "
-            f"and {checked['whole']} whole runs against their SHA-256, each table's runs "
-            "against the manifest's, the whole runs' arrays against their digests. A table "
-            "run's arrays are checked only by recomputing it (python -m docking verify)."
+            f"checked: the manifest against this code's fingerprints and its seals (each "
+            f"table's SHA-256 with its runs' digests and wall times); the {checked['tables']} "
+            f"tables and {checked['whole']} whole runs against their SHA-256; every row of "
+            f"every table against its record's row digest; the whole runs' arrays against "
+            f"their digests; the {checked['runs']} runs' keys against their configurations "
+            "and seeds. Digests catch an edit, not a forgery resealed by someone who can run "
+            "this code: that a run's arrays are its own is shown only by recomputing it "
+            "(python -m docking verify)."
         )
     )
     return "\n".join(lines)
@@ -1022,14 +1064,18 @@ def _ledger_table(data: dict, folder: Path, checked: dict, size: int) -> str:
 
 @dataclasses.dataclass
 class Verify:
-    """Recompute runs of the ledger and check that each one's content digest equals the
-    ledger's: every run of Experiments 1 and 2, plus SAMPLE others chosen from the current
-    commit (successive commits check different runs); --all: every run."""
+    """Recompute runs of the ledger and check each one against the ledger: its record's
+    content digest and the row its results table serves, column by column. Every run of
+    Experiments 1 and 2, plus SAMPLE others chosen from the current commit (successive
+    commits check different runs); --table NAME: every run of a table; --all: every run."""
 
     sample: int = 3
     """How many runs besides Experiments 1 and 2 (0 or more)."""
     all: bool = False
     """Recompute every run of the ledger (hours on 2 cores; use --scheduler for a cluster)."""
+    table: Annotated[tuple[str, ...], _shown("NAME ...", "none: the sample")] = ()
+    """Recompute every run of these results tables instead (python -m docking ledger show
+    lists them)."""
     scheduler: _Scheduler = None
     """Address of an existing Dask scheduler (tcp://HOST:PORT)."""
     processes: _Processes = None
@@ -1040,13 +1086,24 @@ class Verify:
 
         if self.sample < 0:
             raise ValueError(f"--sample must be 0 or more, got {self.sample}")
-        print(_verify_plan(self.sample, self.all, self.processes, self.scheduler), flush=True)
+        if self.table and self.all:
+            raise ValueError("--table and --all: give one of them")
+        print(
+            _verify_plan(self.sample, self.all, self.processes, self.scheduler, self.table),
+            flush=True,
+        )
         checks = verify.verify(
-            None if self.all else self.sample, self.scheduler, workers=self.processes
+            None if self.all else self.sample,
+            self.scheduler,
+            workers=self.processes,
+            tables=self.table,
         )
         bad = [c for c in checks if not c.ok]
         for c in checks:
-            print(f"{'ok' if c.ok else 'MISMATCH':8s} {c.name} seed {c.seed} ({c.key[:16]})")
+            differs = "" if c.ok else f": {c.differences()} differ"
+            print(
+                f"{'ok' if c.ok else 'MISMATCH':8s} {c.name} seed {c.seed} ({c.key[:16]}){differs}"
+            )
         print(f"{len(checks) - len(bad)} of {len(checks)} recomputed runs equal the ledger")
         for line in verify.platform_lines(bool(bad)):
             print(line)
@@ -1054,7 +1111,11 @@ class Verify:
 
 
 def _verify_plan(
-    sample: int, everything: bool, processes: int | None, scheduler: str | None = None
+    sample: int,
+    everything: bool,
+    processes: int | None,
+    scheduler: str | None = None,
+    tables: tuple[str, ...] = (),
 ) -> str:
     """What ``verify`` is about to recompute, in one line: how many runs (``--sample`` capped
     at the other runs the ledger holds) and about how long, from the ledger's wall times of
@@ -1066,7 +1127,7 @@ def _verify_plan(
     if data is None:  # verify.verify says so
         return "verify: no ledger"
     commit = verify._commit()
-    keys = verify.chosen(data, None if everything else sample, commit)
+    keys = verify.chosen(data, None if everything else sample, commit, tables)
     paper = len(verify.chosen(data, 0, commit))
     others = len(verify.chosen(data, len(data["runs"]), commit)) - paper
     seconds = sum(data["runs"][k]["wall_seconds"] for k in keys)
@@ -1074,6 +1135,8 @@ def _verify_plan(
     what = (
         f"every run of the ledger ({len(keys)})"
         if everything
+        else f"every run of {', '.join(tables)} ({len(keys)})"
+        if tables
         else (
             f"{len(keys)} runs: the {paper} of {' and '.join(verify.PAPER_RUNS)} and "
             f"{len(keys) - paper} of the {others} others the ledger holds"

@@ -33,7 +33,7 @@ import io
 import tokenize
 from pathlib import Path
 
-__all__ = ["UNKEYED", "UNKEYED_MODULES", "code_tokens", "module_code", "walk"]
+__all__ = ["UNKEYED", "UNKEYED_MODULES", "code_tokens", "imported_names", "module_code", "walk"]
 
 #: Modules that compute nothing a run stores: never fingerprinted, never followed. Their
 #: functions return the values they are given (``docking.validate``'s checks raise or pass the
@@ -101,8 +101,9 @@ def _imported(node, package: str) -> set[str]:
 
 
 def _spans(source: str, module: str) -> tuple[list, set[str]]:
-    """``([(start, end, replacement)], {docking modules imported by the kept code})``:
-    the regions of ``source`` the fingerprint leaves out (see the module docstring)."""
+    """``([(start, end, replacement)], {names imported by the kept code})``: the regions of
+    ``source`` the fingerprint leaves out (see the module docstring), and every module (or
+    name in one) that the code it keeps imports."""
     tree = ast.parse(source)
     lines = source.splitlines(keepends=True) or [""]
     unkeyed = UNKEYED.get(module, frozenset())
@@ -152,14 +153,22 @@ def _spans(source: str, module: str) -> tuple[list, set[str]]:
                 visit(child, prefix)
 
     visit(tree, "")
-    # names that are not modules (``docking.world.DockingEnv``) find no file and are dropped
-    return spans, {name for name in imports if name.startswith("docking.")}
+    return spans, imports
+
+
+def imported_names(source: str, module: str = "") -> set[str]:
+    """Every module, or name in one (``helpers``, ``helpers.GAIN``), that the code of
+    ``source`` (module ``module``, for relative imports) keeps imports: what a learner's key
+    follows beyond the package (:func:`docking.learners.own_code`)."""
+    return _spans(source, module)[1]
 
 
 def code_tokens(source: str, module: str = "") -> tuple[str, set[str]]:
     """The tokens of ``source`` the fingerprint reads, one string, and the ``docking``
     modules the kept code imports."""
     spans, imports = _spans(source, module)
+    # names that are not modules (``docking.world.DockingEnv``) find no file and are dropped
+    imports = {name for name in imports if name.startswith("docking.")}
     spans.sort()
     starts = [s[0] for s in spans]
     out: list[str] = []

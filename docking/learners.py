@@ -233,7 +233,7 @@ def register(
         libraries=libraries,
         format=FORMAT_VERSION,
         key_prefix=f"learner {name} ",
-        run=functools.partial(_run, run),
+        run=functools.partial(_run, run, files=_code_files(config_type, run)),
         arrays=_arrays,
         parse=_parse,
         trials_in_run=_default_trials if trials is None else trials,
@@ -303,6 +303,7 @@ def _check_defaults(config_type) -> None:
         config = config_type()
     except TypeError:  # a field without a default: checked when a run is keyed
         return
+    check_name(config_type.__name__, "name", config.name)  # a folder of the results store
     d = config.to_dict()
     if config_type.from_dict(json.loads(json.dumps(d))) != config:
         raise ValueError(
@@ -348,10 +349,15 @@ def _default_trials(config) -> int:
 # ------------------------------------------------------------------------------------------
 
 
-def _run(run: Callable, config, seed: int, progress: bool = True, on_trials=None):
+def _run(run: Callable, config, seed: int, progress: bool = True, on_trials=None, files=None):
     """A registered learner's run: ``run``'s result, checked (its configuration and seed,
     its held-out trials drawn from the held-out stream of ``seed``, as many as the
-    configuration asks for), its training time filled in if ``run`` left it out."""
+    configuration asks for), its training time filled in if ``run`` left it out.
+    ``files``: :func:`_code_files` of the learner, taken where it was registered; a copy of
+    its code sent by value (to a Dask worker) gets its files back, so that a traceback from
+    it names the user's file and line (cloudpickle names them ``<dynamic-code>``)."""
+    if files:
+        _restore_files([run, type(config), *run.__globals__.values()], dict(files))
     seed = check_int(type(config).__name__, "seed", seed, lo=0, hi=MAX_SEED)
     t0 = time.perf_counter()
     result = run(config, seed, progress=progress, on_trials=on_trials)
@@ -375,6 +381,49 @@ def _run(run: Callable, config, seed: int, progress: bool = True, on_trials=None
     if result.wall_time_train is None:
         result.wall_time_train = max(elapsed - result.wall_time_test, 0.0)
     return result
+
+
+#: What cloudpickle names the file of code it sends by value.
+_DYNAMIC = "<dynamic-code>"
+
+
+def _functions(objects) -> list:
+    """The functions among ``objects`` and the functions of the classes among them."""
+    found = []
+    for obj in objects:
+        if isinstance(obj, types.FunctionType):
+            found.append(obj)
+        elif isinstance(obj, type):
+            found += [f for f in vars(obj).values() if isinstance(f, types.FunctionType)]
+    return found
+
+
+def _code_files(config_type: type, run: Callable) -> tuple[tuple[str, str], ...]:
+    """``((qualified name, file), ...)`` of the learner's functions: ``run``, the
+    configuration's methods and the functions and classes ``run``'s module holds."""
+    objects = [run, config_type, *run.__globals__.values()]
+    found = {
+        f.__qualname__: f.__code__.co_filename
+        for f in _functions(objects)
+        if f.__module__ == run.__module__ or f.__module__ == config_type.__module__
+    }
+    return tuple(sorted(found.items()))
+
+
+def _restore_files(objects, files: dict[str, str]) -> None:
+    """Give each function among ``objects`` whose code cloudpickle renamed
+    ``<dynamic-code>`` its file back (``files``: :func:`_code_files`), nested code included."""
+
+    def renamed(code: types.CodeType, file: str) -> types.CodeType:
+        consts = tuple(
+            renamed(c, file) if isinstance(c, types.CodeType) else c for c in code.co_consts
+        )
+        return code.replace(co_filename=file, co_consts=consts)
+
+    for function in _functions(objects):
+        file = files.get(function.__qualname__)
+        if file is not None and function.__code__.co_filename == _DYNAMIC:
+            function.__code__ = renamed(function.__code__, file)
 
 
 def _first_heldout_start(config, seed: int) -> np.ndarray:
@@ -416,15 +465,19 @@ def own_code(config_type: type, run: Callable) -> OwnCode:
     no comments, docstrings, type hints or error messages), and the ``docking`` modules it
     imports. Otherwise (a notebook cell, code run with ``exec`` whose source ``linecache``
     holds, as Jupyter's cells): the tokens of the class's and the function's own source,
-    and the ``docking`` modules they import or refer to. ``TypeError`` if the source cannot
-    be read."""
-    texts, imports, where = [], set(), []
+    and the ``docking`` modules they import or refer to. Then, transitively, every module
+    of the user's own that this code imports or refers to (:func:`user_modules`): its
+    tokens, and the ``docking`` modules it imports. ``TypeError`` if a source cannot be
+    read, or a module of the user's cannot be keyed (:func:`user_modules`)."""
+    texts, imports, where, names = [], set(), [], set()
     for module in dict.fromkeys((config_type.__module__, run.__module__)):
         path = _module_file(module, [o for o in (config_type, run) if o.__module__ == module])
         if path is not None:
-            tokens, found = fingerprint.code_tokens(path.read_text(encoding="utf-8"), module)
+            source = path.read_text(encoding="utf-8")
+            tokens, found = fingerprint.code_tokens(source, module)
             texts.append(f"file\n{tokens}")
             imports |= found
+            names |= _resolved(fingerprint.imported_names(source, module))
             where.append(str(path))
             continue
         for obj in (config_type, run):
@@ -434,11 +487,99 @@ def own_code(config_type: type, run: Callable) -> OwnCode:
             tokens, found = fingerprint.code_tokens(source, module)
             texts.append(f"{'class' if isinstance(obj, type) else 'function'}\n{tokens}")
             imports |= found | _referenced(obj)
+            names |= _resolved(fingerprint.imported_names(source, module))
+            names |= _referenced(obj, user=True)
             where.append(f"{origin}: {obj.__qualname__}")
+    done = {m for m in (config_type.__module__, run.__module__) if _module_file(m, []) is not None}
+    for name, path in user_modules(names - done):
+        tokens, found = fingerprint.code_tokens(path.read_text(encoding="utf-8"), name)
+        texts.append(f"module {name}\n{tokens}")
+        imports |= found
+        where.append(str(path))
     digest = hashlib.sha256("\n".join(texts).encode()).hexdigest()
     package = Path(store.__file__).resolve().parent
     followed = sorted(m for m in imports if m not in NOT_FOLLOWED and _is_module(package, m))
     return OwnCode(digest, tuple(followed), tuple(where))
+
+
+def user_modules(names) -> list[tuple[str, Path]]:
+    """``[(module, its file)]`` of the modules of the user's own among ``names`` (imported
+    names: modules, or names in one) and every module of the user's own that those import,
+    transitively, in name order. A module of the user's own is one outside the standard
+    library, the installed distributions and ``docking``; it is keyed by its source file.
+    A name that is no module (a function imported from one, a module that cannot be found)
+    is passed over. ``TypeError`` naming a module of the user's that has no Python source
+    (a compiled extension, a ``.pyc`` only), which no key can cover."""
+    found: dict[str, Path] = {}
+    queue = sorted(set(names))
+    while queue:
+        name = queue.pop()
+        if name in found or not _is_users(name):
+            continue
+        spec = _spec(name)
+        if spec is None:
+            continue
+        origin = spec.origin
+        if origin is None or origin in ("built-in", "frozen"):  # a namespace package: no code
+            continue
+        path = Path(origin)
+        if path.suffix != ".py" or not path.is_file():
+            raise TypeError(
+                f"register: the learner's code imports {name}, a module of your own with no "
+                f"Python source ({path.name}): its code cannot be keyed; import it from a .py file"
+            )
+        found[name] = path.resolve()
+        source = path.read_text(encoding="utf-8")
+        package = name if path.name == "__init__.py" else name.rpartition(".")[0]
+        imported = fingerprint.imported_names(source, f"{package}.__init__" if package else name)
+        queue.extend(sorted(_resolved(imported) | _resolved([name])))
+    return sorted(found.items())
+
+
+def _resolved(names) -> set[str]:
+    """``names`` as :func:`docking.fingerprint.imported_names` found them, with each one's
+    parents (``helpers.GAIN``: ``helpers`` too, the module, or a package whose
+    ``__init__`` runs when a module of it is imported)."""
+    found = set()
+    for name in names:
+        found.add(name)
+        parent = name.rpartition(".")[0]
+        if parent:
+            found.add(parent)
+    return found
+
+
+#: The top-level names of the installed distributions' packages and modules.
+@functools.cache
+def _distributed_names() -> frozenset[str]:
+    import importlib.metadata
+
+    return frozenset(importlib.metadata.packages_distributions())
+
+
+def _is_users(name: str) -> bool:
+    """Whether module ``name`` may be the user's own: not ``docking``, not the standard
+    library's, not an installed distribution's."""
+    top = name.partition(".")[0]
+    if not top or top == "docking" or top == "__main__":
+        return False
+    if top in sys.stdlib_module_names or top in sys.builtin_module_names:
+        return False
+    return top not in _distributed_names()
+
+
+def _spec(name: str):
+    """The import spec of module ``name`` (its loaded module's, if it is loaded), or None if
+    there is no such module."""
+    import importlib.util
+
+    loaded = sys.modules.get(name)
+    if loaded is not None:
+        return getattr(loaded, "__spec__", None)
+    try:
+        return importlib.util.find_spec(name)
+    except (ImportError, ValueError, AttributeError):
+        return None
 
 
 def _module_file(module: str, objects: list) -> Path | None:
@@ -498,9 +639,10 @@ def _class_source(text: str, name: str) -> str | None:
     return textwrap.dedent("".join(lines[first - 1 : node.end_lineno]))
 
 
-def _referenced(obj) -> set[str]:
+def _referenced(obj, user: bool = False) -> set[str]:
     """The ``docking`` modules the code of ``obj`` (a function, or a class's functions)
-    refers to through its globals: a module, or a function or class of one."""
+    refers to through its globals: a module, or a function or class of one. With ``user``:
+    the modules of the user's own it refers to instead (:func:`_is_users`)."""
     functions = (
         [obj]
         if isinstance(obj, types.FunctionType)
@@ -517,7 +659,11 @@ def _referenced(obj) -> set[str]:
             value = function.__globals__.get(name)
             module = value.__name__ if isinstance(value, types.ModuleType) else None
             module = module or getattr(value, "__module__", None)
-            if isinstance(module, str) and (module == "docking" or module.startswith("docking.")):
+            if not isinstance(module, str):
+                continue
+            if user and _is_users(module):
+                found.add(module)
+            elif not user and (module == "docking" or module.startswith("docking.")):
                 found.add(module)
     return found
 

@@ -8,14 +8,25 @@ curves, and what its design's ``keep`` adds (:attr:`docking.design.Design.keep`)
 fingerprint of the code that computed them and the SHA-256 of every file. The layout, for
 any tool that opens ``.npz``: docs/guide/ledger.md.
 
-What is checked, and where: a file is read only if its bytes match the manifest's SHA-256;
-a whole run's arrays are compared with its record's content digest; a table run's arrays
-are fewer than its digest covers, so its digest and wall times (which no file holds) are
-covered by its table's *seal* in the manifest (:data:`SEALED`, :func:`_seals`): an edit of
-any of them is refused. The seal lives in the manifest beside what it seals, so it refuses
-an edit, not a forgery; that a table run's digest is its arrays' is shown only by
-recomputing it (``python -m docking verify``). :func:`check_files` checks every file at
-once (``python -m docking ledger show``).
+What is checked, and where (docs/guide/ledger.md says what each check proves):
+
+* a file is read only if it is a regular file inside the ledger's folder, of bounded size,
+  and its bytes match the manifest's SHA-256 (:func:`_verified`); table names are plain
+  names;
+* each run's record holds its content digest (all its arrays) and its *row digest* (the
+  arrays its table serves); each table's *seal* (:data:`SEALED`, :func:`_seals`) is the
+  SHA-256 of its file's digest and of those fields of its runs, and the migrations are
+  sealed too: an edit of any of them, the table's bytes included, is refused;
+* :func:`check_files` (``python -m docking ledger show``) checks every file, every row of
+  every table against its record's row digest, every whole run's arrays against its
+  content digest, and every record's key against the key of its configuration and seed
+  under this code.
+
+The seal lives in the manifest beside what it seals, so it refuses an edit, not a forgery:
+someone who rewrites a table and reseals the manifest passes every digest. Only recomputing
+a run shows that the arrays a reader is served are its arrays (``python -m docking
+verify``: every recomputed run is compared with its record's digest *and* with its table's
+row).
 
 A run read from a table is an ordinary result whose logs are :class:`TableLog` objects: what the
 table does not keep is ``None``. A ledger computed by other code raises :class:`StaleLedger`
@@ -30,6 +41,7 @@ import functools
 import hashlib
 import io
 import json
+import re
 import warnings
 import zipfile
 from pathlib import Path
@@ -38,22 +50,34 @@ import numpy as np
 
 from docking import paths, store
 from docking.experiments import ExperimentResult, TrialLog
-from docking.fileio import atomic_write
+from docking.fileio import UnsafeFile, atomic_write, read_regular
 from docking.network import Network
+from docking.validate import NAME_PATTERN
 
 __all__ = ["CorruptLedger", "NotInLedger", "StaleLedger", "TableLog", "holds", "load_run"]
 
-LEDGER_FORMAT = 7  # the layout's version
+LEDGER_FORMAT = 8  # the layout's version (8: row digests, tables' digests sealed)
 PARTS = ("train", "test", "heldout")
 STEPS = ("poses", "actions", "winners", "deltas")  # a trial log's per-step arrays
 NO_TRAIN = "no-train"
 TIMINGS_FILE = "timings.json"  # the tiers' measured times (tools/time_tiers.py)
 _RECOMPUTE = "make reproduce (recomputes the runs, then python -m docking ledger update)"
 _RESTORE = "check out the committed ledger again (git checkout -- ledger)"
-#: What a table's seal covers of each of its runs' records: what no file of the ledger holds.
-SEALED = ("digest", "wall_time_train", "wall_time_test", "wall_seconds", "computed_utc")
-#: Sealed too where a record has them (records written before them are sealed as they were).
-SEALED_IF_PRESENT = ("rules_sha256",)
+#: What a table's seal covers of each of its runs' records (besides its key), with the
+#: table file's SHA-256.
+SEALED = ("digest", "row", "wall_time_train", "wall_time_test", "wall_seconds", "computed_utc")
+#: Sealed too where a record has them (records written before them are sealed as they were;
+#: ``sha256``: a whole run's file).
+SEALED_IF_PRESENT = ("rules_sha256", "sha256")
+#: The seal of the manifest's migrations (not a table's name: table names are plain names).
+MIGRATIONS_SEAL = "(migrations)"
+#: The largest manifest, results table or whole run read (bytes on disk), and the most a
+#: table's arrays may hold decompressed.
+MANIFEST_LIMIT = 64 << 20
+FILE_LIMIT = 256 << 20
+UNPACKED_LIMIT = 1 << 30
+#: A run's key: the SHA-256 of its configuration and code, and its seed.
+KEY_PATTERN = re.compile(r"[0-9a-f]{64}:seed(0|[1-9][0-9]*)")
 
 
 class StaleLedger(RuntimeError):
@@ -113,68 +137,105 @@ def manifest(folder: Path | None = None) -> dict | None:
 
 def _stored_manifest(folder: Path | None) -> dict | None:
     """The manifest in ``folder`` as read (cached until the file changes); None if none."""
-    if folder is None or not (folder / "manifest.json").is_file():
+    if folder is None or not (folder / "manifest.json").exists():
         return None
-    path = (folder / "manifest.json").resolve()
+    path = Path(folder).resolve() / "manifest.json"
     return _read_manifest(path, path.stat().st_mtime_ns)
 
 
 @functools.lru_cache(maxsize=4)
 def _read_manifest(path: Path, _mtime: int) -> dict:
+    """The manifest at ``path``, its layout, names and seals checked (not its code)."""
     try:
-        data = json.loads(path.read_text())
+        raw = read_regular(path, MANIFEST_LIMIT, path.parent)
+    except (OSError, UnsafeFile) as exc:
+        raise CorruptLedger(f"the ledger's manifest cannot be read ({exc}); {_RESTORE}") from None
+    try:
+        data = json.loads(raw)
         if data["format"] != LEDGER_FORMAT or data["store_format"] != store.FORMAT_VERSION:
             raise StaleLedger(
                 f"the ledger in {path.parent} has format {data['format']}/"
                 f"{data['store_format']}, this package reads {LEDGER_FORMAT}/"
-                f"{store.FORMAT_VERSION}; recompute it: {_RECOMPUTE}"
+                f"{store.FORMAT_VERSION}; "
+                + (
+                    f"upgrade it once: python tools/upgrade_ledger.py {path.parent}"
+                    if data["format"] == LEDGER_FORMAT - 1
+                    else f"recompute it: {_RECOMPUTE}"
+                )
             )
-        for key, record in data["runs"].items():
-            record["config"] = data["configs"][record["config"]]
-            seed, walls = record["seed"], [record[f"wall_time_{p}"] for p in ("train", "test")]
-            assert isinstance(seed, int) and seed >= 0, f"run {key[:16]}: seed {seed!r}"
-            assert record["runner"] in data["fingerprints"], f"run {key[:16]}: its runner"
-            assert all(np.isfinite(w) and w >= 0 for w in walls), f"run {key[:16]}: {walls}"
-            own = f"whole/{record['name']}/{key[:16]}/seed{seed}.npz"
-            assert record.get("whole") in (None, own), f"run {key[:16]}: not its own file"
+        _check_names(data)
         data["index"] = {_index(r["config"], r["seed"]): k for k, r in data["runs"].items()}
-        seals, found = data.get("seals"), _seals(data["runs"])
+        seals = data["seals"]
+        found = _seals(data["runs"], data["tables"], data.get("migrations", []))
     except (ValueError, KeyError, TypeError, AttributeError, AssertionError) as exc:
-        raise CorruptLedger(f"{path} is not a ledger manifest ({exc!r}); {_RESTORE}") from None
-    if not isinstance(seals, dict):
-        raise CorruptLedger(
-            f"{path} has no seals of its runs' digests and wall times (written before the "
-            f"ledger sealed them): seal it with python tools/seal_ledger.py {path.parent}, "
-            f"once its history shows it unedited, or {_RESTORE}"
-        )
+        raise CorruptLedger(f"{path} is not a ledger manifest ({exc!r:.300}); {_RESTORE}") from None
     broken = sorted(n for n in set(seals) | set(found) if seals.get(n) != found.get(n))
     if broken:
         raise CorruptLedger(
-            f"{path}: the content digests or wall times of the runs of "
-            f"{', '.join(map(str, broken))[:200]} do not match their seal (the manifest was "
-            f"edited); {_RESTORE}"
+            f"{path}: the files, digests or wall times of {', '.join(map(str, broken))[:200]} "
+            f"do not match their seal (the manifest or a table was edited); {_RESTORE}"
         )
     data["folder"] = path.parent
     return data
+
+
+def _check_names(data: dict) -> None:
+    """AssertionError unless every table and run of the manifest ``data`` is named as the
+    ledger names them (plain table names, run keys of their seeds, each whole run in its own
+    file), its seed and wall times are numbers; replaces each record's configuration reference
+    by the configuration."""
+    for name, sha256 in data["tables"].items():
+        assert isinstance(name, str) and NAME_PATTERN.fullmatch(name), f"table name {name!r:.80}"
+        assert isinstance(sha256, str) and len(sha256) == 64, f"table {name}: its digest"
+    for key, record in data["runs"].items():
+        record["config"] = data["configs"][record["config"]]
+        seed, walls = record["seed"], [record[f"wall_time_{p}"] for p in ("train", "test")]
+        assert isinstance(key, str) and KEY_PATTERN.fullmatch(key), f"run key {key!r:.80}"
+        assert isinstance(seed, int) and key.endswith(f":seed{seed}"), (
+            f"run {key[:16]}: seed {seed!r}"
+        )
+        assert record["name"] in data["tables"], f"run {key[:16]}: no table {record['name']!r}"
+        assert record["runner"] in data["fingerprints"], f"run {key[:16]}: its runner"
+        assert all(np.isfinite(w) and w >= 0 for w in walls), f"run {key[:16]}: {walls}"
+        own = f"whole/{record['name']}/{key[:16]}/seed{seed}.npz"
+        assert record.get("whole") in (None, own), f"run {key[:16]}: not its own file"
 
 
 def _index(config: dict, seed: int) -> str:
     return f"{json.dumps(config, sort_keys=True)}:seed{seed}"
 
 
-def _seals(runs: dict) -> dict[str, str]:
-    """``{table: its seal}`` of the run records ``runs`` (``{key: record}``): the SHA-256 of
-    the :data:`SEALED` fields of its runs, in the order of their keys."""
+def _seals(runs: dict, tables: dict | None = None, migrations=None) -> dict[str, str]:
+    """``{table: its seal}`` of the run records ``runs`` (``{key: record}``) and the tables'
+    digests ``tables`` (``{table: SHA-256 of its file}``): the SHA-256 of the table's digest
+    and of the :data:`SEALED` fields of its runs, in the order of their keys; with
+    ``migrations`` (the manifest's), their seal under :data:`MIGRATIONS_SEAL`."""
     rows: dict[str, list] = {}
     for key in sorted(runs):
         record = runs[key]
         fields = [record.get(f) for f in SEALED]
         fields += [record[f] for f in SEALED_IF_PRESENT if f in record]
         rows.setdefault(str(record["name"]), []).append([key, *fields])
-    return {
-        name: hashlib.sha256(json.dumps(found, allow_nan=False).encode()).hexdigest()
+    seals = {
+        name: _sha256_json([(tables or {}).get(name), found])
         for name, found in sorted(rows.items())
     }
+    for name in set(tables or ()) - set(seals):  # a table of no run
+        seals[name] = _sha256_json([tables[name], []])
+    if migrations:
+        seals[MIGRATIONS_SEAL] = _sha256_json(migrations)
+    return dict(sorted(seals.items()))
+
+
+def seals_of(data: dict) -> dict[str, str]:
+    """The seals of the manifest ``data`` as written (:func:`_seals` of its runs, tables and
+    migrations): what :func:`update` writes, and what a forger recomputes after an edit (a
+    seal refuses an edit, not a forgery)."""
+    return _seals(data["runs"], data["tables"], data.get("migrations", []))
+
+
+def _sha256_json(value) -> str:
+    return hashlib.sha256(json.dumps(value, allow_nan=False, sort_keys=True).encode()).hexdigest()
 
 
 #: Per runner, the modules of the optional dependencies its runs need and the extra of the
@@ -212,8 +273,9 @@ def _check(data: dict, runner: store.Runner) -> None:
         changed = sorted(k for k in set(ours) | set(theirs) if ours.get(k) != theirs.get(k))
         raise StaleLedger(
             f"the ledger in {data['folder']} holds {runner.name} runs computed by other code "
-            f"(changed: {', '.join(changed) or 'the fingerprint'}); they are not used. "
-            f"Recompute them: {_RECOMPUTE}"
+            f"(changed: {', '.join(changed) or 'the fingerprint'}); they are not used. If "
+            f"the change computes the same numbers, python -m docking ledger migrate "
+            f"re-keys them after recomputing a sample; else recompute them: {_RECOMPUTE}"
         )
     if data["rendering_stack"] != store.rendering_stack() and not data.get("warned"):
         data["warned"] = True
@@ -254,11 +316,14 @@ def holds(config, seed: int, check: bool = False) -> bool:
     return found is not None
 
 
-def _verified(path: Path, sha256: str) -> bytes:
-    """The bytes of the ledger file ``path``, checked against its manifest digest."""
+def _verified(path: Path, sha256: str, folder: Path | None = None) -> bytes:
+    """The bytes of the ledger file ``path``: a regular file of at most :data:`FILE_LIMIT`
+    bytes inside the ledger's ``folder`` (default: the folder two levels up, the ledger's for
+    a table), checked against its manifest digest."""
+    folder = path.parent.parent if folder is None else folder
     try:
-        raw = path.read_bytes()
-    except OSError as exc:
+        raw = read_regular(path, FILE_LIMIT, folder)
+    except (OSError, UnsafeFile) as exc:
         raise CorruptLedger(f"the ledger file {path} cannot be read ({exc}); {_RESTORE}") from None
     if hashlib.sha256(raw).hexdigest() != sha256:
         raise CorruptLedger(f"the ledger file {path} does not match its digest; {_RESTORE}")
@@ -266,17 +331,40 @@ def _verified(path: Path, sha256: str) -> bytes:
 
 
 def _rows(table: dict[str, np.ndarray]) -> list[tuple[str, dict]]:
-    """The rows of a results table's columns ``table``, as :func:`_columns` took them."""
+    """The rows of a results table's columns ``table``, as :func:`_columns` took them: per
+    run, its key and ``{column: its cells}`` (the columns it has none of left out)."""
     names = [n for n in table if n + ".count" in table]
+    offsets = {
+        n: np.concatenate([[0], np.cumsum(np.maximum(table[n + ".count"], 0))]) for n in names
+    }
     found = []
     for row, key in enumerate(table["key"].tolist()):
-        cells = {n: _cell(table, n, row) for n in names}
-        found.append((key, {n: a for n, a in cells.items() if a is not None}))
+        cells = {}
+        for n in names:
+            count = int(table[n + ".count"][row])
+            if count >= 0:
+                start = int(offsets[n][row])
+                cells[n] = table[n][start : start + count]
+        found.append((key, cells))
     return found
 
 
+def row_digest(cells: dict[str, np.ndarray]) -> str:
+    """The digest of a table row's cells (``{column: its cells}``, :func:`_rows`): what the
+    table serves of a run, by name, dtype, shape and bytes
+    (:func:`docking.store.content_digest`)."""
+    return store.content_digest(cells)
+
+
 def _table_bytes(raw: bytes) -> dict[str, np.ndarray]:
-    """The columns of a results table's (verified) bytes."""
+    """The columns of a results table's (verified) bytes: a zip of ``.npy`` members holding
+    at most :data:`UNPACKED_LIMIT` bytes decompressed (checked before decompressing)."""
+    with zipfile.ZipFile(io.BytesIO(raw)) as archive:
+        unpacked = sum(info.file_size for info in archive.infolist())
+    if unpacked > UNPACKED_LIMIT:
+        raise ValueError(
+            f"its arrays would decompress to {unpacked} bytes, at most {UNPACKED_LIMIT}"
+        )
     with np.load(io.BytesIO(raw), allow_pickle=False) as found:
         return {k: found[k] for k in found.files}
 
@@ -288,17 +376,64 @@ def _table(path: Path, sha256: str) -> dict[str, np.ndarray]:
     if not zipfile.is_zipfile(io.BytesIO(raw)):  # np.load would call it pickled data
         raise CorruptLedger(f"the ledger table {path} is not an .npz (zip) file; {_RESTORE}")
     try:
-        return _table_bytes(raw)
-    except (OSError, ValueError, zipfile.BadZipFile) as exc:
+        table = _table_bytes(raw)
+        keys = table["key"].tolist()
+    except (OSError, ValueError, KeyError, zipfile.BadZipFile) as exc:
         raise CorruptLedger(
             f"the ledger table {path} is not readable ({exc}); {_RESTORE}"
         ) from None
+    if len(set(keys)) != len(keys):
+        raise CorruptLedger(f"the ledger table {path} holds a run twice; {_RESTORE}")
+    return table
+
+
+def table_rows(data: dict, name: str) -> dict[str, dict[str, np.ndarray]]:
+    """``{run key: its row's cells}`` of the results table ``name`` of the ledger whose
+    manifest is ``data`` (the file checked against its digest, each row against its
+    record's row digest: :class:`CorruptLedger` naming the first that differs)."""
+    path = data["folder"] / "tables" / f"{name}.npz"
+    rows = dict(_rows(_table(path, data["tables"][name])))
+    named = {k for k, r in data["runs"].items() if r["name"] == name}
+    if set(rows) != named:
+        raise CorruptLedger(
+            f"the ledger table {path} does not hold the runs the manifest names of it "
+            f"({len(rows)} in the table, {len(named)} named); {_RESTORE}"
+        )
+    for key, cells in rows.items():
+        if row_digest(cells) != data["runs"][key]["row"]:
+            raise CorruptLedger(
+                f"the ledger table {path}: the row of {name!r} seed {data['runs'][key]['seed']} "
+                f"is not the row its record names (row digest); {_RESTORE}"
+            )
+    return rows
+
+
+def _served_row(data: dict, name: str, key: str) -> dict[str, np.ndarray]:
+    """The row of run ``key`` of table ``name``, checked against its record's row digest."""
+    path = data["folder"] / "tables" / f"{name}.npz"
+    table = _table(path, data["tables"][name])
+    keys = table["key"].tolist()
+    if key not in keys:
+        raise CorruptLedger(
+            f"the ledger table {path} does not hold the run of {name!r} seed "
+            f"{data['runs'][key]['seed']} that the manifest names; {_RESTORE}"
+        )
+    row = keys.index(key)
+    got = {n: _cell(table, n, row) for n in table if n + ".count" in table}
+    got = {n: a for n, a in got.items() if a is not None}
+    if row_digest(got) != data["runs"][key]["row"]:
+        raise CorruptLedger(
+            f"the ledger table {path}: the row of {name!r} seed {data['runs'][key]['seed']} "
+            f"is not the row its record names (row digest); {_RESTORE}"
+        )
+    return got
 
 
 def load_run(config, seed: int, results_dir: Path | str | None = None):
     """The run of (``config``, ``seed``): from the results store if it holds it (checked
-    against its key and digest), else from the ledger (whole, or from its results table),
-    else None. :class:`StaleLedger` if the ledger holds it but was computed by other code."""
+    against its key and digest), else from the ledger (whole, or from its results table,
+    its row checked against its record), else None. :class:`StaleLedger` if the ledger holds
+    it but was computed by other code."""
     path = store.result_path(config, seed, results_dir)
     if path.exists():
         return store.load_result(path, store.run_key(config, seed))
@@ -311,24 +446,23 @@ def load_run(config, seed: int, results_dir: Path | str | None = None):
     if key != store.run_key(config, seed, render=data["rendering_stack"]):
         raise StaleLedger(f"the ledger's key of {config.name!r} seed {seed} is not this code's")
     if record.get("whole"):
-        raw = _verified(data["folder"] / record["whole"], record["sha256"])
+        whole = data["folder"] / record["whole"]
+        raw = _verified(whole, record["sha256"], data["folder"])
         try:
-            result = store.load_result(data["folder"] / record["whole"], key)
+            result = store.load_result(whole, key, within=data["folder"])
         except store.CorruptResult as exc:
             raise CorruptLedger(f"the ledger file {record['whole']}: {exc}; {_RESTORE}") from None
-        _check_content(raw, record, data["folder"] / record["whole"])
+        _check_content(raw, record, whole)
         return result
-    table = _table(data["folder"] / f"tables/{config.name}.npz", data["tables"][config.name])
-    if key not in set(table["key"].tolist()):
-        raise CorruptLedger(
-            f"the ledger table {data['folder'] / 'tables' / config.name}.npz does not hold the "
-            f"run of {config.name!r} seed {seed} that the manifest names; {_RESTORE}"
-        )
-    row = list(table["key"]).index(key)
-    got = {n: _cell(table, n, row) for n in table if n + ".count" in table}
-    got = {n: a for n, a in got.items() if a is not None}
+    got = _served_row(data, config.name, key)
+    return _from_row(
+        config, seed, runner, got, (record["wall_time_train"], record["wall_time_test"])
+    )
+
+
+def _from_row(config, seed: int, runner, got: dict, walls) -> object:
+    """The run of (``config``, ``seed``) read from its table row ``got``."""
     logs = {p: _log(got, p, f"{config.name!r} seed {seed}") for p in PARTS}
-    walls = record["wall_time_train"], record["wall_time_test"]
     from_table = getattr(runner, "from_table", None)  # a registered learner's (docking.learners)
     if from_table is not None:
         return from_table(config, seed, got, logs, walls)
@@ -367,43 +501,42 @@ def _check_content(raw: bytes, record: dict, path: Path) -> None:
 
 def check_files(folder: Path | str | None = None) -> dict[str, int] | None:
     """Check the ledger in ``folder`` (default :func:`paths.ledger_dir`) as a whole: its
-    manifest (format, this code, the seals of the runs' digests and wall times), every
-    results table and whole run against its SHA-256, each table's runs against the runs the
-    manifest names of it, and each whole run's arrays against its content digest.
+    manifest (format, names, this code, the seals), every results table and whole run
+    against its SHA-256, every table's rows against its runs' records (the runs it names and
+    each row's digest), each whole run's arrays against its content digest, and each run's
+    key against the key of its configuration and seed under this code.
     :class:`CorruptLedger` (or :class:`StaleLedger`) naming the first that fails; None if
     there is no manifest; else what was checked: ``{"runs", "tables", "whole"}`` counts."""
     data = manifest(Path(folder) if folder is not None else paths.ledger_dir())
     if data is None:
         return None
-    where, named = data["folder"], {}
-    for key, record in data["runs"].items():
-        named.setdefault(record["name"], set()).add(key)
-    unlisted = sorted(set(named) - set(data["tables"]))
-    if unlisted:
-        raise CorruptLedger(
-            f"the ledger in {where} names runs of {', '.join(unlisted)[:200]} but no results "
-            f"table of theirs; {_RESTORE}"
-        )
-    for name, sha256 in sorted(data["tables"].items()):
-        path = where / "tables" / f"{name}.npz"
-        raw = _verified(path, sha256)
-        try:
-            with np.load(io.BytesIO(raw), allow_pickle=False) as found:
-                keys = set(found["key"].tolist())
-        except (OSError, ValueError, KeyError, zipfile.BadZipFile) as exc:
-            raise CorruptLedger(
-                f"the ledger table {path} is not readable ({exc}); {_RESTORE}"
-            ) from None
-        if keys != named.get(name, set()):
-            raise CorruptLedger(
-                f"the ledger table {path} does not hold the runs the manifest names of it "
-                f"({len(keys)} in the table, {len(named.get(name, ()))} named); {_RESTORE}"
-            )
+    for name in sorted(data["tables"]):
+        table_rows(data, name)
     whole = [r for r in data["runs"].values() if r.get("whole")]
     for record in whole:
-        path = where / record["whole"]
-        _check_content(_verified(path, record["sha256"]), record, path)
+        path = data["folder"] / record["whole"]
+        _check_content(_verified(path, record["sha256"], data["folder"]), record, path)
+    _check_keys(data)
     return {"runs": len(data["runs"]), "tables": len(data["tables"]), "whole": len(whole)}
+
+
+def _check_keys(data: dict) -> None:
+    """:class:`CorruptLedger` unless every run's key is the key of its record's configuration
+    and seed under this code and the ledger's rendering stack (a record moved to another
+    run's key is caught here, without recomputing)."""
+    keys: dict[str, str] = {}
+    for key, record in data["runs"].items():
+        runner = store.runner_named(record["runner"])
+        text = json.dumps(record["config"], sort_keys=True)
+        if text not in keys:
+            keys[text] = store.config_key(
+                runner.from_dict(record["config"]), data["rendering_stack"]
+            )
+        if key != f"{keys[text]}:seed{record['seed']}":
+            raise CorruptLedger(
+                f"the ledger's run {key[:16]}... of {record['name']!r} seed {record['seed']}: its "
+                f"key is not the key of its configuration and seed; {_RESTORE}"
+            )
 
 
 def _cell(table: dict, name: str, row: int) -> np.ndarray | None:
@@ -465,7 +598,7 @@ def _row(arrays: dict, keep: frozenset) -> dict[str, np.ndarray]:
         if name in ("W", "Q") and "networks" not in keep:
             continue
         row[name] = np.ravel(array) if name in ("W", "Q") else np.atleast_1d(array)
-    for part in (p for p in parts if f"{p}.poses" in arrays):
+    for part in (p for p in parts if f"{p}.poses" in arrays and len(arrays[f"{p}.success"])):
         log = TrialLog(**{f.name: arrays[f"{part}.{f.name}"] for f in dataclasses.fields(TrialLog)})
         if "starts" in keep:
             row[f"{part}.starts"] = log.starts
@@ -479,6 +612,28 @@ def _row(arrays: dict, keep: frozenset) -> dict[str, np.ndarray]:
                 paths = [getattr(log, f"trial_{f}")(k) for k in failed]
                 row[f"{part}.path.{f}"] = np.concatenate(paths) if paths else empty
     return row
+
+
+#: Everything a table can keep of a run (``Design.keep``): a recomputed run's row with all
+#: of it holds every column any table row can have (:func:`row_differences`).
+EVERYTHING = frozenset({"starts", "ends", "lengths", "paths", "winners", "networks"})
+
+
+def row_differences(arrays: dict, cells: dict) -> list[str]:
+    """The columns of a table row ``cells`` (:func:`_rows`) that are not what the run's
+    ``arrays`` (as stored, or recomputed) give: each column's cells compared bit for bit, in
+    the table's dtype. A column the arrays cannot give counts as different."""
+    computed = _row(arrays, EVERYTHING)
+    differ = []
+    for name, cell in sorted(cells.items()):
+        mine = computed.get(name)
+        if mine is None or np.shape(mine) != cell.shape:
+            differ.append(name)
+            continue
+        ours = np.ascontiguousarray(np.asarray(mine).astype(cell.dtype, copy=False))
+        if ours.tobytes() != np.ascontiguousarray(cell).tobytes():
+            differ.append(name)
+    return differ
 
 
 def _columns(runs: list[tuple[str, dict]]) -> dict[str, np.ndarray]:
@@ -540,8 +695,11 @@ def update(runs, folder: Path | str | None = None, results_dir=None, only=None, 
         tables.setdefault(config.name, []).append((key, _row(arrays, frozenset(keep))))
     for name, found in tables.items():
         files[f"tables/{name}.npz"] = _npz(_columns(sorted(found, key=lambda r: r[0])))
+        for key, cells in _rows(_table_bytes(files[f"tables/{name}.npz"])):
+            records[key]["row"] = row_digest(cells)  # what the table serves of the run
     platform = kept["platform"] if only is not None else numeric_platform()
-    data = _manifest(files, records, runners, configs, platform)
+    migrations = kept["migrations"] if only is not None else _migrations_of(folder)
+    data = _manifest(files, records, runners, configs, platform, migrations)
     if only is not None:
         platforms = _table_platforms(kept, only, tables, numeric_platform())
         if platforms:
@@ -584,11 +742,30 @@ def _table_platforms(kept: dict, only, tables, here: dict) -> dict:
     return dict(sorted(platforms.items()))
 
 
-def _manifest(files: dict, records: dict, runners: dict, configs: dict, platform: dict) -> dict:
+def _migrations_of(folder: Path) -> list:
+    """The migrations recorded by the ledger in ``folder`` (none if it has no readable
+    manifest): a ledger written anew keeps the history of its runs' keys."""
+    try:
+        data = _stored_manifest(folder)
+    except StaleLedger:
+        return []
+    return list(data.get("migrations", [])) if data else []
+
+
+def _manifest(
+    files: dict,
+    records: dict,
+    runners: dict,
+    configs: dict,
+    platform: dict,
+    migrations: list = (),
+) -> dict:
     """The manifest of a ledger's ``files`` (its tables among them) and run ``records``, the
-    runs computed by ``runners`` from ``configs`` on ``platform`` (the ledger's)."""
+    runs computed by ``runners`` from ``configs`` on ``platform`` (the ledger's), with the
+    ``migrations`` its runs' keys went through."""
     table_names = {p[len("tables/") : -len(".npz")] for p in files if p.startswith("tables/")}
-    return {
+    tables = {n: hashlib.sha256(files[f"tables/{n}.npz"]).hexdigest() for n in sorted(table_names)}
+    found = {
         "format": LEDGER_FORMAT,
         "store_format": store.FORMAT_VERSION,
         "fingerprints": {name: r.fingerprint() for name, r in runners.items()},
@@ -596,12 +773,19 @@ def _manifest(files: dict, records: dict, runners: dict, configs: dict, platform
         "rendering_stack": store.rendering_stack(),
         "platform": platform,
         "configs": configs,
-        "tables": {
-            n: hashlib.sha256(files[f"tables/{n}.npz"]).hexdigest() for n in sorted(table_names)
-        },
+        "tables": tables,
         "runs": records,
-        "seals": _seals(records),
+        "seals": _seals(records, tables, list(migrations)),
     }
+    if migrations:
+        found["migrations"] = list(migrations)
+    return found
+
+
+def _config_ref(config: dict) -> str:
+    """How a run's record names its configuration (``config``, JSON-ready) in the manifest's
+    ``configs``."""
+    return hashlib.sha256(json.dumps(config, sort_keys=True).encode()).hexdigest()[:16]
 
 
 def _record(config, seed: int, results_dir) -> tuple[str, dict, dict]:
@@ -612,12 +796,11 @@ def _record(config, seed: int, results_dir) -> tuple[str, dict, dict]:
     with np.load(path, allow_pickle=False) as stored:
         arrays = {k: stored[k] for k in stored.files}
     computed = json.loads(str(arrays["meta"])).get("computed_utc")
-    text = json.dumps(config.to_dict(), sort_keys=True)
     walls = float(result.wall_time_train), float(result.wall_time_test)
     record = {
         "name": config.name,
         "seed": seed,
-        "config": hashlib.sha256(text.encode()).hexdigest()[:16],
+        "config": _config_ref(config.to_dict()),
         "digest": store.content_digest(arrays),
         "wall_time_train": walls[0],
         "wall_time_test": walls[1],
@@ -638,7 +821,9 @@ def _kept(folder: Path, replaced: frozenset) -> dict:
     runs, files, configs, runners = {}, {}, {}, set()
     for name, sha256 in data["tables"].items():
         if name not in replaced:
-            files[f"tables/{name}.npz"] = _verified(folder / "tables" / f"{name}.npz", sha256)
+            files[f"tables/{name}.npz"] = _verified(
+                folder / "tables" / f"{name}.npz", sha256, folder
+            )
     refs = {json.dumps(c, sort_keys=True): ref for ref, c in data["configs"].items()}
     for key, record in data["runs"].items():
         if record["name"] in replaced:
@@ -647,11 +832,12 @@ def _kept(folder: Path, replaced: frozenset) -> dict:
         ref = refs[json.dumps(record["config"], sort_keys=True)]
         kept["config"], configs[ref] = ref, record["config"]
         if "whole" in record:
-            files[record["whole"]] = _verified(folder / record["whole"], record["sha256"])
+            files[record["whole"]] = _verified(folder / record["whole"], record["sha256"], folder)
         runs[key] = kept
         runners.add(record["runner"])
     platform, platforms = data["platform"], data.get("table_platforms", {})
     return dict(
+        migrations=list(data.get("migrations", [])),
         runs=runs,
         files=files,
         configs=configs,
@@ -667,10 +853,18 @@ def _replace_files(folder: Path, files: dict[str, bytes]) -> None:
     old = {p for kind in ("tables", "whole") for p in [folder / kind, *folder.glob(f"{kind}/**/*")]}
     for relative, raw in files.items():
         old.discard(folder / relative)
-        if not (folder / relative).exists() or (folder / relative).read_bytes() != raw:
+        if not _holds(folder / relative, raw):
             atomic_write(folder / relative, lambda f, raw=raw: f.write(raw))
     for stale in sorted(old, reverse=True):  # a folder's files before the folder
         if stale.is_file():
             stale.unlink()
         elif stale.is_dir() and not any(stale.iterdir()):
             stale.rmdir()
+
+
+def _holds(path: Path, raw: bytes) -> bool:
+    """Whether ``path`` is a regular file holding ``raw`` (anything else is replaced)."""
+    try:
+        return read_regular(path, len(raw), path.parent) == raw
+    except (OSError, UnsafeFile):
+        return False

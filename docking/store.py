@@ -71,13 +71,14 @@ from docking.experiments import (
     run_experiment,
     trials_in_run,
 )
-from docking.fileio import atomic_write, remove_stale_temporaries
+from docking.fileio import UnsafeFile, atomic_write, read_regular, remove_stale_temporaries
 from docking.network import Network
-from docking.validate import MAX_SEED, check_int
+from docking.validate import MAX_SEED, check_int, check_name
 
 __all__ = [
     "CorruptResult",
     "FORMAT_VERSION",
+    "ForeignFile",
     "built_in",
     "RUNNERS",
     "Runner",
@@ -113,6 +114,11 @@ _LIBRARIES = ("mujoco", "dm-control", "numpy", "opencv-python-headless")
 
 class CorruptResult(ValueError):
     """A saved result that cannot be used: unreadable, incomplete or inconsistent."""
+
+
+class ForeignFile(CorruptResult):
+    """A stored result's path holds what the store never writes (a FIFO, a device, a link out
+    of its folder, a file beyond the size bound): refused, never read and never replaced."""
 
 
 class StaleCode(RuntimeError):
@@ -214,30 +220,32 @@ def _canonical(config) -> str:
     return json.dumps(config.to_dict(), sort_keys=True, separators=(",", ":"))
 
 
-def config_key(config, render: str | None = None) -> str:
+def config_key(config, render: str | None = None, source: str | None = None) -> str:
     """SHA-256 of the canonical configuration, the source fingerprint of its runner's code and
     the rendering stack (the folder key); ``render`` names another stack than this process's
-    (for the ledger)."""
+    (for the ledger), ``source`` another fingerprint than this code's (the key a run had
+    before a migration, :mod:`docking.migrate`)."""
     runner = runner_for(config)
     text = (
         f"{runner.key_prefix}format {runner.format}\nconfig {_canonical(config)}"
-        f"\nsource {runner.fingerprint()}"
+        f"\nsource {runner.fingerprint() if source is None else source}"
         f"\nrender {rendering_stack() if render is None else render}"
     )
     return hashlib.sha256(text.encode()).hexdigest()
 
 
-def run_key(config, seed: int, render: str | None = None) -> str:
+def run_key(config, seed: int, render: str | None = None, source: str | None = None) -> str:
     """The key of the run of (``config``, ``seed``): the configuration key and the seed."""
     seed = check_int("run_key", "seed", seed, lo=0, hi=MAX_SEED)
-    return f"{config_key(config, render)}:seed{seed}"
+    return f"{config_key(config, render, source)}:seed{seed}"
 
 
 def result_path(config, seed: int, results_dir: Path | str | None = None) -> Path:
     """Where the run of (``config``, ``seed``) is stored (see the module docstring)."""
     seed = check_int("result_path", "seed", seed, lo=0, hi=MAX_SEED)
+    name = check_name(type(config).__name__, "name", config.name)  # a folder of the store
     root = Path(results_dir) if results_dir is not None else paths.results_dir()
-    return root / config.name / config_key(config)[:16] / f"seed{seed}.npz"
+    return root / name / config_key(config)[:16] / f"seed{seed}.npz"
 
 
 # ------------------------------------------------------------------------------------------
@@ -397,21 +405,38 @@ def _trial_log(data, part: str, expected_trials: int, max_steps: int) -> TrialLo
     return log
 
 
-def load_result(path: Path | str, key: str | None = None):
+#: The largest stored run :func:`load_result` reads (bytes on disk; a run holds a few MiB).
+RESULT_LIMIT = 256 << 20
+
+
+def load_result(
+    path: Path | str,
+    key: str | None = None,
+    within: Path | str | None = None,
+    source: str | None = None,
+):
     """Read and validate a result written by :func:`save_result`, of any runner (the file's
     meta record names it; a file without one is the learner's) (see the module docstring);
     ``key``, if given, is the run key asked for (:func:`run_key`): a file holding another run
-    is refused. ``CorruptResult`` (naming the reason) if the file cannot be used."""
+    is refused. The file must be a regular file of at most :data:`RESULT_LIMIT` bytes inside
+    the folder ``within`` (default: its own folder), checked before it is read
+    (:func:`docking.fileio.read_regular`). ``source``: the fingerprint its key must have been
+    made with, if not this code's (a run before its migration). ``CorruptResult`` (naming the
+    reason) if the file cannot be used."""
     path = Path(path)
     try:
         stamp = _file_stamp(path)
-        with np.load(path, allow_pickle=False) as data:
-            result = _parse(data, key)
+        raw = read_regular(path, RESULT_LIMIT, path.parent if within is None else within)
+        with np.load(io.BytesIO(raw), allow_pickle=False) as data:
+            result = _parse(data, key, source)
     except CorruptResult:
         raise
+    except UnsafeFile as exc:
+        raise ForeignFile(str(exc)) from None
     except Exception as exc:  # unreadable: truncated, bit flips, not a zip, ...
         raise CorruptResult(f"{type(exc).__name__}: {exc}") from exc
-    _CHECKED.add((*stamp, key if key is not None else run_key(result.config, result.seed)))
+    if source is None:
+        _CHECKED.add((*stamp, key if key is not None else run_key(result.config, result.seed)))
     return result
 
 
@@ -439,7 +464,7 @@ def is_valid(path: Path | str, key: str) -> bool:
     return True
 
 
-def _parse(data, asked: str | None):
+def _parse(data, asked: str | None, source: str | None = None):
     if "meta" not in data.files:
         raise CorruptResult("no 'meta' record")
     if _member_size(data, "meta") > _META_LIMIT:
@@ -459,7 +484,7 @@ def _parse(data, asked: str | None):
         )
     if config.to_dict() != meta["config"]:
         raise CorruptResult("the configuration does not round-trip")
-    if key != run_key(config, seed):
+    if key != run_key(config, seed, source=source):
         raise CorruptResult("made by other code or another configuration (key mismatch)")
     if asked is not None and key != asked:
         raise CorruptResult(
@@ -594,6 +619,8 @@ def run_or_load(
     if not force and path.exists():
         try:
             return load_result(path, run_key(config, seed))
+        except ForeignFile as exc:
+            raise ForeignFile(f"{exc}; remove it to compute the run again") from None
         except CorruptResult as exc:
             warnings.warn(
                 f"ignoring the stored result {path}: {exc}; recomputing it",

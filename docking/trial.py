@@ -34,6 +34,7 @@ from __future__ import annotations
 
 from collections.abc import Callable
 from dataclasses import dataclass
+from typing import NamedTuple
 
 import numpy as np
 
@@ -110,62 +111,88 @@ def run_trial(
     if beta_a is None:
         beta_a = cfg.beta_a_train if learn else cfg.beta_a_test  # Eq. (4)
     beta_a = check_real("run_trial", "beta_a", beta_a, lo=0)
-    gamma = cfg.gamma  # Eq. (6)
-    has_pose = hasattr(env, "pose")
-
-    poses: list[np.ndarray] = []
-    actions: list[int] = []
-    rewards: list[float] = []
-    deltas: list[float] = []
-    winners: list[int] = []
-
+    log = _Log(hasattr(env, "pose"))
     ts = env.reset()
-    if has_pose:
-        poses.append(np.array(env.pose, dtype=np.float64))
+    log.pose(env)
     I = net.prepare(ts.observation)
     s = net.features(I)  # Eq. (1), (2)
     a = net.select_action(s, rng, beta_a)  # Eq. (3), (4)
     winner = int(s.argmax())  # the state the decision was based on
-    success = False
     while True:
         v = arith.dot(net.Q[a], s)  # Eq. (5), with the current weights
-        winners.append(winner)
-        actions.append(a)
+        log.act(a, winner)
         ts = env.step(a)
-        if has_pose:
-            poses.append(np.array(env.pose, dtype=np.float64))
-        r = float(ts.reward)
-        discount = float(ts.discount)
-        last = ts.last()
-        if last and (discount == 0.0 or not bootstrap_on_truncation):
-            v_next = 0.0  # termination (or truncation treated as terminal)
-            I_next = None
-        else:
-            I_next = net.prepare(ts.observation)
-            s_next = net.features(I_next)
-            a_next = net.select_action(s_next, rng, beta_a)
-            winner = int(s_next.argmax())
-            v_next = arith.dot(net.Q[a_next], s_next)
-        delta = r + gamma * discount * v_next - v  # Eq. (6)
-        rewards.append(r)
-        deltas.append(delta)
+        log.pose(env)
+        r, discount = float(ts.reward), float(ts.discount)
+        following = _following(ts, net, rng, beta_a, bootstrap_on_truncation)
+        delta = r + cfg.gamma * discount * following.v - v  # Eq. (6)
+        log.outcome(r, delta)
         if learn:
             permuted = feature_delta(delta) if cfg.permute_delta else None
             net.update(I, s, a, delta, permuted)  # Eq. (7), (8)
-        if last:
-            success = discount == 0.0 and r > 0.0
-            break
-        I, a = I_next, a_next
-        s = net.features(I) if learn else s_next  # current weights
+        if ts.last():
+            return log.record(success=discount == 0.0 and r > 0.0)
+        I, a, winner = following.I, following.a, following.winner
+        s = net.features(I) if learn else following.s  # current weights
 
-    return TrialRecord(
-        poses=np.array(poses) if has_pose else None,
-        actions=np.array(actions, dtype=np.int64),
-        rewards=np.array(rewards, dtype=np.float64),
-        deltas=np.array(deltas, dtype=np.float64),
-        winners=np.array(winners, dtype=np.int64),
-        success=bool(success),
+
+class _Following(NamedTuple):
+    """What follows a step (:func:`_following`): the next input, features, action and its
+    winning unit, and the value ``v'`` of Eq. (6)."""
+
+    I: np.ndarray | None
+    s: np.ndarray | None
+    a: int | None
+    winner: int | None
+    v: float
+
+
+def _following(ts, net: Network, rng, beta_a: float, bootstrap_on_truncation: bool):
+    """The next input, features, action (``a'``, drawn from ``rng`` by Eq. (4)) and ``v'``
+    after the time step ``ts``: ``v' = 0`` and nothing drawn at termination, or at
+    truncation unless ``bootstrap_on_truncation`` (see the module docstring)."""
+    if ts.last() and (float(ts.discount) == 0.0 or not bootstrap_on_truncation):
+        return _Following(None, None, None, None, 0.0)  # termination (or treated as one)
+    I_next = net.prepare(ts.observation)
+    s_next = net.features(I_next)
+    a_next = net.select_action(s_next, rng, beta_a)
+    return _Following(
+        I_next, s_next, a_next, int(s_next.argmax()), arith.dot(net.Q[a_next], s_next)
     )
+
+
+class _Log:
+    """A trial's record as it happens (:class:`TrialRecord`)."""
+
+    def __init__(self, has_pose: bool):
+        self.has_pose = has_pose
+        self.poses: list[np.ndarray] = []
+        self.actions: list[int] = []
+        self.rewards: list[float] = []
+        self.deltas: list[float] = []
+        self.winners: list[int] = []
+
+    def pose(self, env) -> None:
+        if self.has_pose:
+            self.poses.append(np.array(env.pose, dtype=np.float64))
+
+    def act(self, a: int, winner: int) -> None:
+        self.winners.append(winner)
+        self.actions.append(a)
+
+    def outcome(self, r: float, delta: float) -> None:
+        self.rewards.append(r)
+        self.deltas.append(delta)
+
+    def record(self, success: bool) -> TrialRecord:
+        return TrialRecord(
+            poses=np.array(self.poses) if self.has_pose else None,
+            actions=np.array(self.actions, dtype=np.int64),
+            rewards=np.array(self.rewards, dtype=np.float64),
+            deltas=np.array(self.deltas, dtype=np.float64),
+            winners=np.array(self.winners, dtype=np.int64),
+            success=bool(success),
+        )
 
 
 def _check_arguments(env, net, rng, learn, bootstrap_on_truncation, feature_delta):

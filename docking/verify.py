@@ -1,6 +1,10 @@
 """Verification by recomputation: ``python -m docking verify``. Recomputes runs of the
 committed ledger (:mod:`docking.ledger`) in a temporary store, through the sweep, and
-compares each one's content digest with the ledger's.
+compares each one with what the ledger holds of it: its record's content digest (every array
+of the run) *and* its results table's row, column by column (the arrays a reader is served).
+
+A digest in the manifest proves nothing against someone who can rewrite the table and
+reseal the manifest; a recomputed run does, for the runs recomputed (docs/guide/ledger.md).
 """
 
 from __future__ import annotations
@@ -20,17 +24,29 @@ PAPER_RUNS = ("experiment1", "experiment2")
 
 @dataclasses.dataclass(frozen=True)
 class Check:
-    """One recomputed run: its name, seed, key and whether its digest equals the ledger's."""
+    """One recomputed run: its name, seed, key, its record's content digest and the
+    recomputed one, and the columns of its table row that the recomputed run does not give
+    (empty where the row is the run's)."""
 
     name: str
     seed: int
     key: str
     ledger_digest: str
     digest: str
+    columns: tuple[str, ...] = ()
 
     @property
     def ok(self) -> bool:
-        return self.digest == self.ledger_digest
+        return self.digest == self.ledger_digest and not self.columns
+
+    def differences(self) -> str:
+        """What differs, in words ("" if nothing)."""
+        found = []
+        if self.digest != self.ledger_digest:
+            found.append("its record's content digest")
+        if self.columns:
+            found.append(f"its table row ({', '.join(self.columns)[:120]})")
+        return " and ".join(found)
 
 
 def _commit() -> str:
@@ -56,15 +72,24 @@ def _commit() -> str:
 UNSAMPLED_RUNNERS = ("ppo",)
 
 
-def chosen(data: dict, sample: int | None, commit: str) -> list[str]:
+def chosen(data: dict, sample: int | None, commit: str, tables=()) -> list[str]:
     """The run keys ``verify`` recomputes: every run of :data:`PAPER_RUNS`, plus ``sample``
     others ordered by SHA-256 of the commit and the key (so each commit draws other runs);
     ``sample=None``: every run. Not the runs of :data:`UNSAMPLED_RUNNERS`: the pixel-level
     bound's (PPO) are recomputed by ``--all`` (:func:`verify`), as JAX's compiled CPU code may
     round differently on another CPU family, which a sample on every CI run should not
     hinge on. (The paper's learner's runs are drawn, and those of a learner registered from
-    outside the package, :mod:`docking.learners`.)"""
+    outside the package, :mod:`docking.learners`.) ``tables``: every run of these results
+    tables instead (PPO's too); ``ValueError`` naming the tables for a name the ledger lacks."""
     keys = sorted(data["runs"])
+    if tables:
+        unknown = sorted(set(tables) - set(data["tables"]))
+        if unknown:
+            raise ValueError(
+                f"the ledger has no table {', '.join(unknown)}; its tables: "
+                f"{', '.join(sorted(data['tables']))}"
+            )
+        return [k for k in keys if data["runs"][k]["name"] in tables]
     if sample is None:
         return keys
     keys = [k for k in keys if data["runs"][k]["runner"] not in UNSAMPLED_RUNNERS]
@@ -101,12 +126,32 @@ def platform_lines(mismatch: bool, folder: Path | str | None = None) -> list[str
     return lines
 
 
-def _digest(job, scratch) -> str:
-    """The content digest of ``job``'s recomputed run in the store ``scratch``."""
-    from docking.store import content_digest, result_path
+def _arrays(job, scratch) -> dict[str, np.ndarray]:
+    """The arrays of ``job``'s recomputed run in the store ``scratch``."""
+    from docking.store import result_path
 
     with np.load(result_path(job.config, job.seed, scratch), allow_pickle=False) as f:
-        return content_digest(f)
+        return {k: f[k] for k in f.files}
+
+
+def compare(data: dict, keys: list[str], jobs: list, scratch) -> list[Check]:
+    """Each recomputed run of ``jobs`` (in the store ``scratch``) against the ledger whose
+    manifest is ``data``: its content digest against its record's, its table row (read and
+    checked against its record's row digest) against the row the recomputed run gives."""
+    from docking.ledger import row_differences, table_rows
+    from docking.store import content_digest
+
+    rows: dict[str, dict] = {}
+    checks = []
+    for key, job in zip(keys, jobs, strict=True):
+        record = data["runs"][key]
+        if record["name"] not in rows:
+            rows[record["name"]] = table_rows(data, record["name"])
+        arrays = _arrays(job, scratch)
+        differ = row_differences(arrays, rows[record["name"]][key])
+        digest = content_digest(arrays)
+        checks.append(Check(record["name"], job.seed, key, record["digest"], digest, tuple(differ)))
+    return checks
 
 
 def verify(
@@ -115,10 +160,12 @@ def verify(
     workers: int | None = None,
     progress: bool = True,
     folder: Path | str | None = None,
+    tables=(),
 ) -> list[Check]:
     """Recompute the runs :func:`chosen` picks (in a temporary store; the results store is
-    not touched) and compare each one's content digest with the ledger's. Returns the checks;
-    the caller decides what a mismatch means (the CLI fails)."""
+    not touched; ``tables``: every run of those tables) and compare each one with the ledger
+    (:func:`compare`). Returns the checks; the caller decides what a mismatch means (the CLI
+    fails)."""
     import tempfile
 
     from docking.store import runner_named
@@ -128,7 +175,7 @@ def verify(
     data = manifest(folder)
     if data is None:
         raise FileNotFoundError(f"no ledger to verify in {folder}")
-    keys = chosen(data, sample, _commit())  # sample=None (--all): every runner's runs
+    keys = chosen(data, sample, _commit(), tables)  # sample=None (--all): every runner's runs
     records = [data["runs"][k] for k in keys]
     jobs = [
         Job(runner_named(record["runner"]).from_dict(record["config"]), record["seed"])
@@ -144,8 +191,4 @@ def verify(
             progress=progress,
             desc=f"verify: {len(jobs)} runs",
         )
-        checks = []
-        for key, job, record in zip(keys, jobs, records, strict=True):
-            digest = _digest(job, scratch)
-            checks.append(Check(record["name"], job.seed, key, record["digest"], digest))
-    return checks
+        return compare(data, keys, jobs, scratch)

@@ -90,7 +90,11 @@ def test_messages_docstrings_comments_validation_and_parsing_leave_the_key_alone
 @pytest.mark.parametrize(
     "module, old, new",
     [
-        ("trial.py", "delta = r + gamma * discount * v_next - v", "delta = r + gamma * v_next - v"),
+        (
+            "trial.py",
+            "delta = r + cfg.gamma * discount * following.v - v",
+            "delta = r + cfg.gamma * following.v - v",
+        ),
         ("arith.py", 'np.einsum("ij,j->i", A, x)', "A @ x"),
         ("network.py", "e *= 1.0 / total", "e /= total"),
         ("world.py", "import numpy as np  # noqa: E402", "import numpy as np  # noqa: E402\nX = 1"),

@@ -64,10 +64,14 @@ def _served(seed):
     return load_run(TINY, seed, "/nonexistent-store")
 
 
-def _edit_manifest(folder, change):
+def _edit_manifest(folder, change, reseal: bool = False):
+    """Edit the manifest in ``folder``; with ``reseal``, its seals follow the edit (a forger
+    who can run the package: the checks past the seals must catch it)."""
     path = folder / "manifest.json"
     data = json.loads(path.read_text())
     change(data)
+    if reseal:
+        data["seals"] = ledger.seals_of(data)
     path.write_text(json.dumps(data))
     ledger._read_manifest.cache_clear()
 
@@ -99,7 +103,11 @@ def test_another_seeds_file_copied_into_place_is_refused(copy):
     data = json.loads((copy / "manifest.json").read_text())
     other = (copy / _record(data, 1)["whole"]).read_bytes()
     (copy / _record(data, 0)["whole"]).write_bytes(other)
-    _edit_manifest(copy, lambda d: _record(d, 0).update(sha256=hashlib.sha256(other).hexdigest()))
+    new = hashlib.sha256(other).hexdigest()
+    _edit_manifest(copy, lambda d: _record(d, 0).update(sha256=new))
+    with pytest.raises(ledger.CorruptLedger, match="tiny do not match their seal"):
+        _served(0)  # a whole file's digest is sealed
+    _edit_manifest(copy, lambda d: None, reseal=True)
     with pytest.raises(ledger.CorruptLedger, match="not the run asked for"):
         _served(0)
 
@@ -211,7 +219,7 @@ def test_a_table_that_is_not_an_npz_is_a_clear_error(copy):
         data["tables"].update(tiny=hashlib.sha256(raw).hexdigest())
         _record(data, 1).pop("whole")  # seed 1 is then read from the table
 
-    _edit_manifest(copy, edit)
+    _edit_manifest(copy, edit, reseal=True)
     with pytest.raises(ledger.CorruptLedger, match=r"tiny.npz is not an .npz \(zip\) file") as e:
         load_run(TINY, 1, "/nonexistent-store")
     assert "pickled" not in str(e.value)  # numpy's word for bytes that are no zip

@@ -28,6 +28,7 @@ from docking.experiments import ExperimentConfig, run_experiment
 from docking.policies import oracle
 from docking.ppo import PPOConfig, run_ppo
 from docking.presets import EXPERIMENT_2
+from docking.scene import WorldConfig
 
 ROOT = Path(__file__).resolve().parents[1]
 GUIDE = ROOT / "docs" / "guide" / "bring_your_own_learner.md"
@@ -173,6 +174,191 @@ def test_the_key_follows_the_learners_own_code_in_a_module(tmp_path, registry, m
         "import dataclasses\n", "import dataclasses\nimport docking.contest\n"
     )
     assert module("edited_5", unfollowed).RUNNER.roots == first.RUNNER.roots
+
+
+HELPED = """
+import dataclasses
+
+import {helper}
+from docking import learners
+from docking.scene import WorldConfig
+
+
+@dataclasses.dataclass(frozen=True)
+class Helped:
+    name: str = "helped"
+    world: WorldConfig = WorldConfig()
+    heldout_trials: int = 1
+
+
+def run(config, seed, progress=True, on_trials=None):
+    return learners.judge(config, seed, lambda o, env: {helper}.ACTION, 3, on_trials)
+
+
+RUNNER = learners.register(Helped, run)
+"""
+
+
+def test_the_key_follows_a_helper_module_of_the_users_transitively(tmp_path, registry, monkeypatch):
+    """A module of the user's own that the learner's file imports, and one that module
+    imports, are keyed by their code; a comment in one re-keys nothing. Each version lives
+    in a folder of its own, under the same module names (names enter the key)."""
+
+    def helped(tag: str, helper: str, deeper: str):
+        folder = tmp_path / tag
+        folder.mkdir()
+        (folder / "helper.py").write_text(f"import deeper\n{helper}")
+        (folder / "deeper.py").write_text(deeper)
+        monkeypatch.syspath_prepend(str(folder))
+        for name in ("helper", "deeper"):
+            monkeypatch.delitem(sys.modules, name, raising=False)
+        return _module(folder, "helped", HELPED.format(helper="helper"), monkeypatch)
+
+    first = helped("a", "ACTION = 0\n", "X = 1\n")
+    assert first.RUNNER.code.where[1:] == (
+        str(tmp_path / "a" / "deeper.py"),
+        str(tmp_path / "a" / "helper.py"),
+    )
+    key = store.config_key(first.Helped())
+    assert store.config_key(helped("b", "ACTION = 0  # a comment\n", "X = 1\n").Helped()) == key
+    assert store.config_key(helped("c", "ACTION = 1\n", "X = 1\n").Helped()) != key
+    assert store.config_key(helped("d", "ACTION = 0\n", "X = 2\n").Helped()) != key
+
+
+def test_a_helper_module_without_source_is_refused_naming_it(tmp_path, registry, monkeypatch):
+    import py_compile
+
+    monkeypatch.syspath_prepend(str(tmp_path))
+    (tmp_path / "compiled_helper_src.py").write_text("ACTION = 0\n")
+    py_compile.compile(
+        str(tmp_path / "compiled_helper_src.py"), str(tmp_path / "compiled_helper.pyc")
+    )
+    (tmp_path / "compiled_helper_src.py").unlink()
+    with pytest.raises(TypeError, match="imports compiled_helper, a module of your own with no"):
+        _module(tmp_path, "helped_pyc", HELPED.format(helper="compiled_helper"), monkeypatch)
+
+
+def test_a_learner_named_as_a_path_is_refused(registry):
+    @dataclasses.dataclass(frozen=True)
+    class Escaping:
+        name: str = "../x"
+        world: WorldConfig = WorldConfig()
+        heldout_trials: int = 1
+
+    with pytest.raises(ValueError, match="Escaping.name must be a safe file-name component"):
+        learners.register(Escaping, outside.run)
+    for name in ("../../../x", "/tmp/x", "a/b", ".."):
+        with pytest.raises(ValueError, match="name must be a safe file-name component"):
+            store.result_path(dataclasses.replace(CONFIG, name=name), 0, "/nonexistent")
+
+
+CONTESTED = """
+import dataclasses
+
+import helper
+from docking import learners
+from docking.contest import contest, small_budget
+from docking.scene import WorldConfig
+
+
+@dataclasses.dataclass(frozen=True)
+class Helped:
+    name: str = "helped"
+    world: WorldConfig = WorldConfig()
+    heldout_trials: int = 2
+    k: int = 0
+
+
+def run(config, seed, progress=True, on_trials=None):
+    return learners.judge(config, seed, lambda o, env: helper.ACTION, 3, on_trials)
+
+
+learners.register(Helped, run)
+budget = small_budget(settings=1, judged=2, heldout_trials=2)
+found = contest(Helped(), [dict(k=0)], budget, workers=1, progress=False)
+print(sorted({s for sources in found.results.sources.values() for s in sources}))
+"""
+
+
+@pytest.mark.slow
+def test_a_helper_edited_between_two_contests_is_recomputed(tmp_path):
+    """The issue's case: a contest, then the helper module's constant changed, then the same
+    contest: its runs are computed again (they were served stale), and unchanged, stored."""
+    (tmp_path / "helper.py").write_text("ACTION = 0\n")
+    (tmp_path / "contested.py").write_text(CONTESTED)
+    env = {
+        **os.environ,
+        "PYTHONPATH": f"{tmp_path}{os.pathsep}{ROOT}",
+        "DOCKING_RESULTS": str(tmp_path / "results"),
+        "DOCKING_LEDGER": str(ROOT / "ledger"),
+    }
+
+    def sources() -> str:
+        out = subprocess.run(
+            [sys.executable, "contested.py"],
+            cwd=tmp_path,
+            env=env,
+            capture_output=True,
+            text=True,
+            timeout=600,
+        )
+        assert out.returncode == 0, out.stderr[-3000:]
+        return out.stdout.strip().splitlines()[-1]
+
+    assert sources() == "['computed']"
+    assert sources() == "['store']"
+    (tmp_path / "helper.py").write_text("ACTION = 2\n")
+    assert sources() == "['computed']"
+
+
+FAILING = """
+import dataclasses
+import sys
+
+from docking import learners
+from docking.scene import WorldConfig
+from docking.sweep import Job, run_jobs
+
+
+@dataclasses.dataclass(frozen=True)
+class Failing:
+    name: str = "failing"
+    world: WorldConfig = WorldConfig()
+    heldout_trials: int = 1
+
+
+def run(config, seed, progress=True, on_trials=None):
+    return helper(seed)
+
+
+def helper(seed):
+    raise ZeroDivisionError(f"the learner's own error, seed {seed}")
+
+
+learners.register(Failing, run)
+run_jobs([Job(Failing(), 0)], sys.argv[1], workers=2, progress=False)
+"""
+
+
+@pytest.mark.slow
+def test_a_learners_error_on_the_embedded_cluster_names_the_users_file_and_line(tmp_path):
+    script = tmp_path / "failing.py"
+    script.write_text(FAILING)
+    lines = FAILING.splitlines()
+    run_line = lines.index("    return helper(seed)") + 1
+    raise_line = next(k for k, line in enumerate(lines) if "raise ZeroDivisionError" in line) + 1
+    out = subprocess.run(
+        [sys.executable, str(script), str(tmp_path / "results")],
+        cwd=tmp_path,
+        env={**os.environ, "PYTHONPATH": str(ROOT), "DOCKING_LEDGER": "off"},
+        capture_output=True,
+        text=True,
+        timeout=300,
+    )
+    assert out.returncode != 0 and "the learner's own error, seed 0" in out.stderr
+    assert "<dynamic-code>" not in out.stderr, out.stderr[-3000:]
+    assert f'File "{script}", line {run_line}, in run' in out.stderr, out.stderr[-3000:]
+    assert f'File "{script}", line {raise_line}, in helper' in out.stderr
 
 
 CELL = """

@@ -230,7 +230,7 @@ def test_verify_passes_on_the_ledger_and_fails_on_a_wrong_digest(built, tmp_path
         verify.verify(None, workers=1, progress=False, folder=copy)
     # A manifest consistent with itself (its seals follow the digest), wrong about a run:
     # only recomputing the run shows it.
-    manifest["seals"] = ledger._seals(manifest["runs"])
+    manifest["seals"] = ledger.seals_of(manifest)
     (copy / "manifest.json").write_text(json.dumps(manifest))
     checks = verify.verify(None, workers=1, progress=False, folder=copy)
     assert [c.ok for c in sorted(checks, key=lambda c: c.seed)] == [True, False]

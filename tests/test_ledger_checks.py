@@ -15,10 +15,11 @@ import subprocess
 import sys
 from pathlib import Path
 
+import numpy as np
 import pytest
-from helpers import SEEDS, TINY
+from helpers import SEEDS, TINY, tool
 
-from docking import cli, ledger
+from docking import cli, ledger, verify
 from docking.cli import main
 from docking.ledger import load_run
 from docking.presets import EXPERIMENT_1
@@ -74,7 +75,7 @@ def _edit(folder: Path, change, reseal: bool = False) -> None:
     data = json.loads(path.read_text())
     change(data)
     if reseal:
-        data["seals"] = ledger._seals(data["runs"])
+        data["seals"] = ledger.seals_of(data)
     path.write_text(json.dumps(data, indent=1, sort_keys=True) + "\n")
     ledger._read_manifest.cache_clear()
 
@@ -106,12 +107,22 @@ def test_a_whole_runs_digest_is_compared_with_its_arrays(copy):
         ledger.check_files(copy)
 
 
-def test_an_unsealed_ledger_is_refused_and_the_tool_seals_it(copy):
-    _edit(copy, lambda d: d.pop("seals"))
-    with pytest.raises(ledger.CorruptLedger, match="has no seals .* tools/seal_ledger.py"):
+def test_a_format_7_ledger_is_refused_and_the_tool_upgrades_it(copy):
+    """Format 7 (no row digests, the tables' digests unsealed) is refused, naming the tool;
+    the tool checks it as format 7 did and writes format 8 without recomputing a run."""
+    upgrade = tool("upgrade_ledger")
+
+    def as_7(data):
+        for record in data["runs"].values():
+            del record["row"]
+        data["format"] = 7
+        data["seals"] = upgrade._seals_7(data["runs"])
+
+    _edit(copy, as_7)
+    with pytest.raises(ledger.StaleLedger, match="tools/upgrade_ledger.py"):
         ledger.manifest(copy)
     out = subprocess.run(
-        [sys.executable, str(REPO / "tools" / "seal_ledger.py"), str(copy)],
+        [sys.executable, str(REPO / "tools" / "upgrade_ledger.py"), str(copy)],
         env={**os.environ, "PYTHONPATH": str(REPO)},
         capture_output=True,
         text=True,
@@ -121,6 +132,21 @@ def test_an_unsealed_ledger_is_refused_and_the_tool_seals_it(copy):
     ledger._read_manifest.cache_clear()
     assert ledger.check_files(copy) == {"runs": 3, "tables": 2, "whole": 1}
     assert load_run(TINY, 1, "/nonexistent-store").seed == 1
+
+
+def test_the_upgrade_refuses_a_format_7_ledger_edited_after_its_seal(copy):
+    upgrade = tool("upgrade_ledger")
+
+    def as_7_edited(data):
+        for record in data["runs"].values():
+            del record["row"]
+        data["format"] = 7
+        data["seals"] = upgrade._seals_7(data["runs"])
+        _record(data, 1)["wall_time_train"] = 1.0
+
+    _edit(copy, as_7_edited)
+    with pytest.raises(SystemExit, match="do not match their format-7 seals"):
+        upgrade.upgrade(copy)
 
 
 def test_wall_times_served_are_the_sealed_ones(copy, built):
@@ -154,7 +180,8 @@ def test_ledger_show_refuses_a_damaged_file(copy, damage, which, capsys, restore
 
 
 def test_ledger_show_refuses_a_table_that_holds_other_runs(copy, capsys, restore_sigterm):
-    """A table of the other name's runs, with its digest: every byte checks, its runs do not."""
+    """A table of the other name's runs, with its digest: refused by its seal; resealed,
+    every byte checks, its runs do not."""
     other = (copy / "tables" / "experiment1.npz").read_bytes()
     (copy / "tables" / "tiny.npz").write_bytes(other)
 
@@ -163,7 +190,198 @@ def test_ledger_show_refuses_a_table_that_holds_other_runs(copy, capsys, restore
 
     _edit(copy, edit)
     assert main(["ledger", "show"]) == 1
+    assert "tiny do not match their seal" in capsys.readouterr().err
+    _edit(copy, lambda data: None, reseal=True)
+    assert main(["ledger", "show"]) == 1
     assert "does not hold the runs the manifest names" in capsys.readouterr().err
+
+
+# A forger's edits (issue 49): what each check catches ----------------------------------------
+
+
+def _forge_table(folder: Path, seed: int, column: str, change) -> None:
+    """Change ``column`` of run ``seed``'s row of the tiny table, rewrite the table and put its
+    SHA-256 in the manifest (the issue's forgery; nothing else)."""
+    path = folder / "tables" / "tiny.npz"
+    with np.load(path) as found:
+        table = {k: found[k] for k in found.files}
+    row = table["key"].tolist().index(run_key(TINY, seed))
+    start = int(np.sum(np.maximum(table[column + ".count"][:row], 0)))
+    cells = table[column][start : start + table[column + ".count"][row]]
+    table[column][start : start + len(cells)] = change(cells)
+    path.write_bytes(ledger._npz(table))
+
+    def edit(data):
+        data["tables"]["tiny"] = hashlib.sha256(path.read_bytes()).hexdigest()
+
+    _edit(folder, edit)
+    ledger._table.cache_clear()
+
+
+def _reseal_rows(folder: Path) -> None:
+    """What a forger who can run the package does next: every record's row digest taken from
+    the forged table, and the seals recomputed."""
+
+    def edit(data):
+        rows = ledger._rows(ledger._table_bytes((folder / "tables" / "tiny.npz").read_bytes()))
+        for key, cells in rows:
+            data["runs"][key]["row"] = ledger.row_digest(cells)
+
+    _edit(folder, edit, reseal=True)
+
+
+def test_a_forged_table_is_refused_by_ledger_show_until_resealed_then_verify_names_it(
+    copy, capsys, restore_sigterm
+):
+    _forge_table(copy, 1, "test.success", lambda cells: ~cells)
+    assert main(["ledger", "show"]) == 1  # the table's digest is sealed with its runs
+    assert "tiny do not match their seal" in capsys.readouterr().err
+    _edit(copy, lambda data: None, reseal=True)
+    assert main(["ledger", "show"]) == 1  # the row is not the row its record names
+    assert "the row of 'tiny' seed 1 is not the row its record names" in capsys.readouterr().err
+    _reseal_rows(copy)
+    assert main(["ledger", "show"]) == 0  # a consistent forgery: no digest can catch it
+    capsys.readouterr()
+    checks = verify.verify(tables=("tiny",), workers=1, progress=False, folder=copy)
+    bad = [c for c in checks if not c.ok]
+    assert [(c.seed, c.columns) for c in bad] == [(1, ("test.success",))]
+    assert bad[0].digest == bad[0].ledger_digest  # the record's digest was never touched
+
+
+def test_two_records_swapped_and_resealed_are_refused_by_ledger_show(copy, capsys, restore_sigterm):
+    def swap(data):
+        a, b = run_key(TINY, 0), run_key(TINY, 1)
+        data["runs"][a], data["runs"][b] = data["runs"][b], data["runs"][a]
+
+    _edit(copy, swap, reseal=True)
+    assert main(["ledger", "show"]) == 1
+    err = capsys.readouterr().err.strip()
+    assert len(err.splitlines()) == 1 and "seed" in err, err
+
+
+def test_a_record_given_another_runs_configuration_is_refused_by_ledger_show(
+    copy, capsys, restore_sigterm
+):
+    """The configurations of two runs of one seed swapped, resealed: each record's key is no
+    longer the key of its configuration (checked without recomputing)."""
+
+    def swap(data):
+        a, b = _record(data, 0), _record(data, 0, SMALL)
+        a["config"], b["config"] = b["config"], a["config"]
+
+    _edit(copy, swap, reseal=True)
+    assert main(["ledger", "show"]) == 1
+    err = capsys.readouterr().err.strip()
+    assert len(err.splitlines()) == 1 and "is not the key of its configuration and seed" in err
+
+
+def test_a_swap_of_rows_and_digests_resealed_is_caught_by_verify(copy):
+    """Two runs' rows swapped in the table and their records' digests with them, resealed:
+    every digest agrees with every file; recomputing shows both runs differ."""
+    path = copy / "tables" / "tiny.npz"
+    table = ledger._table_bytes(path.read_bytes())
+    rows = dict(ledger._rows(table))
+    a, b = run_key(TINY, 0), run_key(TINY, 1)
+    rows[a], rows[b] = rows[b], rows[a]
+    path.write_bytes(ledger._npz(ledger._columns(sorted(rows.items()))))
+
+    def edit(data):
+        data["tables"]["tiny"] = hashlib.sha256(path.read_bytes()).hexdigest()
+        ra, rb = data["runs"][a], data["runs"][b]
+        ra["row"], rb["row"] = ledger.row_digest(rows[a]), ledger.row_digest(rows[b])
+        ra.pop("whole"), ra.pop("sha256")  # a whole run's file would give it away
+        ra["digest"], rb["digest"] = rb["digest"], ra["digest"]
+
+    _edit(copy, edit, reseal=True)
+    ledger._table.cache_clear()
+    assert ledger.check_files(copy)  # consistent
+    checks = {
+        c.seed: c for c in verify.verify(tables=("tiny",), workers=1, progress=False, folder=copy)
+    }
+    assert not checks[0].ok and not checks[1].ok
+    assert "its record's content digest" in checks[0].differences()
+
+
+@pytest.mark.parametrize("name", ["../../outside", "/etc/passwd", "a/b", ".hidden", "..", ""])
+def test_a_table_name_that_is_not_a_plain_name_is_refused(copy, name, capsys, restore_sigterm):
+    def edit(data):
+        data["tables"][name] = data["tables"].pop("tiny")
+        for record in data["runs"].values():
+            if record["name"] == "tiny":
+                record["name"] = name
+
+    _edit(copy, edit, reseal=True)
+    assert main(["ledger", "show"]) == 1
+    err = capsys.readouterr().err.strip()
+    assert len(err.splitlines()) == 1 and "table name" in err, err
+
+
+def _fifo(path: Path) -> None:
+    path.unlink()
+    os.mkfifo(path)
+
+
+def _to_dev_zero(path: Path) -> None:
+    path.unlink()
+    path.symlink_to("/dev/zero")
+
+
+def _to_outside(path: Path) -> None:
+    outside = path.parent.parent.parent / "outside.npz"
+    outside.write_bytes(path.read_bytes())
+    path.unlink()
+    path.symlink_to(outside)
+
+
+@pytest.mark.parametrize("make", [_fifo, _to_dev_zero, _to_outside], ids=["fifo", "zero", "out"])
+@pytest.mark.parametrize(
+    "command", [["ledger", "show"], pytest.param(["report"], marks=pytest.mark.slow)]
+)
+def test_a_table_that_is_not_a_regular_file_of_the_ledger_is_one_line(
+    copy, make, command, tmp_path, restore_sigterm
+):
+    """In the tiny ledger for ``ledger show``; in a copy of the committed ledger for
+    ``report`` (which reads the paper's tables)."""
+    folder, table = copy, "tiny"
+    if command == ["report"]:
+        folder, table = tmp_path / "committed", "experiment1"
+        shutil.copytree(REPO / "ledger", folder)
+    make(folder / "tables" / f"{table}.npz")
+    out = subprocess.run(
+        [sys.executable, "-m", "docking", *command],
+        env={**os.environ, "PYTHONPATH": str(REPO), "DOCKING_LEDGER": str(folder)},
+        capture_output=True,
+        text=True,
+        timeout=120,
+    )
+    assert out.returncode == 1, out.stderr[-2000:]
+    err = out.stderr.strip()
+    assert len(err.splitlines()) == 1 and "not read" in err, err
+
+
+@pytest.mark.parametrize("make", [_fifo, _to_dev_zero], ids=["fifo", "zero"])
+def test_a_manifest_that_is_not_a_regular_file_is_one_line(copy, make, capsys, restore_sigterm):
+    make(copy / "manifest.json")
+    assert main(["ledger", "show"]) == 1
+    err = capsys.readouterr().err.strip()
+    assert len(err.splitlines()) == 1 and "not read" in err, err
+
+
+def test_a_stored_result_that_is_a_fifo_is_one_line_and_no_hang(tmp_path):
+    results = tmp_path / "results"
+    path = result_path(SMALL, 0, results)
+    path.parent.mkdir(parents=True)
+    os.mkfifo(path)
+    out = subprocess.run(
+        [sys.executable, "-m", "docking", "run", "experiment1", "--seeds", "0", *SMALL_ARGS],
+        env={**os.environ, "PYTHONPATH": str(REPO), "DOCKING_RESULTS": str(results)},
+        capture_output=True,
+        text=True,
+        timeout=300,
+    )
+    lines = [line for line in out.stderr.splitlines() if line.strip()]
+    assert any("is a FIFO (named pipe), not a regular file: not read" in line for line in lines)
+    assert len(lines) == 1, out.stderr
 
 
 def test_ledger_show_says_what_it_checked(copy, capsys, restore_sigterm):

@@ -176,7 +176,9 @@ def test_a_code_change_in_trial_py_changes_the_fingerprint(tmp_path):
     trial.write_text(source.replace('"""SARSA trials', '"""Trials of SARSA', 1) + "\n# note\n")
     assert source_fingerprint(package) == before
     # ... code does.
-    trial.write_text(source.replace("gamma = cfg.gamma", "gamma = 0.5 * cfg.gamma", 1))
+    changed = source.replace("r + cfg.gamma * discount", "r + 0.5 * cfg.gamma * discount", 1)
+    assert changed != source
+    trial.write_text(changed)
     assert source_fingerprint(package) != before
     # So do the modules trial.py imports (network.py), and the scene's assets.
     trial.write_text(source)
