@@ -100,6 +100,10 @@ def _register_envs() -> None:
                 entry_point="docking.gym_ids:CheckedDockingGymEnv",
                 kwargs={"preset": preset},
                 max_episode_steps=steps,
+                # Gymnasium 1.4's PassiveEnvChecker counts its first reset as checked before
+                # it returns: after a refused first reset(seed='0') the next step fails inside
+                # it (issue 52). check_env passes on every id (tests/test_gym.py).
+                disable_env_checker=True,
             )
 
 
