@@ -1,38 +1,113 @@
 """What ``gymnasium.make`` builds for the ids of :data:`docking.ENV_IDS`: the adapter
-:class:`docking.gym.DockingGymEnv`, with its arguments and actions checked here.
+:class:`docking.gym.DockingGymEnv`, with its arguments and actions checked here, and the
+conventions of reinforcement-learning libraries such as Stable-Baselines3.
 
 The adapter's code is part of the fingerprint of PPO's runs (:mod:`docking.ppo` builds it), so
-checks that its code could hold live in this module instead, which no run imports: a
-``seed`` that is no integer (``seed=True``) and, in a world with continuous actions
-(``docking/Continuous-v0``), an action that is no vector of real numbers (strings, bools,
-complex numbers, which numpy would convert or truncate) are refused the way the discrete ids
-refuse them: a ``ValueError`` (or ``TypeError``) naming what was expected. A valid action
-reaches the adapter unchanged.
+what its code could hold lives in this module instead, which no run imports:
+
+* a ``seed`` that is no integer (``seed=True``) and, in a world with continuous actions
+  (``docking/Continuous-v0``), an action that is no vector of real numbers (strings, bools,
+  complex numbers, which numpy would convert or truncate) are refused the way the discrete ids
+  refuse them: a ``ValueError`` (or ``TypeError``) naming what was expected. A valid action
+  reaches the adapter unchanged;
+* ``reset(options=...)``: the environments take no options, so anything but ``None`` or an
+  empty dict is refused, naming ``options``;
+* ``info["is_success"]``: ``info["docked"]`` under the name Stable-Baselines3's success rates
+  read (on every step, so on an episode's last one it is the episode's success);
+* ``observation``: ``"grid"`` (the default, the ``(10, 32)`` rows of pixels the package's own
+  learners read) or ``"flat"`` (the same pixels as one ``(320,)`` vector, row by row: the shape
+  Stable-Baselines3's ``MlpPolicy`` and its ``check_env`` expect);
+* a continuous world's ``Box`` action space is ``float32`` (the adapter's is ``float64``).
 """
 
 from __future__ import annotations
 
+import dataclasses
+
 import numpy as np
+from gymnasium import spaces
 
 from docking.gym import DockingGymEnv
-from docking.validate import MAX_SEED, check_int
+from docking.scene import WorldConfig
+from docking.validate import MAX_SEED, FieldTypeError, check_int
 
-__all__ = ["CheckedDockingGymEnv"]
+__all__ = ["OBSERVATIONS", "CheckedDockingGymEnv"]
+
+#: The layouts of ``make(..., observation=...)``: name -> what it is.
+OBSERVATIONS = {
+    "grid": "the (10, 32) rows of pixels",
+    "flat": "the same pixels as one (320,) vector, row by row",
+}
 
 
 class CheckedDockingGymEnv(DockingGymEnv):
-    """:class:`docking.gym.DockingGymEnv` with its ``seed`` and continuous actions checked
-    (see the module docstring); the entry point of every registered id."""
+    """:class:`docking.gym.DockingGymEnv` with its arguments and continuous actions checked
+    and the observation layout chosen (see the module docstring); the entry point of every
+    registered id.
 
-    def __init__(self, seed: int | None = None, **kwargs):
+    Args:
+      seed: As the adapter's (an int or ``None``), checked.
+      observation: A name of :data:`OBSERVATIONS`.
+      **kwargs: The adapter's ``render_mode`` and ``preset``, and fields of
+        :class:`~docking.scene.WorldConfig`.
+    """
+
+    def __init__(self, seed: int | None = None, observation: str = "grid", **kwargs):
         if seed is not None:  # NumPy integers too, as reset(seed=...) takes them
             check_int("DockingGymEnv", "seed", seed, lo=0, hi=MAX_SEED)
+        if not isinstance(observation, str) or observation not in OBSERVATIONS:
+            raise ValueError(
+                f"observation must be one of {', '.join(map(repr, OBSERVATIONS))}, "
+                f"got {observation!r}"
+            )
+        _check_names(kwargs)
         super().__init__(seed=seed, **kwargs)
+        self.observation = observation
+        if observation == "flat":
+            self.observation_space = spaces.flatten_space(self.observation_space)
+        if self.config.continuous:
+            box = self.action_space
+            low, high = box.low.astype(np.float32), box.high.astype(np.float32)
+            self.action_space = spaces.Box(low, high, dtype=np.float32)
+
+    def reset(self, *, seed: int | None = None, options: dict | None = None):
+        """Start an episode; ``seed`` reseeds the env first; ``options``: None or ``{}``."""
+        if options is not None and not isinstance(options, dict):
+            raise FieldTypeError(f"reset.options must be None or a dict, got {options!r}")
+        if options:
+            raise ValueError(
+                f"reset.options must be empty: the docking environments take no options, got "
+                f"{', '.join(map(repr, options))}"
+            )
+        obs, info = super().reset(seed=seed, options=options)
+        return self._layout(obs), info
 
     def step(self, action):
         if self.config.continuous:
             _check_vector(action, self.config.action_names)
-        return super().step(action)
+        obs, reward, terminated, truncated, info = super().step(action)
+        return self._layout(obs), reward, terminated, truncated, info
+
+    def _layout(self, obs: np.ndarray) -> np.ndarray:
+        return obs.reshape(-1) if self.observation == "flat" else obs
+
+    def _info(self) -> dict:
+        info = super()._info()
+        info["is_success"] = info["docked"]
+        return info
+
+
+def _check_names(kwargs: dict) -> None:
+    """``TypeError`` naming what is neither an argument of the ids nor a field of
+    :class:`~docking.scene.WorldConfig`."""
+    fields = {f.name for f in dataclasses.fields(WorldConfig)}
+    unknown = sorted(set(kwargs) - fields - {"preset", "render_mode"})
+    if unknown:
+        raise TypeError(
+            f"the docking environments take the fields of WorldConfig "
+            f"({', '.join(sorted(fields))}), preset, seed, render_mode and observation; got "
+            f"unknown {', '.join(unknown)}"
+        )
 
 
 def _check_vector(action, names: tuple[str, ...]) -> None:

@@ -1,4 +1,5 @@
-"""The Gymnasium adapter: the env checker, make, seeding, and an async vector env."""
+"""The Gymnasium adapter: the env checker, make, seeding, an async vector env, and the
+conventions Stable-Baselines3 reads (``is_success``, a flat observation, float32 actions)."""
 
 import gymnasium
 import numpy as np
@@ -24,7 +25,7 @@ def test_make_takes_world_fields_and_returns_spaces():
     assert env.action_space.n == 4
     obs, info = env.reset()
     assert obs in env.observation_space
-    assert set(info) == {"pose", "docked"}
+    assert set(info) == {"pose", "docked", "is_success"}
     # Walking backwards never docks: the third action is a time-limit truncation.
     for k in range(3):
         obs, reward, terminated, truncated, info = env.step(1)
@@ -189,3 +190,86 @@ def test_the_guide_names_every_id():
     assert {i for i in docking.ENV_IDS if any(f"`{i}`" in row for row in rows)} == set(
         docking.ENV_IDS
     )
+
+
+# -- the conventions of reinforcement-learning libraries (Stable-Baselines3) ------------------
+
+
+def test_is_success_is_docked_on_the_last_step():
+    env = gymnasium.make(docking.gym.ENV_ID, seed=0)
+    _, info = env.reset()
+    assert info["is_success"] is False
+    config = env.unwrapped.config
+    env.unwrapped.dm_env.reset_to([-(config.dock_center + config.step_forward), 0.0, 0.0])
+    _, _, terminated, _, info = env.step(0)
+    assert terminated and info["is_success"] is True and info["docked"] is True
+    env.reset(seed=0)
+    truncated = False
+    while not truncated:  # walking backwards never docks: the time limit ends the episode
+        _, _, terminated, truncated, info = env.step(1)
+        assert not terminated
+    assert info["is_success"] is False
+    env.close()
+
+
+@pytest.mark.parametrize("env_id", sorted(docking.ENV_IDS))
+def test_the_flat_observation_is_the_grid_row_by_row(env_id):
+    grid = gymnasium.make(env_id, seed=3)
+    flat = gymnasium.make(env_id, seed=3, observation="flat")
+    assert grid.observation_space.shape == (10, 32)  # the documented default is unchanged
+    space = flat.observation_space
+    assert (space.shape, space.dtype) == ((320,), np.float32)
+    assert (space.low.min(), space.high.max()) == (0.0, 1.0)
+    first, _ = flat.reset()
+    np.testing.assert_array_equal(first, grid.reset()[0].reshape(320))
+    action = grid.action_space.sample() if grid.unwrapped.config.continuous else 2
+    np.testing.assert_array_equal(flat.step(action)[0], grid.step(action)[0].reshape(320))
+    check_env(flat.unwrapped, skip_render_check=True)
+    with pytest.raises(ValueError, match="observation must be one of 'grid', 'flat'"):
+        gymnasium.make(env_id, observation="image")
+
+
+def test_continuous_actions_are_float32():
+    env = gymnasium.make("docking/Continuous-v0", seed=0)
+    assert env.action_space.dtype == np.float32
+    assert (env.action_space.low.tolist(), env.action_space.high.tolist()) == ([-1, -1], [1, 1])
+    env.action_space.seed(0)
+    env.reset(seed=0)
+    action = env.action_space.sample()
+    assert action.dtype == np.float32
+    # The same episode as the adapter (float64 actions) given the same numbers.
+    plain = docking.gym.DockingGymEnv(seed=0, preset="continuous")
+    plain.reset(seed=0)
+    np.testing.assert_array_equal(env.step(action)[0], plain.step(action.astype(np.float64))[0])
+
+
+def test_a_refused_reset_leaves_the_env_usable():
+    """Each refused reset names its argument; the next valid reset and step work (issue 52:
+    after a refused reset(seed='0') the first step failed inside Gymnasium's passive env
+    checker)."""
+    env = gymnasium.make(docking.gym.ENV_ID)
+    with pytest.raises(TypeError, match="reset.seed"):
+        env.reset(seed="0")
+    env.reset(seed=0)
+    assert env.step(2)[0].shape == (10, 32)
+    with pytest.raises(TypeError, match="reset.options must be None or a dict, got 'abc'"):
+        env.reset(options="abc")
+    with pytest.raises(ValueError, match="reset.options must be empty.*'start'"):
+        env.reset(options={"start": [0, 0, 0]})
+    env.reset(seed=0, options={})
+    assert env.step(2)[0].shape == (10, 32)
+
+
+@pytest.mark.parametrize("env_id", sorted(docking.ENV_IDS))
+def test_stable_baselines3_check_env_warns_nothing_on_the_flat_observation(env_id):
+    sb3_checker = pytest.importorskip(
+        "stable_baselines3.common.env_checker", reason="Stable-Baselines3 is not installed"
+    )
+    import warnings
+
+    env = gymnasium.make(env_id, observation="flat")
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        sb3_checker.check_env(env)
+    assert [str(w.message) for w in caught] == []
+    env.close()

@@ -106,6 +106,23 @@ def _same_as_the_adapter(action):
     return a[4]["pose"]
 
 
+def _refused_then_usable(**bad):
+    """``reset(**bad)`` as the first reset of a made env, then a valid ``reset(seed=0)`` and
+    ``step(2)``: the refusal raised again if the env is still usable after it, else what the
+    valid calls raised (a traceback); returns if ``bad`` is accepted (silent)."""
+    env = gymnasium.make("docking/Docking-v0")
+    try:
+        env.reset(**bad)
+    except (ValueError, TypeError) as refused:
+        try:
+            env.reset(seed=0)
+            env.step(2)
+        except Exception as exc:  # noqa: BLE001 - the env is unusable: counted as such
+            raise RuntimeError(f"unusable after a refused reset: {exc!r}") from exc
+        raise refused from None
+    return "accepted"
+
+
 def cases() -> dict[str, list]:
     """``{class: [(label, call, names)]}``: ``names`` None for valid input."""
     found: dict[str, list] = {}
@@ -175,6 +192,26 @@ def cases() -> dict[str, list]:
         ),
         ("reset(seed=True)", lambda: _discrete().reset(seed=True), "seed"),
         ("reset(seed=-5)", lambda: _discrete().reset(seed=-5), "seed"),
+        (
+            "make(observation='image')",
+            lambda: gymnasium.make("docking/Docking-v0", observation="image"),
+            "observation",
+        ),
+    ]
+    # Issue 52: each refused as the env's first reset, and the env usable after it.
+    found["gymnasium: a refused reset"] = [
+        (
+            f"reset({k}={v!r}), then reset(seed=0); step(2)",
+            lambda k=k, v=v: _refused_then_usable(**{k: v}),
+            k,
+        )
+        for k, v in (
+            ("seed", "0"),
+            ("seed", 1.5),
+            ("options", "abc"),
+            ("options", ["start"]),
+            ("options", {"start": [0, 0, 0]}),
+        )
     ]
     found["seeds and grids"] = (
         [
