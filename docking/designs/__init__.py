@@ -23,6 +23,7 @@ MODULES = {
     "untested": "docking.designs.untested",
     "untested-revisited": "docking.designs.revisited",
     "bracketing-replication": "docking.designs.replication",
+    "fragility-landscape": "docking.designs.landscape",
 }
 
 
