@@ -52,6 +52,7 @@ from docking.scene import (
     Distractor,
     WorldConfig,
 )
+from docking.validate import parse_int, parse_real
 
 PROG = _PROG  # the name in every message: one place, docking/__init__.py
 DESCRIPTION = (
@@ -131,6 +132,35 @@ _registry = tyro.constructors.ConstructorRegistry()
 _expanding: set[type] = set()
 #: Whether the parser being built is for ``--help`` (the common options, :data:`COMMON`).
 _brief = False
+
+
+def _is_int(value) -> bool:
+    return isinstance(value, int) and not isinstance(value, bool)
+
+
+#: Every integer and real option (and each number of a tuple option), read as the seeds are:
+#: ASCII digits, no underscores (tyro's own ``int`` and ``float`` would read ``1_0`` as 10
+#: and other scripts' digits as theirs). ``(parse, is_instance)`` per type.
+_NUMBERS = {
+    int: (parse_int, _is_int),
+    float: (parse_real, lambda v: isinstance(v, float) or ("~" if _is_int(v) else False)),
+}
+
+
+@_registry.primitive_rule
+def _as_number(info):
+    """An ``int`` or ``float`` option read by :func:`docking.validate.parse_int` or
+    :func:`docking.validate.parse_real` (tyro prints their error as the option's)."""
+    if info.type not in _NUMBERS:
+        return None
+    parse, is_instance = _NUMBERS[info.type]
+    return tyro.constructors.PrimitiveConstructorSpec(
+        nargs=1,
+        metavar=info.type.__name__.upper(),
+        instance_from_str=lambda args: parse(args[0]),
+        is_instance=is_instance,
+        str_from_instance=lambda value: [str(value)],
+    )
 
 
 @_registry.struct_rule

@@ -53,7 +53,14 @@ from docking.store import (
     run_or_load,
     runner_for,
 )
-from docking.validate import MAX_SEED, check_instance, check_int
+from docking.validate import (
+    DIGITS,
+    MAX_SEED,
+    check_instance,
+    check_int,
+    parse_int,
+    parse_real,
+)
 
 if TYPE_CHECKING:
     from docking.ppo import PPOConfig
@@ -110,8 +117,9 @@ def parse_seeds(text: str) -> list[int]:
     """Seeds from ``"0-19"``, ``"0,3,5"``, ``"0 3 5"`` or ``"0-4,10-12"`` (ranges include both
     ends; commas and/or whitespace separate the items, spaces around a range's ``-`` are
     allowed), at most :data:`MAX_SEEDS` of them, each at most
-    :data:`docking.validate.MAX_SEED`. Seeds are ASCII digits: ``int`` would also read
-    ``1_0`` as 10 and other scripts' digits (``١``) as theirs."""
+    :data:`docking.validate.MAX_SEED`. Seeds are ASCII digits (:data:`docking.validate.DIGITS`,
+    as every number of the command line): ``int`` would also read ``1_0`` as 10 and other
+    scripts' digits (``١``) as theirs."""
     import re
 
     usage = (
@@ -127,7 +135,7 @@ def parse_seeds(text: str) -> list[int]:
         for part in items:
             bounds = part.split("-")
             try:
-                if len(bounds) > 2 or not all(re.fullmatch(r"[0-9]+", b) for b in bounds):
+                if len(bounds) > 2 or not all(re.fullmatch(DIGITS, b) for b in bounds):
                     raise ValueError
                 lo, hi = int(bounds[0]), int(bounds[-1])
                 if lo < 0 or hi < lo:
@@ -152,16 +160,16 @@ def _convert(value: str, current, where: str):
         if lowered in ("false", "0", "no"):
             return False
         raise ValueError(f"{where} takes true or false, got {value!r}")
-    if isinstance(current, int):
+    if isinstance(current, int):  # ASCII digits, as every number of the command line
         try:
-            return int(value)
-        except ValueError:
-            raise ValueError(f"{where} takes an integer, got {value!r}") from None
+            return parse_int(value)
+        except ValueError as exc:
+            raise ValueError(f"{where} takes an integer; {exc}") from None
     if isinstance(current, float):
         try:
-            return float(value)
-        except ValueError:
-            raise ValueError(f"{where} takes a number, got {value!r}") from None
+            return parse_real(value)
+        except ValueError as exc:
+            raise ValueError(f"{where} takes a number; {exc}") from None
     if isinstance(current, str):
         return value
     raise ValueError(f"{where} ({type(current).__name__}) cannot be set from the command line")

@@ -358,3 +358,60 @@ def test_help_into_a_closed_pipe_is_no_traceback(tmp_path):
         timeout=60,
     )
     assert out.stdout.startswith("usage: python -m docking run") and out.stderr == ""
+
+
+# Issue 52: every number of the command line read as seeds are ----------------------------------
+
+
+def _parse_error(args, monkeypatch, capsys) -> str:
+    """What tyro says of the command line ``args`` (it must refuse it), on one line."""
+    from docking import cli
+
+    monkeypatch.setenv("COLUMNS", "200")
+    with pytest.raises(SystemExit) as exit_:
+        cli.parse(args)
+    assert exit_.value.code == 2
+    return " ".join(capsys.readouterr().err.replace("\u2502", " ").split())
+
+
+@pytest.mark.parametrize(
+    "option, value, says",
+    [
+        ("--train-trials", "1_0", "'1_0' is not an integer"),
+        ("--test-trials", "\u0661\u0660", "'\u0661\u0660' is not an integer"),  # Arabic-Indic 10
+        ("--network.eps-w", "1_0", "'1_0' is not a number"),
+        ("--network.eps-w", "0.0_5", "'0.0_5' is not a number"),
+        ("--network.eps-w", "\u0660.\u0665", "is not a number"),  # Arabic-Indic 0.5
+        ("--world.start-near", "\uff10.6", "is not a number"),  # a full-width 0
+        ("--processes", "1_0", "'1_0' is not an integer"),  # an int | None option
+    ],
+)
+def test_a_number_option_is_ascii_digits_without_underscores(
+    option, value, says, monkeypatch, capsys
+):
+    said = _parse_error(["run", "experiment1", option, value], monkeypatch, capsys)
+    assert f"Error parsing {option}: " in said and says in said and "Traceback" not in said
+
+
+def test_ordinary_numbers_still_parse():
+    from docking import cli
+
+    args = ["run", "experiment1", "--train-trials", "12", "--network.eps-w", "1e-3"]
+    args += ["--network.eps-q", "0.5", "--network.beta-s", "5", "--world.start-near", ".6"]
+    command = cli.parse([*args, "--processes", "2"])
+    config = command.experiment
+    assert (config.train_trials, config.network.eps_w, config.network.eps_q) == (12, 1e-3, 0.5)
+    assert (config.network.beta_s, config.world.start_near, command.processes) == (5.0, 0.6, 2)
+
+
+@pytest.mark.parametrize(
+    "grid, says",
+    [
+        (["train_trials=1_0,20"], "ExperimentConfig.train_trials takes an integer; '1_0'"),
+        (["network.eps_w=0.0_5"], "NetworkConfig.eps_w takes a number; '0.0_5'"),
+        (["train_trials=\u0661\u0660"], "ExperimentConfig.train_trials takes an integer"),
+    ],
+)
+def test_a_grid_value_is_ascii_digits_without_underscores(grid, says):
+    with pytest.raises(ValueError, match=says):
+        grid_configs(EXPERIMENT_1, grid)
