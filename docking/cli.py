@@ -240,9 +240,30 @@ def _seeds_of(config: ExperimentConfig, text: str | None) -> list[int]:
 
 
 def _summary(results) -> str:
-    rates = np.array([r.test.success_rate for r in results])
-    per_seed = ", ".join(f"{r.seed}: {r.test_successes}/{len(r.test.success)}" for r in results)
-    return f"test success mean {100 * rates.mean():.1f}% (min {100 * rates.min():.1f}%; {per_seed})"
+    """The line of a configuration's runs: their test success, or, for runs without test
+    trials (``--test-trials 0``, as the designs' runs judged on held-out trials), that they
+    have none, and their held-out success if they have held-out trials (a mean of no trials
+    is no number)."""
+    if len(results[0].test.success):
+        return _success_line("test", [r.test for r in results], results)
+    heldout = [r.heldout for r in results]
+    text = "no test trials (--test-trials 0)"
+    if all(log is not None and len(log.success) for log in heldout):
+        text += "; " + _success_line("held-out", heldout, results)
+    return text
+
+
+def _success_line(what: str, logs, results) -> str:
+    """``what`` success of ``logs`` (one per run of ``results``): the mean, the minimum and
+    each seed's successes."""
+    rates = np.array([log.success_rate for log in logs])
+    per_seed = ", ".join(
+        f"{r.seed}: {int(np.sum(log.success))}/{len(log.success)}"
+        for r, log in zip(results, logs, strict=True)
+    )
+    return (
+        f"{what} success mean {100 * rates.mean():.1f}% (min {100 * rates.min():.1f}%; {per_seed})"
+    )
 
 
 @dataclasses.dataclass

@@ -415,3 +415,21 @@ def test_ordinary_numbers_still_parse():
 def test_a_grid_value_is_ascii_digits_without_underscores(grid, says):
     with pytest.raises(ValueError, match=says):
         grid_configs(EXPERIMENT_1, grid)
+
+
+# Issue 52: a run without test trials says so --------------------------------------------------
+
+
+@pytest.mark.slow
+def test_a_run_without_test_trials_says_so_not_nan(tmp_path, capsys, monkeypatch):
+    monkeypatch.setenv("DOCKING_RESULTS", str(tmp_path))
+    args = ["run", "experiment1", "--seeds", "0", "--processes", "1", "--train-trials", "2"]
+    args += ["--test-trials", "0", "--eval-trials", "0", "--heldout-trials", "2"]
+    handler = signal.getsignal(signal.SIGTERM)
+    try:
+        assert main(args) == 0
+    finally:
+        signal.signal(signal.SIGTERM, handler)
+    line = capsys.readouterr().out.splitlines()[0]
+    assert "no test trials (--test-trials 0); held-out success mean" in line, line
+    assert "nan" not in line and "0: " in line and "/2" in line, line
