@@ -509,10 +509,16 @@ class Sweep:
     """Recompute and replace stored runs."""
 
     def execute(self) -> int:
-        from docking.sweep import grid_configs
+        from docking.sweep import MAX_RUNS, grid_configs
 
         configs = grid_configs(self.experiment, self.grid)
         seeds = _seeds_of(self.experiment, self.seeds)
+        if len(configs) * len(seeds) > MAX_RUNS:
+            raise ValueError(
+                f"at most {MAX_RUNS} runs in one command; the sweep names "
+                f"{len(configs) * len(seeds):,} ({len(configs)} configurations x "
+                f"{len(seeds)} seeds)"
+            )
         _warn_short_curriculum(*configs)
         desc = f"sweep: {len(configs)} configurations x {len(seeds)} seeds"
         sources, paths, results = _run(self, configs, seeds, desc)

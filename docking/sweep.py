@@ -32,6 +32,7 @@ import dataclasses
 import itertools
 import json
 import logging
+import math
 import os
 import signal
 import sys
@@ -111,6 +112,10 @@ def jobs_for(configs: Iterable[ExperimentConfig], seeds: Iterable[int]) -> list[
 
 #: The most seeds one command may name (each seed is a run of minutes).
 MAX_SEEDS = 10_000
+#: The most configurations one grid may name, as for seeds (each is a run of minutes per seed).
+MAX_CONFIGS = 10_000
+#: The most runs (configurations x seeds) one sweep command may name.
+MAX_RUNS = 10_000
 
 
 def parse_seeds(text: str) -> list[int]:
@@ -200,7 +205,8 @@ def grid_configs(base: ExperimentConfig, grid: Sequence[str]) -> list[Experiment
     """The configurations of a parameter grid: every combination of the values of each
     ``"path=v1,v2,..."`` entry (e.g. ``"network.eps_w=0,0.05"``) applied to ``base``. A field
     named twice, or two values that give the same configuration (``0,0.0``), are refused as
-    repeated seeds are."""
+    repeated seeds are; so is a grid of more than :data:`MAX_CONFIGS` configurations, before
+    any is built."""
     axes, named = [], {}
     for entry in grid:
         path, sep, values = entry.partition("=")
@@ -213,6 +219,13 @@ def grid_configs(base: ExperimentConfig, grid: Sequence[str]) -> list[Experiment
             raise ValueError(f"the grid names {field} twice ({named[field]!r} and {entry!r})")
         named[field] = entry
         axes.append([(path.strip(), v.strip()) for v in values.split(",")])
+    count = math.prod(len(axis) for axis in axes)
+    if count > MAX_CONFIGS:
+        sizes = " x ".join(str(len(axis)) for axis in axes)
+        raise ValueError(
+            f"at most {MAX_CONFIGS} grid configurations in one command; the grid names "
+            f"{count:,} ({sizes})"
+        )
     configs, seen = [], {}
     for combination in itertools.product(*axes):
         config = base

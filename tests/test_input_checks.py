@@ -433,3 +433,36 @@ def test_a_run_without_test_trials_says_so_not_nan(tmp_path, capsys, monkeypatch
     line = capsys.readouterr().out.splitlines()[0]
     assert "no test trials (--test-trials 0); held-out success mean" in line, line
     assert "nan" not in line and "0: " in line and "/2" in line, line
+
+
+# Issue 52: grids capped as seeds are, before any work ------------------------------------------
+
+
+def test_a_grid_of_millions_is_refused_before_any_configuration_is_built(monkeypatch):
+    monkeypatch.setattr(
+        "docking.sweep.apply_override", lambda *a: pytest.fail("a configuration was built")
+    )
+    values = ",".join(str(k) for k in range(1, 201))
+    grid = [f"train_trials={values}", f"test_trials={values}", f"heldout_trials={values}"]
+    with pytest.raises(ValueError, match=r"at most 10000 grid configurations .* 8,000,000"):
+        grid_configs(EXPERIMENT_1, grid)
+
+
+@pytest.mark.parametrize(
+    "args, says",
+    [
+        (["--grid", "train_trials=" + ",".join(map(str, range(1, 10002)))], "10,001 (10001)"),
+        (["--seeds", "0-9999", "--grid", "network.eps_w=0,0.05"], "at most 10000 runs"),
+    ],
+    ids=["grid", "grid x seeds"],
+)
+def test_a_sweep_too_large_is_one_line_before_any_run(args, says, monkeypatch, capsys):
+    from docking import cli
+
+    monkeypatch.setattr(cli, "_run", lambda *a: pytest.fail("the sweep started"))
+    handler = signal.getsignal(signal.SIGTERM)
+    try:
+        assert main(["sweep", "experiment1", *args]) == 2
+    finally:
+        signal.signal(signal.SIGTERM, handler)
+    assert says in _one_error_line(capsys.readouterr().err)
