@@ -21,6 +21,7 @@ import pytest
 import docking  # noqa: F401  (registers the Gymnasium ids)
 from docking.camera import CameraConfig
 from docking.cli import main
+from docking.experiments import ExperimentConfig
 from docking.gym import DockingGymEnv
 from docking.presets import EXPERIMENT_1, EXPERIMENT_2, FLOOR_WORLD, NAO_WORLD
 from docking.scene import Distractor, WorldConfig
@@ -466,3 +467,51 @@ def test_a_sweep_too_large_is_one_line_before_any_run(args, says, monkeypatch, c
     finally:
         signal.signal(signal.SIGTERM, handler)
     assert says in _one_error_line(capsys.readouterr().err)
+
+
+# Issue 52: the contest's arguments -------------------------------------------------------------
+
+
+@pytest.mark.parametrize(
+    "learner, grid, error, says",
+    [
+        (None, [{}, {}], TypeError, "contest: learner must be a learner's configuration"),
+        (ExperimentConfig, [{}, {}], TypeError, "contest: learner must be"),  # the class
+        (EXPERIMENT_2, "ab", TypeError, "contest: grid must be a list of settings"),
+        (EXPERIMENT_2, [1, 2], TypeError, r"contest: grid\[0\] must be a mapping"),
+        (lambda: EXPERIMENT_2, [{}, {}], TypeError, "contest: learner must be callable as make"),
+        (lambda world, **s: 3, [{}, {}], TypeError, "contest: learner.* must return a learner's"),
+        (
+            EXPERIMENT_2,
+            [{"train_trials": 10}, {"train_trials": 10}],
+            ValueError,
+            r"contest: grid\[0\] .* and grid\[1\] .* give the same configuration",
+        ),
+        (
+            EXPERIMENT_2,
+            [{}, {"train_trials": EXPERIMENT_2.train_trials}],  # the default, named
+            ValueError,
+            "give the same configuration",
+        ),
+        (EXPERIMENT_2, [{}, {"nope": 1}], ValueError, "the grid's setting .* names nope"),
+    ],
+    ids=[
+        "None",
+        "a class",
+        "a text",
+        "numbers",
+        "lambda()",
+        "lambda->3",
+        "twice",
+        "default",
+        "nope",
+    ],
+)
+def test_the_contests_arguments_are_checked_before_any_work(
+    learner, grid, error, says, monkeypatch
+):
+    from docking import contest as contest_module
+
+    monkeypatch.setattr(contest_module, "published", lambda *a: pytest.fail("it went on"))
+    with pytest.raises(error, match=says):
+        contest_module.contest(learner, grid, contest_module.small_budget())
