@@ -37,7 +37,7 @@ from typing import Annotated, Literal, Union
 import numpy as np
 import tyro
 
-from docking import _PROG, paths
+from docking import _PROG, _check_opengl_platform, paths
 from docking.camera import CameraConfig
 from docking.designs import names as _design_names
 from docking.experiments import POLICIES, PRETRAIN_RULES, Curriculum, ExperimentConfig
@@ -1331,6 +1331,7 @@ def main(argv=None) -> int:
         return 130
     signal.signal(signal.SIGTERM, _exit_on_sigterm)
     try:
+        _check_opengl_platform()  # RenderingUnavailable, a RuntimeError: one line
         return command.execute()
     except KeyboardInterrupt:  # Ctrl-C: a running sweep has closed its cluster on the way
         print(f"{PROG}: interrupted", file=sys.stderr)

@@ -515,3 +515,15 @@ def test_the_contests_arguments_are_checked_before_any_work(
     monkeypatch.setattr(contest_module, "published", lambda *a: pytest.fail("it went on"))
     with pytest.raises(error, match=says):
         contest_module.contest(learner, grid, contest_module.small_budget())
+
+
+# Issue 52: a PYOPENGL_PLATFORM that does not match MUJOCO_GL -----------------------------------
+
+
+def test_a_bogus_opengl_platform_is_one_clear_line(tmp_path):
+    args = ["run", "experiment1", "--seeds", "0", "--processes", "1", "--train-trials", "2"]
+    out = _cli(args, tmp_path, PYOPENGL_PLATFORM="bogus", MUJOCO_GL="egl")
+    assert out.returncode == 1
+    said = _one_error_line(out.stderr)
+    assert "PYOPENGL_PLATFORM='bogus' does not match MUJOCO_GL=egl" in said
+    assert not (tmp_path / "results").exists()
