@@ -412,20 +412,26 @@ class _EmbeddedCluster:
         import subprocess
         import tempfile
 
+        import dask
         from distributed import Client, LocalCluster
 
+        # The cluster's own folder, removed when it closes: the workers' scratch
+        # (--local-directory) and the scheduler's (Dask's temporary-directory while it
+        # starts; by default <the system's temporary folder>/dask-scratch-space, shared by
+        # every cluster and left behind).
         self._scratch = tempfile.TemporaryDirectory(prefix="docking-dask-")
         self._closing = os.path.join(self._scratch.name, "closing")  # see close()
         self._procs: list[subprocess.Popen] = []
-        self._cluster = LocalCluster(
-            n_workers=0,
-            processes=False,
-            protocol="tcp",  # not inproc: the workers are other processes
-            host="127.0.0.1",
-            scheduler_port=0,
-            dashboard_address="127.0.0.1:0",  # ":0" would listen on every interface
-            silence_logs=logging.ERROR,
-        )
+        with dask.config.set({"temporary-directory": self._scratch.name}):
+            self._cluster = LocalCluster(
+                n_workers=0,
+                processes=False,
+                protocol="tcp",  # not inproc: the workers are other processes
+                host="127.0.0.1",
+                scheduler_port=0,
+                dashboard_address="127.0.0.1:0",  # ":0" would listen on every interface
+                silence_logs=logging.ERROR,
+            )
         package_root = str(Path(__file__).resolve().parent.parent)
         env = {
             **os.environ,
