@@ -7,6 +7,7 @@ from __future__ import annotations
 
 import dataclasses
 import os
+import re
 import signal
 import subprocess
 import sys
@@ -527,3 +528,18 @@ def test_a_bogus_opengl_platform_is_one_clear_line(tmp_path):
     said = _one_error_line(out.stderr)
     assert "PYOPENGL_PLATFORM='bogus' does not match MUJOCO_GL=egl" in said
     assert not (tmp_path / "results").exists()
+
+
+# Issue 52: a policy's bad action while judging ------------------------------------------------
+
+
+@pytest.mark.parametrize(
+    "world, action",
+    [(WorldConfig(), 1.5), (WorldConfig(), "0"), (WorldConfig(actions="continuous"), [2.0, 0.0])],
+    ids=["a float", "a text", "beyond 1"],
+)
+def test_a_bad_action_while_judging_is_the_policys(world, action):
+    from docking.protocol import heldout_log
+
+    with pytest.raises(ValueError, match=rf"^your policy returned {re.escape(repr(action))}: "):
+        heldout_log(world, 0, 1, lambda observation, env: action)
