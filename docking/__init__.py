@@ -48,7 +48,21 @@ if _sys.argv[:1] == ["-m"] and "docking" in getattr(_sys, "orig_argv", ()):
     _take_ctrl_c()
 
 # The rendering environment's defaults (MUJOCO_GL=egl, ...), before anything imports mujoco.
-from docking import glenv as _glenv  # noqa: E402, F401
+from docking import glenv as _glenv  # noqa: E402
+
+
+def _check_opengl_platform() -> None:
+    """:class:`docking.glenv.RenderingUnavailable` in one line, before dm-control's renderer
+    fails with an ``ImportError`` on its first import, when ``PYOPENGL_PLATFORM`` names
+    another platform than the ``MUJOCO_GL`` backend (egl or osmesa) it must match. (Here, not
+    in :mod:`docking.glenv`, whose code keys every run.)"""
+    backend = _os.environ.get("MUJOCO_GL", "")
+    platform = _os.environ.get("PYOPENGL_PLATFORM", "")
+    if backend in ("egl", "osmesa") and platform not in ("", backend):
+        raise _glenv.RenderingUnavailable(
+            f"PYOPENGL_PLATFORM={platform!r} does not match MUJOCO_GL={backend}: dm-control "
+            f"renders with {backend} only if PYOPENGL_PLATFORM is unset or {backend!r}"
+        )
 
 #: A symbol every LLVM library exports (its C API): when it resolves in the process's global
 #: scope, a library holding another LLVM that binds through that scope binds to this one.

@@ -37,7 +37,7 @@ from typing import Annotated, Literal, Union
 import numpy as np
 import tyro
 
-from docking import _PROG, paths
+from docking import _PROG, _check_opengl_platform, paths
 from docking.camera import CameraConfig
 from docking.designs import names as _design_names
 from docking.experiments import POLICIES, PRETRAIN_RULES, Curriculum, ExperimentConfig
@@ -52,6 +52,7 @@ from docking.scene import (
     Distractor,
     WorldConfig,
 )
+from docking.validate import parse_int, parse_real
 
 PROG = _PROG  # the name in every message: one place, docking/__init__.py
 DESCRIPTION = (
@@ -133,6 +134,35 @@ _expanding: set[type] = set()
 _brief = False
 
 
+def _is_int(value) -> bool:
+    return isinstance(value, int) and not isinstance(value, bool)
+
+
+#: Every integer and real option (and each number of a tuple option), read as the seeds are:
+#: ASCII digits, no underscores (tyro's own ``int`` and ``float`` would read ``1_0`` as 10
+#: and other scripts' digits as theirs). ``(parse, is_instance)`` per type.
+_NUMBERS = {
+    int: (parse_int, _is_int),
+    float: (parse_real, lambda v: isinstance(v, float) or ("~" if _is_int(v) else False)),
+}
+
+
+@_registry.primitive_rule
+def _as_number(info):
+    """An ``int`` or ``float`` option read by :func:`docking.validate.parse_int` or
+    :func:`docking.validate.parse_real` (tyro prints their error as the option's)."""
+    if info.type not in _NUMBERS:
+        return None
+    parse, is_instance = _NUMBERS[info.type]
+    return tyro.constructors.PrimitiveConstructorSpec(
+        nargs=1,
+        metavar=info.type.__name__.upper(),
+        instance_from_str=lambda args: parse(args[0]),
+        is_instance=is_instance,
+        str_from_instance=lambda value: [str(value)],
+    )
+
+
 @_registry.struct_rule
 def _as_options(info):
     """tyro's own expansion of a configuration dataclass, with its fields as options: the
@@ -210,9 +240,30 @@ def _seeds_of(config: ExperimentConfig, text: str | None) -> list[int]:
 
 
 def _summary(results) -> str:
-    rates = np.array([r.test.success_rate for r in results])
-    per_seed = ", ".join(f"{r.seed}: {r.test_successes}/{len(r.test.success)}" for r in results)
-    return f"test success mean {100 * rates.mean():.1f}% (min {100 * rates.min():.1f}%; {per_seed})"
+    """The line of a configuration's runs: their test success, or, for runs without test
+    trials (``--test-trials 0``, as the designs' runs judged on held-out trials), that they
+    have none, and their held-out success if they have held-out trials (a mean of no trials
+    is no number)."""
+    if len(results[0].test.success):
+        return _success_line("test", [r.test for r in results], results)
+    heldout = [r.heldout for r in results]
+    text = "no test trials (--test-trials 0)"
+    if all(log is not None and len(log.success) for log in heldout):
+        text += "; " + _success_line("held-out", heldout, results)
+    return text
+
+
+def _success_line(what: str, logs, results) -> str:
+    """``what`` success of ``logs`` (one per run of ``results``): the mean, the minimum and
+    each seed's successes."""
+    rates = np.array([log.success_rate for log in logs])
+    per_seed = ", ".join(
+        f"{r.seed}: {int(np.sum(log.success))}/{len(log.success)}"
+        for r, log in zip(results, logs, strict=True)
+    )
+    return (
+        f"{what} success mean {100 * rates.mean():.1f}% (min {100 * rates.min():.1f}%; {per_seed})"
+    )
 
 
 @dataclasses.dataclass
@@ -458,10 +509,16 @@ class Sweep:
     """Recompute and replace stored runs."""
 
     def execute(self) -> int:
-        from docking.sweep import grid_configs
+        from docking.sweep import MAX_RUNS, grid_configs
 
         configs = grid_configs(self.experiment, self.grid)
         seeds = _seeds_of(self.experiment, self.seeds)
+        if len(configs) * len(seeds) > MAX_RUNS:
+            raise ValueError(
+                f"at most {MAX_RUNS} runs in one command; the sweep names "
+                f"{len(configs) * len(seeds):,} ({len(configs)} configurations x "
+                f"{len(seeds)} seeds)"
+            )
         _warn_short_curriculum(*configs)
         desc = f"sweep: {len(configs)} configurations x {len(seeds)} seeds"
         sources, paths, results = _run(self, configs, seeds, desc)
@@ -1337,6 +1394,7 @@ def main(argv=None) -> int:
         return 130
     signal.signal(signal.SIGTERM, _exit_on_sigterm)
     try:
+        _check_opengl_platform()  # RenderingUnavailable, a RuntimeError: one line
         return command.execute()
     except KeyboardInterrupt:  # Ctrl-C: a running sweep has closed its cluster on the way
         print(f"{PROG}: interrupted", file=sys.stderr)

@@ -36,6 +36,8 @@ from __future__ import annotations
 
 import dataclasses
 import functools
+import inspect
+import json
 from collections.abc import Callable, Mapping, Sequence
 
 import numpy as np
@@ -257,8 +259,9 @@ def contest(
         held-out trials replace its fields: ``dataclasses.replace(learner, world=...,
         heldout_trials=..., **setting)``), or ``make(world, **setting)`` returning one (its
         held-out trials are set to the budget's).
-      grid: The settings tried, ``budget.settings`` of them (9 in the contest), the default
-        first (ties go to the earlier setting).
+      grid: The settings tried (``{field: value}`` each), ``budget.settings`` of them (9 in
+        the contest), the default first (ties go to the earlier setting), no two giving the
+        same configuration.
       budget: :data:`CONTEST_BUDGET`, or a smaller one (:func:`small_budget`).
       label: The learner's name in tables (default: its configuration's ``name``); not one
         of the published variants' (paper, linear, ppo, oracle, ...).
@@ -266,9 +269,13 @@ def contest(
       scheduler: An existing Dask scheduler (``tcp://HOST:PORT``); None: the embedded
         cluster of ``workers`` processes (default: one per core; 1: in this process).
       progress: Show the sweeps' progress bars.
+
+    A learner, grid or label of the wrong kind is a ``TypeError`` or ``ValueError`` naming it,
+    raised before anything is read or run.
     """
     check_instance("contest", "budget", budget, Budget)
-    grid = [dict(s) for s in grid]
+    _check_learner(learner)
+    grid = _settings(grid)
     if len(grid) != budget.settings:
         raise ValueError(
             f"contest: the grid has {len(grid)} settings, the budget {budget.settings} "
@@ -279,6 +286,7 @@ def contest(
     label = check_name("contest", "label", first.name if label is None else label)
     if label in _RESERVED:
         raise ValueError(f"contest: the label {label!r} names a published learner or yardstick")
+    _check_distinct(make, budget.worlds[0], grid)
     tuning, design = _tuning(label, grid, budget, make)
     shown = published(results_dir)  # before any run: a ledger without them fails first
     mine = run_design(
@@ -318,6 +326,57 @@ def _tuning(label: str, grid: list[dict], budget: Budget, make: Callable) -> tup
     return tuning, design
 
 
+def _is_config(learner) -> bool:
+    """Whether ``learner`` is a configuration (a dataclass instance), not a maker."""
+    return dataclasses.is_dataclass(learner) and not isinstance(learner, type)
+
+
+def _check_learner(learner) -> None:
+    """``TypeError`` naming ``learner`` unless it is a configuration with a world or a
+    callable (a maker, ``make(world, **setting)``)."""
+    if _is_config(learner) and hasattr(learner, "world"):
+        return
+    if callable(learner) and not _is_config(learner) and not isinstance(learner, type):
+        return
+    raise TypeError(
+        "contest: learner must be a learner's configuration (a dataclass with world and "
+        "heldout_trials fields) or make(world, **setting) returning one, got "
+        f"{learner!r:.80} ({type(learner).__name__})"
+    )
+
+
+def _settings(grid) -> list[dict]:
+    """``grid`` as a list of settings (``{field: value}``); ``TypeError`` naming it unless
+    it is a sequence (not a text) of mappings with field names for keys."""
+    if isinstance(grid, str | bytes) or not isinstance(grid, Sequence):
+        raise TypeError(
+            "contest: grid must be a list of settings, each a mapping of field names to "
+            f"values (e.g. [{{}}, {{'alpha': 0.1}}]), got {grid!r:.80} ({type(grid).__name__})"
+        )
+    for k, setting in enumerate(grid):
+        if not isinstance(setting, Mapping) or not all(isinstance(n, str) for n in setting):
+            raise TypeError(
+                f"contest: grid[{k}] must be a mapping of field names to values, got "
+                f"{setting!r:.80} ({type(setting).__name__})"
+            )
+    return [dict(s) for s in grid]
+
+
+def _check_distinct(make: Callable, world: str, grid: list[dict]) -> None:
+    """``ValueError`` naming the grid if two of its settings give one configuration in
+    ``world`` (as a sweep's ``--grid`` refuses them: the tuning would run it twice)."""
+    seen: dict[str, int] = {}
+    for k, setting in enumerate(grid):
+        text = json.dumps(make(world, "", **setting).to_dict(), sort_keys=True)
+        if text in seen:
+            j = seen[text]
+            raise ValueError(
+                f"contest: grid[{j}] ({grid[j]!r:.60}) and grid[{k}] ({grid[k]!r:.60}) give "
+                "the same configuration; each setting of the grid must differ"
+            )
+        seen[text] = k
+
+
 def _maker(learner, heldout_trials: int) -> Callable:
     """``make(world key, learner label, **setting)``: the learner's configuration in the
     world with the setting and ``heldout_trials`` held-out trials (what :class:`Tuning`
@@ -326,9 +385,10 @@ def _maker(learner, heldout_trials: int) -> Callable:
     def make(world: str, _label: str, **setting):
         where = WORLDS[world]
         if callable(learner) and not hasattr(learner, "world"):
-            config = learner(where, **setting)
+            config = _made(learner, where, setting)
             config = dataclasses.replace(config, heldout_trials=heldout_trials)
         else:
+            _check_fields(learner, setting)
             config = dataclasses.replace(
                 learner, world=where, heldout_trials=heldout_trials, **setting
             )
@@ -338,6 +398,40 @@ def _maker(learner, heldout_trials: int) -> Callable:
         return config
 
     return make
+
+
+def _made(learner: Callable, world: WorldConfig, setting: dict):
+    """``learner(world, **setting)``: a configuration with a ``heldout_trials`` field;
+    ``TypeError`` naming the learner if it cannot be called so or returns something else."""
+    try:
+        inspect.signature(learner).bind(world, **setting)
+    except TypeError as exc:
+        raise TypeError(
+            f"contest: learner must be callable as make(world, **setting); "
+            f"{getattr(learner, '__name__', repr(learner))}(world, **{setting!r:.60}) "
+            f"cannot be: {exc}"
+        ) from None
+    except ValueError:  # no signature to read (some builtins): the call says
+        pass
+    config = learner(world, **setting)
+    if not _is_config(config) or not hasattr(config, "heldout_trials"):
+        raise TypeError(
+            f"contest: learner(world, **{setting!r:.60}) must return a learner's "
+            f"configuration (a dataclass with world and heldout_trials fields), returned "
+            f"{config!r:.80} ({type(config).__name__})"
+        )
+    return config
+
+
+def _check_fields(config, setting: dict) -> None:
+    """``ValueError`` naming the grid's setting if it names a field ``config`` has not."""
+    fields = {f.name for f in dataclasses.fields(config)}
+    unknown = sorted(set(setting) - fields)
+    if unknown:
+        raise ValueError(
+            f"contest: the grid's setting {setting!r:.80} names {', '.join(unknown)}, not "
+            f"fields of {type(config).__name__} ({', '.join(sorted(fields))})"
+        )
 
 
 def _cell(world: str, variant: str, config, label: str, seeds=None) -> Cell:

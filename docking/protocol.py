@@ -111,10 +111,28 @@ def heldout_log(
     env = heldout_env(world, seed)
     records = []
     for _ in range(n_trials):
-        records.append(policy_trial(env, policy))
+        records.append(policy_trial(env, _yours(policy)))
         if on_trials is not None:
             on_trials(1)
     return TrialLog.from_records(records, [world.start_far] * len(records))
+
+
+def _yours(policy: Callable) -> Callable:
+    """``policy`` with each action it returns checked as the world's step checks it, before
+    the step: a bad one is an error that says the policy returned it (the step's own says
+    only "action must be ...")."""
+    from docking.world import _check_action, _check_vector_action
+
+    def checked(observation, env):
+        action = policy(observation, env)
+        check = _check_vector_action if env.config.continuous else _check_action
+        try:
+            check(action, env.config.action_names)
+        except ValueError as exc:
+            raise ValueError(f"your policy returned {action!r:.80}: {exc}") from None
+        return action
+
+    return checked
 
 
 def judge(

@@ -32,6 +32,7 @@ import dataclasses
 import itertools
 import json
 import logging
+import math
 import os
 import signal
 import sys
@@ -53,7 +54,14 @@ from docking.store import (
     run_or_load,
     runner_for,
 )
-from docking.validate import MAX_SEED, check_instance, check_int
+from docking.validate import (
+    DIGITS,
+    MAX_SEED,
+    check_instance,
+    check_int,
+    parse_int,
+    parse_real,
+)
 
 if TYPE_CHECKING:
     from docking.ppo import PPOConfig
@@ -104,14 +112,19 @@ def jobs_for(configs: Iterable[ExperimentConfig], seeds: Iterable[int]) -> list[
 
 #: The most seeds one command may name (each seed is a run of minutes).
 MAX_SEEDS = 10_000
+#: The most configurations one grid may name, as for seeds (each is a run of minutes per seed).
+MAX_CONFIGS = 10_000
+#: The most runs (configurations x seeds) one sweep command may name.
+MAX_RUNS = 10_000
 
 
 def parse_seeds(text: str) -> list[int]:
     """Seeds from ``"0-19"``, ``"0,3,5"``, ``"0 3 5"`` or ``"0-4,10-12"`` (ranges include both
     ends; commas and/or whitespace separate the items, spaces around a range's ``-`` are
     allowed), at most :data:`MAX_SEEDS` of them, each at most
-    :data:`docking.validate.MAX_SEED`. Seeds are ASCII digits: ``int`` would also read
-    ``1_0`` as 10 and other scripts' digits (``١``) as theirs."""
+    :data:`docking.validate.MAX_SEED`. Seeds are ASCII digits (:data:`docking.validate.DIGITS`,
+    as every number of the command line): ``int`` would also read ``1_0`` as 10 and other
+    scripts' digits (``١``) as theirs."""
     import re
 
     usage = (
@@ -127,7 +140,7 @@ def parse_seeds(text: str) -> list[int]:
         for part in items:
             bounds = part.split("-")
             try:
-                if len(bounds) > 2 or not all(re.fullmatch(r"[0-9]+", b) for b in bounds):
+                if len(bounds) > 2 or not all(re.fullmatch(DIGITS, b) for b in bounds):
                     raise ValueError
                 lo, hi = int(bounds[0]), int(bounds[-1])
                 if lo < 0 or hi < lo:
@@ -152,16 +165,16 @@ def _convert(value: str, current, where: str):
         if lowered in ("false", "0", "no"):
             return False
         raise ValueError(f"{where} takes true or false, got {value!r}")
-    if isinstance(current, int):
+    if isinstance(current, int):  # ASCII digits, as every number of the command line
         try:
-            return int(value)
-        except ValueError:
-            raise ValueError(f"{where} takes an integer, got {value!r}") from None
+            return parse_int(value)
+        except ValueError as exc:
+            raise ValueError(f"{where} takes an integer; {exc}") from None
     if isinstance(current, float):
         try:
-            return float(value)
-        except ValueError:
-            raise ValueError(f"{where} takes a number, got {value!r}") from None
+            return parse_real(value)
+        except ValueError as exc:
+            raise ValueError(f"{where} takes a number; {exc}") from None
     if isinstance(current, str):
         return value
     raise ValueError(f"{where} ({type(current).__name__}) cannot be set from the command line")
@@ -192,7 +205,8 @@ def grid_configs(base: ExperimentConfig, grid: Sequence[str]) -> list[Experiment
     """The configurations of a parameter grid: every combination of the values of each
     ``"path=v1,v2,..."`` entry (e.g. ``"network.eps_w=0,0.05"``) applied to ``base``. A field
     named twice, or two values that give the same configuration (``0,0.0``), are refused as
-    repeated seeds are."""
+    repeated seeds are; so is a grid of more than :data:`MAX_CONFIGS` configurations, before
+    any is built."""
     axes, named = [], {}
     for entry in grid:
         path, sep, values = entry.partition("=")
@@ -205,6 +219,13 @@ def grid_configs(base: ExperimentConfig, grid: Sequence[str]) -> list[Experiment
             raise ValueError(f"the grid names {field} twice ({named[field]!r} and {entry!r})")
         named[field] = entry
         axes.append([(path.strip(), v.strip()) for v in values.split(",")])
+    count = math.prod(len(axis) for axis in axes)
+    if count > MAX_CONFIGS:
+        sizes = " x ".join(str(len(axis)) for axis in axes)
+        raise ValueError(
+            f"at most {MAX_CONFIGS} grid configurations in one command; the grid names "
+            f"{count:,} ({sizes})"
+        )
     configs, seen = [], {}
     for combination in itertools.product(*axes):
         config = base
@@ -391,20 +412,26 @@ class _EmbeddedCluster:
         import subprocess
         import tempfile
 
+        import dask
         from distributed import Client, LocalCluster
 
+        # The cluster's own folder, removed when it closes: the workers' scratch
+        # (--local-directory) and the scheduler's (Dask's temporary-directory while it
+        # starts; by default <the system's temporary folder>/dask-scratch-space, shared by
+        # every cluster and left behind).
         self._scratch = tempfile.TemporaryDirectory(prefix="docking-dask-")
         self._closing = os.path.join(self._scratch.name, "closing")  # see close()
         self._procs: list[subprocess.Popen] = []
-        self._cluster = LocalCluster(
-            n_workers=0,
-            processes=False,
-            protocol="tcp",  # not inproc: the workers are other processes
-            host="127.0.0.1",
-            scheduler_port=0,
-            dashboard_address="127.0.0.1:0",  # ":0" would listen on every interface
-            silence_logs=logging.ERROR,
-        )
+        with dask.config.set({"temporary-directory": self._scratch.name}):
+            self._cluster = LocalCluster(
+                n_workers=0,
+                processes=False,
+                protocol="tcp",  # not inproc: the workers are other processes
+                host="127.0.0.1",
+                scheduler_port=0,
+                dashboard_address="127.0.0.1:0",  # ":0" would listen on every interface
+                silence_logs=logging.ERROR,
+            )
         package_root = str(Path(__file__).resolve().parent.parent)
         env = {
             **os.environ,

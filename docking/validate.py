@@ -8,7 +8,8 @@ counts are integers (numpy integers are accepted and stored as plain ``int``); r
 stored as plain ``float``.
 
 The ``check_*`` functions return the normalised value; :func:`normalise` writes it back into a
-frozen dataclass.
+frozen dataclass. :func:`parse_int` and :func:`parse_real` read a number from the command line
+(every option and ``--grid`` value, and the seeds' digits: :data:`DIGITS`).
 """
 
 from __future__ import annotations
@@ -20,6 +21,7 @@ import re
 import numpy as np
 
 __all__ = [
+    "DIGITS",
     "MAX_COUNT",
     "MAX_SEED",
     "FieldTypeError",
@@ -32,11 +34,46 @@ __all__ = [
     "check_real",
     "check_int_tuple",
     "normalise",
+    "parse_int",
+    "parse_real",
 ]
 
 #: A safe file-name component: letters, digits, ``.``, ``_`` and ``-``, starting with a letter
 #: or digit, at most 100 characters (so ``..``, ``/`` and absolute paths are impossible).
 NAME_PATTERN = re.compile(r"[A-Za-z0-9][A-Za-z0-9._-]{0,99}")
+
+
+#: Digits as the command line reads them: ASCII ``0-9`` only. Python's ``int`` and ``float``
+#: also read ``1_0`` as 10 and other scripts' digits (``\u0661``, ``\uff11``) as theirs.
+DIGITS = "[0-9]+"
+_INT_TEXT = re.compile(f"-?{DIGITS}")
+#: ``5``, ``-0.5``, ``.5``, ``1e-3``, ``2.5E+2``; ``nan`` and ``inf`` are read, for the fields'
+#: checks to refuse by name.
+_REAL_TEXT = re.compile(
+    rf"-?({DIGITS}\.?[0-9]*|\.{DIGITS})([eE][-+]?{DIGITS})?|-?(inf|infinity|nan)", re.IGNORECASE
+)
+
+
+def parse_int(text: str) -> int:
+    """The integer ``text`` writes in ASCII digits with an optional ``-`` (``ValueError``
+    otherwise, saying what an integer is written as)."""
+    if not isinstance(text, str) or not _INT_TEXT.fullmatch(text):
+        raise ValueError(
+            f"{text!r} is not an integer: write ASCII digits 0-9 (an optional leading -), "
+            "without underscores"
+        )
+    return int(text)
+
+
+def parse_real(text: str) -> float:
+    """The real number ``text`` writes in ASCII digits (``5``, ``-0.5``, ``1e-3``; ``nan``,
+    ``inf``), ``ValueError`` otherwise, saying what a number is written as."""
+    if not isinstance(text, str) or not _REAL_TEXT.fullmatch(text):
+        raise ValueError(
+            f"{text!r} is not a number: write ASCII digits 0-9 with an optional leading -, "
+            "point and exponent (5, 0.5, 1e-3), without underscores"
+        )
+    return float(text)
 
 
 #: The largest seed the package accepts (seeds name files and numpy ``SeedSequence`` entropy).

@@ -460,6 +460,34 @@ def test_an_installed_package_says_how_to_get_the_ledger(tmp_path, monkeypatch):
     assert out.returncode == 2 and "DOCKING_LEDGER=off" in out.stderr, out.stderr
 
 
+def test_every_folder_of_the_package_is_declared_and_the_wheels_folder_is_ignored():
+    """Issue 52: setuptools warned that the folder docking/assets "would be ignored" (it was
+    absent from ``packages``), and the wheel the README builds into dist/ showed as untracked.
+    Every folder of the package is a declared package whose data files its package-data
+    names, and git ignores dist/."""
+    import fnmatch
+    import tomllib
+
+    setuptools = tomllib.loads((REPO / "pyproject.toml").read_text())["tool"]["setuptools"]
+    packages, data = set(setuptools["packages"]), setuptools["package-data"]
+    package = REPO / "docking"
+    folders = [package] + sorted(
+        p for p in package.rglob("*") if p.is_dir() and "__pycache__" not in p.parts
+    )
+    for folder in folders:
+        name = ".".join(folder.relative_to(REPO).parts)
+        assert name in packages, name
+        for path in folder.iterdir():
+            if path.is_file() and path.suffix not in (".py", ".pyc"):
+                assert any(fnmatch.fnmatch(path.name, p) for p in data.get(name, ())), path
+    ignored = subprocess.run(
+        ["git", "check-ignore", "-q", "dist/docking-0.1.0-py3-none-any.whl"], cwd=REPO
+    )
+    if ignored.returncode == 128:  # not a git checkout
+        pytest.skip("not a git checkout")
+    assert ignored.returncode == 0, "dist/ is not ignored by git"
+
+
 def test_help_is_plain_text(tmp_path):
     """Option help comes from the config dataclasses' docstrings: no Sphinx markup there."""
     out = _cli(["run", "experiment2", "--help"], tmp_path, timeout=60)

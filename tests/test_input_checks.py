@@ -7,6 +7,7 @@ from __future__ import annotations
 
 import dataclasses
 import os
+import re
 import signal
 import subprocess
 import sys
@@ -21,6 +22,7 @@ import pytest
 import docking  # noqa: F401  (registers the Gymnasium ids)
 from docking.camera import CameraConfig
 from docking.cli import main
+from docking.experiments import ExperimentConfig
 from docking.gym import DockingGymEnv
 from docking.presets import EXPERIMENT_1, EXPERIMENT_2, FLOOR_WORLD, NAO_WORLD
 from docking.scene import Distractor, WorldConfig
@@ -358,3 +360,186 @@ def test_help_into_a_closed_pipe_is_no_traceback(tmp_path):
         timeout=60,
     )
     assert out.stdout.startswith("usage: python -m docking run") and out.stderr == ""
+
+
+# Issue 52: every number of the command line read as seeds are ----------------------------------
+
+
+def _parse_error(args, monkeypatch, capsys) -> str:
+    """What tyro says of the command line ``args`` (it must refuse it), on one line."""
+    from docking import cli
+
+    monkeypatch.setenv("COLUMNS", "200")
+    with pytest.raises(SystemExit) as exit_:
+        cli.parse(args)
+    assert exit_.value.code == 2
+    return " ".join(capsys.readouterr().err.replace("\u2502", " ").split())
+
+
+@pytest.mark.parametrize(
+    "option, value, says",
+    [
+        ("--train-trials", "1_0", "'1_0' is not an integer"),
+        ("--test-trials", "\u0661\u0660", "'\u0661\u0660' is not an integer"),  # Arabic-Indic 10
+        ("--network.eps-w", "1_0", "'1_0' is not a number"),
+        ("--network.eps-w", "0.0_5", "'0.0_5' is not a number"),
+        ("--network.eps-w", "\u0660.\u0665", "is not a number"),  # Arabic-Indic 0.5
+        ("--world.start-near", "\uff10.6", "is not a number"),  # a full-width 0
+        ("--processes", "1_0", "'1_0' is not an integer"),  # an int | None option
+    ],
+)
+def test_a_number_option_is_ascii_digits_without_underscores(
+    option, value, says, monkeypatch, capsys
+):
+    said = _parse_error(["run", "experiment1", option, value], monkeypatch, capsys)
+    assert f"Error parsing {option}: " in said and says in said and "Traceback" not in said
+
+
+def test_ordinary_numbers_still_parse():
+    from docking import cli
+
+    args = ["run", "experiment1", "--train-trials", "12", "--network.eps-w", "1e-3"]
+    args += ["--network.eps-q", "0.5", "--network.beta-s", "5", "--world.start-near", ".6"]
+    command = cli.parse([*args, "--processes", "2"])
+    config = command.experiment
+    assert (config.train_trials, config.network.eps_w, config.network.eps_q) == (12, 1e-3, 0.5)
+    assert (config.network.beta_s, config.world.start_near, command.processes) == (5.0, 0.6, 2)
+
+
+@pytest.mark.parametrize(
+    "grid, says",
+    [
+        (["train_trials=1_0,20"], "ExperimentConfig.train_trials takes an integer; '1_0'"),
+        (["network.eps_w=0.0_5"], "NetworkConfig.eps_w takes a number; '0.0_5'"),
+        (["train_trials=\u0661\u0660"], "ExperimentConfig.train_trials takes an integer"),
+    ],
+)
+def test_a_grid_value_is_ascii_digits_without_underscores(grid, says):
+    with pytest.raises(ValueError, match=says):
+        grid_configs(EXPERIMENT_1, grid)
+
+
+# Issue 52: a run without test trials says so --------------------------------------------------
+
+
+@pytest.mark.slow
+def test_a_run_without_test_trials_says_so_not_nan(tmp_path, capsys, monkeypatch):
+    monkeypatch.setenv("DOCKING_RESULTS", str(tmp_path))
+    args = ["run", "experiment1", "--seeds", "0", "--processes", "1", "--train-trials", "2"]
+    args += ["--test-trials", "0", "--eval-trials", "0", "--heldout-trials", "2"]
+    handler = signal.getsignal(signal.SIGTERM)
+    try:
+        assert main(args) == 0
+    finally:
+        signal.signal(signal.SIGTERM, handler)
+    line = capsys.readouterr().out.splitlines()[0]
+    assert "no test trials (--test-trials 0); held-out success mean" in line, line
+    assert "nan" not in line and "0: " in line and "/2" in line, line
+
+
+# Issue 52: grids capped as seeds are, before any work ------------------------------------------
+
+
+def test_a_grid_of_millions_is_refused_before_any_configuration_is_built(monkeypatch):
+    monkeypatch.setattr(
+        "docking.sweep.apply_override", lambda *a: pytest.fail("a configuration was built")
+    )
+    values = ",".join(str(k) for k in range(1, 201))
+    grid = [f"train_trials={values}", f"test_trials={values}", f"heldout_trials={values}"]
+    with pytest.raises(ValueError, match=r"at most 10000 grid configurations .* 8,000,000"):
+        grid_configs(EXPERIMENT_1, grid)
+
+
+@pytest.mark.parametrize(
+    "args, says",
+    [
+        (["--grid", "train_trials=" + ",".join(map(str, range(1, 10002)))], "10,001 (10001)"),
+        (["--seeds", "0-9999", "--grid", "network.eps_w=0,0.05"], "at most 10000 runs"),
+    ],
+    ids=["grid", "grid x seeds"],
+)
+def test_a_sweep_too_large_is_one_line_before_any_run(args, says, monkeypatch, capsys):
+    from docking import cli
+
+    monkeypatch.setattr(cli, "_run", lambda *a: pytest.fail("the sweep started"))
+    handler = signal.getsignal(signal.SIGTERM)
+    try:
+        assert main(["sweep", "experiment1", *args]) == 2
+    finally:
+        signal.signal(signal.SIGTERM, handler)
+    assert says in _one_error_line(capsys.readouterr().err)
+
+
+# Issue 52: the contest's arguments -------------------------------------------------------------
+
+
+@pytest.mark.parametrize(
+    "learner, grid, error, says",
+    [
+        (None, [{}, {}], TypeError, "contest: learner must be a learner's configuration"),
+        (ExperimentConfig, [{}, {}], TypeError, "contest: learner must be"),  # the class
+        (EXPERIMENT_2, "ab", TypeError, "contest: grid must be a list of settings"),
+        (EXPERIMENT_2, [1, 2], TypeError, r"contest: grid\[0\] must be a mapping"),
+        (lambda: EXPERIMENT_2, [{}, {}], TypeError, "contest: learner must be callable as make"),
+        (lambda world, **s: 3, [{}, {}], TypeError, "contest: learner.* must return a learner's"),
+        (
+            EXPERIMENT_2,
+            [{"train_trials": 10}, {"train_trials": 10}],
+            ValueError,
+            r"contest: grid\[0\] .* and grid\[1\] .* give the same configuration",
+        ),
+        (
+            EXPERIMENT_2,
+            [{}, {"train_trials": EXPERIMENT_2.train_trials}],  # the default, named
+            ValueError,
+            "give the same configuration",
+        ),
+        (EXPERIMENT_2, [{}, {"nope": 1}], ValueError, "the grid's setting .* names nope"),
+    ],
+    ids=[
+        "None",
+        "a class",
+        "a text",
+        "numbers",
+        "lambda()",
+        "lambda->3",
+        "twice",
+        "default",
+        "nope",
+    ],
+)
+def test_the_contests_arguments_are_checked_before_any_work(
+    learner, grid, error, says, monkeypatch
+):
+    from docking import contest as contest_module
+
+    monkeypatch.setattr(contest_module, "published", lambda *a: pytest.fail("it went on"))
+    with pytest.raises(error, match=says):
+        contest_module.contest(learner, grid, contest_module.small_budget())
+
+
+# Issue 52: a PYOPENGL_PLATFORM that does not match MUJOCO_GL -----------------------------------
+
+
+def test_a_bogus_opengl_platform_is_one_clear_line(tmp_path):
+    args = ["run", "experiment1", "--seeds", "0", "--processes", "1", "--train-trials", "2"]
+    out = _cli(args, tmp_path, PYOPENGL_PLATFORM="bogus", MUJOCO_GL="egl")
+    assert out.returncode == 1
+    said = _one_error_line(out.stderr)
+    assert "PYOPENGL_PLATFORM='bogus' does not match MUJOCO_GL=egl" in said
+    assert not (tmp_path / "results").exists()
+
+
+# Issue 52: a policy's bad action while judging ------------------------------------------------
+
+
+@pytest.mark.parametrize(
+    "world, action",
+    [(WorldConfig(), 1.5), (WorldConfig(), "0"), (WorldConfig(actions="continuous"), [2.0, 0.0])],
+    ids=["a float", "a text", "beyond 1"],
+)
+def test_a_bad_action_while_judging_is_the_policys(world, action):
+    from docking.protocol import heldout_log
+
+    with pytest.raises(ValueError, match=rf"^your policy returned {re.escape(repr(action))}: "):
+        heldout_log(world, 0, 1, lambda observation, env: action)

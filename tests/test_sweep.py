@@ -460,6 +460,29 @@ def test_closing_our_cluster_logs_no_warning_of_its_own_shutdown():
     assert logging.getLogger("distributed").level <= logging.WARNING  # restored
 
 
+@pytest.mark.slow
+def test_the_embedded_cluster_keeps_its_scratch_in_its_own_folder(tmp_path, monkeypatch):
+    """The scheduler's scratch and the workers' are under the cluster's own temporary folder,
+    which its close removes: nothing is left in the system's temporary folder (issue 52: the
+    in-process scheduler wrote <tmp>/dask-scratch-space, Dask's default, and left it)."""
+    import tempfile
+
+    from docking.sweep import _EmbeddedCluster, _quiet_distributed
+
+    monkeypatch.setattr(tempfile, "tempdir", str(tmp_path))  # the system's temporary folder
+    with _quiet_distributed():
+        cluster = _EmbeddedCluster(1)
+        try:
+            own = Path(cluster._scratch.name)
+            scratch = [Path(cluster._cluster.scheduler.local_directory)]
+            scratch += cluster.client.run(lambda dask_worker: dask_worker.local_directory).values()
+            assert own.parent == tmp_path
+            assert all(own in Path(p).parents for p in scratch), scratch
+        finally:
+            cluster.close()
+    assert not any(tmp_path.iterdir()), list(tmp_path.iterdir())
+
+
 def _worker_record(level: int, msg: str) -> logging.LogRecord:
     """A record an embedded worker's ``distributed.worker`` logger would make."""
     return logging.LogRecord("distributed.worker", level, __file__, 1, msg, None, None)

@@ -35,11 +35,16 @@ import gymnasium  # noqa: E402
 
 import docking  # noqa: E402, F401  (registers the ids)
 from docking.camera import CameraConfig  # noqa: E402
-from docking.experiments import Curriculum  # noqa: E402
+from docking.contest import contest, small_budget  # noqa: E402
+from docking.experiments import Curriculum, ExperimentConfig  # noqa: E402
 from docking.network import NetworkConfig  # noqa: E402
 from docking.presets import EXPERIMENT_1, EXPERIMENT_2, FLOOR_WORLD, NAO_WORLD  # noqa: E402
+from docking.protocol import heldout_log  # noqa: E402
 from docking.scene import Distractor, WorldConfig  # noqa: E402
 from docking.sweep import grid_configs, parse_seeds  # noqa: E402
+
+#: Three count fields of ExperimentConfig: 200 values each make a grid of 8 million.
+_THREE_COUNTS = ("train_trials", "test_trials", "heldout_trials")
 
 #: Seconds after which a case counts as a hang.
 TIMEOUT = 60
@@ -244,6 +249,24 @@ def cases() -> dict[str, list]:
                 ["train_trials=10,010"],
             )
         ]
+        + [  # issue 52: numbers as the command line reads them (the error names the field)
+            (f"grid_configs({g})", lambda g=g: grid_configs(EXPERIMENT_1, g), field)
+            for g, field in (
+                (["train_trials=1_0,20"], "train_trials"),
+                (["network.eps_w=0.0_5"], "eps_w"),
+                (["train_trials=\u0661\u0660"], "train_trials"),
+            )
+        ]
+        + [
+            (
+                "grid_configs(8 million configurations: 200 x 200 x 200)",
+                lambda: grid_configs(
+                    EXPERIMENT_1,
+                    [f"{f}={','.join(map(str, range(1, 201)))}" for f in _THREE_COUNTS],
+                ),
+                "grid",
+            )
+        ]
         + [
             (
                 "grid_configs(two values)",
@@ -252,6 +275,41 @@ def cases() -> dict[str, list]:
             ),
         ]
     )
+    found["contest and judging"] = [
+        (f"contest({what})", lambda a=args: contest(*a, small_budget()), names)
+        for what, args, names in (
+            ("None, ...", (None, [{}, {}]), "learner"),
+            ("ExperimentConfig (the class), ...", (ExperimentConfig, [{}, {}]), "learner"),
+            ("learner, 'ab'", (EXPERIMENT_2, "ab"), "grid"),
+            ("learner, [1, 2]", (EXPERIMENT_2, [1, 2]), "grid"),
+            ("lambda: config, ...", (lambda: EXPERIMENT_2, [{}, {}]), "learner"),
+            ("lambda world, **s: 3, ...", (lambda world, **s: 3, [{}, {}]), "learner"),
+            (
+                "lambda world: config, [{}, {'x': 1}]",
+                (lambda w: dataclasses.replace(EXPERIMENT_2, world=w), [{}, {"x": 1}]),
+                "learner",
+            ),
+            ("a setting twice", (EXPERIMENT_2, [{"train_trials": 9}, {"train_trials": 9}]), "grid"),
+            (
+                "the default named",
+                (EXPERIMENT_2, [{}, {"eval_every": EXPERIMENT_2.eval_every}]),
+                "grid",
+            ),
+            ("a setting naming no field", (EXPERIMENT_2, [{}, {"nope": 1}]), "grid"),
+        )
+    ] + [
+        (
+            f"heldout_log(policy returning {a!r})",
+            lambda w=w, a=a: heldout_log(w, 0, 1, lambda observation, env: a),
+            "your policy returned",
+        )
+        for w, a in (
+            (WorldConfig(), 1.5),
+            (WorldConfig(), "0"),
+            (WorldConfig(), 4),
+            (WorldConfig(actions="continuous"), [2.0, 0.0]),
+        )
+    ]
     found["configurations"] = (
         [
             (

@@ -11,10 +11,12 @@ honest result (a text its output must hold):
   Ctrl-C: exit 130 and the one line ``python -m docking: interrupted``);
 * *traceback*: a Python traceback (or death by a signal);
 * *silent*: exit 0 where an error was due (bad input accepted, a damaged ledger served), or
-  an honest result's text missing (a computation that does not say why);
+  an honest result's text missing (a computation that does not say why), or files left in
+  the system's temporary folder;
 * *hang*: no exit (or no answer) after :data:`TIMEOUT` seconds;
 * *recovered*: the honest result: exit 0 with its text (the help at a clamped width, a run
-  that names the missing ledger before it computes, ``verify`` saying what it will do).
+  that names the missing ledger before it computes, ``verify`` saying what it will do, a run
+  without test trials saying so, a sweep that leaves its temporary folder empty).
 
 Nothing long is computed: the damaged-ledger cases fail before a run starts, the cases that
 recover compute a run of a few trials. Prints one line per case and the counts per class;
@@ -94,6 +96,28 @@ SEEDS_AND_GRIDS = [
     ["sweep", "experiment1", "--seeds", "9999", "--grid", "network.eps_w=0", "network.eps-w=1"],
     ["sweep", "experiment1", "--seeds", "9999", "--grid", "world.heading_hold=true,yes"],
     ["benchmark", "--seeds", "\u0661"],
+]
+
+#: Every number of the command line (issue 52), read as seeds are: ``(option, value)``. Each
+#: case is a run of a few trials (:data:`TINY`, then the option), so that a value accepted
+#: where an error was due is a run computed in seconds, counted silent.
+NUMBERS = [
+    ("--train-trials", "1_0"),
+    ("--train-trials", "\u0661\u0660"),  # Arabic-Indic 10
+    ("--test-trials", "\uff13"),  # a full-width 3
+    ("--network.eps-w", "1_0"),
+    ("--network.eps-w", "0.0_5"),
+    ("--network.eps-w", "\u0660.\u0660\u0665"),  # Arabic-Indic 0.05
+    ("--world.start-near", "\u0660.6"),
+    ("--processes", "1_0"),
+]
+#: ``--grid`` entries of issue 52: a number with an underscore, a grid of 8 million
+#: configurations (refused before any is built).
+_VALUES = ",".join(str(k) for k in range(1, 201))
+GRIDS = [
+    ["train_trials=1_0,20"],
+    ["network.eps_w=0.0_5"],
+    [f"train_trials={_VALUES}", f"test_trials={_VALUES}", f"heldout_trials={_VALUES}"],
 ]
 
 #: A run of a few trials (seconds): what the cases that recover compute.
@@ -327,6 +351,18 @@ def first_line(args: list[str], expect: str, extra_env=None):
     return ("recovered", line) if expect in line else ("silent", line)
 
 
+def leaves_nothing(args: list[str], extra_env: dict, scratch: Path):
+    """A command run with ``scratch`` as the system's temporary folder (``TMPDIR``): recovered
+    if it exits 0 and leaves ``scratch`` empty (its temporary files under a folder of its
+    own, removed); silent if it leaves something there."""
+    scratch.mkdir(parents=True, exist_ok=True)
+    kind, said = classify(args, {**extra_env, "TMPDIR": str(scratch)}, expect="")
+    if kind != "recovered":  # an error where none was due is no clear one
+        return ("silent" if kind == "clear" else kind), said
+    left = sorted(p.name for p in scratch.iterdir())
+    return ("silent", f"left {', '.join(left)} in TMPDIR") if left else ("recovered", "nothing")
+
+
 def cases(tmp: Path) -> dict[str, list]:
     """``{class: [(label, runner, arguments)]}``; a runner returns ``(kind, what it said)``."""
     port = _silent_server()
@@ -345,6 +381,32 @@ def cases(tmp: Path) -> dict[str, list]:
         cli(["run", "experiment1", "--seeds", "9999", "--scheduler", f"tcp://127.0.0.1:{port}"]),
     ]
     found["seeds and grids"] = [cli(args) for args in SEEDS_AND_GRIDS]
+    run0 = ["run", "experiment1", "--seeds", "0", *TINY]
+    found["numbers, grid sizes, no tests, scratch"] = [
+        *(cli([*run0, option, value], fresh()) for option, value in NUMBERS),
+        *(
+            cli(
+                ["sweep", "experiment1", "--seeds", "0", *TINY, "--grid", *grid],
+                fresh(),
+                label=f"sweep --grid {' '.join(grid)[:60]}",
+            )
+            for grid in GRIDS
+        ),
+        cli(
+            ["sweep", "experiment1", "--seeds", "0-9999", "--grid", "network.eps_w=0,0.05"],
+            fresh(),
+        ),
+        cli([*run0, "--test-trials", "0"], fresh(), expect="no test trials (--test-trials 0)"),
+        (
+            "sweep on the embedded cluster: its scratch under its own folder",
+            leaves_nothing,
+            (
+                ["sweep", "experiment1", "--seeds", "0,1", *TINY, "--processes", "2"],
+                fresh(),
+                tmp / "scratch",
+            ),
+        ),
+    ]
     found["environment variables"] = [
         cli(["ledger", "show"], {"DOCKING_LEDGER": "off"}),
         cli(["ledger", "show"], {"DOCKING_LEDGER": "ledgr"}),
@@ -358,6 +420,12 @@ def cases(tmp: Path) -> dict[str, list]:
         *(
             cli(["ledger", "show"], {"MUJOCO_GL": value})
             for value in ("bogus", "", "EGL", "osmesa")
+        ),
+        # issue 52: a platform that does not match MUJOCO_GL=egl
+        cli(["ledger", "show"], {"PYOPENGL_PLATFORM": "bogus"}),
+        cli(
+            ["run", "experiment1", "--seeds", "0", *TINY],
+            {**fresh(), "PYOPENGL_PLATFORM": "osmesa"},
         ),
         *(
             cli(["run", "--help"], {"COLUMNS": value}, expect="--seeds")
