@@ -64,6 +64,7 @@ def _check_opengl_platform() -> None:
             f"renders with {backend} only if PYOPENGL_PLATFORM is unset or {backend!r}"
         )
 
+
 #: A symbol every LLVM library exports (its C API): when it resolves in the process's global
 #: scope, a library holding another LLVM that binds through that scope binds to this one.
 _LLVM_SYMBOL = "LLVMContextCreate"

@@ -12,11 +12,14 @@ linear SARSA and PPO:
   (ties: grid order); 15 training runs per world;
 * **fresh tuning seeds** (:data:`TUNING_SEEDS`), used by no published design, so that tuning
   never reads the streams the published rows were judged or tuned on;
-* **paired held-out streams**: the tuned setting is judged on the published judged seeds
-  (3000-3019), on their held-out streams (:func:`docking.protocol.heldout_log`), 500 trials
-  each, so its success pairs seed by seed with the published rows';
+* **matched seeds**: the tuned setting is judged on the published judged seeds
+  (3000-3019), each run on its own seed's held-out stream
+  (:func:`docking.protocol.heldout_log`), 500 trials each, so its success is compared seed
+  by seed with the published rows' (the seeds are matched; the trials are not paired: each
+  run's first start pose is the same, its later ones and its step noise follow its own path);
 * **the gap rule**: per world, each published tuned learner's lead over the new learner,
-  paired over the seeds both have (Student-t), is *closed* if its interval lies below 5 pp
+  over the seeds both have (the per-seed differences' Student-t interval), is *closed* if its
+  interval lies below 5 pp
   (:data:`docking.designs.third_edition.GAP_CLOSED`), *remains* if above, else
   *undecided*: the rule the edition judged linear SARSA's lead over the paper's learner by
   (:func:`docking.report.contest_gaps`).
@@ -520,7 +523,7 @@ def _gaps_table(gaps: list, label: str) -> str:
         )
         for g in gaps
     ]
-    header = ("world", "published learner", f"its lead over {label} (paired by seed)")
+    header = ("world", "published learner", f"its lead over {label} (matched by seed)")
     note = (
         f"The gap rule (the third edition's): a gap is closed if the interval of the published "
         f"learner's lead lies below {bound:g} pp, remains if above, else undecided."

@@ -14,8 +14,9 @@ docs/guide/bring_your_own_learner.md.
   ``config.world`` (a :class:`~docking.world.DockingEnv`, :func:`training_env`, or the
   Gymnasium env :class:`docking.gym.DockingGymEnv`), calling ``on_trials(n)`` as training
   trials finish; then return :func:`judge` of the greedy policy: a :class:`LearnerResult`
-  of its held-out trials, drawn from the held-out streams of ``seed`` (so paired with every
-  other learner's run of ``seed``), with its training steps and wall times.
+  of its held-out trials, drawn from the held-out streams of ``seed`` (so matched by seed
+  with every other learner's run of ``seed``: the same first start pose, later ones following
+  its own path), with its training steps and wall times.
 
 The paper's learner and linear SARSA (:class:`~docking.experiments.ExperimentConfig`,
 :func:`~docking.experiments.run_experiment`) and PPO (:class:`~docking.ppo.PPOConfig`,

@@ -445,8 +445,8 @@ def summary_text(
     text.append(contest_summary(contest, corrected) if contest is not None else _FINDING_LEFT_OUT)
     if claims is not None:
         text.append(
-            "**The paper's claims** (the third edition, notebook 07: fresh seeds, paired "
-            f"intervals; the claims at a glance below, every interval and p-value on the "
+            "**The paper's claims** (the third edition, notebook 07: fresh seeds, intervals "
+            f"over matched seeds; the claims at a glance below, every interval and p-value on the "
             f"verdict table's page, docs/guide/verdicts.md). {claims}"
         )
     return "\n\n".join(text)
@@ -1423,7 +1423,7 @@ def training_steps_table(rows: list[tuple]) -> str:
 @dataclasses.dataclass(frozen=True)
 class Decomposition:
     """One world's gap between linear SARSA and the paper's tuned learner, split per seed
-    (paired by seed: the same held-out streams) into what the representation loses and
+    (matched by seed) into what the representation loses and
     what learning Q on it loses.
 
     Attributes:

@@ -38,7 +38,7 @@
 # * **Judged** on 500 held-out trials per network, on fresh seeds 3000-3019 (PPO: 3000-3009
 #   tuned, 3000-3004 untuned; yardsticks 3000-3004); intervals are Student-t over seeds.
 # * **The finding's rule:** in each world the gap is tuned linear SARSA minus the tuned paper's
-#   learner, paired by seed (the same seed's held-out streams): *closed* if its 95% interval
+#   learner, over matched seeds (each run on its own seed's held-out stream): *closed* if its 95% interval
 #   lies below 5 pp, *remains* if it lies above, else undecided.
 #
 # The claims of the paper (the verdicts) are the other part of this edition, under the same
@@ -274,8 +274,8 @@ print({w: paper_gain[w].format(unit=" pp") for w in te.CONTEST})
 #   L9 fraction); then up to 5 stages that evaluate every untried neighbour of the best setting
 #   on the ladders; then the best 3 settings again on as many further seeds as the budget of
 #   66 training runs per learner and world leaves.
-# * **Judged** as the contest was: fresh seeds 5000-5009, 500 held-out trials each on paired
-#   streams, the gap *closed* if its 95% interval lies below 5 pp, *remains* if above.
+# * **Judged** as the contest was: fresh seeds 5000-5009, 500 held-out trials each on matched
+#   seeds, the gap *closed* if its 95% interval lies below 5 pp, *remains* if above.
 # * **PPO's budget in environment steps:** its third-edition setting, trained for as many
 #   steps as the tuned paper learner's judged runs took on average in that world.
 #

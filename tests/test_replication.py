@@ -78,3 +78,20 @@ def test_the_wording_says_replicated_only_where_both_agree():
     assert "not replicated" in gap and "not replicated" in lead
     assert rp.first_lead(-0.035, -0.003) == "paper ahead"
     assert rp.first_lead(-0.01, 0.02) == "no lead shown"
+
+
+def test_no_text_calls_the_held_out_streams_of_two_learners_paired():
+    """Each learner's run of a seed draws its own held-out trials from that seed's generator:
+    the seeds are matched, the streams are not paired (only the first start pose is shared).
+    No page, docstring or notebook says otherwise (the archived editions excepted)."""
+    import re
+
+    pattern = re.compile(r"paired\s+held-out|held-out\s+streams,?\s+paired|paired\s+streams", re.I)
+    found = []
+    for folder in ("docking", "notebooks", "docs", "tools", "tests"):
+        for path in sorted((REPO / folder).rglob("*")):
+            if path.suffix in (".py", ".md") and path != Path(__file__):
+                found += [f"{path.name}: {m.group(0)}" for m in pattern.finditer(path.read_text())]
+    for name in ("README.md", "CONTRIBUTING.md"):
+        found += [f"{name}: {m.group(0)}" for m in pattern.finditer((REPO / name).read_text())]
+    assert not found, found

@@ -31,15 +31,15 @@ The search (:class:`BracketedTuning`), the same for both learners in each world:
    many as the budget leaves: ``(BUDGET - runs so far) // ROUND_2`` each. The tuned setting
    is the best mean over all its tuning seeds.
 
-Every learner has :data:`BUDGET` training runs per world for tuning (round 2 spends what
-the first stages leave, so each learner uses all of it). The tuned learners are judged on
-:data:`SEEDS`, fresh, with paired held-out streams. PPO is not tuned again (the budget, see
-the notebook): its third-edition setting per world (:data:`PPO_SETTINGS`) trains for as many
-environment steps as the tuned paper learner's judged runs took in that world, on average
-(measured in the last stage). The last stage also runs the paper's tuned learner with W
-initialised from views (:data:`PRETRAIN_TRIALS` random-walk trials of competitive learning,
-i.e. online k-means, before SARSA) and the same with W then frozen: SARSA on a fixed
-partition of the views.
+Every learner has :data:`BUDGET` training runs per world for tuning (round 2 spends what the
+first stages leave, so each learner uses all of it). The tuned learners are judged on
+:data:`SEEDS`, fresh, on matched seeds (each run its own seed's held-out stream). PPO is not
+tuned again (the budget, see the notebook): its third-edition setting per world
+(:data:`PPO_SETTINGS`) trains for as many environment steps as the tuned paper learner's
+judged runs took in that world, on average (measured in the last stage). The last stage also
+runs the paper's tuned learner with W initialised from views (:data:`PRETRAIN_TRIALS`
+random-walk trials of competitive learning, i.e. online k-means, before SARSA) and the same
+with W then frozen: SARSA on a fixed partition of the views.
 
 Cut for the budget (20 h): the sideboard world (the gap closed there already), PPO's
 tuning, and the yardsticks (the third edition's serve: same worlds, same held-out protocol).

@@ -26,7 +26,7 @@ The rule, the same for both SARSA learners in each world of the addendum:
   chosen by this rule too, among the addendum's complete settings (its round-2 finalists).
 * The tuned setting is the last incumbent. If it differs from the addendum's tuned setting,
   it is judged on the addendum's judged seeds (:data:`docking.designs.addendum.SEEDS`,
-  untouched by any tuning, with the same paired held-out streams); otherwise the
+  untouched by any tuning, on the same matched seeds); otherwise the
   addendum's judged runs stand.
 * The gap rule is the addendum's (and the third edition's): linear SARSA minus the paper's
   learner, paired over the judged seeds, Student-t; *closed* if its 95% interval lies

@@ -24,8 +24,9 @@ The rule, the same for both SARSA learners in each world of the addendum:
   incumbent has every neighbour complete is *bracketed*: each tuned value is interior or at
   a ladder's end (a stated limit, :data:`docking.designs.addendum.LIMITS`).
 * The tuned setting is the last incumbent. **Both** tuned SARSA learners, changed or not,
-  are judged on :data:`SEEDS`, fresh (no run of any earlier design used them), with paired
-  held-out streams: the addendum's judged seeds have had two judged looks already.
+  are judged on :data:`SEEDS`, fresh (no run of any earlier design used them), on matched
+  seeds (each run its own seed's held-out stream; only the first start pose is shared): the
+  addendum's judged seeds have had two judged looks already.
 * The gap rule is the addendum's: linear SARSA minus the paper's learner, paired over the
   judged seeds, Student-t; *closed* if its 95% interval lies below
   :data:`docking.designs.addendum.GAP_CLOSED`, *remains* if above, else *undecided*.
