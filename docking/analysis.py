@@ -934,3 +934,36 @@ def oracle_labelled_success(
     world = world or run.config.world
     net = oracle_labelled(run.network, labelled)
     return heldout_trials(run.config, run.seed, net, world).success_rate
+
+
+class Landscape(NamedTuple):
+    """Success over a grid of two knobs (:func:`landscape`): ``mean[i, j]`` the mean held-out
+    success (fraction) of the setting ``(rows[i], cols[j])`` over its runs (NaN: none),
+    ``n[i, j]`` its runs."""
+
+    rows: np.ndarray
+    cols: np.ndarray
+    mean: np.ndarray
+    n: np.ndarray
+
+
+def landscape(scores: dict[tuple[float, float], list[float]], rows, cols) -> Landscape:
+    """The grid of ``scores`` (``{(row value, column value): per-run success}``) over the
+    knob values ``rows`` x ``cols``; a setting of ``scores`` off the grid is left out."""
+    rows, cols = np.asarray(rows, dtype=np.float64), np.asarray(cols, dtype=np.float64)
+    mean = np.full((len(rows), len(cols)), np.nan)
+    n = np.zeros((len(rows), len(cols)), dtype=np.int64)
+    for (r, c), found in scores.items():
+        i, j = np.flatnonzero(np.isclose(rows, r)), np.flatnonzero(np.isclose(cols, c))
+        if len(i) and len(j) and len(found):
+            mean[i[0], j[0]], n[i[0], j[0]] = float(np.mean(found)), len(found)
+    return Landscape(rows, cols, mean, n)
+
+
+def share_near_best(means, margin: float = 0.05) -> tuple[int, int]:
+    """``(k, n)``: of ``n`` settings' mean success ``means``, the ``k`` within ``margin`` of
+    the best (the best among them counts)."""
+    values = np.asarray(list(means), dtype=np.float64)
+    if not len(values):
+        return 0, 0
+    return int(np.sum(values >= values.max() - margin)), len(values)

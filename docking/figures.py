@@ -1637,3 +1637,80 @@ def episode_gif(
         optimize=True,
     )
     return path
+
+
+def fig_landscape(
+    panels: list[dict],
+    marks: dict[tuple[str, str], list[tuple[str, tuple[float, float]]]] | None = None,
+) -> Figure:
+    """Success over two tuning knobs, one heat map a panel (rows of panels: worlds; columns:
+    learners), each evaluated setting coloured by its mean held-out success and labelled with
+    it (and its runs, ``n``), settings never run left blank; marks (a star, a circle) at named
+    settings.
+
+    Args:
+      panels: Each ``{"world", "learner", "title", "row_label", "col_label", "grid"}`` with
+        ``grid`` a :class:`docking.analysis.Landscape` (rows: the y axis, bottom up).
+      marks: ``{(world, learner): [(label, (row value, column value)), ...]}``; the first
+        label of each kind gets a star, the second a circle (in the legend).
+    """
+    worlds = list(dict.fromkeys(p["world"] for p in panels))
+    learners = list(dict.fromkeys(p["learner"] for p in panels))
+    fig = _new_figure(3.7 * len(learners), 3.0 * len(worlds) + 0.6)
+    axes = fig.subplots(len(worlds), len(learners), squeeze=False)
+    image = None
+    for p in panels:
+        ax = axes[worlds.index(p["world"])][learners.index(p["learner"])]
+        image = _landscape_panel(ax, p)
+        for k, (label, (r, c)) in enumerate((marks or {}).get((p["world"], p["learner"]), [])):
+            grid = p["grid"]
+            y = float(np.interp(np.log(r), np.log(grid.rows), np.arange(len(grid.rows))))
+            x = float(np.interp(np.log(c), np.log(grid.cols), np.arange(len(grid.cols))))
+            ax.scatter(
+                [x],
+                [y],
+                s=260,
+                marker="*" if k == 0 else "o",
+                facecolors="none",
+                edgecolors="#d62728" if k == 0 else "#1f77b4",
+                linewidths=1.8,
+                label=label,
+            )
+        if ax.get_legend_handles_labels()[0]:
+            ax.legend(loc="lower right", fontsize=6.5, framealpha=0.85)
+    if image is not None:
+        fig.colorbar(image, ax=axes, shrink=0.6, label="held-out success (%)")
+    return fig
+
+
+def _landscape_panel(ax, panel: dict):
+    """One heat map of :func:`fig_landscape`; returns its image (for the colour bar)."""
+    grid = panel["grid"]
+    image = ax.imshow(
+        100 * grid.mean,
+        origin="lower",
+        cmap="viridis",
+        vmin=0,
+        vmax=100,
+        interpolation="nearest",
+        aspect="auto",
+    )
+    for i in range(len(grid.rows)):
+        for j in range(len(grid.cols)):
+            if grid.n[i, j]:
+                value = 100 * grid.mean[i, j]
+                ax.text(
+                    j,
+                    i,
+                    f"{value:.0f}\n{grid.n[i, j]}",
+                    ha="center",
+                    va="center",
+                    fontsize=6,
+                    color="black" if value > 60 else "white",
+                )
+    ax.set_xticks(range(len(grid.cols)), [f"{c:g}" for c in grid.cols], fontsize=7)
+    ax.set_yticks(range(len(grid.rows)), [f"{r:g}" for r in grid.rows], fontsize=7)
+    ax.set_xlabel(panel["col_label"], fontsize=8)
+    ax.set_ylabel(panel["row_label"], fontsize=8)
+    ax.set_title(panel["title"], fontsize=8.5)
+    return image

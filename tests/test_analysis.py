@@ -445,3 +445,18 @@ def test_the_oracle_labelled_q_gives_each_unit_its_views_most_frequent_action():
     assert list(labelled_net.Q.argmax(axis=0)) == [2, 3, 0, 1]
     assert np.array_equal(labelled_net.W, net.W)
     assert analysis.partition_purity(net, labelled) == pytest.approx(6 / 7)
+
+
+def test_landscape_puts_each_settings_mean_and_runs_on_its_grid_point():
+    scores = {(2.0, 0.05): [0.3, 0.5], (100.0, 0.5): [0.9], (7.0, 0.5): [1.0], (2.0, 5.0): []}
+    grid = analysis.landscape(scores, [2.0, 100.0], [0.05, 0.5, 5.0])
+    assert grid.mean[0, 0] == pytest.approx(0.4) and grid.n[0, 0] == 2
+    assert grid.mean[1, 1] == pytest.approx(0.9) and grid.n[1, 1] == 1
+    assert np.isnan(grid.mean[0, 2]) and grid.n[0, 2] == 0  # no runs: blank
+    assert int(grid.n.sum()) == 3  # the off-grid setting (7, 0.5) is left out
+
+
+def test_share_near_best_counts_the_settings_within_the_margin():
+    assert analysis.share_near_best([0.95, 0.91, 0.89, 0.3]) == (2, 4)
+    assert analysis.share_near_best([0.5]) == (1, 1)
+    assert analysis.share_near_best([]) == (0, 0)

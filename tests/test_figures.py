@@ -321,3 +321,20 @@ def test_episode_gif_writes_an_animation_of_an_episode(tmp_path):
         assert gif.format == "GIF" and gif.n_frames == 3 and gif.size == (320, 240)
         assert gif.info["loop"] == 0
     assert path.stat().st_size < 1_000_000
+
+
+def test_fig_landscape_draws_each_panel_with_its_marks():
+    grid = analysis.landscape({(2.0, 0.05): [0.4], (100.0, 0.5): [0.95]}, [2.0, 100.0], [0.05, 0.5])
+    panels = [
+        dict(world=w, learner=lr, title=f"{w} {lr}", row_label="beta_a", col_label="eps", grid=grid)
+        for w in ("floor", "nao")
+        for lr in ("paper", "linear")
+    ]
+    marks = {("floor", "paper"): [("tuned", (100.0, 0.5)), ("published", (2.0, 0.05))]}
+    fig = figures.fig_landscape(panels, marks)
+    assert isinstance(fig, Figure)
+    axes = [ax for ax in fig.axes if ax.get_title()]
+    assert len(axes) == 4
+    texts = [t.get_text() for t in axes[0].texts]
+    assert "40\n1" in texts and "95\n1" in texts  # each setting's mean and runs
+    assert [h.get_label() for h in axes[0].get_legend_handles_labels()[0]] == ["tuned", "published"]
