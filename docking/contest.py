@@ -24,8 +24,13 @@ linear SARSA and PPO:
   *undecided*: the rule the edition judged linear SARSA's lead over the paper's learner by
   (:func:`docking.report.contest_gaps`).
 
-The published rows are read from the committed ledger, never computed
-(:func:`published`: ``LookupError`` if the ledger lacks one). The learner's own runs are a
+The published rows are read from the committed ledger, never computed (:func:`published`:
+``LookupError`` if the ledger lacks one): the contest's own (the third edition's, judged on
+the same seeds, so the gap rule compares them seed by seed) and, where they exist, the
+current ones (:data:`BRACKETED`: the floor and Nao-like worlds' learners tuned alike to
+bracketed optima and judged on other fresh seeds, :func:`bracketed`), shown beside them and
+compared by Welch's interval, their seeds being others. The table says where the learner's
+runs are stored and how many were computed and how many read. The learner's own runs are a
 design (:class:`docking.design.Design`) run by :func:`docking.design.run_design`: a sweep on
 the embedded Dask cluster or on an existing scheduler (``scheduler=``), with progress bars,
 stored in the results store and re-used (a second call computes nothing).
@@ -37,6 +42,7 @@ contest.
 
 from __future__ import annotations
 
+import collections
 import dataclasses
 import functools
 import inspect
@@ -87,6 +93,14 @@ ROWS = {
     "paper": "the paper's learner, untuned",
     "linear": "linear SARSA, untuned",
     **{k: v for k, v in YARDSTICK_LABELS.items() if k != "oracle"},
+}
+
+#: The current published rows where they exist (the bracketing continued's judged cells,
+#: tuned alike to bracketed optima, judged on seeds 7000-7009): ``{variant: label}``.
+BRACKETED = {
+    "paper-bracketed": "the paper's learner, bracketed",
+    "linear-bracketed": "linear SARSA, bracketed",
+    "ppo-matched": "PPO at the paper learner's training steps",
 }
 
 #: Names a learner's label may not take: they name the published cells' variants.
@@ -296,13 +310,16 @@ def contest(
         design, results_dir=results_dir, scheduler=scheduler, workers=workers, progress=progress
     )
     tuned = {w: grid[tuning.tuned_setting(mine, w, label)] for w in budget.worlds}
-    both = _merged(shown, mine)
+    current = bracketed(results_dir)
+    both = _merged(shown if current is None else _merged(shown, current), mine)
     gaps = _gaps(both, budget.worlds, label)
     table = "\n\n".join(
         [
             budget.describe(),
+            _stored_line(mine, results_dir),
             _success_table(both, budget, label),
             _gaps_table(gaps, label),
+            _bracketed_table(both, budget, label),
             _tuned_lines(mine, budget, label, tuned),
         ]
     )
@@ -469,6 +486,48 @@ def published(results_dir=None) -> Results:
     return _published(str(ledger), None if results_dir is None else str(results_dir))
 
 
+@functools.lru_cache(maxsize=2)
+def _bracketed(ledger: str, results_dir: str | None) -> Results | None:
+    from docking import design
+    from docking.designs import bracketing_continued as bc
+
+    def runs_of(new, _before):  # the store, then the ledger; never computed
+        return design._loaded(bc.DESIGN, new, results_dir)
+
+    try:
+        own = design._walk(bc.DESIGN, bc.DESIGN.select(False), runs_of, results_dir)[1]
+    except LookupError:
+        return None
+    keys = [f"{w}/{v}" for w in ("floor", "nao") for v in BRACKETED if f"{w}/{v}" in own.runs]
+    return Results(
+        own.design,
+        [own.cell(k) for k in keys],
+        {k: own.runs[k] for k in keys},
+        {k: own.logs[k] for k in keys},
+    )
+
+
+def bracketed(results_dir=None) -> Results | None:
+    """The current published rows where they exist (:data:`BRACKETED`, the floor and
+    Nao-like worlds), read from the results store or the committed ledger, never computed;
+    None if neither holds them."""
+    ledger = paths.ledger_dir()
+    return _bracketed(str(ledger), None if results_dir is None else str(results_dir))
+
+
+def _stored_line(mine: Results, results_dir) -> str:
+    """Where the learner's runs are stored, and how many were computed and read."""
+    counts = collections.Counter(s for found in mine.sources.values() for s in found)
+    folder = paths.results_dir() if results_dir is None else results_dir
+    read = ", ".join(
+        f"{n} from the {source}" for source, n in sorted(counts.items()) if source != "computed"
+    )
+    return (
+        f"Your learner's runs are stored under {folder}: {counts.get('computed', 0)} computed "
+        f"now, {read or 'none read'} (a second call computes nothing)."
+    )
+
+
 def _merged(shown: Results, mine: Results) -> Results:
     """One :class:`Results` of the published cells and the learner's."""
     return Results(
@@ -529,6 +588,35 @@ def _gaps_table(gaps: list, label: str) -> str:
         f"learner's lead lies below {bound:g} pp, remains if above, else undecided."
     )
     return md_table((*header, "gap"), rows) + "\n\n" + note
+
+
+def _bracketed_table(both: Results, budget: Budget, label: str) -> str:
+    """The current published rows (:data:`BRACKETED`) beside the learner, where they exist:
+    their success and the learner's lead over each by Welch's interval (their seeds are
+    others, so the seeds are not matched)."""
+    from docking.claims import rate_interval
+    from docking.report import md_table
+    from docking.stats import t_difference_ci
+
+    rows = []
+    for world in budget.worlds:
+        for variant, name in BRACKETED.items():
+            key = f"{world}/{variant}"
+            if key not in both.runs:
+                continue
+            lead = t_difference_ci(both.score(key), both.score(f"{world}/{label}-tuned"))
+            rows.append(
+                (world, name, rate_interval(both, key).format(unit="%"), lead.format(unit=" pp"))
+            )
+    if not rows:
+        return "No current published rows (bracketed) in these worlds."
+    header = ("world", "current published row", "held-out success", f"its lead over {label}")
+    return (
+        "The current published rows, tuned alike to bracketed optima (their tuning took about "
+        "200 runs per learner and world, this contest's 15), judged on seeds 7000-7009; their "
+        "lead over yours is Welch's interval (other seeds, not matched):\n\n"
+        + md_table(header, rows)
+    )
 
 
 def _tuned_lines(mine: Results, budget: Budget, label: str, tuned: dict) -> str:
