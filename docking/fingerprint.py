@@ -49,7 +49,12 @@ UNKEYED: dict[str, frozenset[str]] = {
             # validation (values enter the key through the configuration's JSON)
             "Curriculum.__post_init__",
             "ExperimentConfig.__post_init__",
+            "ExperimentConfig._check_fields",
+            "ExperimentConfig._check_policy",
             "ExperimentConfig._check_before",
+            "ExperimentConfig._check_worlds",
+            "ExperimentConfig._check_curriculum",
+            "ExperimentConfig._check_network_shape",
             # the configuration as JSON and back
             "ExperimentConfig.to_dict",
             "ExperimentConfig.from_dict",
@@ -69,7 +74,25 @@ UNKEYED: dict[str, frozenset[str]] = {
             "Network._check_step",
         }
     ),
-    "docking.scene": frozenset({"Distractor.__post_init__", "WorldConfig.__post_init__"}),
+    "docking.scene": frozenset(
+        {
+            "Distractor.__post_init__",
+            "WorldConfig.__post_init__",
+            "WorldConfig._check_kinds",
+            "WorldConfig._check_distractor_types",
+            "WorldConfig._check_fields",
+            "WorldConfig._check_crop_margin",
+            "WorldConfig._check_regions",
+            "WorldConfig._check_distractors",
+            # the floor geometry of the distractors' check
+            "_robot_regions",
+            "_polygon_edges",
+            "_separated",
+            "_to_edges",
+            "_floor_gap",
+            "_footprint",
+        }
+    ),
     "docking.trial": frozenset({"_check_arguments"}),
     "docking.camera": frozenset({"CameraConfig.__post_init__"}),
 }
