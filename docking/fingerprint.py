@@ -94,6 +94,7 @@ UNKEYED: dict[str, frozenset[str]] = {
         }
     ),
     "docking.trial": frozenset({"_check_arguments"}),
+    "docking.world": frozenset({"_check_config", "_check_start_pose", "_check_crop_query"}),
     "docking.camera": frozenset({"CameraConfig.__post_init__"}),
 }
 
