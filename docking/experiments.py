@@ -156,6 +156,16 @@ class ExperimentConfig:
     before: ExperimentConfig | None = None
 
     def __post_init__(self):
+        self._check_fields()
+        self._check_policy()
+        if self.before is not None:
+            self._check_before()
+        self._check_worlds()
+        self._check_curriculum()
+        self._check_network_shape()
+
+    def _check_fields(self) -> None:
+        """Every field of its type and in its range, normalised."""
         owner = "ExperimentConfig"
         normalise(
             self,
@@ -182,6 +192,9 @@ class ExperimentConfig:
         )
         if self.heldout_world is not None:  # before anything reads it as a world
             check_instance(owner, "heldout_world", self.heldout_world, WorldConfig)
+
+    def _check_policy(self) -> None:
+        """The learner trains; a yardstick does not learn."""
         if self.policy == "network" and self.train_trials < 1:
             raise ValueError(
                 f"ExperimentConfig.train_trials must be >= 1 for the learner (policy='network'), "
@@ -198,8 +211,11 @@ class ExperimentConfig:
                     f"ExperimentConfig: the yardstick policy={self.policy!r} does not learn; "
                     f"{', '.join(f'{k}={v}' for k, v in learning.items())} must be 0"
                 )
-        if self.before is not None:
-            self._check_before()
+
+    def _check_worlds(self) -> None:
+        """Continuous actions take the oracle alone; the held-out world gives the network the
+        same input shape."""
+        owner = "ExperimentConfig"
         for w in (self.world, self.heldout_world):
             if w is not None and w.continuous and self.policy != "oracle":
                 raise ValueError(
@@ -212,6 +228,9 @@ class ExperimentConfig:
                 raise ValueError(
                     "ExperimentConfig.heldout_world must give the network the same input shape"
                 )
+
+    def _check_curriculum(self) -> None:
+        """The curriculum's far edges lie in the test region and the training region."""
         world, curriculum = self.world, self.curriculum
         if curriculum.far_final is not None and not (
             world.start_near < curriculum.far_final <= world.start_far
@@ -227,6 +246,10 @@ class ExperimentConfig:
                 f"({world.start_near:g}, {final:g}] m (world.start_near, the curriculum's "
                 f"final far edge), got {curriculum.far_initial:g}"
             )
+
+    def _check_network_shape(self) -> None:
+        """The network has one action unit per action and one input per pixel."""
+        world = self.world
         for what, w in (("world", world), ("heldout_world", self.heldout_world)):
             if w is not None and not w.continuous and w.n_actions != self.network.n_actions:
                 raise ValueError(

@@ -14,7 +14,9 @@ are joined back into one). Left out of the tokens:
   reworded error message re-keys nothing (a raise ends a run; it computes no array);
 * the definitions named in :data:`UNKEYED`: validation, parsing, serialisation and display,
   which decide whether a configuration is accepted and how it is written, never what a run
-  computes (the configuration's every field enters the key as canonical JSON anyway);
+  computes (the configuration's every field enters the key as canonical JSON anyway), each
+  whole: from its first decorator to the NEWLINE and DEDENT tokens that end its body, so that
+  splitting a check into helpers named there moves nothing either;
 * the modules named in :data:`UNKEYED_MODULES` (the field checks every configuration shares,
   the atomic file writer), which are not followed either.
 
@@ -47,7 +49,12 @@ UNKEYED: dict[str, frozenset[str]] = {
             # validation (values enter the key through the configuration's JSON)
             "Curriculum.__post_init__",
             "ExperimentConfig.__post_init__",
+            "ExperimentConfig._check_fields",
+            "ExperimentConfig._check_policy",
             "ExperimentConfig._check_before",
+            "ExperimentConfig._check_worlds",
+            "ExperimentConfig._check_curriculum",
+            "ExperimentConfig._check_network_shape",
             # the configuration as JSON and back
             "ExperimentConfig.to_dict",
             "ExperimentConfig.from_dict",
@@ -67,8 +74,27 @@ UNKEYED: dict[str, frozenset[str]] = {
             "Network._check_step",
         }
     ),
-    "docking.scene": frozenset({"Distractor.__post_init__", "WorldConfig.__post_init__"}),
+    "docking.scene": frozenset(
+        {
+            "Distractor.__post_init__",
+            "WorldConfig.__post_init__",
+            "WorldConfig._check_kinds",
+            "WorldConfig._check_distractor_types",
+            "WorldConfig._check_fields",
+            "WorldConfig._check_crop_margin",
+            "WorldConfig._check_regions",
+            "WorldConfig._check_distractors",
+            # the floor geometry of the distractors' check
+            "_robot_regions",
+            "_polygon_edges",
+            "_separated",
+            "_to_edges",
+            "_floor_gap",
+            "_footprint",
+        }
+    ),
     "docking.trial": frozenset({"_check_arguments"}),
+    "docking.world": frozenset({"_check_config", "_check_start_pose", "_check_crop_query"}),
     "docking.camera": frozenset({"CameraConfig.__post_init__"}),
 }
 
@@ -80,6 +106,9 @@ def _char_col(lines: list[str], lineno: int, byte_col: int) -> int:
 
 #: The replacement of a left-out statement that goes with its whole line.
 _WHOLE_LINE = "<whole line>"
+#: The replacement of a left-out definition, which goes with the NEWLINE and DEDENT tokens
+#: that end its body (so that adding or removing one moves nothing).
+_DEFINITION = "<definition>"
 #: The replacement of an argument's or a return's type hint, which goes with its ":" or "->"
 #: (a field's annotation keeps its ":": without one, a dataclass has no field).
 _HINT = "<hint>"
@@ -109,9 +138,10 @@ def _spans(source: str, module: str) -> tuple[list, set[str]]:
     unkeyed = UNKEYED.get(module, frozenset())
     spans = []
 
-    def span(node, first=None, replacement=""):
+    def span(node, first=None, replacement="", column=None):
         first = first or node
-        start = (first.lineno, _char_col(lines, first.lineno, first.col_offset))
+        column = first.col_offset if column is None else column
+        start = (first.lineno, _char_col(lines, first.lineno, column))
         end = (node.end_lineno, _char_col(lines, node.end_lineno, node.end_col_offset))
         spans.append((start, end, replacement))
 
@@ -139,8 +169,9 @@ def _spans(source: str, module: str) -> tuple[list, set[str]]:
             elif isinstance(child, (ast.FunctionDef, ast.AsyncFunctionDef, ast.ClassDef)):
                 name = f"{prefix}{child.name}"
                 if name in unkeyed:
+                    # from its first decorator's "@" (in the definition's column) to its end
                     first = child.decorator_list[0] if child.decorator_list else child
-                    span(child, first)
+                    span(child, first, _DEFINITION, column=child.col_offset)
                     continue
                 if getattr(child, "returns", None) is not None:
                     span(child.returns, replacement=_HINT)  # the return type, with its "->"
@@ -186,10 +217,14 @@ def code_tokens(source: str, module: str = "") -> tuple[str, set[str]]:
             if replacement is _HINT:
                 if out and out[-1] in (":", "->"):
                     out.pop()
-            elif replacement and replacement is not _WHOLE_LINE:
+            elif replacement and replacement not in (_WHOLE_LINE, _DEFINITION):
                 out.append(replacement)
+            depth = 0  # the blocks opened inside the span and not closed there
             while k < len(tokens) and tokens[k].start < end:
+                depth += (tokens[k].type == tokenize.INDENT) - (tokens[k].type == tokenize.DEDENT)
                 k += 1
+            if replacement is _DEFINITION:  # and its last NEWLINE and the DEDENTs of its body
+                k = _past_block_end(tokens, k, depth)
             if replacement is _WHOLE_LINE:  # and the rest of its line, up to its NEWLINE
                 while k < len(tokens) and tokens[k].type in (tokenize.COMMENT, tokenize.NL):
                     k += 1
@@ -219,6 +254,21 @@ def code_tokens(source: str, module: str = "") -> tuple[str, set[str]]:
             out.append(tok.string)
         k += 1
     return " ".join(out), imports
+
+
+def _past_block_end(tokens: list, k: int, depth: int) -> int:
+    """The index after the NEWLINE at ``tokens[k]`` (if it is one) and the ``depth`` DEDENT
+    tokens that follow it (comments and blank lines between them skipped): what ends a
+    left-out definition's body."""
+    ignored = (tokenize.COMMENT, tokenize.NL)
+    while k < len(tokens) and tokens[k].type in ignored:
+        k += 1
+    if k < len(tokens) and tokens[k].type == tokenize.NEWLINE:
+        k += 1
+    while depth > 0 and k < len(tokens) and tokens[k].type in (*ignored, tokenize.DEDENT):
+        depth -= tokens[k].type == tokenize.DEDENT
+        k += 1
+    return k
 
 
 def _text(lines: list[str], start: tuple[int, int], end: tuple[int, int]) -> str:

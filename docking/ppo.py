@@ -226,16 +226,36 @@ def _quiet_jax() -> None:
 
 
 def _models(config: PPOConfig, observation_space, action_space, device):
-    import flax.linen as nn
-    import jax.numpy as jnp
-    from skrl.models.jax import CategoricalMixin, DeterministicMixin, GaussianMixin, Model
+    """The policy (categorical, or Gaussian with continuous actions) and the value network
+    of ``config``, their parameters initialised from skrl's global key (policy first)."""
+    trunk = _trunk(config.hidden)
+    policy = _gaussian_policy(trunk) if config.world.continuous else _categorical_policy(trunk)
+    models = {
+        "policy": policy(observation_space, action_space, device),
+        "value": _value(trunk)(observation_space, action_space, device),
+    }
+    for role, model in models.items():
+        model.init_state_dict(role=role)
+    return models
 
-    hidden = config.hidden
+
+def _trunk(hidden: tuple[int, ...]):
+    """The hidden layers every network shares the shape of: tanh of a dense layer per width
+    of ``hidden`` (each network has its own parameters)."""
+    import flax.linen as nn
 
     def trunk(x):
         for width in hidden:
             x = nn.tanh(nn.Dense(width)(x))
         return x
+
+    return trunk
+
+
+def _categorical_policy(trunk):
+    """Discrete actions: a categorical policy of the logits of a dense layer on ``trunk``."""
+    import flax.linen as nn
+    from skrl.models.jax import CategoricalMixin, Model
 
     class Policy(CategoricalMixin, Model):
         def __init__(self, observation_space, action_space, device=None, **kwargs):
@@ -252,10 +272,17 @@ def _models(config: PPOConfig, observation_space, action_space, device):
         def __call__(self, inputs, role):
             return nn.Dense(self.num_actions)(trunk(inputs["observations"])), {}
 
-    class VectorPolicy(GaussianMixin, Model):
-        """Continuous actions: a Gaussian of learned mean and state-free log std, its
-        samples learned from unclipped (the world's wrapper clips them)."""
+    return Policy
 
+
+def _gaussian_policy(trunk):
+    """Continuous actions: a Gaussian of learned mean (a dense layer on ``trunk``) and
+    state-free log std, its samples learned from unclipped (the world's wrapper clips them)."""
+    import flax.linen as nn
+    import jax.numpy as jnp
+    from skrl.models.jax import GaussianMixin, Model
+
+    class VectorPolicy(GaussianMixin, Model):
         def __init__(self, observation_space, action_space, device=None, **kwargs):
             Model.__init__(
                 self,
@@ -272,6 +299,14 @@ def _models(config: PPOConfig, observation_space, action_space, device):
             log_std = self.param("log_std", lambda _: jnp.zeros(self.num_actions))
             return mean, {"log_std": log_std}
 
+    return VectorPolicy
+
+
+def _value(trunk):
+    """The value network: one dense unit on ``trunk``."""
+    import flax.linen as nn
+    from skrl.models.jax import DeterministicMixin, Model
+
     class Value(DeterministicMixin, Model):
         def __init__(self, observation_space, action_space, device=None, **kwargs):
             Model.__init__(
@@ -287,14 +322,7 @@ def _models(config: PPOConfig, observation_space, action_space, device):
         def __call__(self, inputs, role):
             return nn.Dense(1)(trunk(inputs["observations"])), {}
 
-    policy = VectorPolicy if config.world.continuous else Policy
-    models = {
-        "policy": policy(observation_space, action_space, device),
-        "value": Value(observation_space, action_space, device),
-    }
-    for role, model in models.items():
-        model.init_state_dict(role=role)
-    return models
+    return Value
 
 
 class _EpisodeLog(gymnasium.Wrapper):
@@ -354,20 +382,22 @@ def run_ppo(
     check_instance("run_ppo", "config", config, PPOConfig)
     seed = check_int("run_ppo", "seed", seed, lo=0, hi=MAX_SEED)
     _quiet_jax()
+    # Everything the run imports, imported here, before the seeds are set (as it always was):
+    # whatever an import does happens before the first draw. The helpers import them again.
     import logging
-    import tempfile
+    import tempfile  # noqa: F401
 
-    import jax
-    import jax.numpy as jnp
+    import jax  # noqa: F401
+    import jax.numpy as jnp  # noqa: F401
     import skrl
-    from skrl.agents.jax.ppo import PPO, PPO_CFG
-    from skrl.envs.wrappers.jax import wrap_env
-    from skrl.memories.jax import RandomMemory
-    from skrl.trainers.jax import SequentialTrainer
+    from skrl.agents.jax.ppo import PPO, PPO_CFG  # noqa: F401
+    from skrl.envs.wrappers.jax import wrap_env  # noqa: F401
+    from skrl.memories.jax import RandomMemory  # noqa: F401
+    from skrl.trainers.jax import SequentialTrainer  # noqa: F401
     from skrl.utils import set_seed
 
-    from docking.gym import DockingGymEnv
-    from docking.world import DockingEnv
+    from docking.gym import DockingGymEnv  # noqa: F401
+    from docking.world import DockingEnv  # noqa: F401
 
     skrl.logger.setLevel(logging.ERROR)
     global_seed, env_seed = _training_seeds(seed)
@@ -378,6 +408,32 @@ def run_ppo(
         budget = _TrialBudget(
             on_trials, config.world.max_steps, config.steps // config.world.max_steps
         )
+    env = _training_env(config, env_seed, success, steps, budget)
+    models = _models(config, env.observation_space, env.action_space, env.device)
+    t0 = time.perf_counter()
+    _train(config, env, models, progress)
+    wall_train = time.perf_counter() - t0
+
+    t0 = time.perf_counter()
+    heldout = _judge(config, seed, _greedy(config, models), on_trials)
+    return PPOResult(
+        config=config,
+        seed=seed,
+        train_success=np.array(success, dtype=bool),
+        train_steps=np.array(steps, dtype=np.int64),
+        heldout=heldout,
+        wall_time_train=wall_train,
+        wall_time_test=time.perf_counter() - t0,
+    )
+
+
+def _training_env(config: PPOConfig, env_seed: int, success: list, steps: list, budget):
+    """The ``config.envs`` copies of the world PPO trains in, as skrl's wrapper of a
+    Gymnasium ``SyncVectorEnv``: copy ``k`` seeded ``env_seed + k``, each logging its finished
+    episodes into ``success`` and ``steps`` and its steps into ``budget`` (if any)."""
+    from skrl.envs.wrappers.jax import wrap_env
+
+    from docking.gym import DockingGymEnv
 
     def make(k: int):
         def env():
@@ -400,26 +456,37 @@ def run_ppo(
         [make(k) for k in range(config.envs)],
         autoreset_mode=gymnasium.vector.AutoresetMode.SAME_STEP,
     )
-    env = wrap_env(env, wrapper="gymnasium")
-    models = _models(config, env.observation_space, env.action_space, env.device)
+    return wrap_env(env, wrapper="gymnasium")
+
+
+#: The fields of :class:`PPOConfig` that are skrl's ``PPO_CFG`` settings.
+_PPO_SETTINGS = (
+    "rollouts",
+    "learning_epochs",
+    "mini_batches",
+    "discount_factor",
+    "gae_lambda",
+    "learning_rate",
+    "grad_norm_clip",
+    "ratio_clip",
+    "value_clip",
+    "value_loss_scale",
+)
+
+
+def _train(config: PPOConfig, env, models: dict, progress: bool | None) -> None:
+    """Train ``models`` by skrl's PPO with ``config``'s settings in ``env`` for
+    ``config.steps`` environment steps (skrl writes nothing: a scratch folder, both
+    intervals 0)."""
+    import tempfile
+
+    from skrl.agents.jax.ppo import PPO, PPO_CFG
+    from skrl.memories.jax import RandomMemory
+    from skrl.trainers.jax import SequentialTrainer
+
     memory = RandomMemory(memory_size=config.rollouts, num_envs=env.num_envs, device=env.device)
-    settings = {
-        name: getattr(config, name)
-        for name in (
-            "rollouts",
-            "learning_epochs",
-            "mini_batches",
-            "discount_factor",
-            "gae_lambda",
-            "learning_rate",
-            "grad_norm_clip",
-            "ratio_clip",
-            "value_clip",
-            "value_loss_scale",
-        )
-    }
+    settings = {name: getattr(config, name) for name in _PPO_SETTINGS}
     cfg = PPO_CFG(**settings)
-    t0 = time.perf_counter()
     with tempfile.TemporaryDirectory() as scratch:
         cfg.experiment.directory = scratch  # skrl writes nothing with both intervals 0
         cfg.experiment.write_interval = 0
@@ -443,9 +510,14 @@ def run_ppo(
             agents=agent,
         )
         trainer.train()
-    wall_train = time.perf_counter() - t0
 
-    t0 = time.perf_counter()
+
+def _greedy(config: PPOConfig, models: dict):
+    """The trained policy's greedy action for an observation, as a policy of
+    :func:`docking.experiments.policy_trial`."""
+    import jax
+    import jax.numpy as jnp
+
     policy = models["policy"]
     params = policy.state_dict.params
     logits = jax.jit(lambda x: policy.apply(params, {"observations": x}, "policy")[0])
@@ -458,22 +530,21 @@ def run_ppo(
             return np.clip(out.astype(np.float64), -1.0, 1.0)
         return int(np.argmax(out))
 
+    return greedy
+
+
+def _judge(config: PPOConfig, seed: int, greedy, on_trials) -> TrialLog:
+    """The log of ``config.heldout_trials`` trials of ``greedy`` on the held-out streams of
+    ``seed``."""
+    from docking.world import DockingEnv
+
     heldout_env = DockingEnv(config.world, _streams(seed)["heldout_world"])
     records = []
     for _ in range(config.heldout_trials):
         records.append(policy_trial(heldout_env, greedy))
         if on_trials is not None:
             on_trials(1)
-    heldout = TrialLog.from_records(records, [config.world.start_far] * len(records))
-    return PPOResult(
-        config=config,
-        seed=seed,
-        train_success=np.array(success, dtype=bool),
-        train_steps=np.array(steps, dtype=np.int64),
-        heldout=heldout,
-        wall_time_train=wall_train,
-        wall_time_test=time.perf_counter() - t0,
-    )
+    return TrialLog.from_records(records, [config.world.start_far] * len(records))
 
 
 def _world_kwargs(world: WorldConfig) -> dict:

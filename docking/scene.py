@@ -221,6 +221,16 @@ class WorldConfig:
     room_shift: tuple[float, float, float] = (0.0, 0.0, 0.0)
 
     def __post_init__(self):
+        self._check_kinds()
+        self._check_distractor_types()
+        facts = scene_facts()
+        self._check_fields(facts)
+        self._check_crop_margin()
+        self._check_regions(facts)
+        self._check_distractors(facts)
+
+    def _check_kinds(self) -> None:
+        """The choices (scene, action set, landmark, room) and the optional fields."""
         owner = "WorldConfig"
         check_choice(owner, "scene", self.scene, SCENES)
         check_choice(owner, "actions", self.actions, tuple(ACTION_SETS))
@@ -241,6 +251,10 @@ class WorldConfig:
                     owner, "dock_heading_deg", self.dock_heading_deg, lo=0, hi=180, lo_open=True
                 ),
             )
+
+    def _check_distractor_types(self) -> None:
+        """``distractors``: a tuple (or list, stored as a tuple) of :class:`Distractor`."""
+        owner = "WorldConfig"
         if not isinstance(self.distractors, (tuple, list)):
             raise FieldTypeError(
                 f"WorldConfig.distractors must be a tuple of Distractor, got {self.distractors!r}"
@@ -248,8 +262,11 @@ class WorldConfig:
         for k, d in enumerate(self.distractors):
             check_instance(owner, f"distractors[{k}]", d, Distractor)
         object.__setattr__(self, "distractors", tuple(self.distractors))
+
+    def _check_fields(self, facts: SceneFacts) -> None:
+        """Every numeric field in its range, the camera and ``heading_hold``, normalised."""
+        owner = "WorldConfig"
         real = functools.partial(check_real, owner)
-        facts = scene_facts()
         normalise(
             self,
             step_forward=real("step_forward", self.step_forward, lo=0, hi=1, lo_open=True),
@@ -274,6 +291,9 @@ class WorldConfig:
             turn_deg=real("turn_deg", self.turn_deg, lo=0, hi=90, lo_open=True),
             heading_hold=check_bool(owner, "heading_hold", self.heading_hold),
         )
+
+    def _check_crop_margin(self) -> None:
+        """``view_margin_px`` leaves room inside the camera's crop."""
         x0, y0, x1, y1 = self.camera.crop
         if 2 * self.view_margin_px >= min(x1 - x0, y1 - y0):
             raise ValueError(
@@ -281,6 +301,10 @@ class WorldConfig:
                 f"({x1 - x0}x{y1 - y0} px): below {min(x1 - x0, y1 - y0) / 2:g}, got "
                 f"{self.view_margin_px:g}"
             )
+
+    def _check_regions(self, facts: SceneFacts) -> None:
+        """The start region lies beyond the docking region and inside the room, and the
+        docking region is reachable."""
         if self.start_far < self.start_near:
             raise ValueError(
                 f"WorldConfig.start_far must be >= start_near "
@@ -309,76 +333,18 @@ class WorldConfig:
                 f"meets the {what} at {closest:.2f} m), got "
                 f"dock_center={self.dock_center}"
             )
-        # A distractor stands clear of where the robot starts and docks: its floor footprint
-        # keeps the robot's radius from the start trapezoid and the docking region (a box
-        # over the start region would hold the robot inside it, and the robot pushes it).
-        tan = math.tan(math.radians(self.start_half_angle_deg))
-        near, far = self.start_near, self.start_far
-        back, front = (
-            -(self.dock_center + self.dock_depth / 2),
-            -(self.dock_center - self.dock_depth / 2),
-        )
-        w = self.dock_width / 2
-        regions = {
-            "the start region": [
-                (-near, -near * tan),
-                (-far, -far * tan),
-                (-far, far * tan),
-                (-near, near * tan),
-            ],
-            "the docking region": [(front, -w), (back, -w), (back, w), (front, w)],
-        }
 
-        def gap(footprint, radius: float, region) -> float:
-            """The floor distance between a convex ``footprint`` (corners; one point for a
-            disc of ``radius``) and the convex polygon ``region`` (0 if they meet), in plain
-            floats (a check, not a run's arithmetic)."""
-
-            def edges(poly):
-                return [(p, poly[(i + 1) % len(poly)]) for i, p in enumerate(poly)]
-
-            def separated(a, b) -> bool:  # a separating axis among the edges' normals
-                for poly in (a, b) if len(a) > 2 else (b,):
-                    for (x0, y0), (x1, y1) in edges(poly):
-                        nx, ny = y0 - y1, x1 - x0
-                        pa = [x * nx + y * ny for x, y in a]
-                        pb = [x * nx + y * ny for x, y in b]
-                        if max(pa) < min(pb) or max(pb) < min(pa):
-                            return True
-                return False
-
-            def to_edges(points, poly) -> float:
-                best = math.inf
-                for (x0, y0), (x1, y1) in edges(poly):
-                    dx, dy = x1 - x0, y1 - y0
-                    length = max(dx * dx + dy * dy, 1e-24)  # a degenerate edge: a point
-                    for x, y in points:
-                        t = min(max(((x - x0) * dx + (y - y0) * dy) / length, 0.0), 1.0)
-                        best = min(best, math.hypot(x - x0 - t * dx, y - y0 - t * dy))
-                return best
-
-            if not separated(footprint, region):
-                return 0.0  # they overlap (a disc's centre is inside the region)
-            apart = to_edges(footprint, region)
-            if len(footprint) > 2:
-                apart = min(apart, to_edges(region, footprint))
-            return max(apart - radius, 0.0)
-
-        def footprint(d) -> tuple[list, float]:
-            """A distractor's floor footprint: a box's corners, or an upright cylinder's or a
-            sphere's centre and radius."""
-            x, y = d.position[:2]
-            if d.shape != "box":
-                return [(x, y)], d.size[0]
-            sx, sy = d.size[:2]
-            return [(x - sx, y - sy), (x + sx, y - sy), (x + sx, y + sy), (x - sx, y + sy)], 0.0
-
+    def _check_distractors(self, facts: SceneFacts) -> None:
+        """A distractor stands clear of where the robot starts and docks: its floor footprint
+        keeps the robot's radius from the start trapezoid and the docking region (a box over
+        the start region would hold the robot inside it, and the robot pushes it)."""
+        regions = _robot_regions(self)
         clash = next(
             (
                 (k, d, name)
                 for k, d in enumerate(self.distractors)
                 for name, region in regions.items()
-                if gap(*footprint(d), region) < facts.robot_radius
+                if _floor_gap(*_footprint(d), region) < facts.robot_radius
             ),
             None,
         )
@@ -420,6 +386,82 @@ class WorldConfig:
                 f"are {', '.join(self.action_names)}"
             )
         return self.action_names.index(name)
+
+
+# The floor geometry of WorldConfig's distractor check (validation: in plain floats, not a
+# run's arithmetic).
+
+
+def _robot_regions(config: WorldConfig) -> dict[str, list[tuple[float, float]]]:
+    """The floor polygons (corners) of ``config``'s start trapezoid and docking region."""
+    tan = math.tan(math.radians(config.start_half_angle_deg))
+    near, far = config.start_near, config.start_far
+    back, front = (
+        -(config.dock_center + config.dock_depth / 2),
+        -(config.dock_center - config.dock_depth / 2),
+    )
+    w = config.dock_width / 2
+    return {
+        "the start region": [
+            (-near, -near * tan),
+            (-far, -far * tan),
+            (-far, far * tan),
+            (-near, near * tan),
+        ],
+        "the docking region": [(front, -w), (back, -w), (back, w), (front, w)],
+    }
+
+
+def _polygon_edges(poly) -> list:
+    """The edges ``(corner, next corner)`` of a polygon of corners."""
+    return [(p, poly[(i + 1) % len(poly)]) for i, p in enumerate(poly)]
+
+
+def _separated(a, b) -> bool:
+    """Whether a separating axis among the edges' normals parts convex polygons ``a`` and
+    ``b`` (``a`` may be one point)."""
+    for poly in (a, b) if len(a) > 2 else (b,):
+        for (x0, y0), (x1, y1) in _polygon_edges(poly):
+            nx, ny = y0 - y1, x1 - x0
+            pa = [x * nx + y * ny for x, y in a]
+            pb = [x * nx + y * ny for x, y in b]
+            if max(pa) < min(pb) or max(pb) < min(pa):
+                return True
+    return False
+
+
+def _to_edges(points, poly) -> float:
+    """The least distance from any of ``points`` to an edge of the polygon ``poly``."""
+    best = math.inf
+    for (x0, y0), (x1, y1) in _polygon_edges(poly):
+        dx, dy = x1 - x0, y1 - y0
+        length = max(dx * dx + dy * dy, 1e-24)  # a degenerate edge: a point
+        for x, y in points:
+            t = min(max(((x - x0) * dx + (y - y0) * dy) / length, 0.0), 1.0)
+            best = min(best, math.hypot(x - x0 - t * dx, y - y0 - t * dy))
+    return best
+
+
+def _floor_gap(footprint, radius: float, region) -> float:
+    """The floor distance between a convex ``footprint`` (corners; one point for a disc of
+    ``radius``) and the convex polygon ``region`` (0 if they meet), in plain floats (a check,
+    not a run's arithmetic)."""
+    if not _separated(footprint, region):
+        return 0.0  # they overlap (a disc's centre is inside the region)
+    apart = _to_edges(footprint, region)
+    if len(footprint) > 2:
+        apart = min(apart, _to_edges(region, footprint))
+    return max(apart - radius, 0.0)
+
+
+def _footprint(d: Distractor) -> tuple[list, float]:
+    """A distractor's floor footprint: a box's corners, or an upright cylinder's or a
+    sphere's centre and radius."""
+    x, y = d.position[:2]
+    if d.shape != "box":
+        return [(x, y)], d.size[0]
+    sx, sy = d.size[:2]
+    return [(x - sx, y - sy), (x + sx, y - sy), (x + sx, y + sy), (x - sx, y + sy)], 0.0
 
 
 #: The scene's MJCF asset (open it with ``python -m mujoco.viewer --mjcf <this path>``).

@@ -86,8 +86,10 @@ from docking.scene import (  # noqa: E402, F401
 from docking.validate import (  # noqa: E402
     MAX_SEED,
     FieldTypeError,
+    check_instance,
     check_int,
     check_pose,
+    check_real,
 )
 
 # Geom groups of the asset: 0 the room, 1 the robot's visual body (hidden from its own
@@ -440,6 +442,66 @@ def _as_generator(seed) -> np.random.Generator:
     return np.random.default_rng(seed)
 
 
+# The checks of DockingEnv's arguments (named in fingerprint.UNKEYED: each raises or returns
+# None, and the code that computes goes on with the argument as it was given).
+
+
+def _check_config(config) -> None:
+    """``DockingEnv.config`` must be a :class:`WorldConfig` (a ``CameraConfig``, a scene's
+    name or a dict of fields is not one)."""
+    check_instance("DockingEnv", "config", config, WorldConfig)
+
+
+def _check_start_pose(config: WorldConfig, pose: np.ndarray) -> None:
+    """A start pose (``[x, y, yaw]``, already three finite numbers) of ``config``'s world:
+
+    * the robot inside the room: its reference point at least the robot's radius inside
+      each wall (where its collision cylinder touches none), the walls' inner faces read
+      back from the compiled asset (:func:`scene_facts`; the second room keeps the home
+      room's walls) and placed by ``config.room_shift`` (the room turned by its yaw about
+      the landmark's origin, then shifted; the frame poses are written in). Furniture is not
+      checked (the physics pushes the robot out of it; ``analysis.furniture_contacts`` tells
+      where it stands);
+    * ``|yaw| <= 2048 pi`` (1024 whole turns either way). A heading has a representation
+      in ``[-pi, pi]``, but the yaw hinge counts whole turns, so a pose read back from a
+      walking robot may lie some turns beyond it; within 1024 turns the float64 yaw still
+      resolves the heading to about 1e-12 rad, far below a step's heading noise, while a
+      yaw such as 1e308 names no heading at all (its float spacing exceeds a whole turn
+      from about 1e16 rad on)."""
+    where = "DockingEnv.reset_to"
+    bound = 2048 * np.pi
+    if abs(pose[2]) > bound:
+        raise ValueError(
+            f"{where}: pose's yaw must lie within 1024 turns of facing +x "
+            f"(|yaw| <= {bound:.0f} rad), got {pose[2]:g}"
+        )
+    facts = scene_facts()
+    dx, dy, turn_deg = config.room_shift
+    turn = np.radians(turn_deg)
+    x, y = float(pose[0]) - dx, float(pose[1]) - dy
+    room_x = float(np.cos(turn) * x + np.sin(turn) * y)  # in the room's own frame
+    room_y = float(-np.sin(turn) * x + np.cos(turn) * y)
+    r = facts.robot_radius
+    lo_x, hi_x, half = -facts.room_back + r, facts.room_front - r, facts.room_half_width - r
+    if not (lo_x <= room_x <= hi_x and abs(room_y) <= half):
+        shifted = f" (the room shifted by {config.room_shift})" if any(config.room_shift) else ""
+        raise ValueError(
+            f"{where}: pose must put the robot inside the room{shifted}: its x in "
+            f"[{lo_x:g}, {hi_x:g}] m and |y| <= {half:g} m in the room's frame (the walls "
+            f"less the robot's radius {r:g} m), got [x, y] = [{pose[0]:g}, {pose[1]:g}]"
+        )
+
+
+def _check_crop_query(pose, margin) -> None:
+    """``DockingEnv.landmark_in_crop``'s arguments: a pose of three finite numbers (or None)
+    and a margin that is a finite number >= 0 (or None)."""
+    where = "DockingEnv.landmark_in_crop"
+    if pose is not None:
+        check_pose(where, pose)
+    if margin is not None:
+        check_real(where, "margin", margin, lo=0)
+
+
 class DockingEnv(dm_env.Environment):
     """The docking task as a ``dm_env.Environment`` (paper Sec. II-C).
 
@@ -460,6 +522,7 @@ class DockingEnv(dm_env.Environment):
 
     def __init__(self, config: WorldConfig | None = None, seed=None):
         self._config = config if config is not None else WorldConfig()
+        _check_config(self._config)
         self._rng = _as_generator(seed)
         self._physics = Physics.from_xml_string(make_model_xml(self._config))
         cam = self._config.camera
@@ -572,8 +635,12 @@ class DockingEnv(dm_env.Environment):
         return self.reset_to(self.sample_start_pose())
 
     def reset_to(self, pose) -> dm_env.TimeStep:
-        """Start a trial at a given pose ``[x, y, yaw]`` (m, m, rad; for figures and tests)."""
-        self._physics.set_pose(check_pose("DockingEnv.reset_to", pose))
+        """Start a trial at a given pose ``[x, y, yaw]`` (m, m, rad; for figures and tests):
+        three finite numbers, the robot inside the room's walls and its yaw within 1024 turns
+        of facing ``+x`` (:func:`_check_start_pose`), else ``ValueError``."""
+        pose = check_pose("DockingEnv.reset_to", pose)
+        _check_start_pose(self._config, pose)
+        self._physics.set_pose(pose)
         self._start_yaw = float(self._physics.pose()[2])  # for WorldConfig.heading_hold
         self._steps = 0
         self._needs_reset = False
@@ -675,7 +742,10 @@ class DockingEnv(dm_env.Environment):
 
     def landmark_in_crop(self, pose=None, margin: float | None = None) -> bool:
         """Whether the whole landmark projects inside the crop rectangle from ``pose``
-        (default: the current pose), keeping ``margin`` pixels from its border."""
+        (default: the current pose), keeping ``margin`` pixels from its border (default: the
+        world's ``view_margin_px``). A pose must be three finite numbers and a margin a finite
+        number >= 0, else ``ValueError``/``TypeError`` naming it."""
+        _check_crop_query(pose, margin)
         cam = self._config.camera
         margin = self._config.view_margin_px if margin is None else margin
         if pose is not None:

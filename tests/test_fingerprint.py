@@ -152,3 +152,46 @@ def test_added_docstrings_type_hints_and_assert_messages_leave_the_key_alone(tmp
     )
     _edit(package / "trial.py", "'a message'", "'reworded'")
     assert source_fingerprint(package) == with_function
+
+
+def test_adding_a_left_out_definition_leaves_the_key_alone(monkeypatch):
+    """A left-out definition goes with the NEWLINE and DEDENT tokens that end its body, so a
+    validation helper split out of a left-out ``__post_init__`` (a method, a decorated
+    function, a nested block at its end, a comment after it) moves nothing."""
+    monkeypatch.setitem(
+        fingerprint.UNKEYED, "m", frozenset({"C.__post_init__", "C._check", "_helper"})
+    )
+    before = (
+        "class C:\n"
+        "    x: int = 1\n\n"
+        "    def __post_init__(self):\n"
+        "        if self.x:\n"
+        "            raise ValueError('x')\n\n"
+        "    def run(self):\n"
+        "        return self.x + 1\n\n\n"
+        "def g():\n"
+        "    return 2\n"
+    )
+    after = (
+        "class C:\n"
+        "    x: int = 1\n\n"
+        "    def __post_init__(self):\n"
+        "        self._check()\n\n"
+        "    def _check(self):\n"
+        "        for y in (1, 2):\n"
+        "            if self.x:\n"
+        "                raise ValueError('x')\n"
+        "        # a comment after it\n\n"
+        "    def run(self):\n"
+        "        return self.x + 1\n\n\n"
+        "@staticmethod\n"
+        "def _helper(a):\n"
+        "    while a:\n"
+        "        a -= 1\n\n\n"
+        "def g():\n"
+        "    return 2\n"
+    )
+    assert fingerprint.code_tokens(after, "m") == fingerprint.code_tokens(before, "m")
+    # the same helper, kept: code
+    monkeypatch.setitem(fingerprint.UNKEYED, "m", frozenset({"C.__post_init__", "C._check"}))
+    assert fingerprint.code_tokens(after, "m") != fingerprint.code_tokens(before, "m")

@@ -448,3 +448,36 @@ def test_verify_caps_its_sample_and_says_how_long_before_it_starts(copy):
     assert line.startswith("verify: recomputing 3 runs: the 1 of experiment1 and experiment2")
     assert "about " in line and "of the runs' wall times in the ledger" in line
     assert "capped" not in cli._verify_plan(1, False, 2)
+
+
+def _log_arrays(part: str, n_trials: int) -> dict[str, np.ndarray]:
+    """The stored arrays of a trial log ``part`` of ``n_trials`` two-step trials."""
+    steps = np.full(n_trials, 2, dtype=np.int64)
+    return {
+        f"{part}.success": np.zeros(n_trials, dtype=bool),
+        f"{part}.steps": steps,
+        f"{part}.start_far": np.full(n_trials, 1.5),
+        f"{part}.poses": np.arange(9.0 * n_trials).reshape(3 * n_trials, 3),
+        f"{part}.actions": np.zeros(2 * n_trials, dtype=np.int64),
+        f"{part}.winners": np.zeros(2 * n_trials, dtype=np.int64),
+        f"{part}.deltas": np.zeros(2 * n_trials),
+    }
+
+
+def test_a_part_of_no_trials_matches_its_empty_columns_and_only_those():
+    """A table written before ledger format 8 keeps the derived columns of a part of no trials
+    empty (``test.ends`` of a yardstick run of no test trials); the recomputed run gives none:
+    the row is the run's. An emptied column of a part with trials is still caught."""
+    arrays = {**_log_arrays("test", 0), **_log_arrays("heldout", 2)}
+    cells = ledger._row(arrays, frozenset({"ends", "lengths", "paths"}))
+    cells |= {
+        "test.ends": np.zeros((0, 3)),
+        "test.lengths": np.zeros(0),
+        "test.path.trial": np.zeros(0, dtype=np.int64),
+        "test.path.poses": np.zeros((0, 3)),
+        "test.path.actions": np.zeros(0, dtype=np.int64),
+    }
+    assert ledger.row_differences(arrays, cells) == []
+    emptied = cells | {"heldout.ends": np.zeros((0, 3)), "heldout.lengths": np.zeros(0)}
+    assert ledger.row_differences(arrays, emptied) == ["heldout.ends", "heldout.lengths"]
+    assert ledger.row_differences(arrays, cells | {"test.ends": np.zeros((1, 3))}) == ["test.ends"]

@@ -693,3 +693,89 @@ def test_the_gl_context_is_freed_cleanly_at_exit_whatever_was_imported_first():
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=False)
     assert out.returncode == 0, out.stderr
     assert "Exception ignored" not in out.stderr and "EGLError" not in out.stderr, out.stderr
+
+
+# -- input checks (issue 49): one clear line each --------------------------------------------
+
+
+@pytest.mark.parametrize("pose", [[-100.0, 0.0, 0.0], [0.0, 50.0, 0.0], [-3.15, 0.0, 0.0]])
+def test_reset_to_refuses_a_pose_outside_the_room(env, pose):
+    with pytest.raises(ValueError, match=r"DockingEnv\.reset_to: pose must put the robot inside"):
+        env.reset_to(pose)
+
+
+@pytest.mark.parametrize("yaw", [1e308, -1e308, 2049 * np.pi])
+def test_reset_to_refuses_a_yaw_beyond_1024_turns(env, yaw):
+    with pytest.raises(ValueError, match=r"DockingEnv\.reset_to: pose's yaw must lie within"):
+        env.reset_to([-1.0, 0.0, yaw])
+
+
+@pytest.mark.parametrize("yaw", [np.nan, np.inf, -np.inf])
+def test_reset_to_refuses_a_yaw_that_is_no_number(env, yaw):
+    with pytest.raises(ValueError, match=r"DockingEnv\.reset_to: pose must be finite"):
+        env.reset_to([-1.0, 0.0, yaw])
+
+
+def test_reset_to_takes_a_yaw_some_turns_beyond_pi():
+    """A pose read back after turns (the hinge counts them) starts a trial as its heading."""
+    turned, plain = DockingEnv(QUIET, seed=0), DockingEnv(QUIET, seed=0)
+    a = turned.reset_to([-1.0, 0.1, 0.05 + 6 * np.pi]).observation
+    b = plain.reset_to([-1.0, 0.1, 0.05]).observation
+    np.testing.assert_allclose(a, b, atol=1e-6)
+
+
+def _wall_faces(env) -> list[tuple[np.ndarray, np.ndarray]]:
+    """Each wall's inner face, read from the compiled model's placed geoms: ``(a point at the
+    middle of the face, the unit normal into the room)``, on the floor plane."""
+    model, data = env.physics.model, env.physics.data
+    walls = [f"wall_{side}" for side in ("front", "back", "left", "right")]
+    centres = {w: np.array(data.geom(w).xpos[:2]) for w in walls}
+    middle = np.mean(list(centres.values()), axis=0)
+    faces = []
+    for w in walls:
+        rot = np.array(data.geom(w).xmat).reshape(3, 3)[:2, :2]
+        size = np.array(model.geom(w).size[:2])
+        thin = int(np.argmin(size))  # the wall's thickness is its thinnest axis on the floor
+        normal = rot[:, thin] * np.sign(rot[:, thin] @ (middle - centres[w]))
+        faces.append((centres[w] + normal * size[thin], normal))
+    return faces
+
+
+@pytest.mark.parametrize(
+    "shift", [(0.0, 0.0, 0.0), (0.0, -0.6, 0.0), (-1.75, 1.375, 90.0), (0.3, 0.2, -30.0)]
+)
+@pytest.mark.parametrize("room", ["home", "second"])
+def test_the_rooms_bounds_are_its_compiled_walls_less_the_robots_radius(room, shift):
+    """A pose the robot's radius plus 1 mm inside a wall's face starts a trial; 1 mm less is
+    refused, for every wall of the room wherever it is placed."""
+    env = DockingEnv(WorldConfig(room=room, room_shift=shift), seed=0)
+    radius = scene_facts().robot_radius
+    for face, normal in _wall_faces(env):
+        x, y = face + normal * (radius + 1e-3)
+        env.reset_to([x, y, 0.0])
+        x, y = face + normal * (radius - 1e-3)
+        with pytest.raises(ValueError, match="inside the room"):
+            env.reset_to([x, y, 0.0])
+    env.close()
+
+
+@pytest.mark.parametrize(
+    "kwargs, says",
+    [
+        ({"margin": np.nan}, "margin must be finite"),
+        ({"margin": "a"}, "margin must be a real number"),
+        ({"margin": -1.0}, "margin must be in"),
+        ({"pose": [np.nan, 0.0, 0.0]}, "pose must be finite"),
+        ({"pose": "abc"}, r"pose must be \[x, y, yaw\]"),
+        ({"pose": [0.0, 0.0]}, r"pose must be \[x, y, yaw\]"),
+    ],
+)
+def test_landmark_in_crop_refuses_a_bad_pose_or_margin(env, kwargs, says):
+    with pytest.raises((ValueError, TypeError), match=r"DockingEnv\.landmark_in_crop.*" + says):
+        env.landmark_in_crop(**kwargs)
+
+
+@pytest.mark.parametrize("config", ["sideboard", {}, CameraConfig()], ids=["str", "dict", "camera"])
+def test_docking_env_refuses_a_config_that_is_no_world_config(config):
+    with pytest.raises(TypeError, match=r"DockingEnv\.config must be a WorldConfig, got"):
+        DockingEnv(config)
