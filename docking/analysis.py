@@ -967,3 +967,31 @@ def share_near_best(means, margin: float = 0.05) -> tuple[int, int]:
     if not len(values):
         return 0, 0
     return int(np.sum(values >= values.max() - margin)), len(values)
+
+
+def centroid_rows(views) -> np.ndarray:
+    """Each view's centroid row (``(n, rows, cols)`` network inputs): the mean row index of
+    its pixels weighted by their intensity (NaN for an empty view)."""
+    views = np.asarray(views, dtype=np.float64)
+    rows = np.arange(views.shape[1], dtype=np.float64)
+    mass = views.sum(axis=(1, 2))
+    weighted = np.einsum("nrc,r->n", views, rows)
+    with np.errstate(invalid="ignore", divide="ignore"):
+        return np.where(mass > 0, weighted / mass, np.nan)
+
+
+def view_shift(home: WorldConfig, place: WorldConfig, n: int = 300, seed: int = 0) -> np.ndarray:
+    """Per start view (``n`` start poses of ``home``'s start region, rendered in ``home`` and
+    in ``place``), how far the landmark moved in the network's input: the moved view's
+    centroid row minus the home view's (:func:`centroid_rows`), in input rows (a row is a
+    tenth of the input's height); views empty in either world left out."""
+    from docking.world import DockingEnv
+
+    env = DockingEnv(home, seed=seed)
+    poses, views = [], []
+    for _ in range(n):
+        views.append(env.reset().observation)
+        poses.append(env.pose)
+    env.close()
+    shift = centroid_rows(_views_at(place, np.array(poses))) - centroid_rows(views)
+    return shift[np.isfinite(shift)]

@@ -598,10 +598,10 @@ def _row(arrays: dict, keep: frozenset) -> dict[str, np.ndarray]:
         if name in ("W", "Q") and "networks" not in keep:
             continue
         row[name] = np.ravel(array) if name in ("W", "Q") else np.atleast_1d(array)
-    for part in (p for p in parts if f"{p}.poses" in arrays and len(arrays[f"{p}.success"])):
+    for part in (p for p in parts if f"{p}.poses" in arrays):
         log = TrialLog(**{f.name: arrays[f"{part}.{f.name}"] for f in dataclasses.fields(TrialLog)})
-        if "starts" in keep:
-            row[f"{part}.starts"] = log.starts
+        if "starts" in keep:  # a part of no trials has no start pose: an empty column
+            row[f"{part}.starts"] = log.starts if len(log.success) else np.zeros((0, 3))
         if "ends" in keep and part != "train":
             row[f"{part}.ends"] = final_poses(log)
         if "lengths" in keep and part != "train":
@@ -622,16 +622,12 @@ EVERYTHING = frozenset({"starts", "ends", "lengths", "paths", "winners", "networ
 def row_differences(arrays: dict, cells: dict) -> list[str]:
     """The columns of a table row ``cells`` (:func:`_rows`) that are not what the run's
     ``arrays`` (as stored, or recomputed) give: each column's cells compared bit for bit, in
-    the table's dtype. A column the arrays cannot give counts as different, but for an empty
-    column of a part the arrays hold no trials of (``test.ends`` of a run of no test trials):
-    the tables written before ledger format 8 keep such a part's derived columns (ends,
-    lengths, paths) empty, the rows written since leave them out, and both serve nothing."""
+    the table's dtype. A column the arrays cannot give counts as different (a part of no
+    trials gives its derived columns empty, as the tables have always kept them)."""
     computed = _row(arrays, EVERYTHING)
     differ = []
     for name, cell in sorted(cells.items()):
         mine = computed.get(name)
-        if mine is None and cell.size == 0 and _no_trials(arrays, name.partition(".")[0]):
-            continue
         if mine is None or np.shape(mine) != cell.shape:
             differ.append(name)
             continue
@@ -639,11 +635,6 @@ def row_differences(arrays: dict, cells: dict) -> list[str]:
         if ours.tobytes() != np.ascontiguousarray(cell).tobytes():
             differ.append(name)
     return differ
-
-
-def _no_trials(arrays: dict, part: str) -> bool:
-    """Whether a run's ``arrays`` hold the trial log ``part`` with no trials in it."""
-    return f"{part}.success" in arrays and len(arrays[f"{part}.success"]) == 0
 
 
 def _columns(runs: list[tuple[str, dict]]) -> dict[str, np.ndarray]:

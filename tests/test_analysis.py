@@ -460,3 +460,22 @@ def test_share_near_best_counts_the_settings_within_the_margin():
     assert analysis.share_near_best([0.95, 0.91, 0.89, 0.3]) == (2, 4)
     assert analysis.share_near_best([0.5]) == (1, 1)
     assert analysis.share_near_best([]) == (0, 0)
+
+
+def test_centroid_rows_weigh_each_row_by_its_intensity():
+    views = np.zeros((3, 10, 32))
+    views[0, 2, :] = 1.0  # all in row 2
+    views[1, 4, 0], views[1, 6, 0] = 1.0, 3.0  # (4 + 18) / 4
+    found = analysis.centroid_rows(views)
+    assert found[0] == pytest.approx(2.0) and found[1] == pytest.approx(5.5)
+    assert np.isnan(found[2])  # an empty view has no centroid
+
+
+def test_view_shift_is_zero_in_the_same_world_and_signed_by_the_landmarks_move():
+    from docking.designs import revisited as rv
+
+    assert np.all(analysis.view_shift(rv._HOME, rv._HOME, n=5) == 0)
+    places = rv.places()
+    higher, lower = (analysis.view_shift(rv._HOME, places[p], n=5) for p in sorted(places))
+    assert len(lower) == len(higher) == 5
+    assert np.all(np.sign(lower) == -np.sign(higher)) and np.all(lower != 0)
