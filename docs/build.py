@@ -365,7 +365,7 @@ def _executed(path: Path) -> bool:
 def _markdown(text: str) -> str:
     """README/CONTRIBUTING links made site links: notebooks' .py sources to their pages."""
     text = re.sub(r"\(((?:notebooks|archive)/\d\d_\w+)\.py\)", r"(\1.ipynb)", text)
-    text = re.sub(r"\(docs/guide/(\w+\.md)\)", r"(guide/\1)", text)
+    text = re.sub(r"\(docs/guide/(\w+\.md)(#[\w-]+)?\)", r"(guide/\1\2)", text)
     return _unbroken(text.replace("(CONTRIBUTING.md)", "(contributing.md)"))
 
 
