@@ -215,32 +215,43 @@ def first_screen(
     return "\n".join(f"{k + 1}. {line}" for k, line in enumerate(lines))
 
 
+#: How the first screen names a learner's lead.
+_WHOSE = {"paper ahead": "the paper's", "linear ahead": "linear's"}
+_SHORT = {"floor": "floor", "nao": "Nao-like"}
+
+
 def _finding(floor: Replication, nao: Replication) -> str:
     """The main finding's sentence, as the replication's wording allows it: *within 5 pp*
-    only in the worlds where both judgements closed the gap, a lead only where both saw it."""
+    only in the worlds where both judgements closed the gap; a lead *replicated* only where
+    both judgements saw the same learner ahead, and named as not replicated where one did."""
     g = GLOSSARY
     both = [r for r in (floor, nao) if r.verdict == r.first_verdict == "closed"]
-    gaps = f"{100 * floor.gap[0]:.1f} and {100 * nao.gap[0]:.1f} pp"
+    gaps = f"{100 * floor.gap[0]:.1f}, {100 * nao.gap[0]:.1f} pp"
     n = len(floor.paper)
     if len(both) == 2:
         head = (
-            f"Replicated on {n} fresh seeds per world, it docks within 5 pp of linear SARSA "
+            f"Replicated on {n} fresh seeds per world, it stays within 5 pp of linear SARSA "
             f"([gap]({g}#gap) {gaps})"
         )
     elif both:
         head = (
-            f"On {n} fresh seeds per world linear SARSA leads by {gaps}: within 5 pp "
-            f"replicated in the {WORLDS[both[0].world]} only"
+            f"Within 5 pp of linear SARSA replicated in the {WORLDS[both[0].world]} only "
+            f"({n} fresh seeds; [gap]({g}#gap) {gaps})"
         )
     else:
         head = (
-            f"On {n} fresh seeds per world linear SARSA leads by {gaps}: the closed "
-            f"[gap]({g}#gap) did not replicate"
+            f"Within 5 pp of linear SARSA did not replicate ({n} fresh seeds per world; "
+            f"[gap]({g}#gap) {gaps})"
         )
-    leads = [r for r in (floor, nao) if {r.first_lead, r.lead} != {"no lead shown"}]
-    if not leads:
+    clauses = []
+    for r in (floor, nao):
+        if r.first_lead == r.lead == "no lead shown":
+            continue
+        if r.first_lead == r.lead:
+            clauses.append(f"{_WHOSE[r.lead]} {_SHORT[r.world]} lead replicated")
+        else:
+            seen = r.first_lead if r.first_lead != "no lead shown" else r.lead
+            clauses.append(f"{_WHOSE[seen]} {_SHORT[r.world]} lead did not")
+    if not clauses:
         return head + "; neither learner leads."
-    lead = leads[0]
-    if lead.first_lead == lead.lead:
-        return head + f"; the {lead.lead.replace(' ahead', '')} learner's lead replicated."
-    return head + f"; the earlier lead did not [replicate]({g}#replication)."
+    return head + "; " + ", ".join(clauses) + "."
