@@ -255,3 +255,60 @@ def _finding(floor: Replication, nao: Replication) -> str:
     if not clauses:
         return head + "; neither learner leads."
     return head + "; " + ", ".join(clauses) + "."
+
+
+#: The first screen's figure: its learners, in the legend's order.
+GLANCE_LEARNERS = (
+    "the paper's learner, published settings",
+    "the paper's learner, tuned",
+    "linear SARSA, tuned",
+    "PPO (matched steps; sideboard: tuned)",
+)
+#: The yardsticks of the figure: ``(variant in the contest, label)``.
+GLANCE_YARDSTICKS = (
+    ("oracle", "pose oracle"),
+    ("centroid", "centroid rule"),
+    ("random", "random actions"),
+)
+#: Each column of the figure: its label, with the tuning its learners had.
+GLANCE_WORLDS = {
+    "sideboard": "sideboard world\n(calibrated; contest tuning)",
+    "floor": "floor world\n(bracketed tuning)",
+    "nao": "Nao-like world\n(bracketed tuning)",
+}
+
+
+def glance_data(contest, replicated) -> tuple[list, list, dict, dict]:
+    """The first screen's figure's arrays (:func:`docking.study.figures.fig_glance`): per
+    world, each learner's per-seed held-out success and the yardsticks' means. The paper's
+    learner at its published settings is the contest's untuned one in every world; the tuned
+    learners are the replication's (``replicated``: its results) in the floor and Nao-like
+    worlds (PPO at the paper learner's training steps) and the contest's in the sideboard world
+    (PPO tuned by the contest)."""
+    seeds, yardsticks = {}, {}
+    for world, name in GLANCE_WORLDS.items():
+        seeds[name, GLANCE_LEARNERS[0]] = contest.score(f"{world}/paper")
+        if world == "sideboard":
+            keys = (f"{world}/paper-tuned", f"{world}/linear-tuned", f"{world}/ppo-tuned")
+            source = contest
+        else:
+            keys = (f"{world}/paper", f"{world}/linear", f"{world}/ppo")
+            source = replicated
+        for label, key in zip(GLANCE_LEARNERS[1:], keys, strict=True):
+            seeds[name, label] = source.score(key)
+        for variant, label in GLANCE_YARDSTICKS:
+            yardsticks[name, label] = float(np.mean(contest.score(f"{world}/{variant}")))
+    return list(GLANCE_WORLDS.values()), list(GLANCE_LEARNERS), seeds, yardsticks
+
+
+#: The caption under the first screen's figure (the README and the site).
+GLANCE_CAPTION = (
+    "**The answer per world:** each dot one network's success on 500 held-out start poses, "
+    "the mean with its 95% interval. Blue circles: the paper's learner at its published "
+    "settings. In the sideboard world every learner had the contest's tuning (15 runs each) "
+    "and PPO was tuned; in the floor and Nao-like worlds the SARSA learners were tuned to "
+    "bracketed optima and judged on the replication's 20 fresh seeds, and PPO trained for as "
+    "many steps as the tuned paper learner (matched steps). Lines: the pose oracle (it reads "
+    "the true pose), the centroid rule (steps towards the landmark's centre in the image), "
+    "random actions."
+)
