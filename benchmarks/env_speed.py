@@ -279,6 +279,6 @@ def run(
 if __name__ == "__main__":
     import sys
 
-    from docking.cli import main
+    from docking.study.cli import main
 
     raise SystemExit(main(["benchmark", *sys.argv[1:]]))

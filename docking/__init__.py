@@ -19,7 +19,7 @@ import os as _os  # noqa: E402
 import signal as _signal  # noqa: E402
 import sys as _sys  # noqa: E402
 
-#: The command line's name in its messages (:data:`docking.cli.PROG`), here because
+#: The command line's name in its messages (:data:`docking.study.cli.PROG`), here because
 #: ``python -m docking`` may need it before the command line is imported.
 _PROG = "python -m docking"
 
@@ -123,7 +123,7 @@ _load_triton_first()
 
 def _snapshot_sources() -> dict:
     """SHA-256 of every ``.py`` file of the package as it is when ``docking`` is imported:
-    :mod:`docking.store` fingerprints this code, and refuses to key runs if a file has changed
+    :mod:`docking.study.store` fingerprints this code, and refuses to key runs if a file has changed
     on disk since (the process would compute with the code it loaded, not the edited one)."""
     import hashlib
     from pathlib import Path

@@ -41,12 +41,12 @@
 import numpy as np
 from IPython.display import Image, Markdown, display
 
-from docking import analysis, figures, report
-from docking.analysis import FAILURE_CLASSES
-from docking.designs import design, experiment3
 from docking.policies import centroid_offset, oracle, run_episode
-from docking.report import save_named
-from docking.stats import difference_ci
+from docking.study import analysis, figures, report
+from docking.study.analysis import FAILURE_CLASSES
+from docking.study.designs import design, experiment3
+from docking.study.report import save_named
+from docking.study.stats import difference_ci
 from docking.world import DockingEnv
 
 pct = lambda ci: ci.format(unit="%")  # noqa: E731
@@ -198,7 +198,7 @@ assert verdict == "contradicted" and removed.high < 0
 # %% [markdown]
 # ## Where the failures go: the failure taxonomy of every cell
 #
-# The study's taxonomy (notebook 05, `docking.analysis.FAILURE_CLASSES`) of every cell's
+# The study's taxonomy (notebook 05, `docking.study.analysis.FAILURE_CLASSES`) of every cell's
 # held-out failures, its first five seeds pooled (`experiment3.TAXONOMY_SEEDS`: the ledger
 # keeps their failures' paths); a trial can be in several classes. "Heading off in
 # region" exists only with precision docking: the reference point reached the region, but the

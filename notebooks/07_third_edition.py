@@ -22,7 +22,7 @@
 # edition's **contest**: in each world every learner gets **the same tuning budget**, and
 # tuned learners are compared with tuned learners, on seeds no earlier run used.
 #
-# **The rules were committed before any of this edition's runs** (`docking/designs/third_edition.py`,
+# **The rules were committed before any of this edition's runs** (`docking/study/designs/third_edition.py`,
 # commit 396630d, pinned by `tests/test_third_edition.py`'s digest of `rules_text()`):
 #
 # * **Worlds:** the sideboard world (the one the package's choices were calibrated in), the
@@ -62,14 +62,14 @@ from pathlib import Path
 import numpy as np
 from IPython.display import Image, Markdown, display
 
-from docking import figures, report
-from docking.claims import design_verdicts, judge_family, rate_interval
-from docking.designs import addendum as ad
-from docking.designs import measures
-from docking.designs import third_edition as te
 from docking.presets import NAO_WORLD
-from docking.report import save_named
-from docking.stats import rate_ci, t_mean_ci
+from docking.study import figures, report
+from docking.study.claims import design_verdicts, judge_family, rate_interval
+from docking.study.designs import addendum as ad
+from docking.study.designs import measures
+from docking.study.designs import third_edition as te
+from docking.study.report import save_named
+from docking.study.stats import rate_ci, t_mean_ci
 
 pct = lambda ci: ci.format(unit="%")  # noqa: E731
 
@@ -264,7 +264,7 @@ print({w: paper_gain[w].format(unit=" pp") for w in te.CONTEST})
 # two SARSA learners were not tuned on the same knobs. **The addendum** (a new, labelled
 # analysis; the tables above stay as they were run) asks the question again in the two worlds
 # where the gap remained. Its rules were committed before any of its runs
-# (`docking/designs/addendum.py`, pinned by `tests/test_addendum.py`'s digest, which covers
+# (`docking/study/designs/addendum.py`, pinned by `tests/test_addendum.py`'s digest, which covers
 # the search's code and the gap rule's):
 #
 # * **The same knobs for both SARSA learners:** eps_Q, the exploration temperature beta_a in
@@ -330,7 +330,7 @@ assert edges and {learner for _, learner, _ in edges} == {"paper"}  # linear SAR
 # ### The bracketing: the search continued until each optimum is inside
 #
 # A second labelled analysis, its rules committed before its runs
-# (`docking/designs/bracketing.py`, pinned by `tests/test_bracketing.py`'s digest): from
+# (`docking/study/designs/bracketing.py`, pinned by `tests/test_bracketing.py`'s digest): from
 # where the addendum stopped, every setting is compared on the same 10 tuning seeds
 # (5900-5909), and every neighbour of the best one on the ladders is run on the seeds it
 # lacks, stage after stage, until the best setting has every neighbour tried (or 100 runs
@@ -339,7 +339,7 @@ assert edges and {learner for _, learner, _ in edges} == {"paper"}  # linear SAR
 # the addendum's judged runs.
 
 # %% tags=["hide-input"]
-from docking.designs import bracketing as br  # noqa: E402
+from docking.study.designs import bracketing as br  # noqa: E402
 
 
 def shown_walk(walk):
@@ -379,7 +379,7 @@ display(
 #
 # A third labelled analysis, written after the bracketing's runs were seen (which is why it
 # is a new analysis, not a change of the bracketing's rules), its rules committed before its
-# own runs (`docking/designs/bracketing_continued.py`, pinned by
+# own runs (`docking/study/designs/bracketing_continued.py`, pinned by
 # `tests/test_bracketing_continued.py`'s digest): the bracketing's walk, unchanged, with a
 # further budget of runs per learner and world, the same for both learners; then **both**
 # tuned SARSA learners, and PPO at the paper's learner's training steps, judged on fresh
@@ -387,7 +387,7 @@ display(
 # From here on, "tuned" means tuned by this walk and judged on these seeds.
 
 # %% tags=["hide-input"]
-from docking.designs import bracketing_continued as bc  # noqa: E402
+from docking.study.designs import bracketing_continued as bc  # noqa: E402
 
 walk = bc
 own, bracketing = shown_walk(bc)

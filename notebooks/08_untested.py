@@ -30,7 +30,7 @@
 # Points 1-3 are the design's judged part (`ut.part("judged")`), points 4-6 its findings
 # part (`ut.part("findings")`, ten seeds per cell): the same design, the same rules.
 #
-# **The rules were committed before any of these runs** (`docking/designs/untested.py`,
+# **The rules were committed before any of these runs** (`docking/study/designs/untested.py`,
 # pinned by `tests/test_untested.py`'s digest of its `rules_text()`; two amendments before
 # any run, named there), on seeds no earlier run used (4000-4019). The judged claims
 # (relocation, coping, continuous accuracy and path) are decided by Holm's adjustment within
@@ -48,17 +48,17 @@ from gymnasium.utils.env_checker import check_env
 from IPython.display import Image, Markdown, display
 
 import docking  # noqa: F401  (registers the Gymnasium ids)
-from docking import analysis, figures, report
-from docking.claims import design_verdicts, judge_family, rate_interval
-from docking.designs import addendum as ad
-from docking.designs import measures
-from docking.designs import third_edition as te
-from docking.designs import untested as ut
-from docking.designs.builders import with_cup
 from docking.experiments import initial_network
-from docking.report import save_named
 from docking.scene import scene_facts
-from docking.stats import t_mean_ci, t_paired_ci
+from docking.study import analysis, figures, report
+from docking.study.claims import design_verdicts, judge_family, rate_interval
+from docking.study.designs import addendum as ad
+from docking.study.designs import measures
+from docking.study.designs import third_edition as te
+from docking.study.designs import untested as ut
+from docking.study.designs.builders import with_cup
+from docking.study.report import save_named
+from docking.study.stats import t_mean_ci, t_paired_ci
 
 results = ut.part("judged").run(progress=False)
 per_claim = judge_family(results.design.claims, results, alpha=ut.ALPHA, per_claim=True)
@@ -69,7 +69,7 @@ pp = lambda ci: ci.format(unit=" pp")  # noqa: E731
 
 
 def md_table(header, rows) -> Markdown:
-    """The Markdown table of ``rows`` under ``header`` (:func:`docking.report.md_table`)."""
+    """The Markdown table of ``rows`` under ``header`` (:func:`docking.study.report.md_table`)."""
     return Markdown(report.md_table(header, rows))
 
 
@@ -175,7 +175,7 @@ assert other[0] > 0.2 * other[1] and abs(along.interval.estimate) < 0.01
 # %% [markdown]
 # Where the walk differs along the wall: the robot touches no furniture in the start region
 # or on the straight walk from a start to the dock, in any place (checked on 60 starts and
-# their walks per place, `docking.analysis.furniture_contacts`); but the shifted table stands
+# their walks per place, `docking.study.analysis.furniture_contacts`); but the shifted table stands
 # where a robot that wanders off that walk reaches it (the trials that differ begin to
 # diverge near (-1.20, 0.70) m).
 

@@ -29,7 +29,7 @@
 #   and stay outside the counts too.
 #
 # This notebook is their revisit: a new, labelled analysis whose **rules were committed
-# before any of its runs** (`docking/designs/revisited.py`, pinned by
+# before any of its runs** (`docking/study/designs/revisited.py`, pinned by
 # `tests/test_revisited.py`'s digest, which covers the code of the measure and of the
 # judging functions, not only their names), on fresh seeds 6000-6009.
 #
@@ -57,10 +57,10 @@
 import numpy as np
 from IPython.display import Image, Markdown, display
 
-from docking import figures, report
-from docking.claims import design_verdicts, rate_interval
-from docking.designs import revisited as rv
-from docking.report import save_named
+from docking.study import figures, report
+from docking.study.claims import design_verdicts, rate_interval
+from docking.study.designs import revisited as rv
+from docking.study.report import save_named
 
 results = rv.DESIGN.run(progress=False)
 rows = report.revisited_rows(results, rv)

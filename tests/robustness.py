@@ -28,7 +28,7 @@ sys.path.insert(0, str(ROOT))
 from docking.experiments import Curriculum  # noqa: E402
 from docking.network import Network, NetworkConfig  # noqa: E402
 from docking.presets import EXPERIMENT_1  # noqa: E402
-from docking.store import (  # noqa: E402
+from docking.study.store import (  # noqa: E402
     CorruptResult,
     content_digest,
     load_result,

@@ -1,7 +1,7 @@
 """Smoke tests of the benchmark's measurements (issue 9); the acceptance figures come from a
 full run of ``python -m docking benchmark`` on an idle machine."""
 
-from docking.cli import benchmark_module
+from docking.study.cli import benchmark_module
 from docking.world import WorldConfig
 
 env_step_time, floor_time = benchmark_module().env_step_time, benchmark_module().floor_time

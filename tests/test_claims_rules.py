@@ -5,8 +5,8 @@ import dataclasses
 import numpy as np
 import pytest
 
-from docking import claims
-from docking.stats import Interval
+from docking.study import claims
+from docking.study.stats import Interval
 
 
 def _ci(low, high):
@@ -84,7 +84,7 @@ def test_holm_per_claim_and_one_family_and_the_gate():
 
 
 def test_the_verdict_table_and_figure_show_both_decisions_and_the_findings():
-    from docking import figures, report
+    from docking.study import figures, report
 
     scores = {"a": _seeds(0.9), "a0": _seeds(0.8), "b": _seeds(0.9), "b0": _seeds(0.9)}
     results = _Results(scores, {"a0": "a", "b0": "b"})
@@ -119,7 +119,7 @@ def test_the_verdict_table_and_figure_show_both_decisions_and_the_findings():
 
 
 def test_the_claims_sentence_counts_and_names_each_group():
-    from docking import report
+    from docking.study import report
 
     scores = {"a": _seeds(0.9), "a0": _seeds(0.8), "b": _seeds(0.9), "b0": _seeds(0.9)}
     scores.update({"c": _seeds(0.8), "c0": _seeds(0.9)})
@@ -179,7 +179,7 @@ def test_one_verdict_table_of_two_designs_keeps_each_designs_family():
 def test_a_design_with_claims_needs_the_level_of_their_verdicts():
     from helpers import TINY
 
-    from docking.design import Cell, Design
+    from docking.study.design import Cell, Design
 
     one = claims.Claim("one", "w", "s", "x", claims.Above(0.0), {"w1": ("a",)})
     cells = (Cell("a", TINY, {"v": "a"}),)
@@ -189,7 +189,7 @@ def test_a_design_with_claims_needs_the_level_of_their_verdicts():
 
 
 def test_several_comparisons_of_one_world_are_labelled_by_what_tells_them_apart():
-    from docking import report
+    from docking.study import report
 
     scores = {k: _seeds(0.8) for k in ("w/paper", "w/units144", "w/units576", "v/paper")}
     scores["v/units144"] = _seeds(0.9)
@@ -292,7 +292,7 @@ def test_one_family_from_the_decisions_is_judge_familys_one_family():
 
 
 def test_the_claims_sentence_counts_under_both_decision_rules_where_they_differ():
-    from docking import report
+    from docking.study import report
 
     results = _close_call()
     rule = claims.Above(0.0, method="paired")
@@ -320,7 +320,7 @@ def test_rate_tables_show_an_interval_for_a_rate():
     p-value in the path table."""
     import types
 
-    from docking import design, report
+    from docking.study import design, report
 
     outcomes = {"w/oracle": [np.ones(500)] * 10, "w/paper": [np.arange(500) < 450] * 4}
     outcomes["w/paper"] += [np.arange(500) < 400] * 6

@@ -11,7 +11,7 @@ from pathlib import Path
 
 import pytest
 
-from docking.report import README_END, README_START, replace_block, update_readme
+from docking.study.report import README_END, README_START, replace_block, update_readme
 
 REPO = Path(__file__).resolve().parent.parent
 TINY_ARGS = ["--train-trials", "4", "--test-trials", "3", "--eval-every", "2", "--eval-trials", "2"]
@@ -351,7 +351,7 @@ def test_update_readme(tmp_path):
 
 
 def test_project_readme_has_the_markers():
-    from docking import report
+    from docking.study import report
 
     text = (REPO / "README.md").read_text()
     for start, end in (
@@ -377,7 +377,7 @@ def test_project_readme_has_the_markers():
 
 
 def test_timings_paragraph_says_what_was_measured():
-    from docking.report import timings_text
+    from docking.study.report import timings_text
 
     record = {
         "date": "2026-01-02",
@@ -518,7 +518,7 @@ def _choice_checks() -> set[tuple[str, str]]:
 
 
 def test_every_named_value_field_is_a_choice_on_the_command_line():
-    from docking.cli import CHOICES
+    from docking.study.cli import CHOICES
 
     table = {(cls.__name__, name) for cls, fields in CHOICES.items() for name in fields}
     assert table == _choice_checks()
@@ -540,7 +540,7 @@ def test_the_readme_is_what_report_writes_from_the_ledger(tmp_path):
     """Every number of the README's blocks (the summary, the results, Experiment 3, the third
     edition, the verdicts, the timings) is what `report --readme` writes from the committed
     ledger: run on a copy, it changes nothing."""
-    from docking.report import VERDICTS_PAGE
+    from docking.study.report import VERDICTS_PAGE
 
     copy = tmp_path / "README.md"
     copy.write_text((REPO / "README.md").read_text())
@@ -564,8 +564,8 @@ def test_the_readme_is_what_report_writes_from_the_ledger(tmp_path):
 def test_ledger_show_counts_runs_configurations_and_tables(capsys, monkeypatch):
     """``ledger show`` counts what the committed manifest holds: its runs, their distinct
     configurations and the results tables (it once called the tables "configurations")."""
-    from docking import ledger
-    from docking.cli import main
+    from docking.study import ledger
+    from docking.study.cli import main
 
     monkeypatch.setenv("DOCKING_LEDGER", str(REPO / "ledger"))
     data = ledger.manifest()
@@ -580,7 +580,7 @@ def test_ledger_show_counts_runs_configurations_and_tables(capsys, monkeypatch):
 def test_design_run_counts_where_its_runs_came_from(tmp_path, monkeypatch):
     """``design run`` ends with how many runs were computed, loaded from the store or read
     from the ledger, in ``run``'s words, and names the store only where a run is in it."""
-    from docking.cli import _counted
+    from docking.study.cli import _counted
 
     monkeypatch.setenv("DOCKING_LEDGER", str(REPO / "ledger"))
     ledger = (

@@ -1,4 +1,4 @@
-"""Tests of docking.figures: every figure is drawn from the analysis arrays of fresh and
+"""Tests of docking.study.figures: every figure is drawn from the analysis arrays of fresh and
 re-loaded results, returns a Figure and writes nothing; save_figure writes png and pdf; the
 report's save_fig* functions run analysis, figure and save end to end."""
 
@@ -8,11 +8,11 @@ import numpy as np
 import pytest
 from matplotlib.figure import Figure
 
-from docking import analysis, figures, report
 from docking.experiments import Curriculum, run_experiment
 from docking.presets import EXPERIMENT_1, EXPERIMENT_2
 from docking.region import StartRegion
-from docking.store import load_result, save_result
+from docking.study import analysis, figures, report
+from docking.study.store import load_result, save_result
 from docking.world import ACTION_LETTERS, DockingEnv
 
 TINY = dict(train_trials=4, test_trials=6, eval_every=2, eval_trials=2)
@@ -162,7 +162,7 @@ def test_save_figure_writes_png_and_pdf(tmp_path):
 
 _FIG4_SCRIPT = """
 import dataclasses, sys
-from docking import report
+from docking.study import report
 from docking.experiments import Curriculum, run_experiment
 from docking.presets import EXPERIMENT_2
 config = dataclasses.replace(
@@ -243,7 +243,7 @@ def test_results_table_rows_of_sample_efficiency_and_held_out_success(result1, r
 
 
 def test_the_summary_quotes_the_runs_and_the_world_they_hold_in(result1, result2):
-    from docking.stats import Interval
+    from docking.study.stats import Interval
 
     text = report.summary_text([result1], [result2])
     h1, h2 = result1, result2
@@ -282,7 +282,7 @@ def test_fig_coping_draws_fresh_and_relearning_curves_per_change():
 
 
 def test_fig_verdicts_draws_a_reference_where_asked():
-    from docking.stats import t_paired_ci
+    from docking.study.stats import t_paired_ci
 
     ci = t_paired_ci([0.5, 0.6, 0.7], [0.4, 0.4, 0.5])
     panel = dict(title="t", xlabel="x", scale=100.0, bound=0.0, band=None)

@@ -20,15 +20,16 @@ import outside_learner as outside
 import pytest
 from helpers import TINY
 
-from docking import learners, ledger, protocol, store, verify
-from docking.contest import CONTEST_BUDGET, Budget, contest, small_budget
-from docking.design import yardstick_config
-from docking.designs import third_edition as te
+from docking import protocol
 from docking.experiments import ExperimentConfig, run_experiment
 from docking.policies import oracle
-from docking.ppo import PPOConfig, run_ppo
 from docking.presets import EXPERIMENT_2
 from docking.scene import WorldConfig
+from docking.study import learners, ledger, store, verify
+from docking.study.contest import CONTEST_BUDGET, Budget, contest, small_budget
+from docking.study.design import yardstick_config
+from docking.study.designs import third_edition as te
+from docking.study.ppo import PPOConfig, run_ppo
 
 ROOT = Path(__file__).resolve().parents[1]
 GUIDE = ROOT / "docs" / "guide" / "bring_your_own_learner.md"
@@ -111,7 +112,7 @@ LEARNER_SOURCE = '''
 """A learner written to a file by a test."""
 import dataclasses
 
-from docking import learners
+from docking.study import learners
 from docking.scene import WorldConfig
 
 
@@ -171,7 +172,7 @@ def test_the_key_follows_the_learners_own_code_in_a_module(tmp_path, registry, m
     assert store.config_key(other.Edited()) != key
     # the learner's registry and the contest are not followed
     unfollowed = LEARNER_SOURCE.replace(
-        "import dataclasses\n", "import dataclasses\nimport docking.contest\n"
+        "import dataclasses\n", "import dataclasses\nimport docking.study.contest\n"
     )
     assert module("edited_5", unfollowed).RUNNER.roots == first.RUNNER.roots
 
@@ -180,7 +181,7 @@ HELPED = """
 import dataclasses
 
 import {helper}
-from docking import learners
+from docking.study import learners
 from docking.scene import WorldConfig
 
 
@@ -256,8 +257,8 @@ CONTESTED = """
 import dataclasses
 
 import helper
-from docking import learners
-from docking.contest import contest, small_budget
+from docking.study import learners
+from docking.study.contest import contest, small_budget
 from docking.scene import WorldConfig
 
 
@@ -315,9 +316,9 @@ FAILING = """
 import dataclasses
 import sys
 
-from docking import learners
+from docking.study import learners
 from docking.scene import WorldConfig
-from docking.sweep import Job, run_jobs
+from docking.study.sweep import Job, run_jobs
 
 
 @dataclasses.dataclass(frozen=True)
@@ -364,7 +365,7 @@ def test_a_learners_error_on_the_embedded_cluster_names_the_users_file_and_line(
 CELL = """
 import dataclasses
 
-from docking import learners
+from docking.study import learners
 from docking.scene import WorldConfig
 
 
@@ -479,7 +480,7 @@ def test_a_learners_class_carries_its_runner_to_another_process(registry):
         pass
 
     Impostor._docking_runner = dataclasses.replace(outside.RUNNER, config_type=Impostor)
-    with pytest.raises(TypeError, match="registered with docking.learners.register"):
+    with pytest.raises(TypeError, match="registered with docking.study.learners.register"):
         store.runner_for(Impostor())
 
 
@@ -564,7 +565,7 @@ def test_the_command_line_verifies_an_outside_learners_runs(learner_ledger):
 
 def _published_linear(world, **setting):
     """The third edition's linear SARSA in ``world`` (its design's cells' configurations)."""
-    from docking.designs.builders import experiment2_in, linear_sarsa, variant
+    from docking.study.designs.builders import experiment2_in, linear_sarsa, variant
 
     base = experiment2_in(world, te.NAME)
     return variant(base, te.NAME, network=linear_sarsa(base, **setting))
@@ -575,7 +576,7 @@ def test_the_contest_of_the_published_linear_sarsa_is_the_published_contest(tmp_
     run is the ledger's (none computed), the tuned settings and the judged row are the
     published ones, and each published learner's lead over it is the published table's."""
     monkeypatch.delenv("DOCKING_LEDGER")  # the committed ledger
-    monkeypatch.setattr("docking.store.run_experiment", lambda *a, **k: pytest.fail("ran"))
+    monkeypatch.setattr("docking.study.store.run_experiment", lambda *a, **k: pytest.fail("ran"))
     budget = Budget(tuning_seeds=te.TUNING_SEEDS)
     found = contest(
         _published_linear,
@@ -626,7 +627,7 @@ def test_a_contest_budget_is_checked():
         world: object = None
         heldout_trials: int = 1
 
-    with pytest.raises(TypeError, match="registered with docking.learners.register"):
+    with pytest.raises(TypeError, match="registered with docking.study.learners.register"):
         contest(Unregistered(), [{}, {}], small)
 
 

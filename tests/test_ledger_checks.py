@@ -19,11 +19,11 @@ import numpy as np
 import pytest
 from helpers import SEEDS, TINY, tool
 
-from docking import cli, ledger, verify
-from docking.cli import main
-from docking.ledger import load_run
 from docking.presets import EXPERIMENT_1
-from docking.store import result_path, run_key, run_or_load
+from docking.study import cli, ledger, verify
+from docking.study.cli import main
+from docking.study.ledger import load_run
+from docking.study.store import result_path, run_key, run_or_load
 
 REPO = Path(__file__).resolve().parent.parent
 #: What ``run experiment1`` with these options computes: :data:`SMALL`.
@@ -412,7 +412,7 @@ def test_run_says_the_ledger_is_unusable_before_it_computes(
         says = "/etc is not a ledger (it has no manifest.json)"
     else:
         monkeypatch.delenv("DOCKING_LEDGER")
-        monkeypatch.setattr("docking.paths.checkout_root", lambda: tmp_path / "clone")
+        monkeypatch.setattr("docking.study.paths.checkout_root", lambda: tmp_path / "clone")
         says = f"the ledger folder {tmp_path / 'clone' / 'ledger'} does not exist"
     assert _run(["--seeds", "0"], monkeypatch, tmp_path) == 0
     captured = capsys.readouterr()

@@ -17,9 +17,9 @@ RATE = re.compile(r"(-?\d+\.\d+)% \[(-?\d+\.\d+)%?, (-?\d+\.\d+)%?\]")
 def test_the_committed_contest_and_verdicts_have_no_degenerate_rate_and_no_p_0(
     monkeypatch, tmp_path
 ):
-    from docking import report
-    from docking.claims import design_verdicts
-    from docking.designs import third_edition, untested
+    from docking.study import report
+    from docking.study.claims import design_verdicts
+    from docking.study.designs import third_edition, untested
 
     monkeypatch.setenv("DOCKING_LEDGER", str(REPO / "ledger"))
     contest = third_edition.DESIGN.run(results_dir=tmp_path, progress=False)

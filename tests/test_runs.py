@@ -1,5 +1,5 @@
 """One kind of run (issue point 4): every run, the learner's or PPO's, goes through one
-registry of runners (docking.store.runner_for), one store and one ledger."""
+registry of runners (docking.study.store.runner_for), one store and one ledger."""
 
 from __future__ import annotations
 
@@ -11,14 +11,14 @@ import numpy as np
 import pytest
 from helpers import TINY
 
-from docking import ledger, store
 from docking.experiments import TrialLog, run_experiment
-from docking.ledger import load_run
-from docking.ppo import PPOConfig, PPOResult
 from docking.presets import EXPERIMENT_2
+from docking.study import ledger, store
+from docking.study.ledger import load_run
+from docking.study.ppo import PPOConfig, PPOResult
 
 PPO_TINY = PPOConfig(name="ppo-tiny", world=EXPERIMENT_2.world, steps=64, envs=2, heldout_trials=2)
-PACKAGE = Path(store.__file__).resolve().parent
+PACKAGE = Path(store.__file__).resolve().parents[1]
 
 
 def _ppo_result(seed: int = 0) -> PPOResult:
@@ -102,7 +102,7 @@ def test_both_kinds_round_trip_through_the_one_store(tmp_path):
 def test_a_stored_ppo_run_is_loaded_not_recomputed(tmp_path, monkeypatch):
     result = _ppo_result(3)
     store.save_result(result, store.result_path(PPO_TINY, 3, tmp_path))
-    monkeypatch.setattr("docking.ppo.run_ppo", lambda *a, **k: pytest.fail("recomputed"))
+    monkeypatch.setattr("docking.study.ppo.run_ppo", lambda *a, **k: pytest.fail("recomputed"))
     _assert_same(store.run_or_load(PPO_TINY, 3, tmp_path, progress=False), result)
 
 
@@ -129,7 +129,8 @@ def test_the_ledger_holds_both_kinds_in_one_table(both, monkeypatch, tmp_path):
     assert {data["runs"][k]["runner"] for k in keys.values()} == set(keys)
     assert data["fingerprints"] == {n: store.runner_named(n).fingerprint() for n in keys}
     assert (
-        "docking.ppo" in data["modules"]["ppo"] and "docking.ppo" not in data["modules"]["learner"]
+        "docking.study.ppo" in data["modules"]["ppo"]
+        and "docking.study.ppo" not in data["modules"]["learner"]
     )
     monkeypatch.setenv("DOCKING_LEDGER", str(folder))
     empty = tmp_path / "empty-store"
@@ -146,7 +147,7 @@ def test_the_ledger_holds_both_kinds_in_one_table(both, monkeypatch, tmp_path):
 
 @pytest.mark.parametrize(
     ("stale", "module", "config", "fresh"),
-    [("ppo", "docking.ppo", PPO_TINY, TINY), ("learner", "docking.network", TINY, PPO_TINY)],
+    [("ppo", "docking.study.ppo", PPO_TINY, TINY), ("learner", "docking.network", TINY, PPO_TINY)],
 )
 def test_a_stale_run_names_the_changed_modules_of_its_runner(
     both, monkeypatch, tmp_path, stale, module, config, fresh

@@ -14,12 +14,13 @@ import zipfile
 import numpy as np
 import pytest
 
-from docking import store
+import docking
 from docking.experiments import ExperimentConfig, run_experiment
 from docking.fileio import atomic_write, remove_stale_temporaries
 from docking.network import NetworkConfig
 from docking.presets import EXPERIMENT_1
-from docking.store import (
+from docking.study import store
+from docking.study.store import (
     CorruptResult,
     check_writable,
     load_result,
@@ -28,7 +29,7 @@ from docking.store import (
     save_result,
     source_fingerprint,
 )
-from docking.sweep import run_configs
+from docking.study.sweep import run_configs
 
 TINY = dataclasses.replace(EXPERIMENT_1, train_trials=3, test_trials=2, eval_every=3, eval_trials=1)
 SEED = 7
@@ -138,7 +139,7 @@ def test_variants_of_one_name_live_side_by_side(tmp_path):
 
 
 def _copy_package(tmp_path):
-    src = os.path.dirname(store.__file__)
+    src = os.path.dirname(docking.__file__)
     dst = tmp_path / "docking"
     shutil.copytree(src, dst, ignore=shutil.ignore_patterns("__pycache__"))
     return dst
@@ -152,7 +153,7 @@ def test_the_fingerprint_is_the_same_in_every_process():
     import subprocess
     import sys
 
-    code = "from docking.store import source_fingerprint; print(source_fingerprint())"
+    code = "from docking.study.store import source_fingerprint; print(source_fingerprint())"
     prints = {
         subprocess.run(
             [sys.executable, "-c", code],
@@ -331,4 +332,6 @@ def test_presets_and_designs_are_outside_the_fingerprint():
     """A seed list or a preset is data: editing it must not re-key the stored runs."""
     modules = store.module_digests()
     assert "docking.experiments" in modules and "docking.scene" in modules
-    assert not any(name.startswith(("docking.presets", "docking.designs")) for name in modules)
+    assert not any(
+        name.startswith(("docking.presets", "docking.study.designs")) for name in modules
+    )

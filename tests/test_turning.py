@@ -6,13 +6,13 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from docking import analysis, report
-from docking.designs import experiment3
-from docking.designs.builders import variant
 from docking.experiments import ExperimentConfig, TrialLog, run_experiment
 from docking.gym import DockingGymEnv
 from docking.oracle import oracle_action
 from docking.presets import EXPERIMENT_2
+from docking.study import analysis, report
+from docking.study.designs import experiment3
+from docking.study.designs.builders import variant
 from docking.world import (
     ACTION_LETTERS,
     FORWARD,
@@ -225,8 +225,8 @@ def test_failure_taxonomy_flags_a_wrong_heading_in_the_region():
 
 def _synthetic(rates: dict[str, float], n: int = 200):
     """Experiment 3 results with held-out logs of the given success rates per cell key."""
-    from docking.design import Results
-    from docking.designs.builders import SEEDS
+    from docking.study.design import Results
+    from docking.study.designs.builders import SEEDS
 
     def log(rate, seed):
         success = np.random.default_rng(seed).random(n) < rate
@@ -256,7 +256,7 @@ def test_experiment3_comparisons_table_and_verdict_on_synthetic_results():
     first = found[0]
     assert (first.task, first.noise) == ("paper task", 2.0)
     assert first.gain.estimate == pytest.approx(first.six.estimate - first.four.estimate)
-    from docking.claims import rate_interval  # each arm's success: the interval for a rate
+    from docking.study.claims import rate_interval  # each arm's success: the interval for a rate
 
     assert (first.four, first.six) == tuple(
         rate_interval(results, k) for k in (first.four_key, first.six_key)
@@ -294,7 +294,7 @@ def test_failure_shares_pool_the_seeds_of_a_cell():
 def test_experiment3_figures_draw_from_arrays():
     from matplotlib.figure import Figure
 
-    from docking import figures
+    from docking.study import figures
 
     noise = np.array([2.0, 4.0, 6.0])
     ci = np.tile([0.9, 0.85, 0.95], (2, 3, 1))
@@ -351,9 +351,9 @@ def test_centroid_offset_of_stacks_and_final_headings():
 
 
 def test_fig4_follows_the_configured_action_set():
-    from docking import figures
-    from docking.analysis import MeanInputs, receptive_fields, strongest_units
     from docking.network import Network
+    from docking.study import figures
+    from docking.study.analysis import MeanInputs, receptive_fields, strongest_units
 
     cell = next(c for c in experiment3.experiment3_cells() if c.key.startswith("6"))
     config = cell.config

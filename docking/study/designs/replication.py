@@ -1,5 +1,5 @@
 """The replication of the main finding (issue 50), a labelled analysis beside
-:mod:`docking.designs.bracketing_continued`, judged on seeds no earlier run has used.
+:mod:`docking.study.designs.bracketing_continued`, judged on seeds no earlier run has used.
 
 **These rules were committed before any of its runs** and are not changed after seeing them
 (``tests/test_replication.py`` pins them by a digest of :func:`rules_text`, which covers its
@@ -50,10 +50,10 @@ import json
 import numpy as np
 from scipy import stats as sps
 
-from docking.design import Cell, Design
-from docking.design import rules_text as design_rules_text
-from docking.designs import addendum as ad
-from docking.designs.builders import experiment2_in, linear_sarsa, net, variant
+from docking.study.design import Cell, Design
+from docking.study.design import rules_text as design_rules_text
+from docking.study.designs import addendum as ad
+from docking.study.designs.builders import experiment2_in, linear_sarsa, net, variant
 
 NAME = "bracketing-replication"
 #: The judged seeds: fresh, 20 per world (no run of the ledger used a seed above 7009).

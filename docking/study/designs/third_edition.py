@@ -4,7 +4,7 @@
 seeing its runs (``tests/test_third_edition.py`` pins them by a digest of :func:`rules_text`).
 The question: do the paper's claims hold on seeds no run used before, judged by paired
 intervals and Holm within each claim (one family beside it); and given the same tuning
-budget in each world (:class:`~docking.designs.builders.Tuning`), does the paper's learner
+budget in each world (:class:`~docking.study.designs.builders.Tuning`), does the paper's learner
 close its gap to linear SARSA on the same pixels (closed if the interval of the gap lies
 below :data:`GAP_CLOSED`)? Worlds: the sideboard world (tuned towards the paper's numbers),
 the floor world, and the Nao-like world fixed from Nao's specifications before any run
@@ -19,10 +19,12 @@ from __future__ import annotations
 import itertools
 from dataclasses import replace
 
-from docking.claims import Above, Claim, Equivalent, Gap, ShareAbove
-from docking.design import Cell, Design, yardstick_config
-from docking.design import rules_text as design_rules_text
-from docking.designs.builders import (
+from docking.experiments import Curriculum
+from docking.presets import EXPERIMENT_1, EXPERIMENT_2, FLOOR_WORLD, NAO_WORLD
+from docking.study.claims import Above, Claim, Equivalent, Gap, ShareAbove
+from docking.study.design import Cell, Design, yardstick_config
+from docking.study.design import rules_text as design_rules_text
+from docking.study.designs.builders import (
     HELDOUT_TRIALS,
     YARDSTICK_LABELS,
     Tuning,
@@ -32,10 +34,8 @@ from docking.designs.builders import (
     variant,
     with_cup,
 )
-from docking.designs.measures import actions_per_docking, heading_error_deg, interpretability
-from docking.experiments import Curriculum
-from docking.ppo import PPOConfig
-from docking.presets import EXPERIMENT_1, EXPERIMENT_2, FLOOR_WORLD, NAO_WORLD
+from docking.study.designs.measures import actions_per_docking, heading_error_deg, interpretability
+from docking.study.ppo import PPOConfig
 
 NAME = "third-edition"
 #: Seeds of every learner cell; the path's intermediate worlds, yardsticks and PPO use the first.
@@ -435,5 +435,5 @@ RULES = (
 
 
 def rules_text() -> str:
-    """Every rule of this design as canonical text (:func:`docking.design.rules_text`)."""
+    """Every rule of this design as canonical text (:func:`docking.study.design.rules_text`)."""
     return design_rules_text(DESIGN, {n: globals()[n] for n in RULES})

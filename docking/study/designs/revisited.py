@@ -1,5 +1,5 @@
 """Relocation and coping, tested again by rules that can fail (issue 42): a new, labelled
-analysis beside :mod:`docking.designs.untested`, whose tables stay as they were run.
+analysis beside :mod:`docking.study.designs.untested`, whose tables stay as they were run.
 
 **These rules were committed before any of their runs** and are not changed after seeing
 them (``tests/test_revisited.py`` pins them by a digest of :func:`rules_text`, which covers
@@ -29,7 +29,7 @@ The rules:
   95% interval lies within +-:data:`RELOCATION_MARGIN`, contradicted if wholly outside.
   The pose oracle at each height proves the place solvable.
 * **coping-early** (Sec. IV, "can cope easily with changes"): after a change of object,
-  sensor or actuator (the untested design's :data:`~docking.designs.untested.CHANGES`),
+  sensor or actuator (the untested design's :data:`~docking.study.designs.untested.CHANGES`),
   the home network learning on against a fresh network, both trained
   :data:`EARLY_TRIALS` trials in the changed world (the same curriculum): the *early
   failure* (:func:`early_failure`: the mean share of failed greedy trials over the curve's
@@ -42,7 +42,7 @@ The rules:
   by the sign test (:func:`regain_sign_test`; a pair in which neither regains, or both at
   the same point, carries no sign), never by entering the censored value as a number.
 * The smallest effect of interest of every comparison here is 1 pp of success or of failure
-  share (``docking.claims.NEAR_BOUND``): a decided verdict whose deciding end lies within
+  share (``docking.study.claims.NEAR_BOUND``): a decided verdict whose deciding end lies within
   it is "at the bound".
 * Holm within each claim decides; one family of both claims is reported beside it.
 
@@ -60,13 +60,13 @@ from pathlib import Path
 
 import numpy as np
 
-from docking.claims import Above, Claim, Equivalent
-from docking.design import Cell, Design, yardstick_config
-from docking.design import rules_text as design_rules_text
-from docking.designs import untested
-from docking.designs.builders import HELDOUT_TRIALS, experiment2_in, linear_sarsa, variant
-from docking.designs.measures import _unit
 from docking.presets import EXPERIMENT_2
+from docking.study.claims import Above, Claim, Equivalent
+from docking.study.design import Cell, Design, yardstick_config
+from docking.study.design import rules_text as design_rules_text
+from docking.study.designs import untested
+from docking.study.designs.builders import HELDOUT_TRIALS, experiment2_in, linear_sarsa, variant
+from docking.study.designs.measures import _unit
 
 NAME = "untested-revisited"
 #: Fresh seeds (no run of the package used a seed from 6000 up before).
@@ -203,7 +203,7 @@ def regain_sign_test(relearn: np.ndarray, fresh: np.ndarray) -> tuple[int, int, 
 def changed_start_views(place, n: int = 300, seed: int = 0) -> tuple[int, int]:
     """``(start views that differ, n)``: ``n`` start poses of the home world, rendered at home
     and in ``place``."""
-    from docking.analysis import _views_at
+    from docking.study.analysis import _views_at
     from docking.world import DockingEnv
 
     env = DockingEnv(_HOME, seed=seed)
@@ -274,7 +274,7 @@ DESIGN = Design(
 def _code_digest() -> str:
     """SHA-256 of this module's tokens (no comments or docstrings) and the source of the
     judging code: the rules, the family's judgement, Holm's step and the paired interval."""
-    from docking import claims, fingerprint, stats
+    from docking.study import claims, fingerprint, stats
 
     digest = hashlib.sha256()
     digest.update(fingerprint.code_tokens(Path(__file__).read_text(), __name__)[0].encode())

@@ -8,7 +8,7 @@
 * :func:`fig5` -- Fig. 5: sample test trajectories seen from above.
 * :func:`fig_learning_curves` -- test success and steps during training (not in the paper).
 
-Every figure function takes the arrays that :mod:`docking.analysis` computes (and
+Every figure function takes the arrays that :mod:`docking.study.analysis` computes (and
 configurations for geometry and labels) and returns a :class:`matplotlib.figure.Figure`; it
 renders nothing, runs no network and writes no file. Panels are laid out by matplotlib's
 constrained layout, grouped in subfigures, each headed by its bold panel letter. The caller
@@ -37,7 +37,12 @@ from matplotlib.figure import Figure
 from matplotlib.lines import Line2D
 from matplotlib.patches import Circle, FancyBboxPatch, Polygon, Rectangle
 
-from docking.analysis import (
+from docking.camera import CameraConfig
+from docking.experiments import ExperimentConfig
+from docking.fileio import atomic_write
+from docking.region import StartRegion
+from docking.scene import ACTION_LETTERS, WorldConfig, scene_facts
+from docking.study.analysis import (
     Decisions,
     ExampleViews,
     LearningCurves,
@@ -46,12 +51,7 @@ from docking.analysis import (
     best_actions,
     floor_plan,
 )
-from docking.camera import CameraConfig
-from docking.experiments import ExperimentConfig
-from docking.fileio import atomic_write
-from docking.paths import figures_dir
-from docking.region import StartRegion
-from docking.scene import ACTION_LETTERS, WorldConfig, scene_facts
+from docking.study.paths import figures_dir
 
 __all__ = [
     "FIGURES_DIR",
@@ -75,7 +75,7 @@ __all__ = [
     "to_png",
 ]
 
-#: Where the notebooks write the figures (:func:`docking.paths.figures_dir` at import time).
+#: Where the notebooks write the figures (:func:`docking.study.paths.figures_dir` at import time).
 FIGURES_DIR = figures_dir()
 
 #: The order in which the paper shows the action units (Figs. 3 and 4): L, R, F, B.
@@ -247,8 +247,8 @@ def fig2_scene(camera: CameraConfig, views: ExampleViews, overview: np.ndarray) 
 
     Args:
       camera: The camera (frame size, crop, input shape).
-      views: Three views (:func:`docking.analysis.example_views`).
-      overview: The overview render (:func:`docking.analysis.overview`) at the middle pose.
+      views: Three views (:func:`docking.study.analysis.example_views`).
+      overview: The overview render (:func:`docking.study.analysis.overview`) at the middle pose.
     """
     names = list(views.names)
     if len(names) != 3:
@@ -315,10 +315,10 @@ def fig3(
     Args:
       config: The experiment (camera, sizes and labels).
       seed: The run's seed (for the title).
-      views: The three views (:func:`docking.analysis.example_views`).
+      views: The three views (:func:`docking.study.analysis.example_views`).
       decisions: The network's decisions on ``views.inputs``
-        (:func:`docking.analysis.decisions`).
-      action_rf, feature_rf: :func:`docking.analysis.receptive_fields` of the network.
+        (:func:`docking.study.analysis.decisions`).
+      action_rf, feature_rf: :func:`docking.study.analysis.receptive_fields` of the network.
       Q: The network's action weights (for the unit titles).
     """
     shape = config.world.camera.input_shape
@@ -556,9 +556,9 @@ def fig4(
     Args:
       config: The experiment (input shape and labels).
       seed: The run's seed (for the title).
-      action_rf, feature_rf: :func:`docking.analysis.receptive_fields` of the network.
-      mean_inputs: :func:`docking.analysis.mean_winning_inputs` of the network.
-      framed: :func:`docking.analysis.strongest_units` of the network.
+      action_rf, feature_rf: :func:`docking.study.analysis.receptive_fields` of the network.
+      mean_inputs: :func:`docking.study.analysis.mean_winning_inputs` of the network.
+      framed: :func:`docking.study.analysis.strongest_units` of the network.
       columns: Grid columns; default ``ceil(sqrt(n_features))``.
       initial_rf: The feature units' receptive fields at the run's random start (the same
         seed's initial ``W``: what W frozen, eps_W = 0, keeps), drawn as a third block C, so
@@ -663,7 +663,7 @@ def fig5(
 
     Args:
       config: The world (floor plan, docking region, start region).
-      sample: The trials to show (:func:`docking.analysis.trajectory_sample`).
+      sample: The trials to show (:func:`docking.study.analysis.trajectory_sample`).
       label: Names the run in the title, e.g. ``"experiment2, seed 0"``.
       start_region: The start trapezoid to draw; default the config's.
       shade_seed: Seeds the order of the shades of green (so neighbouring paths differ).
@@ -792,7 +792,7 @@ def fig_learning_curves(curves1: LearningCurves | None, curves2: LearningCurves 
     """Learning curves of both experiments (not a figure of the paper).
 
     One column per experiment with curves (``None`` skips its column), from
-    :func:`docking.analysis.learning_curves`. Top: test success rate (greedy trials from the
+    :func:`docking.study.analysis.learning_curves`. Top: test success rate (greedy trials from the
     full start region) against training trials; thin lines one per seed, the thick line their
     mean; a diamond per seed at the end is the final test's success rate; dashed, the paper's
     final result (100% and 95%). Middle: mean actions of the successful test trials, with the
@@ -1131,7 +1131,7 @@ def fig_contest(
 ) -> Figure:
     """The fair contest: held-out success per world (one panel each) of every learner and
     yardstick of ``columns`` (left to right), each seed a dot, the mean a bar with its 95%
-    interval for a rate (:func:`docking.stats.rate_ci`, ``trials`` held-out trials per seed).
+    interval for a rate (:func:`docking.study.stats.rate_ci`, ``trials`` held-out trials per seed).
 
     Args:
       worlds: Panel titles.
@@ -1140,7 +1140,7 @@ def fig_contest(
       seeds: ``{(world, column): per-seed success (fractions)}``; a pair absent is left out.
       trials: Held-out trials per seed.
     """
-    from docking.stats import rate_ci
+    from docking.study.stats import rate_ci
 
     fig = _new_figure(4.2 * len(worlds), 4.4)
     axes = np.atleast_1d(fig.subplots(1, len(worlds), sharey=True))
@@ -1234,12 +1234,12 @@ def fig_verdicts(panels: list[dict]) -> Figure:
         statistic and its unit), ``scale`` (the factor from the statistic to the axis, e.g.
         100 for a difference of success rates drawn in percentage points), ``bound``
         (float), ``band`` (``(low, high)`` or None, shaded), and ``rows``: ``(label,
-        interval, verdict, per_seed)`` with a :class:`docking.stats.Interval`, a verdict
-        string (:data:`docking.claims.VERDICT_COLOURS`; a finding is blue) and the per-seed
+        interval, verdict, per_seed)`` with a :class:`docking.study.stats.Interval`, a verdict
+        string (:data:`docking.study.claims.VERDICT_COLOURS`; a finding is blue) and the per-seed
         values or None; optionally ``reference``, ``(value, label)``, drawn dotted (e.g.
         where another learner stands).
     """
-    from docking.claims import VERDICT_COLOURS
+    from docking.study.claims import VERDICT_COLOURS
 
     if not panels:
         raise ValueError("fig_verdicts needs at least one panel")
@@ -1378,7 +1378,7 @@ def _glance_learners(
     trials: int,
 ) -> None:
     """World ``i``'s learners in :func:`fig_glance`: the seeds' dots, the mean and its interval."""
-    from docking.stats import rate_ci
+    from docking.study.stats import rate_ci
 
     width = 0.8 / max(len(learners), 1)
     markers = "oDs^v"
@@ -1411,7 +1411,7 @@ def fig_glance(
 ) -> Figure:
     """The answer at a glance: per world (a group on the x axis), each learner's held-out
     success (its mean as a marker with the 95% interval for a rate over its seeds'
-    ``trials`` held-out trials each, :func:`docking.stats.rate_ci`; each seed a
+    ``trials`` held-out trials each, :func:`docking.study.stats.rate_ci`; each seed a
     faint dot) and each yardstick's mean as a line across the group (one style each, in the
     legend).
 
@@ -1480,9 +1480,9 @@ def fig_claims(rows: list[tuple]) -> Figure:
     page shows it.
 
     Args:
-      rows: :func:`docking.report.claims_glance_rows`' rows.
+      rows: :func:`docking.study.report.claims_glance_rows`' rows.
     """
-    from docking.claims import VERDICT_COLOURS
+    from docking.study.claims import VERDICT_COLOURS
 
     if not rows:
         raise ValueError("fig_claims needs at least one claim")
@@ -1650,7 +1650,7 @@ def fig_landscape(
 
     Args:
       panels: Each ``{"world", "learner", "title", "row_label", "col_label", "grid"}`` with
-        ``grid`` a :class:`docking.analysis.Landscape` (rows: the y axis, bottom up).
+        ``grid`` a :class:`docking.study.analysis.Landscape` (rows: the y axis, bottom up).
       marks: ``{(world, learner): [(label, (row value, column value)), ...]}``; the first
         label of each kind gets a star, the second a circle (in the legend).
     """

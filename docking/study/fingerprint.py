@@ -190,7 +190,7 @@ def _spans(source: str, module: str) -> tuple[list, set[str]]:
 def imported_names(source: str, module: str = "") -> set[str]:
     """Every module, or name in one (``helpers``, ``helpers.GAIN``), that the code of
     ``source`` (module ``module``, for relative imports) keeps imports: what a learner's key
-    follows beyond the package (:func:`docking.learners.own_code`)."""
+    follows beyond the package (:func:`docking.study.learners.own_code`)."""
     return _spans(source, module)[1]
 
 
@@ -325,10 +325,10 @@ def walk(package_dir: Path, root: str) -> tuple[str, list[tuple[str, str]], dict
     return digest.hexdigest(), parts, files
 
 
-if __name__ == "__main__":  # python -I docking/fingerprint.py: the code's digests, as JSON
+if __name__ == "__main__":  # python -I docking/study/fingerprint.py: the code's digests, as JSON
     import json
     import sys
 
-    here = Path(__file__).resolve().parent
+    here = Path(__file__).resolve().parents[1]  # the docking package
     code, parts, _ = walk(here, sys.argv[1] if len(sys.argv) > 1 else "docking.experiments")
     print(json.dumps({"code": code, "modules": dict(parts)}, sort_keys=True))

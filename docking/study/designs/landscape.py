@@ -6,7 +6,8 @@ the tuned settings sit and how far the published one is from them.
 The grid (fixed before its runs):
 
 * the paper's learner: the training temperature beta_a (:data:`BETA_A`) x eps_W
-  (:data:`EPS_W`), at its tuned eps_Q in each world (:data:`docking.designs.replication.TUNED`);
+  (:data:`EPS_W`), at its tuned eps_Q in each world
+  (:data:`docking.study.designs.replication.TUNED`);
 * linear SARSA: beta_a x eps_Q (:data:`EPS_Q`).
 
 Every grid point the ledger holds fewer than :data:`MIN_RUNS` runs of (a run of the same
@@ -26,10 +27,10 @@ import json
 
 import numpy as np
 
-from docking.design import Cell, Design
-from docking.design import rules_text as design_rules_text
-from docking.designs import addendum as ad
-from docking.designs import replication as rp
+from docking.study.design import Cell, Design
+from docking.study.design import rules_text as design_rules_text
+from docking.study.designs import addendum as ad
+from docking.study.designs import replication as rp
 
 NAME = "fragility-landscape"
 #: The seeds of a grid point the ledger lacks (the bracketing's first two compared seeds).
@@ -233,7 +234,7 @@ def _key(config: dict) -> str:
 def run_scores(tables=TABLES, folder=None) -> dict[str, list[float]]:
     """``{configuration without its name (JSON): each run's held-out success}`` over the
     ledger's runs of ``tables`` (each row checked against its record)."""
-    from docking import ledger
+    from docking.study import ledger
 
     data = ledger.manifest(folder)
     found: dict[str, list[float]] = {}
@@ -252,10 +253,10 @@ def _scores_of(scores: dict, world: str, learner: str, knobs: dict) -> list[floa
 
 
 def panels(scores: dict) -> tuple[list[dict], dict]:
-    """The figure's panels (:func:`docking.figures.fig_landscape`) and marks from
+    """The figure's panels (:func:`docking.study.figures.fig_landscape`) and marks from
     :func:`run_scores`: per world, the paper's learner over beta_a x eps_W at its tuned eps_Q,
     linear SARSA over beta_a x eps_Q; the tuned setting starred, the published one circled."""
-    from docking.analysis import landscape
+    from docking.study.analysis import landscape
 
     names = {"floor": "floor world", "nao": "Nao-like world"}
     found, marks = [], {}
@@ -297,7 +298,7 @@ def panels(scores: dict) -> tuple[list[dict], dict]:
 
 
 def searched(scores: dict, world: str, learner: str) -> dict[tuple, list[float]]:
-    """Every setting on the tuning ladders (:data:`docking.designs.addendum.LADDERS`) that the
+    """Every setting on the tuning ladders (:data:`docking.study.designs.addendum.LADDERS`) that the
     tuning tables (:data:`TUNING_TABLES`) ran, with its runs' success."""
     import itertools
 
@@ -313,8 +314,8 @@ def searched(scores: dict, world: str, learner: str) -> dict[tuple, list[float]]
 def shares(folder=None, min_runs: int = 2) -> dict[tuple[str, str], tuple[int, int]]:
     """Per world and learner, ``(k, n)``: of the ``n`` settings the tuning searched with at
     least ``min_runs`` runs, the ``k`` whose mean success lies within :data:`MARGIN` of the
-    best of them (:func:`docking.analysis.share_near_best`)."""
-    from docking.analysis import share_near_best
+    best of them (:func:`docking.study.analysis.share_near_best`)."""
+    from docking.study.analysis import share_near_best
 
     scores = run_scores(TUNING_TABLES, folder)
     found = {}

@@ -2,7 +2,7 @@
 
 A :class:`Claim` names the paper's words, the comparisons that test them (per world, cells
 against their baselines) and one :class:`Rule`. The rule computes the statistic of a
-comparison with its interval (:mod:`docking.stats`), decides it (``"supported"``,
+comparison with its interval (:mod:`docking.study.stats`), decides it (``"supported"``,
 ``"not supported"``: the interval does not decide, ``"contradicted"``: it lies on the other
 side) and renders its own wording, colour and band; notebooks, the README and the forest plot
 all ask the rule, so a rule lives in one place.
@@ -38,7 +38,7 @@ from collections.abc import Callable, Mapping
 
 import numpy as np
 
-from docking.stats import (
+from docking.study.stats import (
     Interval,
     difference_ci,
     holm,
@@ -292,7 +292,7 @@ class AtMost(Rule):
 
 def measure_display(measure) -> tuple[str, int, str]:
     """How a claim's measure is shown: its unit's text, its decimals and its name on an axis
-    (set by :func:`docking.designs.measures._unit`); a measure without them: no unit, three
+    (set by :func:`docking.study.designs.measures._unit`); a measure without them: no unit, three
     decimals, its function's name."""
     unit, digits = getattr(measure, "unit", ("", 3))
     return unit, digits, getattr(measure, "label", measure.__name__)
@@ -305,7 +305,7 @@ def success(results, key: str) -> np.ndarray:
 
 def rate_interval(results, key: str) -> Interval:
     """The measured success of cell ``key`` over its seeds, pooled over their trials, with
-    the 95% interval for a rate (:func:`docking.stats.rate_ci`: in [0, 1], and of some width
+    the 95% interval for a rate (:func:`docking.study.stats.rate_ci`: in [0, 1], and of some width
     when every trial succeeds): what tables show of a success rate."""
     return rate_ci(results.score(key), [len(log.success) for log in results.logs[key]])
 

@@ -1,5 +1,6 @@
 """The bracketing continued (issue 40), a third labelled analysis beside
-:mod:`docking.designs.addendum` and :mod:`docking.designs.bracketing`, judged on fresh seeds.
+:mod:`docking.study.designs.addendum` and :mod:`docking.study.designs.bracketing`, judged on fresh
+seeds.
 
 **These rules were committed before any of its runs** and are not changed after seeing them
 (``tests/test_bracketing_continued.py`` pins them by a digest of :func:`rules_text`, which
@@ -15,24 +16,24 @@ new, labelled analysis), and it judges on seeds no earlier run has used.
 
 The rule, the same for both SARSA learners in each world of the addendum:
 
-* The walk is the bracketing's (:mod:`docking.designs.bracketing`), unchanged: settings are
+* The walk is the bracketing's (:mod:`docking.study.designs.bracketing`), unchanged: settings are
   compared by their mean held-out success over :data:`COMPARE_SEEDS` (the same 10 tuning
   seeds for every setting), from the addendum's, the bracketing's and this design's runs;
   each stage (:data:`STAGES` at most) runs every ladder neighbour of the incumbent (the
   complete setting with the best mean; ties: the first evaluated) on the compared seeds it
   lacks, while the learner's runs in this design stay within :data:`BUDGET`. A learner whose
   incumbent has every neighbour complete is *bracketed*: each tuned value is interior or at
-  a ladder's end (a stated limit, :data:`docking.designs.addendum.LIMITS`).
+  a ladder's end (a stated limit, :data:`docking.study.designs.addendum.LIMITS`).
 * The tuned setting is the last incumbent. **Both** tuned SARSA learners, changed or not,
   are judged on :data:`SEEDS`, fresh (no run of any earlier design used them), on matched
   seeds (each run its own seed's held-out stream; only the first start pose is shared): the
   addendum's judged seeds have had two judged looks already.
 * The gap rule is the addendum's: linear SARSA minus the paper's learner, paired over the
   judged seeds, Student-t; *closed* if its 95% interval lies below
-  :data:`docking.designs.addendum.GAP_CLOSED`, *remains* if above, else *undecided*.
+  :data:`docking.study.designs.addendum.GAP_CLOSED`, *remains* if above, else *undecided*.
 * PPO (the addendum's setting per world) trains on the same fresh seeds for the tuned paper
   learner's mean training steps over its judged runs here, rounded to a multiple of
-  :data:`docking.designs.addendum.PPO_ENVS`: PPO's budget in steps, matched again.
+  :data:`docking.study.designs.addendum.PPO_ENVS`: PPO's budget in steps, matched again.
 
 Budgets: at most :data:`BUDGET` further training runs per learner and world (the same for
 both learners; a learner already bracketed uses none), plus the judged runs. Cut: nothing
@@ -51,11 +52,11 @@ from pathlib import Path
 
 import numpy as np
 
-from docking.design import Cell, Design
-from docking.design import rules_text as design_rules_text
-from docking.designs import addendum as ad
-from docking.designs import bracketing as br
-from docking.designs.builders import experiment2_in, linear_sarsa, net, variant
+from docking.study.design import Cell, Design
+from docking.study.design import rules_text as design_rules_text
+from docking.study.designs import addendum as ad
+from docking.study.designs import bracketing as br
+from docking.study.designs.builders import experiment2_in, linear_sarsa, net, variant
 
 NAME = "addendum-bracketing-continued"
 #: The seeds every setting is compared on (the bracketing's).
@@ -207,8 +208,8 @@ class _Judged:
 
 def gaps(own):
     """The gap rule on the tuned learners' fresh judged runs
-    (:func:`docking.report.contest_gaps`)."""
-    from docking import report
+    (:func:`docking.study.report.contest_gaps`)."""
+    from docking.study import report
 
     return report.contest_gaps(_Judged(own), ad.WORLDS, ad.GAP_CLOSED)
 
@@ -227,7 +228,7 @@ DESIGN = Design(
 def _code_digest() -> str:
     """SHA-256 of this module's tokens (without comments and docstrings), the bracketing's
     rules text and the gap rule's and its interval's source."""
-    from docking import fingerprint, report, stats
+    from docking.study import fingerprint, report, stats
 
     digest = hashlib.sha256()
     digest.update(fingerprint.code_tokens(Path(__file__).read_text(), __name__)[0].encode())

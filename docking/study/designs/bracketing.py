@@ -1,5 +1,5 @@
 """The addendum's bracketing: each SARSA learner's search continued until its optimum is
-bracketed (issue 40), a second labelled analysis beside :mod:`docking.designs.addendum`.
+bracketed (issue 40), a second labelled analysis beside :mod:`docking.study.designs.addendum`.
 
 **These rules were committed before any of its runs** and are not changed after seeing them
 (``tests/test_bracketing.py`` pins them by a digest of :func:`rules_text`, which covers this
@@ -19,22 +19,22 @@ The rule, the same for both SARSA learners in each world of the addendum:
 * Each stage (:data:`STAGES` at most): the *incumbent* is the complete setting with the
   best mean (ties: the first in the addendum's order of evaluation, then this design's);
   every neighbour of it on the addendum's ladders (one rung up or down one knob,
-  :data:`docking.designs.addendum.LADDERS`) runs the seeds it lacks, while the learner's
+  :data:`docking.study.designs.addendum.LADDERS`) runs the seeds it lacks, while the learner's
   runs in this design stay within :data:`BUDGET`. A learner whose incumbent has every
   neighbour complete is *bracketed*: each tuned value is interior, or at a ladder's end
-  (a stated limit, :data:`docking.designs.addendum.LIMITS`). The first incumbent is
+  (a stated limit, :data:`docking.study.designs.addendum.LIMITS`). The first incumbent is
   chosen by this rule too, among the addendum's complete settings (its round-2 finalists).
 * The tuned setting is the last incumbent. If it differs from the addendum's tuned setting,
-  it is judged on the addendum's judged seeds (:data:`docking.designs.addendum.SEEDS`,
+  it is judged on the addendum's judged seeds (:data:`docking.study.designs.addendum.SEEDS`,
   untouched by any tuning, on the same matched seeds); otherwise the
   addendum's judged runs stand.
 * The gap rule is the addendum's (and the third edition's): linear SARSA minus the paper's
   learner, paired over the judged seeds, Student-t; *closed* if its 95% interval lies
-  below :data:`docking.designs.addendum.GAP_CLOSED`, *remains* if above, else *undecided*.
+  below :data:`docking.study.designs.addendum.GAP_CLOSED`, *remains* if above, else *undecided*.
 * PPO's budget in steps: if the paper's learner's tuned setting changes in a world and its
   judged runs' mean training steps differ by more than :data:`STEPS_TOLERANCE` from the
   steps the addendum's PPO trained for, PPO (the addendum's setting) trains again for the
-  new mean (:data:`docking.designs.addendum.PPO_ENVS` copies of the world).
+  new mean (:data:`docking.study.designs.addendum.PPO_ENVS` copies of the world).
 
 Budgets: :data:`BUDGET` training runs per learner and world, the same for both learners
 (a learner already bracketed uses fewer). This can only help a learner whose optimum the
@@ -53,10 +53,10 @@ from pathlib import Path
 
 import numpy as np
 
-from docking.design import Cell, Design
-from docking.design import rules_text as design_rules_text
-from docking.designs import addendum as ad
-from docking.designs.builders import experiment2_in, linear_sarsa, net, variant
+from docking.study.design import Cell, Design
+from docking.study.design import rules_text as design_rules_text
+from docking.study.designs import addendum as ad
+from docking.study.designs.builders import experiment2_in, linear_sarsa, net, variant
 
 NAME = "addendum-bracketing"
 #: The seeds every setting is compared on (the addendum's first 10 tuning seeds: every
@@ -247,8 +247,8 @@ class _Judged:
 
 
 def gaps(own):
-    """The gap rule on the bracketed learners (:func:`docking.report.contest_gaps`)."""
-    from docking import report
+    """The gap rule on the bracketed learners (:func:`docking.study.report.contest_gaps`)."""
+    from docking.study import report
 
     return report.contest_gaps(_Judged(own), ad.WORLDS, ad.GAP_CLOSED)
 
@@ -267,7 +267,7 @@ DESIGN = Design(
 def _code_digest() -> str:
     """SHA-256 of this module's tokens (without comments and docstrings), the addendum's
     rules text and the gap rule's and its interval's source."""
-    from docking import fingerprint, report, stats
+    from docking.study import fingerprint, report, stats
 
     digest = hashlib.sha256()
     digest.update(fingerprint.code_tokens(Path(__file__).read_text(), __name__)[0].encode())

@@ -4,16 +4,16 @@ have one shape.
 A :class:`Design` is a grid of :class:`Cell` s (each an
 :class:`~docking.experiments.ExperimentConfig` with typed coordinates, e.g.
 ``world="floor", variant="frozen"``), the seeds every cell runs for, the *measure* (the
-held-out trials, or the main test), and the claims judged on it (:mod:`docking.claims`).
-:func:`run_design` runs (or loads: :mod:`docking.store`, through the ledger when the store
-lacks a run) every trained cell for every seed in one sweep (:mod:`docking.sweep`), judges
+held-out trials, or the main test), and the claims judged on it (:mod:`docking.study.claims`).
+:func:`run_design` runs (or loads: :mod:`docking.study.store`, through the ledger when the store
+lacks a run) every trained cell for every seed in one sweep (:mod:`docking.study.sweep`), judges
 the *test-only* cells (a baseline's networks measured in another world), then any *stage*
 whose cells depend on measured runs (e.g. a control whose constant is measured on the
 paper's runs). It returns :class:`Results`: per cell, the runs in seed order, the measured
 trial logs, and the per-seed success (``Results.scores``, one array per cell: rliable's
 ``score_dict``).
 
-Design files live in :mod:`docking.designs` (``python -m docking design list``); a new study
+Design files live in :mod:`docking.study.designs` (``python -m docking design list``); a new study
 is a new design file, nothing else.
 """
 
@@ -28,7 +28,7 @@ import numpy as np
 
 from docking.experiments import ExperimentConfig, ExperimentResult, TrialLog, heldout_trials
 from docking.scene import WorldConfig
-from docking.store import runner_for
+from docking.study.store import runner_for
 from docking.validate import check_instance, check_name
 
 __all__ = [
@@ -57,7 +57,7 @@ class Cell:
       key: Unique within the design (``"floor/frozen"``); names the cell in results, never
         parsed: ask :attr:`coords` instead.
       config: The run that trains the cell's networks (for a test-only cell: its
-        baseline's configuration); a ``docking.ppo.PPOConfig`` for the pixel-level bound.
+        baseline's configuration); a ``docking.study.ppo.PPOConfig`` for the pixel-level bound.
       coords: Typed coordinates (``{"world": "floor", "variant": "frozen"}``,
         ``{"actions": "turning", "task": "precision", "noise_deg": 4.0}``): what a notebook
         or figure selects and groups by.
@@ -134,24 +134,24 @@ class Design:
       cells: Every cell (core and sensitivity; see :attr:`Cell.core`).
       seeds: The seeds every cell runs for.
       measure: One of :data:`MEASURES`.
-      claims: The :class:`docking.claims.Claim` s judged on the results.
+      claims: The :class:`docking.study.claims.Claim` s judged on the results.
       stages: Functions ``results -> [Cell, ...]`` for cells that need measured runs first
         (run after the cells above, in order).
       report: A function ``results -> str`` (Markdown) that :func:`summary` prints after the
         cells' numbers (e.g. a table of the design's own); None: nothing more.
       alpha: The level of the claims' verdicts (required with claims): Holm's adjustment
         within each claim over its comparisons decides, and one family of every comparison
-        is reported beside it (:func:`docking.claims.design_verdicts`, what :func:`summary`
+        is reported beside it (:func:`docking.study.claims.design_verdicts`, what :func:`summary`
         prints, the README's verdict table).
       whole: ``{cell key: seeds}``: the runs the committed ledger keeps whole (those whose
         weights or trajectories an analysis or figure reads); the others it keeps as rows
-        of its results table (:mod:`docking.ledger`).
+        of its results table (:mod:`docking.study.ledger`).
       keep: What the ledger's table keeps of the design's runs beyond each trial's outcome:
         ``"paths"``, the paths (poses, actions) of the failed test and held-out trials (what
         the failure taxonomy reads); ``"starts"``, every trial's start pose; ``"networks"``,
         each run's W and Q; ``"winners"``, the winning unit of every test and held-out step;
         ``"ends"``, every test and held-out trial's final pose; ``"no-train"``
-        (:data:`docking.ledger.NO_TRAIN`), no training trial's outcome (where no analysis
+        (:data:`docking.study.ledger.NO_TRAIN`), no training trial's outcome (where no analysis
         of the design reads them).
       networks: ``{cell key: seeds}``: runs whose W and Q the table keeps besides (as
         ``"networks"`` in :attr:`keep` does for every run).
@@ -295,10 +295,10 @@ class Results:
       design: The design run.
       cells: The cells run, in order (a stage's cells last).
       runs: ``{cell key: runs in seed order}`` (a test-only cell: its baseline's runs
-        tested in its world, :func:`tested_in`; a PPO cell: ``docking.ppo.PPOResult`` s).
+        tested in its world, :func:`tested_in`; a PPO cell: ``docking.study.ppo.PPOResult`` s).
       logs: ``{cell key: the measured trial logs in seed order}``.
       sources: ``{trained cell key: where each seed's run came from}``, ``"computed"``,
-        ``"store"`` or ``"ledger"`` (:func:`docking.sweep.source`, asked before the run).
+        ``"store"`` or ``"ledger"`` (:func:`docking.study.sweep.source`, asked before the run).
     """
 
     design: Design
@@ -365,8 +365,8 @@ def tested_in(run: ExperimentResult, world: WorldConfig, results_dir=None) -> Ex
     configuration computes (``python -m docking verify`` recomputes it in full). Stored and
     served like any run (the store, then the ledger); computed in memory, not stored, when
     ``run`` itself comes from the ledger."""
-    from docking.ledger import load_run
-    from docking.store import load_result, result_path, run_key, save_result
+    from docking.study.ledger import load_run
+    from docking.study.store import load_result, result_path, run_key, save_result
 
     config = dataclasses.replace(run.config, heldout_world=world)
     found = load_run(config, run.seed, results_dir)
@@ -438,7 +438,7 @@ def _entries(design: Design, cells, c: Cell) -> list[tuple]:
 
 
 def _stored(design: Design, cells, c: Cell, results_dir=None) -> bool:
-    from docking.store import result_path
+    from docking.study.store import result_path
 
     return all(result_path(*e, results_dir).exists() for e in _entries(design, cells, c))
 
@@ -465,7 +465,7 @@ def _walk(design: Design, cells: list[Cell], runs_of, results_dir=None) -> tuple
 def _loaded(design: Design, cells, results_dir=None) -> dict[str, list]:
     """The runs of the trained ``cells``, from the store, else the ledger (LookupError if
     neither holds one)."""
-    from docking.ledger import load_run
+    from docking.study.ledger import load_run
 
     found = {}
     for c in (c for c in cells if c.trained):
@@ -494,10 +494,10 @@ def _with_stages(design: Design, cells: list[Cell], stored_only: bool, results_d
 
 
 def absent_runs(design: Design, results_dir=None) -> list:
-    """The jobs (:class:`docking.sweep.Job`) of ``design``'s core cells that neither the
+    """The jobs (:class:`docking.study.sweep.Job`) of ``design``'s core cells that neither the
     results store nor the ledger holds, what :func:`run_design` would compute; a stage's
     cells are asked once every run before them is there."""
-    from docking.sweep import jobs_for, missing
+    from docking.study.sweep import jobs_for, missing
 
     found = []
 
@@ -513,7 +513,7 @@ def absent_runs(design: Design, results_dir=None) -> list:
 def _sweep(cells, seeds, desc: str, options, sources: dict) -> dict[str, list]:
     """Run (or load) the trained ``cells``: one sweep per distinct seed list (a cell's own
     seeds, else ``seeds``); where each run comes from goes into ``sources``."""
-    from docking.sweep import Job, run_configs, source
+    from docking.study.sweep import Job, run_configs, source
 
     groups: dict[tuple[int, ...], dict] = {}
     for c in cells:
@@ -559,10 +559,10 @@ def run_design(
 
 def summary(results: Results) -> str:
     """What a design's run shows, as Markdown: every cell's measured success (over its
-    seeds, with the 95% interval for a rate, :func:`docking.claims.rate_interval`), the
+    seeds, with the 95% interval for a rate, :func:`docking.study.claims.rate_interval`), the
     design's own report, and its claims' verdict table
-    (:func:`docking.claims.design_verdicts`)."""
-    from docking.claims import rate_interval
+    (:func:`docking.study.claims.design_verdicts`)."""
+    from docking.study.claims import rate_interval
 
     design = results.design
     lines = [f"| cell | {design.measure} success (95% interval) | what it is |", "|---|---|---|"]
@@ -578,7 +578,7 @@ def summary(results: Results) -> str:
     if design.report is not None:
         parts.append(design.report(results))
     if design.claims:
-        from docking.claims import design_verdicts
+        from docking.study.claims import design_verdicts
 
         parts.append(design_verdicts(results))
     return "\n\n".join(parts)

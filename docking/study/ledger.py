@@ -2,7 +2,7 @@
 
 ``tables/<name>.npz`` holds the runs stored under ``name``: per trial of each part
 (``train``, ``test``, ``heldout``) ``success``, ``steps``, ``start_far``, each run's learning
-curves, and what its design's ``keep`` adds (:attr:`docking.design.Design.keep`).
+curves, and what its design's ``keep`` adds (:attr:`docking.study.design.Design.keep`).
 ``whole/<name>/<key[:16]>/seed<k>.npz`` holds the runs a design names whole, and
 ``manifest.json`` every run's key, seed, configuration, content digest and wall times, the
 fingerprint of the code that computed them and the SHA-256 of every file. The layout, for
@@ -48,10 +48,10 @@ from pathlib import Path
 
 import numpy as np
 
-from docking import paths, store
 from docking.experiments import ExperimentResult, TrialLog
 from docking.fileio import UnsafeFile, atomic_write, read_regular
 from docking.network import Network
+from docking.study import paths, store
 from docking.validate import NAME_PATTERN
 
 __all__ = ["CorruptLedger", "NotInLedger", "StaleLedger", "TableLog", "holds", "load_run"]
@@ -352,7 +352,7 @@ def _rows(table: dict[str, np.ndarray]) -> list[tuple[str, dict]]:
 def row_digest(cells: dict[str, np.ndarray]) -> str:
     """The digest of a table row's cells (``{column: its cells}``, :func:`_rows`): what the
     table serves of a run, by name, dtype, shape and bytes
-    (:func:`docking.store.content_digest`)."""
+    (:func:`docking.study.store.content_digest`)."""
     return store.content_digest(cells)
 
 
@@ -463,11 +463,13 @@ def load_run(config, seed: int, results_dir: Path | str | None = None):
 def _from_row(config, seed: int, runner, got: dict, walls) -> object:
     """The run of (``config``, ``seed``) read from its table row ``got``."""
     logs = {p: _log(got, p, f"{config.name!r} seed {seed}") for p in PARTS}
-    from_table = getattr(runner, "from_table", None)  # a registered learner's (docking.learners)
+    from_table = getattr(
+        runner, "from_table", None
+    )  # a registered learner's (docking.study.learners)
     if from_table is not None:
         return from_table(config, seed, got, logs, walls)
     if runner.name == "ppo":
-        from docking import ppo
+        from docking.study import ppo
 
         train = [got.get(f"train.{f}") for f in ("success", "steps")]
         return ppo.PPOResult(config, seed, *train, logs["heldout"], *walls)
@@ -586,7 +588,7 @@ def _npz(arrays: dict[str, np.ndarray]) -> bytes:
 
 def _row(arrays: dict, keep: frozenset) -> dict[str, np.ndarray]:
     """What a table keeps of a run's stored ``arrays`` as ``keep`` asks (module docstring)."""
-    from docking.analysis import final_poses, path_lengths
+    from docking.study.analysis import final_poses, path_lengths
 
     row, parts = {}, PARTS[1:] if NO_TRAIN in keep else PARTS
     for name, array in arrays.items():
@@ -647,9 +649,10 @@ def _columns(runs: list[tuple[str, dict]]) -> dict[str, np.ndarray]:
     return table
 
 
-#: The results tables that several designs' runs share (:func:`docking.design.yardstick_config`
-#: names its runs so): :func:`update` with ``only`` adds a design's new runs of them to the
-#: ledger's table, keeping its rows, instead of refusing to replace it whole.
+#: The results tables that several designs' runs share
+#: (:func:`docking.study.design.yardstick_config` names its runs so): :func:`update` with ``only``
+#: adds a design's new runs of them to the ledger's table, keeping its rows, instead of refusing to
+#: replace it whole.
 SHARED_TABLES = frozenset({"yardsticks"})
 
 
@@ -668,9 +671,9 @@ def update(runs, folder: Path | str | None = None, results_dir=None, only=None, 
     (one the table holds already is left as it is).
 
     ``rules``: ``{table name: the SHA-256 of its design's rules}``
-    (:func:`docking.designs.rules_digest`), recorded (and sealed) with each of its runs
+    (:func:`docking.study.designs.rules_digest`), recorded (and sealed) with each of its runs
     computed here, so that the ledger shows which rules each run was judged by."""
-    from docking.platform_info import numeric_platform
+    from docking.study.platform_info import numeric_platform
 
     folder = Path(folder) if folder is not None else paths.ledger_dir()
     if folder is None:

@@ -28,7 +28,7 @@ clipped. skrl draws from a global seed (``skrl.utils.set_seed``: Python's, NumPy
 JAX's), which is set from ``SeedSequence([PPO_STREAM, seed])``, as is the training env's
 seed; the held-out streams are children of ``SeedSequence(seed)``, so training never sees them.
 
-Runs are stored by the one results store (:mod:`docking.store`, whose runner ``"ppo"`` is
+Runs are stored by the one results store (:mod:`docking.study.store`, whose runner ``"ppo"`` is
 this module's): under ``<results>/<config.name>/<key[:16]>/seed<k>.npz``, keyed by the
 configuration, the code of this module and everything it imports, the versions of
 :data:`LIBRARIES` (skrl, JAX, Flax, Optax and Gymnasium beside the learner's), the rendering
@@ -66,7 +66,7 @@ __all__ = [
     "trials_in_run",
 ]
 
-#: Version of the stored file's layout (:func:`result_arrays`; read by :mod:`docking.store`).
+#: Version of the stored file's layout (:func:`result_arrays`; read by :mod:`docking.study.store`).
 FORMAT_VERSION = 1
 
 #: The first word of the training seeds' SeedSequence (disjoint from every learner stream).

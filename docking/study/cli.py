@@ -12,11 +12,11 @@ an option with its documented default::
     python -m docking report --readme README.md
     python -m docking benchmark --steps 2000
 
-``run`` and ``sweep`` store every run they compute in the results store (:mod:`docking.store`),
-keyed by its configuration and seed; a run the store or the committed ledger holds is loaded,
-not recomputed, so an interrupted command resumes where it stopped. Progress bars go to the
-terminal (stderr). ``--help`` (of the command and of each subcommand) prints usage and starts
-nothing.
+``run`` and ``sweep`` store every run they compute in the results store
+(:mod:`docking.study.store`), keyed by its configuration and seed; a run the store or the committed
+ledger holds is loaded, not recomputed, so an interrupted command resumes where it stopped. Progress
+bars go to the terminal (stderr). ``--help`` (of the command and of each subcommand) prints usage
+and starts nothing.
 """
 
 from __future__ import annotations
@@ -37,9 +37,8 @@ from typing import Annotated, Literal, Union
 import numpy as np
 import tyro
 
-from docking import _PROG, _check_opengl_platform, paths
+from docking import _PROG, _check_opengl_platform
 from docking.camera import CameraConfig
-from docking.designs import names as _design_names
 from docking.experiments import POLICIES, PRETRAIN_RULES, Curriculum, ExperimentConfig
 from docking.network import FEATURE_LAYERS, RULES, NetworkConfig
 from docking.presets import EXPERIMENTS, HEADLINE_SEED, SEEDS
@@ -52,6 +51,8 @@ from docking.scene import (
     Distractor,
     WorldConfig,
 )
+from docking.study import paths
+from docking.study.designs import names as _design_names
 from docking.validate import parse_int, parse_real
 
 PROG = _PROG  # the name in every message: one place, docking/__init__.py
@@ -106,7 +107,7 @@ CONFIGS = (ExperimentConfig, Curriculum, WorldConfig, CameraConfig, NetworkConfi
 #: Fields left off the command line (the configuration keeps its preset's value):
 #: ExperimentConfig.heldout_world (a WorldConfig or None) and ExperimentConfig.before (an
 #: ExperimentConfig or None), which tyro can only offer as a choice of two subcommands
-#: ({world-config,none}). The designs set them (docking.designs); their held-out worlds carry
+#: ({world-config,none}). The designs set them (docking.study.designs); their held-out worlds carry
 #: distractors, which no option can give.
 HIDDEN: dict[type, tuple[str, ...]] = {ExperimentConfig: ("heldout_world", "before")}
 
@@ -232,7 +233,7 @@ _DesignSeeds = Annotated[str | None, _shown("STR", "the design's")]
 
 
 def _seeds_of(config: ExperimentConfig, text: str | None) -> list[int]:
-    from docking.sweep import parse_seeds
+    from docking.study.sweep import parse_seeds
 
     if text is None:
         return list(SEEDS.get(config.name, (HEADLINE_SEED,)))
@@ -374,8 +375,8 @@ def _run(command: Run | Sweep, configs, seeds, desc: str) -> tuple[list, list, l
     """Run (or load) every configuration of ``configs`` for every seed as ``command``'s
     options say: per run (configuration by configuration), where it came from (computed,
     store or ledger), its path in the store, and the run."""
-    from docking.ledger import load_run
-    from docking.sweep import jobs_for, run_jobs, source
+    from docking.study.ledger import load_run
+    from docking.study.sweep import jobs_for, run_jobs, source
 
     jobs = jobs_for(configs, seeds)
     sources = ["computed" if command.force else source(j, command.results_dir) for j in jobs]
@@ -424,10 +425,10 @@ def _say_where(results_dir) -> None:
 def _ledger_note() -> str | None:
     """Why the ledger serves no run, in one line that names it, if it is missing or no
     ledger (None if it is switched off by DOCKING_LEDGER=off, or is a ledger); a damaged or
-    stale ledger is an error (:class:`docking.ledger.CorruptLedger`,
-    :class:`docking.ledger.StaleLedger`): every file is checked
-    (:func:`docking.ledger.check_files`), not only those of the runs asked for."""
-    from docking import ledger
+    stale ledger is an error (:class:`docking.study.ledger.CorruptLedger`,
+    :class:`docking.study.ledger.StaleLedger`): every file is checked
+    (:func:`docking.study.ledger.check_files`), not only those of the runs asked for."""
+    from docking.study import ledger
 
     if paths.ledger_off():
         return None
@@ -446,7 +447,7 @@ def _ledger_note() -> str | None:
 
 
 def _source_words(folder) -> dict[str, str]:
-    """What each place a run came from is called (:func:`docking.sweep.source`'s kinds, in
+    """What each place a run came from is called (:func:`docking.study.sweep.source`'s kinds, in
     the order they are shown), ``folder`` the store's folder."""
     return {
         "ledger": f"read from the committed ledger, {paths.ledger_dir()} (its files checked "
@@ -509,7 +510,7 @@ class Sweep:
     """Recompute and replace stored runs."""
 
     def execute(self) -> int:
-        from docking.sweep import MAX_RUNS, grid_configs
+        from docking.study.sweep import MAX_RUNS, grid_configs
 
         configs = grid_configs(self.experiment, self.grid)
         seeds = _seeds_of(self.experiment, self.seeds)
@@ -530,13 +531,13 @@ class Sweep:
         return 0
 
 
-#: The designs' names (docking.designs), as choices.
+#: The designs' names (docking.study.designs), as choices.
 _DesignName = Literal[tuple(_design_names())]  # type: ignore[valid-type]
 
 
 @dataclasses.dataclass
 class DesignRun:
-    """Run (or load) designs of docking.designs: every cell for the design's seeds in one
+    """Run (or load) designs of docking.study.designs: every cell for the design's seeds in one
     sweep on a Dask cluster (embedded by default), then the cells that need measured runs;
     prints each design's summary (its table and the verdicts of its claims)."""
 
@@ -562,9 +563,9 @@ class DesignRun:
     """The results store."""
 
     def execute(self) -> int:
-        from docking.design import run_design, summary
-        from docking.designs import design
-        from docking.sweep import parse_seeds
+        from docking.study.design import run_design, summary
+        from docking.study.designs import design
+        from docking.study.sweep import parse_seeds
 
         if not self.names:
             raise ValueError("name at least one design (python -m docking design list)")
@@ -599,7 +600,7 @@ class DesignList:
     """List the designs: name, cells (core / all), seeds, measure and what each asks."""
 
     def execute(self) -> int:
-        from docking.designs import design, names
+        from docking.study.designs import design, names
 
         for name in names():
             d = design(name)
@@ -619,7 +620,7 @@ _DesignSubcommand = Union[  # noqa: UP007 (tyro needs a runtime Union)
 
 @dataclasses.dataclass
 class DesignCommand:
-    """Experiment designs (docking.designs): list them, or run some."""
+    """Experiment designs (docking.study.designs): list them, or run some."""
 
     command: Annotated[_DesignSubcommand, tyro.conf.arg(name=""), tyro.conf.OmitSubcommandPrefixes]
     """list: the designs; run NAME ...: run (or load) them."""
@@ -659,8 +660,8 @@ class Report:
     report refuses to start a computation: Experiment 3 is hours on 2 cores)."""
 
     def execute(self) -> int:
-        from docking import report
-        from docking.designs import design
+        from docking.study import report
+        from docking.study.designs import design
 
         if not self.compute:
             _refuse_to_compute(self.experiment3, self.results_dir, self.third_edition)
@@ -683,7 +684,7 @@ class Report:
             *results, comparisons, first, contest, claims, corrected=added is not None
         )
         if added is not None:
-            from docking.designs import addendum
+            from docking.study.designs import addendum
 
             unmerged = getattr(self, "_unmerged", None) or added  # the addendum as it ran
             summary += "\n\n" + report.addendum_summary(unmerged, contest, addendum)
@@ -693,7 +694,7 @@ class Report:
             if found.design.name == "untested":
                 summary += "\n\n" + report.untested_summary(found)
             else:
-                from docking.designs import revisited
+                from docking.study.designs import revisited
 
                 self._revisited = report.revisited_rows(found, revisited)
                 summary += "\n\n" + report.revisited_summary(self._revisited, found, revisited)
@@ -710,15 +711,15 @@ class Report:
     def _write(self, text: str, *markers: str) -> bool:
         """Print ``text`` and write it into the README between ``markers`` (default: the
         results table's); whether the README changed."""
-        from docking.report import update_readme
+        from docking.study.report import update_readme
 
         print(text)
         return self.readme is not None and update_readme(self.readme, text, *markers)
 
     def _experiment3(self) -> tuple:
         """Experiment 3's four-against-six comparisons, the oracle's rates and its table."""
-        from docking import report
-        from docking.designs import experiment3
+        from docking.study import report
+        from docking.study.designs import experiment3
 
         found = experiment3.run(results_dir=self.results_dir, workers=self.processes)
         oracle = experiment3.ORACLE.run(results_dir=self.results_dir, workers=self.processes)
@@ -729,9 +730,9 @@ class Report:
         """The third edition's contest table and verdict table (with the untested claims'
         rows, :meth:`_untested`) written; its results, its claims' sentence, the untested
         rows and whether the README changed."""
-        from docking import report
-        from docking.claims import design_verdicts, judge_family
-        from docking.designs import third_edition
+        from docking.study import report
+        from docking.study.claims import design_verdicts, judge_family
+        from docking.study.designs import third_edition
 
         contest = third_edition.DESIGN.run(results_dir=self.results_dir, workers=self.processes)
         untested = self._untested()
@@ -751,11 +752,11 @@ class Report:
 
     def _verdicts(self, table: str, rows: list) -> bool:
         """The full verdict table into the site's page beside the README
-        (:data:`docking.report.VERDICTS_PAGE`, where it exists), and into the README the
+        (:data:`docking.study.report.VERDICTS_PAGE`, where it exists), and into the README the
         claims at a glance (its figure, saved into the figures folder) with a link to the
         page; whether either file changed."""
-        from docking import figures, report
-        from docking.report import update_readme
+        from docking.study import figures, report
+        from docking.study.report import update_readme
 
         print(table)
         fig = figures.fig_claims(rows)
@@ -778,16 +779,16 @@ class Report:
     def _addendum(self):
         """The third edition's addendum's results, once every run of it is stored or in the
         ledger (None before), with the bracketing's tuned learners in place once its runs
-        are in (:func:`docking.report.bracketed_addendum`; its rows kept for the first
+        are in (:func:`docking.study.report.bracketed_addendum`; its rows kept for the first
         screen)."""
-        from docking.design import absent_runs
-        from docking.designs import addendum
+        from docking.study.design import absent_runs
+        from docking.study.designs import addendum
 
         if absent_runs(addendum.DESIGN, self.results_dir):
             return None
         added = addendum.DESIGN.run(results_dir=self.results_dir, workers=self.processes)
-        from docking import report
-        from docking.designs import bracketing, bracketing_continued
+        from docking.study import report
+        from docking.study.designs import bracketing, bracketing_continued
 
         walk = None  # the last of the bracketing's designs whose every run is in
         for module in (bracketing, bracketing_continued):
@@ -803,13 +804,13 @@ class Report:
     def _glance(self, results, comparisons, contest, added, decisions) -> bool:
         """The README's first screen: the figure of every learner's held-out success per
         world (saved into the figures folder) and at most five sentences under it."""
-        from docking import figures, report
+        from docking.study import figures, report
 
         fig = figures.fig_glance(*report.glance_data(contest, added))
         png = Path(report.save_named(fig, report.GLANCE_FIGURE))
         tuned, unbracketed = None, ()
         if added is not None:
-            from docking.designs import addendum
+            from docking.study.designs import addendum
 
             tuned = {
                 w: added.cell(f"{w}/paper-tuned").config.network.beta_a_train
@@ -845,12 +846,12 @@ class Report:
 
     def _untested(self) -> list:
         """The untested claims' rows of the verdict table
-        (:data:`docking.report.UNTESTED_IN_README`) and their revisit's
-        (:data:`docking.report.REVISITED_IN_README`), each once every run of its design
+        (:data:`docking.study.report.UNTESTED_IN_README`) and their revisit's
+        (:data:`docking.study.report.REVISITED_IN_README`), each once every run of its design
         (``untested.part("judged")``, ``revisited.DESIGN``) is stored or in the ledger."""
-        from docking.design import absent_runs
-        from docking.designs import revisited, untested
-        from docking.report import REVISITED_IN_README, UNTESTED_IN_README
+        from docking.study.design import absent_runs
+        from docking.study.designs import revisited, untested
+        from docking.study.report import REVISITED_IN_README, UNTESTED_IN_README
 
         found = []
         for design, keys in (
@@ -866,8 +867,8 @@ class Report:
 def _write_timings(readme: Path) -> bool:
     """The README's paragraph of times from the ledger (its runs' wall times and the tiers'
     record of tools/time_tiers.py); whether the README changed."""
-    from docking import ledger
-    from docking.report import TIMINGS_END, TIMINGS_START, timings_text, update_readme
+    from docking.study import ledger
+    from docking.study.report import TIMINGS_END, TIMINGS_START, timings_text, update_readme
 
     data = ledger.manifest()
     if data is None:
@@ -881,9 +882,9 @@ def _write_timings(readme: Path) -> bool:
 
 def _refuse_to_compute(experiment3: bool, results_dir, third_edition: bool = False) -> None:
     """``ValueError`` if the report would compute runs: it names how many and the option."""
-    from docking.design import absent_runs
-    from docking.designs import design
-    from docking.designs import third_edition as te
+    from docking.study.design import absent_runs
+    from docking.study.designs import design
+    from docking.study.designs import third_edition as te
 
     names = ["paper"] + ["experiment3", "experiment3-oracle"] * experiment3
     designs = [design(name) for name in names] + [te.DESIGN] * third_edition
@@ -936,9 +937,9 @@ class Figures:
     """The results store."""
 
     def execute(self) -> int:
-        from docking.ledger import load_run
         from docking.presets import EXPERIMENT_1, EXPERIMENT_2
-        from docking.report import save_figures
+        from docking.study.ledger import load_run
+        from docking.study.report import save_figures
 
         results = []
         for config in (EXPERIMENT_1, EXPERIMENT_2):
@@ -979,7 +980,7 @@ class Ledger:
     other designs' runs (update only)."""
 
     def execute(self) -> int:
-        from docking import ledger
+        from docking.study import ledger
 
         folder = paths.ledger_dir()  # ValueError if DOCKING_LEDGER is not off or a folder
         if folder is None:
@@ -987,8 +988,8 @@ class Ledger:
         if self.action == "migrate":
             return _migrate(folder, self.results_dir)
         if self.action == "update":
-            from docking.design import ledger_runs
-            from docking.designs import design, names
+            from docking.study.design import ledger_runs
+            from docking.study.designs import design, names
 
             unknown = sorted((set(self.under_way) | set(self.only)) - set(names()))
             if unknown:
@@ -1002,7 +1003,7 @@ class Ledger:
                     key = (json.dumps(config.to_dict(), sort_keys=True), seed)
                     old = runs.get(key, (config, seed, False, frozenset()))
                     runs[key] = (config, seed, whole or old[2], keep | old[3])
-            from docking.designs import rules_digest
+            from docking.study.designs import rules_digest
 
             rules = {name: rules_digest(name) for name in self.only or names()}
             data = ledger.update(
@@ -1021,9 +1022,9 @@ class Ledger:
 
 
 def _migrate(folder: Path, results_dir) -> int:
-    """``ledger migrate``: what :func:`docking.migrate.migrate` did, in a few lines; 1 if a
+    """``ledger migrate``: what :func:`docking.study.migrate.migrate` did, in a few lines; 1 if a
     recomputed run differs (nothing migrated)."""
-    from docking import migrate
+    from docking.study import migrate
 
     done = migrate.migrate(folder, results_dir)
     if done.differ:
@@ -1060,7 +1061,7 @@ LEDGER_WIDTH = 100
 
 def _ledger_table(data: dict, folder: Path, checked: dict, size: int) -> str:
     """What ``ledger show`` prints of the manifest ``data`` of the ledger in ``folder``
-    (``size`` bytes; ``checked``: :func:`docking.ledger.check_files`'s counts): a line of
+    (``size`` bytes; ``checked``: :func:`docking.study.ledger.check_files`'s counts): a line of
     totals, one row per results table (its runs by runner, configurations, whole runs, bytes
     and the runs' recorded wall time), the code and rendering stack, and what was checked;
     no line wider than :data:`LEDGER_WIDTH`."""
@@ -1139,7 +1140,7 @@ class Verify:
     """Worker processes of the embedded cluster."""
 
     def execute(self) -> int:
-        from docking import verify
+        from docking.study import verify
 
         if self.sample < 0:
             raise ValueError(f"--sample must be 0 or more, got {self.sample}")
@@ -1178,7 +1179,7 @@ def _verify_plan(
     at the other runs the ledger holds) and about how long, from the ledger's wall times of
     those runs, on ``processes`` workers (default: one per core; on a ``scheduler``'s
     cluster, their sum)."""
-    from docking import ledger, verify
+    from docking.study import ledger, verify
 
     data = ledger.manifest()
     if data is None:  # verify.verify says so
@@ -1234,7 +1235,7 @@ class Benchmark:
     Experiment 2 of 30 training and 10 test trials without its learning curve."""
 
     def execute(self) -> int:
-        from docking.sweep import parse_seeds
+        from docking.study.sweep import parse_seeds
 
         benchmark_module().run(self.repeats, self.steps, parse_seeds(self.seeds), self.quick)
         return 0
@@ -1245,7 +1246,7 @@ def benchmark_module():
     not part of the package: a wheel has none, and says so)."""
     import importlib
 
-    root = Path(__file__).resolve().parent.parent
+    root = Path(__file__).resolve().parents[2]
     if not (root / "benchmarks" / "env_speed.py").is_file():
         raise ValueError(
             f"the benchmark is benchmarks/env_speed.py of the repository, and {root} holds "

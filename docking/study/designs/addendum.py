@@ -3,7 +3,7 @@
 **These rules were committed before any run of the addendum** and are not changed after
 seeing its runs (``tests/test_addendum.py`` pins them by a digest of :func:`rules_text`, which
 covers this module's code and the gap rule's, not only its constants). A new, labelled
-analysis beside the third edition (:mod:`docking.designs.third_edition`), whose tables stay
+analysis beside the third edition (:mod:`docking.study.designs.third_edition`), whose tables stay
 as they were run.
 
 The question: once each SARSA learner is tuned on the same knobs of Eq. (4)-(8) (eps_Q, the
@@ -56,11 +56,11 @@ from pathlib import Path
 
 import numpy as np
 
-from docking.design import Cell, Design
-from docking.design import rules_text as design_rules_text
-from docking.designs.builders import experiment2_in, linear_sarsa, net, variant
-from docking.ppo import PPOConfig
 from docking.presets import FLOOR_WORLD, NAO_WORLD
+from docking.study.design import Cell, Design
+from docking.study.design import rules_text as design_rules_text
+from docking.study.designs.builders import experiment2_in, linear_sarsa, net, variant
+from docking.study.ppo import PPOConfig
 
 NAME = "third-edition-addendum"
 #: The judged seeds: fresh (no run of the package used a seed from 4020 up before).
@@ -118,7 +118,7 @@ def learner_config(world: str, learner: str, **setting):
     """The learner ``learner`` of ``world`` with ``setting`` (knob values)."""
     base = experiment2_in(WORLDS[world], NAME)
     if learner == "ppo":
-        from docking.designs.builders import HELDOUT_TRIALS
+        from docking.study.designs.builders import HELDOUT_TRIALS
 
         return PPOConfig(name=NAME, world=WORLDS[world], heldout_trials=HELDOUT_TRIALS, **setting)
     make = linear_sarsa if learner == "linear" else net
@@ -367,7 +367,7 @@ DESIGN = Design(
 def _code_digest() -> str:
     """SHA-256 of the code that runs and judges the addendum: this module's tokens (without
     comments and docstrings) and the gap rule's and its interval's source."""
-    from docking import fingerprint, report, stats
+    from docking.study import fingerprint, report, stats
 
     digest = hashlib.sha256()
     digest.update(fingerprint.code_tokens(Path(__file__).read_text(), __name__)[0].encode())

@@ -7,7 +7,7 @@ much does each matter? Two designs (:data:`DESIGNS`) whose cells are
 two of those choices changed (coordinates ``experiment``, ``variant``, ``changes``; the rows
 :func:`variants`), measured by their test trials beside the main experiment's runs (the row
 "this configuration", :data:`BASELINE`). The notebooks show
-:func:`docking.report.calibration_table` and assert their claims on the runs;
+:func:`docking.study.report.calibration_table` and assert their claims on the runs;
 ``python -m docking design run calibration-experiment1 calibration-experiment2`` prints the
 tables.
 """
@@ -18,9 +18,9 @@ import dataclasses
 from collections.abc import Sequence
 from pathlib import Path
 
-from docking.design import Cell, Design, Results, run_design
 from docking.experiments import ExperimentConfig
 from docking.presets import EXPERIMENT_1, EXPERIMENT_2, SEEDS
+from docking.study.design import Cell, Design, Results, run_design
 
 __all__ = [
     "BASELINE",
@@ -170,9 +170,9 @@ def _report(results: Results) -> str:
     """The table: per row, test success and the share of training trials that ended in the
     dock (how often training's near-random walk is rewarded, what the notebooks' explanations
     turn on), and the difference to this configuration by
-    :func:`docking.stats.difference_ci`, which resamples each row's seeds independently:
+    :func:`docking.study.stats.difference_ci`, which resamples each row's seeds independently:
     it ignores the pairing, so its interval is, if anything, wider than a paired one."""
-    from docking.report import calibration_rows, calibration_table, computing_time
+    from docking.study.report import calibration_rows, calibration_table, computing_time
 
     rows = calibration_rows(results, BASELINE)
     table = calibration_table(rows, BASELINE, seeds_at_100=results.design.name.endswith("1"))
@@ -199,7 +199,7 @@ def run(
     progress: bool = True,
 ) -> Results:
     """Run (or load) every row of ``experiment``'s calibration for its seeds in one sweep
-    (:func:`docking.sweep.run_jobs`: stored runs are loaded, not recomputed; the row
+    (:func:`docking.study.sweep.run_jobs`: stored runs are loaded, not recomputed; the row
     :data:`BASELINE` is the main experiment's own runs, shared with its notebook).
 
     Args:
@@ -207,9 +207,9 @@ def run(
       variants: The rows (default: the module's :func:`variants` of ``experiment``; tests
         pass small ones).
       seeds: Default: the main experiment's :data:`~docking.presets.SEEDS`.
-      results_dir: The results store (default :func:`docking.paths.results_dir`).
+      results_dir: The results store (default :func:`docking.study.paths.results_dir`).
       workers: Worker processes (default one per core; 1: one run after another here).
-      scheduler: Address of an existing Dask scheduler, as for :func:`docking.sweep.run_jobs`.
+      scheduler: Address of an existing Dask scheduler, as for :func:`docking.study.sweep.run_jobs`.
       progress: Show a bar of finished runs.
     """
     cells = list(variants) if variants is not None else _rows_of(experiment)

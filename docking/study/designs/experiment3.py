@@ -6,8 +6,8 @@ Do six actions (four steps and two turns) dock better than the paper's four, in 
 task and in precision docking, as the heading noise grows? Experiment 3 is Experiment 2
 (same world, network, curriculum and trial counts) in a grid of cells over the action set
 (:data:`COMPARED`), the task (:data:`TASKS`) and the heading noise (:data:`NOISE_DEG`), each
-judged on :data:`~docking.designs.builders.HELDOUT_TRIALS` held-out trials of networks of
-:data:`~docking.designs.builders.SEEDS` (no learning curve, no final test). The cell with
+judged on :data:`~docking.study.designs.builders.HELDOUT_TRIALS` held-out trials of networks of
+:data:`~docking.study.designs.builders.SEEDS` (no learning curve, no final test). The cell with
 four actions, the paper's task and 2 deg *is* the study's paper configuration (the same
 runs); the pose oracle in every cell (:data:`ORACLE`) shows that each is solvable.
 """
@@ -17,12 +17,12 @@ from __future__ import annotations
 import dataclasses
 import itertools
 
-from docking.claims import ShareAbove
-from docking.design import Cell, Design, yardstick_config
-from docking.designs.builders import HELDOUT_TRIALS, SEEDS, YARDSTICK_SEEDS, variant
 from docking.experiments import ExperimentConfig
 from docking.presets import EXPERIMENT_2
 from docking.scene import ACTION_SETS, WorldConfig
+from docking.study.claims import ShareAbove
+from docking.study.design import Cell, Design, yardstick_config
+from docking.study.designs.builders import HELDOUT_TRIALS, SEEDS, YARDSTICK_SEEDS, variant
 
 __all__ = [
     "LONGER",
@@ -143,11 +143,11 @@ DESIGN = Design(
 )
 
 #: The pose oracle (:func:`docking.policies.oracle`, a yardstick run,
-#: :func:`docking.design.yardstick_config`) in the world of every cell of :data:`DESIGN` but
+#: :func:`docking.study.design.yardstick_config`) in the world of every cell of :data:`DESIGN` but
 #: the one trained longer (its world is its six-action cell's), one cell per Experiment 3 cell
 #: under the same key: which cells are solvable. For the yardstick seeds
-#: (:data:`~docking.designs.builders.YARDSTICK_SEEDS`), with
-#: :data:`~docking.designs.builders.HELDOUT_TRIALS` held-out trials each, the held-out starts
+#: (:data:`~docking.study.designs.builders.YARDSTICK_SEEDS`), with
+#: :data:`~docking.study.designs.builders.HELDOUT_TRIALS` held-out trials each, the held-out starts
 #: of the learners' first seeds.
 ORACLE = Design(
     name="experiment3-oracle",

@@ -3,9 +3,9 @@
 There are kinds of run, one :class:`Runner` each, looked up by the type of the configuration
 (:func:`runner_for`): the paper's learner and its yardsticks (``"learner"``:
 :class:`docking.experiments.ExperimentConfig`, :func:`docking.experiments.run_experiment`)
-and the pixel-level bound (``"ppo"``: :class:`docking.ppo.PPOConfig`,
-:func:`docking.ppo.run_ppo`); a learner from outside the package becomes a kind of run of its
-own when it is registered (:func:`register`, through :func:`docking.learners.register`). A
+and the pixel-level bound (``"ppo"``: :class:`docking.study.ppo.PPOConfig`,
+:func:`docking.study.ppo.run_ppo`); a learner from outside the package becomes a kind of run of its
+own when it is registered (:func:`register`, through :func:`docking.study.learners.register`). A
 runner names the module whose code computes its runs, the libraries whose versions enter its
 keys, how a run is computed, which arrays it stores and how they are read back; everything
 else here (keys, paths, saving, loading, the checks) is one implementation for every kind.
@@ -15,9 +15,9 @@ key is the SHA-256 of
 
 * the configuration, every field, as canonical JSON (``config.to_dict()``);
 * the *source fingerprint*: the code of the runner's root module (``docking.experiments`` for
-  the learner, ``docking.ppo`` for PPO) and of every ``docking`` module its code imports,
+  the learner, ``docking.study.ppo`` for PPO) and of every ``docking`` module its code imports,
   directly or indirectly (world, camera, network, trial, ...), read by
-  :mod:`docking.fingerprint` as Python tokens without comments, docstrings, error messages
+  :mod:`docking.study.fingerprint` as Python tokens without comments, docstrings, error messages
   and the validation, parsing and serialisation it names (so a reworded message or docstring
   re-keys nothing, a change to what computes a run does; the same on every Python), plus
   every file under ``docking/assets/``, plus the versions of the libraries whose arithmetic
@@ -63,7 +63,6 @@ from pathlib import Path
 
 import numpy as np
 
-from docking import fingerprint, paths
 from docking.experiments import (
     ExperimentConfig,
     ExperimentResult,
@@ -73,6 +72,7 @@ from docking.experiments import (
 )
 from docking.fileio import UnsafeFile, atomic_write, read_regular, remove_stale_temporaries
 from docking.network import Network
+from docking.study import fingerprint, paths
 from docking.validate import MAX_SEED, check_int, check_name
 
 __all__ = [
@@ -102,7 +102,7 @@ __all__ = [
 ]
 
 #: Version of the file layout of the learner's runs written by :func:`save_result` (3: the
-#: content digest); a PPO run's is :data:`docking.ppo.FORMAT_VERSION`.
+#: content digest); a PPO run's is :data:`docking.study.ppo.FORMAT_VERSION`.
 FORMAT_VERSION = 3
 
 #: The module whose code, with everything it imports from the package, computes results.
@@ -140,8 +140,8 @@ def source_fingerprint(
 
     ``package_dir`` is the ``docking`` package folder to read (default: this package's, whose
     files must still be those this process imported, or :class:`StaleCode` is raised);
-    ``root`` and ``libraries`` name another computation's code (e.g. :mod:`docking.ppo`'s)."""
-    own = Path(__file__).resolve().parent
+    ``root`` and ``libraries`` name another computation's code (e.g. :mod:`docking.study.ppo`'s)."""
+    own = Path(__file__).resolve().parents[1]  # the docking package
     package_dir = (Path(package_dir) if package_dir else own).resolve()
     fingerprint, _, files = _fingerprint_parts(
         package_dir, _stamp(package_dir), root, tuple(libraries)
@@ -170,7 +170,7 @@ def module_digests(
     computation (the code as the fingerprint reads it), plus ``assets/...`` and
     ``library ...`` entries: what a ledger records, so that a mismatch can name what
     changed."""
-    package_dir = (Path(package_dir) if package_dir else Path(__file__).parent).resolve()
+    package_dir = (Path(package_dir) if package_dir else Path(__file__).parents[1]).resolve()
     parts = _fingerprint_parts(package_dir, _stamp(package_dir), root, tuple(libraries))
     return dict(parts[1])
 
@@ -224,7 +224,7 @@ def config_key(config, render: str | None = None, source: str | None = None) -> 
     """SHA-256 of the canonical configuration, the source fingerprint of its runner's code and
     the rendering stack (the folder key); ``render`` names another stack than this process's
     (for the ledger), ``source`` another fingerprint than this code's (the key a run had
-    before a migration, :mod:`docking.migrate`)."""
+    before a migration, :mod:`docking.study.migrate`)."""
     runner = runner_for(config)
     text = (
         f"{runner.key_prefix}format {runner.format}\nconfig {_canonical(config)}"
@@ -549,10 +549,10 @@ def _parse_learner(data, config: ExperimentConfig, seed: int, walls) -> Experime
 
 
 def _parse_ppo(data, config, seed: int, walls):
-    """PPO's run (a :class:`docking.ppo.PPOResult`) of the file ``data`` (its meta record
+    """PPO's run (a :class:`docking.study.ppo.PPOResult`) of the file ``data`` (its meta record
     checked already): its training episodes (at most one per environment step) and its
     held-out trial log."""
-    from docking import ppo
+    from docking.study import ppo
 
     expected = {"meta", "train.success", "train.steps"}
     expected |= {f"heldout.{name}" for name in _TRIAL_LOG_LAYOUT}
@@ -612,8 +612,8 @@ def run_or_load(
     warning, then replaced).
     ``on_trials(n)``: called as the computed run's trials finish (its progress).
     ``force`` recomputes and replaces whatever is stored. The ledger is not consulted (its
-    entries keep parts of runs): :func:`docking.ledger.load_run` reads the store, then the
-    ledger; :func:`docking.sweep.run_jobs` skips runs the ledger holds."""
+    entries keep parts of runs): :func:`docking.study.ledger.load_run` reads the store, then the
+    ledger; :func:`docking.study.sweep.run_jobs` skips runs the ledger holds."""
     path = result_path(config, seed, results_dir)
     remove_stale_temporaries(path)  # of writers killed during an earlier save
     if not force and path.exists():
@@ -706,7 +706,7 @@ RUNNERS: dict[type, Runner] = {LEARNER.config_type: LEARNER}
 _BY_NAME: dict[str, Runner] = {LEARNER.name: LEARNER}
 #: The module of the pixel-level bound, imported only when a PPO run is asked for: a run of
 #: the paper's learner loads no PPO code (issue 43).
-_PPO_MODULE = "docking.ppo"
+_PPO_MODULE = "docking.study.ppo"
 
 
 def _ppo_runner() -> Runner:
@@ -715,7 +715,7 @@ def _ppo_runner() -> Runner:
     runner = _BY_NAME.get("ppo")
     if runner is not None:
         return runner
-    from docking import ppo
+    from docking.study import ppo
 
     runner = Runner(
         name="ppo",
@@ -758,7 +758,7 @@ RUNNER_ATTRIBUTE = "_docking_runner"
 
 
 def register(runner: Runner) -> Runner:
-    """Add a kind of run (:func:`docking.learners.register` makes one for a learner from
+    """Add a kind of run (:func:`docking.study.learners.register` makes one for a learner from
     outside the package). It replaces an earlier runner of its name or configuration type (a
     notebook cell run again defines the class anew), never a built-in one (``ValueError``).
     Returns ``runner``."""
@@ -794,7 +794,7 @@ def runner_for(config) -> Runner:
         known = " or ".join(r.config_type.__name__ for r in built_in())
         raise TypeError(
             f"a run's configuration must be a {known}, got {config!r:.80} (or the "
-            "configuration of a learner registered with docking.learners.register)"
+            "configuration of a learner registered with docking.study.learners.register)"
         )
     return runner
 

@@ -1,12 +1,12 @@
 """The contest as a function: any learner through the third edition's contest, its row beside
 the published rows (docs/guide/bring_your_own_learner.md).
 
-:func:`contest` runs a learner (a registered one, :mod:`docking.learners`, or the package's
-own) as the third edition (:mod:`docking.designs.third_edition`) ran the paper's learner,
+:func:`contest` runs a learner (a registered one, :mod:`docking.study.learners`, or the package's
+own) as the third edition (:mod:`docking.study.designs.third_edition`) ran the paper's learner,
 linear SARSA and PPO:
 
 * **the same tuning budget** in each world: a successive halving over the learner's grid of
-  9 settings (its default first), :class:`docking.designs.builders.Tuning` itself: round 1
+  9 settings (its default first), :class:`docking.study.designs.builders.Tuning` itself: round 1
   trains every setting on the first tuning seed, the best 3 train again on the two other
   tuning seeds, the best mean over the tuning seeds' held-out trials is the tuned setting
   (ties: grid order); 15 training runs per world;
@@ -20,9 +20,9 @@ linear SARSA and PPO:
 * **the gap rule**: per world, each published tuned learner's lead over the new learner,
   over the seeds both have (the per-seed differences' Student-t interval), is *closed* if its
   interval lies below 5 pp
-  (:data:`docking.designs.third_edition.GAP_CLOSED`), *remains* if above, else
+  (:data:`docking.study.designs.third_edition.GAP_CLOSED`), *remains* if above, else
   *undecided*: the rule the edition judged linear SARSA's lead over the paper's learner by
-  (:func:`docking.report.contest_gaps`).
+  (:func:`docking.study.report.contest_gaps`).
 
 The published rows are read from the committed ledger, never computed (:func:`published`:
 ``LookupError`` if the ledger lacks one): the contest's own (the third edition's, judged on
@@ -31,8 +31,8 @@ current ones (:data:`BRACKETED`: the floor and Nao-like worlds' learners tuned a
 bracketed optima and judged on other fresh seeds, :func:`bracketed`), shown beside them and
 compared by Welch's interval, their seeds being others. The table says where the learner's
 runs are stored and how many were computed and how many read. The learner's own runs are a
-design (:class:`docking.design.Design`) run by :func:`docking.design.run_design`: a sweep on
-the embedded Dask cluster or on an existing scheduler (``scheduler=``), with progress bars,
+design (:class:`docking.study.design.Design`) run by :func:`docking.study.design.run_design`: a
+sweep on the embedded Dask cluster or on an existing scheduler (``scheduler=``), with progress bars,
 stored in the results store and re-used (a second call computes nothing).
 
 A smaller budget (:func:`small_budget`: fewer worlds, settings, seeds or held-out trials)
@@ -51,12 +51,12 @@ from collections.abc import Callable, Mapping, Sequence
 
 import numpy as np
 
-from docking import paths, store
-from docking.design import Cell, Design, Results, run_design
-from docking.designs import third_edition as published_contest
-from docking.designs.builders import HELDOUT_TRIALS, YARDSTICK_LABELS, Tuning
 from docking.presets import EXPERIMENT_2
 from docking.scene import WorldConfig
+from docking.study import paths, store
+from docking.study.design import Cell, Design, Results, run_design
+from docking.study.designs import third_edition as published_contest
+from docking.study.designs.builders import HELDOUT_TRIALS, YARDSTICK_LABELS, Tuning
 from docking.validate import MAX_COUNT, check_instance, check_int, check_name
 
 __all__ = [
@@ -230,10 +230,10 @@ class Contest:
       budget: The budget spent.
       grid: The settings tried.
       tuned: ``{world: the tuned setting}``.
-      results: The learner's runs, tuning and judged (:class:`docking.design.Results`).
+      results: The learner's runs, tuning and judged (:class:`docking.study.design.Results`).
       published: The published contest's results, read from the ledger (:func:`published`).
       gaps: Per world and published tuned learner, its lead over the new learner and the
-        gap rule's verdict (:class:`docking.report.ContestGap`).
+        gap rule's verdict (:class:`docking.study.report.ContestGap`).
       table: The Markdown: the budget, the success table (the learner's row first, then the
         published rows), the gaps, the tuned settings and training steps.
       figure: The learners' held-out success per world (each seed a dot, the mean with its
@@ -282,7 +282,7 @@ def contest(
       budget: :data:`CONTEST_BUDGET`, or a smaller one (:func:`small_budget`).
       label: The learner's name in tables (default: its configuration's ``name``); not one
         of the published variants' (paper, linear, ppo, oracle, ...).
-      results_dir: The results store (default :func:`docking.paths.results_dir`).
+      results_dir: The results store (default :func:`docking.study.paths.results_dir`).
       scheduler: An existing Dask scheduler (``tcp://HOST:PORT``); None: the embedded
         cluster of ``workers`` processes (default: one per core; 1: in this process).
       progress: Show the sweeps' progress bars.
@@ -462,7 +462,7 @@ def _cell(world: str, variant: str, config, label: str, seeds=None) -> Cell:
 
 @functools.lru_cache(maxsize=2)
 def _published(ledger: str, results_dir: str | None) -> Results:
-    from docking import design
+    from docking.study import design
 
     part = published_contest.part("contest")
 
@@ -488,8 +488,8 @@ def published(results_dir=None) -> Results:
 
 @functools.lru_cache(maxsize=2)
 def _bracketed(ledger: str, results_dir: str | None) -> Results | None:
-    from docking import design
-    from docking.designs import bracketing_continued as bc
+    from docking.study import design
+    from docking.study.designs import bracketing_continued as bc
 
     def runs_of(new, _before):  # the store, then the ledger; never computed
         return design._loaded(bc.DESIGN, new, results_dir)
@@ -541,7 +541,7 @@ def _merged(shown: Results, mine: Results) -> Results:
 def _gaps(both: Results, worlds, label: str) -> list:
     """Per world and published tuned learner: its lead over ``label``'s tuned learner,
     paired over the seeds both have, and the gap rule's verdict."""
-    from docking.report import ContestGap, paired_over_shared_seeds
+    from docking.study.report import ContestGap, paired_over_shared_seeds
 
     bound, found = published_contest.GAP_CLOSED, []
     for world in worlds:
@@ -553,8 +553,8 @@ def _gaps(both: Results, worlds, label: str) -> list:
 
 
 def _success_table(both: Results, budget: Budget, label: str) -> str:
-    from docking.claims import rate_interval
-    from docking.report import CONTEST_WORLDS, md_table
+    from docking.study.claims import rate_interval
+    from docking.study.report import CONTEST_WORLDS, md_table
 
     def row(name: str, variant: str) -> tuple:
         keys = [f"{w}/{variant}" for w in budget.worlds]
@@ -570,7 +570,7 @@ def _success_table(both: Results, budget: Budget, label: str) -> str:
 
 
 def _gaps_table(gaps: list, label: str) -> str:
-    from docking.report import md_table
+    from docking.study.report import md_table
 
     bound = 100 * published_contest.GAP_CLOSED
     rows = [
@@ -594,9 +594,9 @@ def _bracketed_table(both: Results, budget: Budget, label: str) -> str:
     """The current published rows (:data:`BRACKETED`) beside the learner, where they exist:
     their success and the learner's lead over each by Welch's interval (their seeds are
     others, so the seeds are not matched)."""
-    from docking.claims import rate_interval
-    from docking.report import md_table
-    from docking.stats import t_difference_ci
+    from docking.study.claims import rate_interval
+    from docking.study.report import md_table
+    from docking.study.stats import t_difference_ci
 
     rows = []
     for world in budget.worlds:
@@ -620,7 +620,7 @@ def _bracketed_table(both: Results, budget: Budget, label: str) -> str:
 
 
 def _tuned_lines(mine: Results, budget: Budget, label: str, tuned: dict) -> str:
-    from docking.learners import training_steps
+    from docking.study.learners import training_steps
 
     lines = []
     for world in budget.worlds:
@@ -638,8 +638,8 @@ def _tuned_lines(mine: Results, budget: Budget, label: str, tuned: dict) -> str:
 
 
 def _figure(both: Results, budget: Budget, label: str):
-    from docking.figures import fig_glance
-    from docking.report import CONTEST_NAMES
+    from docking.study.figures import fig_glance
+    from docking.study.report import CONTEST_NAMES
 
     names = {w: CONTEST_NAMES[w] for w in budget.worlds}
     learners = {f"{label}-tuned": f"{label}, tuned (yours)", **TUNED}

@@ -1,6 +1,6 @@
 """Bring your own learner: the learner protocol, and the registry that makes any learner a
 kind of run like the paper's learner and PPO (stored, served from a ledger, verified,
-entered into the contest, :mod:`docking.contest`). The guide:
+entered into the contest, :mod:`docking.study.contest`). The guide:
 docs/guide/bring_your_own_learner.md.
 
 **The protocol.** A learner is two things.
@@ -19,28 +19,28 @@ docs/guide/bring_your_own_learner.md.
   its own path), with its training steps and wall times.
 
 The paper's learner and linear SARSA (:class:`~docking.experiments.ExperimentConfig`,
-:func:`~docking.experiments.run_experiment`) and PPO (:class:`~docking.ppo.PPOConfig`,
-:func:`~docking.ppo.run_ppo`) fit the protocol: configurations with ``name``, ``world``,
+:func:`~docking.experiments.run_experiment`) and PPO (:class:`~docking.study.ppo.PPOConfig`,
+:func:`~docking.study.ppo.run_ppo`) fit the protocol: configurations with ``name``, ``world``,
 ``heldout_trials``, ``to_dict``/``from_dict``; run functions of that signature, whose
 results hold ``heldout`` (drawn from the same streams), the training and the wall times
 (:func:`training_steps`). They are the package's built-in kinds of run (``"learner"``,
-``"ppo"``: :func:`docking.store.built_in`); :func:`register` makes a kind of run of any
+``"ppo"``: :func:`docking.study.store.built_in`); :func:`register` makes a kind of run of any
 other.
 
 **Keys.** A registered learner's runs are keyed as the built-in ones are
-(:mod:`docking.store`): by the configuration (canonical JSON), the seed, the rendering stack,
+(:mod:`docking.study.store`): by the configuration (canonical JSON), the seed, the rendering stack,
 the versions of the libraries (MuJoCo, dm-control, NumPy, OpenCV and those named at
 registration), and the code: the learner's *own code* (:func:`own_code`: the tokens of the
-module file that defines it, read as :mod:`docking.fingerprint` reads the package's, so a
+module file that defines it, read as :mod:`docking.study.fingerprint` reads the package's, so a
 comment or a docstring re-keys nothing; in a notebook cell or other code without a module
 file, the tokens of the configuration class and the run function) and the tokens of every
 ``docking`` module that code imports and of :mod:`docking.protocol` (the worlds, the streams,
-the held-out trials), with everything they import. This module and :mod:`docking.contest`
+the held-out trials), with everything they import. This module and :mod:`docking.study.contest`
 compute nothing a run stores and are not followed.
 
 The own code is read when the learner is registered: it is the code this process runs.
 A learner defined in a notebook, a script or code run with ``exec`` reaches a sweep's Dask
-workers by value (cloudpickle), its runner with its class (:func:`docking.store.runner_for`
+workers by value (cloudpickle), its runner with its class (:func:`docking.study.store.runner_for`
 adopts it there); one defined in a module file reaches them by name, so the workers must
 import that module (the embedded cluster's workers start in the current folder and inherit
 ``PYTHONPATH``).
@@ -65,7 +65,6 @@ from typing import Protocol, runtime_checkable
 
 import numpy as np
 
-from docking import fingerprint, store
 from docking.experiments import TrialLog
 from docking.protocol import (
     LearnerResult,
@@ -76,6 +75,7 @@ from docking.protocol import (
     training_env,
 )
 from docking.scene import WorldConfig
+from docking.study import fingerprint, store
 from docking.validate import MAX_SEED, check_int, check_name
 
 __all__ = [
@@ -99,8 +99,11 @@ __all__ = [
 FORMAT_VERSION = 1
 
 #: ``docking`` modules a learner's code may import that are not followed for its key: they
-#: compute nothing a run stores (the package's ``__init__``, this registry, the contest).
-NOT_FOLLOWED = frozenset({"docking", "docking.learners", "docking.contest"})
+#: compute nothing a run stores (the package's and the study layer's ``__init__``, this
+#: registry, the contest).
+NOT_FOLLOWED = frozenset(
+    {"docking", "docking.study", "docking.study.learners", "docking.study.contest"}
+)
 
 #: The module every registered learner's runs are keyed by (the held-out judgement).
 PROTOCOL_MODULE = "docking.protocol"
@@ -110,7 +113,7 @@ PROTOCOL_MODULE = "docking.protocol"
 class Learner(Protocol):
     """A learner's configuration (see the module docstring): what :func:`register` takes,
     and what the package's :class:`~docking.experiments.ExperimentConfig` and
-    :class:`~docking.ppo.PPOConfig` are."""
+    :class:`~docking.study.ppo.PPOConfig` are."""
 
     name: str
     world: WorldConfig
@@ -139,7 +142,7 @@ class OwnCode:
 
 @dataclasses.dataclass(frozen=True)
 class LearnerRunner(store.Runner):
-    """The :class:`docking.store.Runner` of a registered learner: its runs are keyed by its
+    """The :class:`docking.study.store.Runner` of a registered learner: its runs are keyed by its
     own code (:attr:`code`) and the code of the ``docking`` modules of :attr:`roots`.
 
     Attributes:
@@ -162,7 +165,7 @@ class LearnerRunner(store.Runner):
 
     def fingerprint(self) -> str:
         """The source fingerprint of this learner's runs: SHA-256 of :meth:`module_digests`
-        (:class:`docking.store.StaleCode` if a ``docking`` file changed on disk since this
+        (:class:`docking.study.store.StaleCode` if a ``docking`` file changed on disk since this
         process imported it)."""
         for root in self.roots:
             store.source_fingerprint(root=root, libraries=self.libraries)
@@ -170,7 +173,7 @@ class LearnerRunner(store.Runner):
         return hashlib.sha256(f"learner code {text}\n".encode()).hexdigest()
 
     def from_table(self, config, seed: int, got: dict, logs: dict, walls) -> LearnerResult:
-        """A run read from a ledger's results table (:func:`docking.ledger.load_run`)."""
+        """A run read from a ledger's results table (:func:`docking.study.ledger.load_run`)."""
         steps = got.get("train_steps")
         return LearnerResult(
             config=config,
@@ -254,7 +257,7 @@ def registered() -> dict[str, store.Runner]:
 
 
 def runner(config) -> store.Runner:
-    """The kind of run of ``config`` (:func:`docking.store.runner_for`)."""
+    """The kind of run of ``config`` (:func:`docking.study.store.runner_for`)."""
     return store.runner_for(config)
 
 
@@ -290,7 +293,7 @@ def _check_config_type(config_type) -> None:
     if missing:
         raise TypeError(
             f"register: {config_type.__name__} lacks the learner protocol's fields "
-            f"{', '.join(missing)} (docking.learners)"
+            f"{', '.join(missing)} (docking.study.learners)"
         )
     for own in store.built_in():
         if config_type is own.config_type:
@@ -377,7 +380,7 @@ def _run(run: Callable, config, seed: int, progress: bool = True, on_trials=None
     if n and not np.array_equal(result.heldout.starts[0], _first_heldout_start(config, seed)):
         raise ValueError(
             f"{what}: its held-out trials are not drawn from the held-out stream of seed {seed} "
-            "(judge them with docking.learners.judge)"
+            "(judge them with docking.study.learners.judge)"
         )
     if result.wall_time_train is None:
         result.wall_time_train = max(elapsed - result.wall_time_test, 0.0)
@@ -462,14 +465,14 @@ def own_code(config_type: type, run: Callable) -> OwnCode:
     """The own code of the learner of ``config_type`` and ``run``, as its key reads it.
 
     Where each is defined in a module with a file (a user's module, a test file, a script
-    run as ``__main__``): the tokens of that whole file (:func:`docking.fingerprint.code_tokens`:
-    no comments, docstrings, type hints or error messages), and the ``docking`` modules it
-    imports. Otherwise (a notebook cell, code run with ``exec`` whose source ``linecache``
-    holds, as Jupyter's cells): the tokens of the class's and the function's own source,
-    and the ``docking`` modules they import or refer to. Then, transitively, every module
-    of the user's own that this code imports or refers to (:func:`user_modules`): its
-    tokens, and the ``docking`` modules it imports. ``TypeError`` if a source cannot be
-    read, or a module of the user's cannot be keyed (:func:`user_modules`)."""
+    run as ``__main__``): the tokens of that whole file
+    (:func:`docking.study.fingerprint.code_tokens`: no comments, docstrings, type hints or error
+    messages), and the ``docking`` modules it imports. Otherwise (a notebook cell, code run with
+    ``exec`` whose source ``linecache`` holds, as Jupyter's cells): the tokens of the class's and
+    the function's own source, and the ``docking`` modules they import or refer to. Then,
+    transitively, every module of the user's own that this code imports or refers to
+    (:func:`user_modules`): its tokens, and the ``docking`` modules it imports. ``TypeError`` if a
+    source cannot be read, or a module of the user's cannot be keyed (:func:`user_modules`)."""
     texts, imports, where, names = [], set(), [], set()
     for module in dict.fromkeys((config_type.__module__, run.__module__)):
         path = _module_file(module, [o for o in (config_type, run) if o.__module__ == module])
@@ -498,7 +501,7 @@ def own_code(config_type: type, run: Callable) -> OwnCode:
         imports |= found
         where.append(str(path))
     digest = hashlib.sha256("\n".join(texts).encode()).hexdigest()
-    package = Path(store.__file__).resolve().parent
+    package = Path(store.__file__).resolve().parents[1]
     followed = sorted(m for m in imports if m not in NOT_FOLLOWED and _is_module(package, m))
     return OwnCode(digest, tuple(followed), tuple(where))
 
@@ -538,7 +541,7 @@ def user_modules(names) -> list[tuple[str, Path]]:
 
 
 def _resolved(names) -> set[str]:
-    """``names`` as :func:`docking.fingerprint.imported_names` found them, with each one's
+    """``names`` as :func:`docking.study.fingerprint.imported_names` found them, with each one's
     parents (``helpers.GAIN``: ``helpers`` too, the module, or a package whose
     ``__init__`` runs when a module of it is imported)."""
     found = set()

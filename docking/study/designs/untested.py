@@ -20,10 +20,12 @@ from __future__ import annotations
 import dataclasses
 import itertools
 
-from docking.claims import Above, AtMost, Claim, Equivalent
-from docking.design import Cell, Design, yardstick_config
-from docking.design import rules_text as design_rules_text
-from docking.designs.builders import (
+from docking.experiments import Curriculum, ExperimentConfig
+from docking.presets import EXPERIMENT_2, FLOOR_WORLD, NAO_WORLD, RELOCATIONS
+from docking.study.claims import Above, AtMost, Claim, Equivalent
+from docking.study.design import Cell, Design, yardstick_config
+from docking.study.design import rules_text as design_rules_text
+from docking.study.designs.builders import (
     HELDOUT_TRIALS,
     experiment2_in,
     linear_sarsa,
@@ -31,10 +33,8 @@ from docking.designs.builders import (
     variant,
     with_cup,
 )
-from docking.designs.measures import final_error_m, metres_per_docking, regain
-from docking.experiments import Curriculum, ExperimentConfig
-from docking.ppo import PPOConfig
-from docking.presets import EXPERIMENT_2, FLOOR_WORLD, NAO_WORLD, RELOCATIONS
+from docking.study.designs.measures import final_error_m, metres_per_docking, regain
+from docking.study.ppo import PPOConfig
 
 NAME = "untested"
 #: Fresh seeds (the third edition has 3000-3019 and 3900-3902); findings use the first ten.
@@ -240,7 +240,7 @@ def cells() -> list[Cell]:
 
 
 #: Per seed, the training trials until a cell's curve regains :data:`REGAIN` of its seed's
-#: success at home (:func:`~docking.designs.measures.regain`).
+#: success at home (:func:`~docking.study.designs.measures.regain`).
 regain_trials = regain(REGAIN, CENSORED)
 
 
@@ -382,5 +382,5 @@ RULES = (
 
 
 def rules_text() -> str:
-    """Every rule of this design as canonical text (:func:`docking.design.rules_text`)."""
+    """Every rule of this design as canonical text (:func:`docking.study.design.rules_text`)."""
     return design_rules_text(DESIGN, {n: globals()[n] for n in RULES})

@@ -1,6 +1,6 @@
 """Sweeps: many (configuration, seed) runs on a Dask cluster, saved in the results store.
 
-A sweep is a list of :class:`Job` s, each one run of :func:`docking.store.run_or_load`. They
+A sweep is a list of :class:`Job` s, each one run of :func:`docking.study.store.run_or_load`. They
 run through ``dask.distributed``:
 
 * by default on an embedded cluster: the scheduler of a ``LocalCluster`` in this process and
@@ -12,7 +12,7 @@ run through ``dask.distributed``:
   shared file system).
 
 Each job computes its run on a worker, which saves it in the store under the key of its
-configuration and seed (:func:`docking.store.result_path`) and returns the path. A run that is
+configuration and seed (:func:`docking.study.store.result_path`) and returns the path. A run that is
 already stored is loaded instead, and the client skips stored runs before it submits
 anything, so an interrupted sweep resumes where it stopped and no finished run is computed
 twice. A job lost with a worker is rescheduled by Dask on another one. A progress bar on the
@@ -43,10 +43,10 @@ from collections.abc import Iterable, Mapping, Sequence
 from pathlib import Path
 from typing import TYPE_CHECKING
 
-from docking import ledger, paths
 from docking.experiments import ExperimentConfig
-from docking.ledger import load_run
-from docking.store import (
+from docking.study import ledger, paths
+from docking.study.ledger import load_run
+from docking.study.store import (
     check_writable,
     is_valid,
     result_path,
@@ -64,7 +64,7 @@ from docking.validate import (
 )
 
 if TYPE_CHECKING:
-    from docking.ppo import PPOConfig
+    from docking.study.ppo import PPOConfig
 
 __all__ = [
     "Job",
@@ -79,7 +79,7 @@ __all__ = [
 
 @dataclasses.dataclass(frozen=True)
 class Job:
-    """One run of a sweep: a configuration of a kind of run (:func:`docking.store.runner_for`:
+    """One run of a sweep: a configuration of a kind of run (:func:`docking.study.store.runner_for`:
     the paper's learner or a yardstick, PPO, or a registered learner) and a seed."""
 
     config: ExperimentConfig | PPOConfig
@@ -309,7 +309,7 @@ class _QuietFailures(logging.Filter):
 
 
 def dask_setup(worker=None) -> None:
-    """Dask preload hook (``dask worker --preload docking.sweep``): a worker of the embedded
+    """Dask preload hook (``dask worker --preload docking.study.sweep``): a worker of the embedded
     cluster ends with the process that started it, and leaves reporting a failed job to the
     client, and its shutdown to the cluster's close (:class:`_QuietFailures`). Does nothing
     in other workers."""
@@ -432,7 +432,7 @@ class _EmbeddedCluster:
                 dashboard_address="127.0.0.1:0",  # ":0" would listen on every interface
                 silence_logs=logging.ERROR,
             )
-        package_root = str(Path(__file__).resolve().parent.parent)
+        package_root = str(Path(__file__).resolve().parents[2])
         env = {
             **os.environ,
             _PARENT_VARIABLE: str(os.getpid()),
@@ -485,7 +485,7 @@ class _EmbeddedCluster:
             "--local-directory",
             self._scratch.name,
             "--preload",
-            "docking.sweep",
+            "docking.study.sweep",
         ]
 
     def _wait_for_workers(self, n: int, timeout: float = 120.0) -> None:
@@ -537,7 +537,7 @@ def run_jobs(
 
     Args:
       jobs: The (configuration, seed) runs.
-      results_dir: The results store (default :func:`docking.paths.results_dir`).
+      results_dir: The results store (default :func:`docking.study.paths.results_dir`).
       scheduler: Address of an existing Dask scheduler (``tcp://HOST:PORT``); ``None`` starts
         an embedded ``LocalCluster`` of ``workers`` processes.
       workers: Worker processes of the embedded cluster (default: one per core, at most one
@@ -617,7 +617,7 @@ def run_configs(
 ) -> dict:
     """Run (or load) every configuration of ``configs`` for every seed in one sweep
     (:func:`run_jobs`); ``{key: its runs in seed order}`` (``ExperimentResult`` s, or
-    ``docking.ppo.PPOResult`` s for PPO configurations)."""
+    ``docking.study.ppo.PPOResult`` s for PPO configurations)."""
     seeds = tuple(seeds)
     jobs = jobs_for(configs.values(), seeds)
     run_jobs(

@@ -2,7 +2,7 @@
 (``python -m docking ledger migrate``).
 
 A run's key names the code that computed it (its runner's source fingerprint,
-:mod:`docking.store`), so splitting a keyed function, giving a keyed module an input check or
+:mod:`docking.study.store`), so splitting a keyed function, giving a keyed module an input check or
 moving it into a folder re-keys every stored run, though every array stays as it was. A
 migration re-keys them instead of recomputing them, **only after** showing, for this change,
 that the new code computes what the old code did:
@@ -15,7 +15,7 @@ that the new code computes what the old code did:
    cheapest first (by their recorded wall times).
 3. *The proof.* The sample is recomputed by this code in a temporary store, and each run is
    compared with what the ledger holds of it, as ``verify`` compares
-   (:func:`docking.verify.compare`): its content digest, its table row, column by column.
+   (:func:`docking.study.verify.compare`): its content digest, its table row, column by column.
    If any run differs, nothing is migrated and the runs that differ are named.
 4. *The move.* Every run of those runners gets the key this code gives its configuration and
    seed (under the ledger's rendering stack): the records, the tables' ``key`` column, the
@@ -46,8 +46,8 @@ from pathlib import Path
 
 import numpy as np
 
-from docking import ledger, paths, store
 from docking.fileio import atomic_write, read_regular
+from docking.study import ledger, paths, store
 
 __all__ = ["Migration", "MIGRATION_FIELDS", "migrate", "migrate_store", "sample"]
 
@@ -144,9 +144,9 @@ def _changed(data: dict) -> dict[str, store.Runner]:
 
 def _prove(data: dict, keys: list[str], scheduler, workers, progress) -> list:
     """Recompute the runs ``keys`` with this code and compare them with the ledger
-    (:func:`docking.verify.compare`): the checks."""
-    from docking.sweep import Job, run_jobs
-    from docking.verify import compare
+    (:func:`docking.study.verify.compare`): the checks."""
+    from docking.study.sweep import Job, run_jobs
+    from docking.study.verify import compare
 
     jobs = [
         Job(
@@ -224,9 +224,9 @@ def migrate(
     progress: bool = True,
     commit: str | None = None,
 ) -> Migration:
-    """Migrate the ledger in ``folder`` (default :func:`docking.paths.ledger_dir`) to this
+    """Migrate the ledger in ``folder`` (default :func:`docking.study.paths.ledger_dir`) to this
     code, as the module docstring says, then the results store ``results_dir`` (default
-    :func:`docking.paths.results_dir`; ``False``: none). Returns what was done; nothing is
+    :func:`docking.study.paths.results_dir`; ``False``: none). Returns what was done; nothing is
     written if a sampled run differs."""
     folder = Path(folder) if folder is not None else paths.ledger_dir()
     if folder is None:
@@ -250,7 +250,7 @@ def migrate(
 def _write(data: dict, changed: dict, checks, commit: str | None) -> dict:
     """Re-key the ledger ``data`` (its runners ``changed`` proven by ``checks``) and record
     the migration; the record."""
-    from docking.verify import _commit
+    from docking.study.verify import _commit
 
     keys = _new_keys(data, changed)
     files, records = _rekeyed(data, keys)

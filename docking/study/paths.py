@@ -31,7 +31,7 @@ LEDGER_OFF = ("off", "0", "none", "false")
 
 def checkout_root() -> Path | None:
     """The source checkout the package runs from, or None for an installed package."""
-    root = Path(__file__).resolve().parent.parent
+    root = Path(__file__).resolve().parents[2]
     return root if (root / "pyproject.toml").is_file() else None
 
 

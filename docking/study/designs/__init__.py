@@ -1,6 +1,6 @@
-"""The design files: every question the package asks, as data (:mod:`docking.design`).
+"""The design files: every question the package asks, as data (:mod:`docking.study.design`).
 
-Each module defines ``DESIGN`` (a :class:`docking.design.Design`); :data:`DESIGNS` names
+Each module defines ``DESIGN`` (a :class:`docking.study.design.Design`); :data:`DESIGNS` names
 them for ``python -m docking design list|run NAME``. A new study is a new module here,
 registered below.
 """
@@ -11,24 +11,24 @@ import importlib
 
 #: ``{design name: the module that defines it}``, in the order a reproduction runs them.
 MODULES = {
-    "paper": "docking.designs.paper",
-    "calibration-experiment1": "docking.designs.calibration",
-    "calibration-experiment2": "docking.designs.calibration",
-    "experiment3": "docking.designs.experiment3",
-    "experiment3-oracle": "docking.designs.experiment3",
-    "third-edition": "docking.designs.third_edition",
-    "third-edition-addendum": "docking.designs.addendum",
-    "addendum-bracketing": "docking.designs.bracketing",
-    "addendum-bracketing-continued": "docking.designs.bracketing_continued",
-    "untested": "docking.designs.untested",
-    "untested-revisited": "docking.designs.revisited",
-    "bracketing-replication": "docking.designs.replication",
-    "fragility-landscape": "docking.designs.landscape",
+    "paper": "docking.study.designs.paper",
+    "calibration-experiment1": "docking.study.designs.calibration",
+    "calibration-experiment2": "docking.study.designs.calibration",
+    "experiment3": "docking.study.designs.experiment3",
+    "experiment3-oracle": "docking.study.designs.experiment3",
+    "third-edition": "docking.study.designs.third_edition",
+    "third-edition-addendum": "docking.study.designs.addendum",
+    "addendum-bracketing": "docking.study.designs.bracketing",
+    "addendum-bracketing-continued": "docking.study.designs.bracketing_continued",
+    "untested": "docking.study.designs.untested",
+    "untested-revisited": "docking.study.designs.revisited",
+    "bracketing-replication": "docking.study.designs.replication",
+    "fragility-landscape": "docking.study.designs.landscape",
 }
 
 
 def design(name: str):
-    """The :class:`~docking.design.Design` called ``name`` (``ValueError`` listing the
+    """The :class:`~docking.study.design.Design` called ``name`` (``ValueError`` listing the
     names otherwise)."""
     if name not in MODULES:
         raise ValueError(f"no design {name!r}; the designs are {', '.join(MODULES)}")
@@ -47,7 +47,7 @@ def names() -> list[str]:
 def rules_digest(name: str) -> str | None:
     """The SHA-256 of design ``name``'s rules (its module's ``rules_text()``, what its test
     pins), or None for a design without committed rules: what the ledger records beside each
-    of its runs (:func:`docking.ledger.update`'s ``rules``)."""
+    of its runs (:func:`docking.study.ledger.update`'s ``rules``)."""
     import hashlib
 
     design(name)  # ValueError naming the designs

@@ -1,14 +1,14 @@
 """The results: the tables (the paper's numbers beside this reproduction's, Experiment 3's,
 the third edition's), the README's summary, and the callers of the figures.
 
-``python -m docking report`` (the CLI, :mod:`docking.cli`) loads the runs from the results
+``python -m docking report`` (the CLI, :mod:`docking.study.cli`) loads the runs from the results
 store or the committed ledger and prints the tables in Markdown; with ``--readme README.md``
 it also rewrites each between its markers (:data:`README_START` and :data:`README_END`, ...).
 The notebooks show the same tables.
 
 The ``save_fig*`` functions are the callers of the figures: each computes the figure's arrays
-with :mod:`docking.analysis`, draws them with :mod:`docking.figures`, saves the figure
-(``.png`` and ``.pdf``, :func:`docking.figures.save_figure`) and returns it. The notebooks use
+with :mod:`docking.study.analysis`, draws them with :mod:`docking.study.figures`, saves the figure
+(``.png`` and ``.pdf``, :func:`docking.study.figures.save_figure`) and returns it. The notebooks use
 them; :func:`save_figures` makes every figure from the runs of both experiments.
 """
 
@@ -22,10 +22,10 @@ from pathlib import Path
 import numpy as np
 from matplotlib.figure import Figure
 
-from docking import analysis, figures
 from docking.experiments import ExperimentConfig, ExperimentResult, initial_network
 from docking.presets import HEADLINE_SEED, SEEDS
-from docking.stats import Interval, difference_ci, mean_ci, rate_ci, removed_share_ci
+from docking.study import analysis, figures
+from docking.study.stats import Interval, difference_ci, mean_ci, rate_ci, removed_share_ci
 from docking.world import DockingEnv
 
 #: The paper's figures (Sec. III).
@@ -247,7 +247,7 @@ def configuration_table(config: ExperimentConfig) -> str:
 
 def save_fig2(env: DockingEnv, folder: Path | str | None = None) -> Figure:
     """Fig. 2 (the scene) from ``env``'s world, saved as ``fig2_scene`` in ``folder`` (default
-    :data:`docking.figures.FIGURES_DIR`). ``env`` is moved to the example poses."""
+    :data:`docking.study.figures.FIGURES_DIR`). ``env`` is moved to the example poses."""
     views = analysis.example_views(env)
     overview = analysis.overview(env, views.poses[1])
     fig = figures.fig2_scene(env.config.camera, views, overview)
@@ -343,7 +343,7 @@ def save_figures(
 
 def save_named(fig: Figure, name: str, folder: Path | str | None = None) -> str:
     """Save ``fig`` as ``name`` (``.png`` and ``.pdf``) in ``folder`` (default
-    :data:`docking.figures.FIGURES_DIR`); the PNG's path, for display."""
+    :data:`docking.study.figures.FIGURES_DIR`); the PNG's path, for display."""
     png, _ = figures.save_figure(fig, _folder(folder) / name)
     return str(png)
 
@@ -355,8 +355,8 @@ def _folder(folder: Path | str | None) -> Path:
 def md_table(header, rows) -> str:
     """A Markdown table: ``header`` (column titles) over ``rows`` (a sequence of cells each;
     cells are shown as ``str`` shows them, a pipe in one escaped by
-    :func:`docking.claims.markdown_cell`, as the verdict table's are)."""
-    from docking.claims import markdown_cell
+    :func:`docking.study.claims.markdown_cell`, as the verdict table's are)."""
+    from docking.study.claims import markdown_cell
 
     def line(cells) -> str:
         return "| " + " | ".join(markdown_cell(str(c)) for c in cells) + " |"
@@ -479,10 +479,10 @@ def contest_summary(contest, corrected: bool = False) -> str:
     """The README's sentences on the third edition's contest (``contest``: the results of
     its contest part): per world, the tuned learners' and the oracle's held-out success (the
     tuned paper's learner's with its interval for a rate,
-    :func:`docking.claims.rate_interval`), and whether tuning closes the gap between linear
+    :func:`docking.study.claims.rate_interval`), and whether tuning closes the gap between linear
     SARSA and the paper's learner (the edition's rule, :func:`contest_gaps` with a 5 pp
     bound)."""
-    from docking.claims import rate_interval
+    from docking.study.claims import rate_interval
 
     gaps = {g.world: g for g in contest_gaps(contest, CONTEST_WORLDS, 0.05)}
     parts = []
@@ -542,7 +542,7 @@ def timings_text(
     """The README's paragraph of times: ``measured`` is ``tools/time_tiers.py``'s record (None
     if the tiers were not timed), ``runs`` and ``run_seconds`` the ledger's runs and the sum
     of their wall times (the ledger manifest's), ``ledger_bytes`` its size
-    (:func:`docking.ledger.size_bytes`; None: not said)."""
+    (:func:`docking.study.ledger.size_bytes`; None: not said)."""
     per_run = run_seconds / max(runs, 1)
     size = ""
     if ledger_bytes is not None:
@@ -624,7 +624,7 @@ class Comparison:
       task, noise: The cell pair's task and heading noise (deg).
       four_key, six_key: The two cells' keys.
       four, six: Held-out success with four and with six actions (95% intervals for a rate
-        over seeds and their trials, :func:`docking.stats.rate_ci`).
+        over seeds and their trials, :func:`docking.study.stats.rate_ci`).
       gain: Six minus four actions (percentage points as fractions, 95% interval).
       removed: The share of the four-action learner's failures that are gone with six
         actions, ``1 - failures6 / failures4`` (95% interval, seeds of each resampled
@@ -654,8 +654,8 @@ def turning_comparisons(results) -> list[Comparison]:
     """One :class:`Comparison` per six-action core cell of an Experiment 3 design (coordinate
     ``actions == "turning"``) against its baseline, the four-action cell of the same task
     and noise, in the design's order; each arm's success with the interval for a rate
-    (:func:`docking.claims.rate_interval`)."""
-    from docking.claims import rate_interval
+    (:func:`docking.study.claims.rate_interval`)."""
+    from docking.study.claims import rate_interval
 
     found = []
     for c in results.cells:
@@ -708,7 +708,7 @@ def rotation_verdict(comparisons: list[Comparison], rule) -> tuple[str, Interval
     by the remedy it names, from Experiment 3's :func:`turning_comparisons`: in the paper's
     task at the lowest heading noise, the share of the four-action learner's held-out
     failures that are gone when the learner can turn, decided by ``rule`` (a
-    :class:`docking.claims.Rule`); the verdict and the interval."""
+    :class:`docking.study.claims.Rule`); the verdict and the interval."""
     paper = [c for c in comparisons if c.task == "paper task"]
     found = min(paper, key=lambda c: c.noise)
     if found.removed is None:
@@ -719,12 +719,12 @@ def rotation_verdict(comparisons: list[Comparison], rule) -> tuple[str, Interval
 def failure_shares(
     results, keys: list[str], n_seeds: int | None = None
 ) -> tuple[np.ndarray, list[int]]:
-    """The failure taxonomy (:func:`docking.analysis.failure_taxonomy`) of the held-out
+    """The failure taxonomy (:func:`docking.study.analysis.failure_taxonomy`) of the held-out
     failures of each cell in ``keys``, its first ``n_seeds`` seeds (None: all) pooled:
     ``(shares, failures)`` with
     ``shares[k, c]`` the share of cell ``k``'s failed trials in class ``c`` (classes in the
-    order of :data:`docking.analysis.FAILURE_CLASSES`; NaN for a cell without failures)."""
-    from docking.analysis import FAILURE_CLASSES, failure_taxonomy
+    order of :data:`docking.study.analysis.FAILURE_CLASSES`; NaN for a cell without failures)."""
+    from docking.study.analysis import FAILURE_CLASSES, failure_taxonomy
     from docking.world import DockingEnv
 
     shares, failures = np.full((len(keys), len(FAILURE_CLASSES)), np.nan), []
@@ -799,7 +799,7 @@ def analyse(
     """The table's rows (cells ``rows``) from per-seed test success (and training trials
     rewarded) per cell key; differences against the row ``baseline``, which ``rows`` must
     hold. With ``trials`` (per cell key, each seed's test trials), a row's success gets the
-    interval for a rate (:func:`docking.stats.rate_ci`), else the bootstrap's."""
+    interval for a rate (:func:`docking.study.stats.rate_ci`), else the bootstrap's."""
     if baseline not in {v.key for v in rows}:
         raise ValueError(f"the rows must include the baseline {baseline!r}")
     base = np.asarray(success[baseline], dtype=float)
@@ -896,8 +896,8 @@ def contest_table(results, worlds: dict[str, str]) -> str:
     """How hard is each world, tuned against tuned (Markdown): a row per learner and
     yardstick of :data:`CONTEST_COLUMNS`, a column per world of ``worlds`` (``{key: its
     name}``): held-out success over the row's seeds with its 95% interval for a rate
-    (:func:`docking.claims.rate_interval`: in [0, 1], never of zero width)."""
-    from docking.claims import rate_interval
+    (:func:`docking.study.claims.rate_interval`: in [0, 1], never of zero width)."""
+    from docking.study.claims import rate_interval
 
     run, rows = {c.key for c in results.cells}, []
     for variant, label in CONTEST_COLUMNS:
@@ -959,7 +959,7 @@ def paired_over_shared_seeds(results, key: str, baseline: str) -> Interval:
     """``key`` minus ``baseline`` (per-seed success), paired over the seeds both cells have
     (their first seeds: every cell of a design draws its seeds from the front of one list),
     with the paired Student-t interval."""
-    from docking.stats import t_paired_ci
+    from docking.study.stats import t_paired_ci
 
     a, b = results.score(key), results.score(baseline)
     n = min(len(a), len(b))
@@ -1025,7 +1025,7 @@ def path_steps(results, steps, bound: float, alpha: float) -> list[PathStep]:
     drop's 95% interval lies below ``bound``, else undecided."""
     from scipy import stats as st
 
-    from docking.stats import holm
+    from docking.study.stats import holm
 
     drops = [paired_over_shared_seeds(results, f"{a}/paper", f"{b}/paper") for a, b in steps]
     ps = [
@@ -1046,7 +1046,7 @@ def path_table(steps: list[PathStep], worlds: dict[str, str]) -> str:
     """The Markdown table of :func:`path_steps` (``worlds``: what each world changes); a
     drop that is the same in every seed has no p-value to show (its decision is the
     convention's, :func:`path_steps`) and says so."""
-    from docking.claims import p_text, spread_words
+    from docking.study.claims import p_text, spread_words
 
     header = ("step", "what changes", "drop of the paper's learner", "Holm p (drop > bound)")
     rows = [
@@ -1064,7 +1064,7 @@ def path_table(steps: list[PathStep], worlds: dict[str, str]) -> str:
 #: The claims of the untested claims' design (notebook 08) that join the README's verdict
 #: table: relocation and coping with change, the paper's claims of Sec. IV.
 UNTESTED_IN_README = ("relocation", "coping")
-#: The claims of their revisit (:mod:`docking.designs.revisited`) that join it.
+#: The claims of their revisit (:mod:`docking.study.designs.revisited`) that join it.
 REVISITED_IN_README = ("relocation-height", "coping-early")
 
 #: Claims whose tests are kept as they were run but reported outside every count of
@@ -1085,10 +1085,10 @@ CLAIMS_FIGURE = "verdicts_glance"
 
 
 def verdict_panels(claims, results, decisions) -> list[dict]:
-    """The panels of :func:`docking.figures.fig_verdicts`, one per claim: each comparison's
-    interval and decision (``decisions``: :func:`docking.claims.judge_family`'s), with the
+    """The panels of :func:`docking.study.figures.fig_verdicts`, one per claim: each comparison's
+    interval and decision (``decisions``: :func:`docking.study.claims.judge_family`'s), with the
     per-seed values where the statistic has them (not for a share of failures)."""
-    from docking.claims import ShareAbove, claim_rows, measure_display, success
+    from docking.study.claims import ShareAbove, claim_rows, measure_display, success
 
     panels = []
     for claim, rows in claim_rows(claims, results, decisions):
@@ -1097,7 +1097,7 @@ def verdict_panels(claims, results, decisions) -> list[dict]:
             xlabel = "share of the held-out failures gone (%)"
         elif rate:
             xlabel = "difference of held-out success (percentage points)"
-        else:  # the measure's statistic, in its unit (docking.designs.measures)
+        else:  # the measure's statistic, in its unit (docking.study.designs.measures)
             unit, _, what = measure_display(claim.measure)
             xlabel = claim.rule.axis(what) + (f" ({unit.strip()})" if unit else "")
         panels.append(
@@ -1115,12 +1115,12 @@ def verdict_panels(claims, results, decisions) -> list[dict]:
 
 
 def claims_glance_rows(*judged, notes=None) -> list[tuple]:
-    """The claims at a glance (the README's figure, :func:`docking.figures.fig_claims`): per
-    claim of ``judged`` (as :func:`docking.claims.design_verdicts` takes them), ``(key, the
+    """The claims at a glance (the README's figure, :func:`docking.study.figures.fig_claims`): per
+    claim of ``judged`` (as :func:`docking.study.claims.design_verdicts` takes them), ``(key, the
     bound its rule tests, [(comparison, its interval as text, its decision), ...], note)``,
     decided by the committed rule (Holm within each claim); ``note``: why the claim stands
     outside the counts (``notes``), else None. Findings are left out."""
-    from docking.claims import _identical, claim_rows, judge_family, spread_words
+    from docking.study.claims import _identical, claim_rows, judge_family, spread_words
 
     def shown(claim, results, entry, ci) -> str:
         words = spread_words(ci, _identical(claim, results, entry))
@@ -1158,10 +1158,10 @@ OUTSIDE = "outside the counts"
 
 def claim_groups(claims, decisions) -> dict[str, list[str]]:
     """``{group of CLAIM_GROUPS: [claim keys]}``: each judged claim by what its comparisons
-    decided (``decisions``: :func:`docking.claims.judge_family`'s, or
-    :func:`docking.claims.one_family`'s); a claim of :data:`OUTSIDE_COUNTS` in the group
+    decided (``decisions``: :func:`docking.study.claims.judge_family`'s, or
+    :func:`docking.study.claims.one_family`'s); a claim of :data:`OUTSIDE_COUNTS` in the group
     :data:`OUTSIDE` instead."""
-    from docking.claims import AT_BOUND, CONTRADICTED, NOT_JUDGED, SUPPORTED, family_verdicts
+    from docking.study.claims import AT_BOUND, CONTRADICTED, NOT_JUDGED, SUPPORTED, family_verdicts
 
     groups: dict[str, list[str]] = {}
     for key, (_, per_world) in family_verdicts(claims, decisions).items():
@@ -1187,12 +1187,12 @@ def claims_summary(claims, decisions, alpha: float = 0.05) -> str:
     """Two sentences on a judged design's claims, one per decision rule: how many hold in
     every comparison judged, in some only, are contradicted somewhere, are not supported,
     or are findings, each named by its key (the verdict table's first column), under the
-    committed rule (``decisions``: Holm within each claim, :func:`docking.claims.judge_family`)
-    and again with every comparison in one family (:func:`docking.claims.one_family`, at
-    ``alpha``: the verdict table's last column). The two counts differ where Holm's
-    adjustment over more comparisons undecides a comparison; the committed rule's comes
-    first, as the one decided before the runs."""
-    from docking.claims import NOT_JUDGED, one_family
+    committed rule (``decisions``: Holm within each claim,
+    :func:`docking.study.claims.judge_family`) and again with every comparison in one family
+    (:func:`docking.study.claims.one_family`, at ``alpha``: the verdict table's last column). The
+    two counts differ where Holm's adjustment over more comparisons undecides a comparison; the
+    committed rule's comes first, as the one decided before the runs."""
+    from docking.study.claims import NOT_JUDGED, one_family
 
     order = CLAIM_GROUPS
     grouped = functools.partial(claim_groups, claims)
@@ -1240,7 +1240,7 @@ def untested_summary(results) -> str:
     """The README's paragraph on the claims nobody had tested (notebook 08): the judged part
     of their design (``untested.part("judged")``'s ``results``), in :func:`claims_summary`'s
     sentences, under both decision rules."""
-    from docking.claims import judge_family
+    from docking.study.claims import judge_family
 
     design = results.design
     decisions = judge_family(design.claims, results, alpha=design.alpha, per_claim=True)
@@ -1254,11 +1254,11 @@ def untested_summary(results) -> str:
 
 def revisited_rows(results, rv) -> dict:
     """What the revisit of relocation and coping (``results`` of ``rv``:
-    :mod:`docking.designs.revisited`) measured, for its sentences and notebook 09: per
+    :mod:`docking.study.designs.revisited`) measured, for its sentences and notebook 09: per
     place, the start views it changes and the home networks' held-out success there and at
     home; per change, each arm's early failure (mean over seeds) and the sign test of trials
     to regain (``(sooner, signed pairs, p)``); and the decisions (Holm within each claim)."""
-    from docking.claims import judge_family, rate_interval
+    from docking.study.claims import judge_family, rate_interval
 
     design = results.design
     decisions = judge_family(design.claims, results, alpha=design.alpha, per_claim=True)
@@ -1333,7 +1333,7 @@ def revisited_summary(rows: dict, results, rv) -> str:
 
 
 def bracketed_rows(results, ad) -> list[dict]:
-    """Per world and learner of the addendum (``ad``: :mod:`docking.designs.addendum`, or a
+    """Per world and learner of the addendum (``ad``: :mod:`docking.study.designs.addendum`, or a
     module like it): the settings
     its search tried, the training runs it used, the tuned setting, each knob's value with
     the values tried on its line through the tuned setting and where it lies (interior, at
@@ -1430,9 +1430,9 @@ class Decomposition:
       world: The world's key.
       linear, paper: Per-seed held-out success of the tuned learners.
       labelled: Per seed, the paper's W with the oracle-labelled Q
-        (:func:`docking.analysis.oracle_labelled`).
+        (:func:`docking.study.analysis.oracle_labelled`).
       purity: Per seed, the share of the oracle's views whose action is their unit's
-        majority action (:func:`docking.analysis.partition_purity`).
+        majority action (:func:`docking.study.analysis.partition_purity`).
       fixed, fixed_labelled: The same for SARSA on a fixed partition (W from views, then
         frozen): its own success and its W with the oracle-labelled Q.
     """
@@ -1448,21 +1448,21 @@ class Decomposition:
     @property
     def gap(self) -> Interval:
         """Linear SARSA minus the paper's tuned learner (paired Student-t)."""
-        from docking.stats import t_paired_ci
+        from docking.study.stats import t_paired_ci
 
         return t_paired_ci(self.linear, self.paper)
 
     @property
     def representation(self) -> Interval:
         """Linear SARSA minus the oracle-labelled Q on the paper's W."""
-        from docking.stats import t_paired_ci
+        from docking.study.stats import t_paired_ci
 
         return t_paired_ci(self.linear, self.labelled)
 
     @property
     def learning_q(self) -> Interval:
         """The oracle-labelled Q on the paper's W minus the Q the paper's rule learned."""
-        from docking.stats import t_paired_ci
+        from docking.study.stats import t_paired_ci
 
         return t_paired_ci(self.labelled, self.paper)
 
@@ -1491,7 +1491,7 @@ def decomposition(results, labelled_views: dict) -> list[Decomposition]:
 
 def bracketing_rows(own, br) -> list[dict]:
     """Per world and learner of the bracketing (``own``: the results of ``br``,
-    :mod:`docking.designs.bracketing`): the addendum's tuned setting it started from, the
+    :mod:`docking.study.designs.bracketing`): the addendum's tuned setting it started from, the
     tuned setting it ended on, the runs it used, whether it is bracketed, each knob's value
     with the compared values on its line through the tuned setting (the other knobs at their
     tuned values; complete settings only) and where it lies, and the tuned setting's mean
@@ -1562,7 +1562,7 @@ def bracketing_summary(rows: list[dict], final, ad) -> str:
     world, where each learner's tuned setting moved and whether it is bracketed, then the
     tuned learners' held-out success on the judged seeds and the gap by the addendum's
     rule."""
-    from docking.claims import rate_interval
+    from docking.study.claims import rate_interval
 
     def setting(values: dict) -> str:
         return ", ".join(f"{k} {v:g}" for k, v in values.items())
@@ -1609,14 +1609,14 @@ BRACKETING_LEADS = {
 
 def bracketed_addendum(added, own, br):
     """The addendum's results (``added``) with each tuned learner the bracketing (``own``:
-    the results of ``br``, :mod:`docking.designs.bracketing`) changed in its place: the cell
+    the results of ``br``, :mod:`docking.study.designs.bracketing`) changed in its place: the cell
     ``{world}/{learner}-tuned`` holds the bracketed setting's judged runs, and
     ``{world}/ppo-matched`` PPO's re-matched runs where the bracketing trained PPO again;
     every other cell as the addendum ran it. What the README and notebook 07 report as the
     tuned learners once the bracketing is in."""
     import dataclasses
 
-    from docking.design import Results
+    from docking.study.design import Results
 
     swap = {}
     for c in own.cells:
@@ -1680,7 +1680,7 @@ DEVIATIONS = (
         "code changed after runs were seen: continuous PPO's actions clipped by the world, "
         "not inside the policy (its first runs stopped on NaN actions)",
         "fbd2835ed3689dc7e09575068460ac29c076fc6f",
-        "docking/ppo.py",
+        "docking/ppo.py",  # its path at that commit
         "every PPO run was re-keyed and computed again on the changed code; the judged "
         "comparisons of continuous actions read only those runs, but the change was made "
         "after seeing the first ones",
@@ -1797,7 +1797,7 @@ def computed_times(name: str, folder=None) -> list:
 def _manifest_runs(folder=None) -> list[dict]:
     """The run records of the ledger's manifest in ``folder`` (the ledger's by default), where
     the times runs were computed are kept; ValueError if there is no ledger."""
-    from docking import ledger
+    from docking.study import ledger
 
     data = ledger.manifest(folder)
     if data is None:
@@ -1807,10 +1807,10 @@ def _manifest_runs(folder=None) -> list[dict]:
 
 def addendum_summary(added, contest, ad) -> str:
     """The README's sentences on the third edition's addendum (``added``: its results;
-    ``contest``: the third edition's; ``ad``: :mod:`docking.designs.addendum`): per world,
+    ``contest``: the third edition's; ``ad``: :mod:`docking.study.designs.addendum`): per world,
     the tuned learners' held-out success after the bracketed search, the gap and the rule's
     verdict, beside the contest's gap."""
-    from docking.stats import t_mean_ci
+    from docking.study.stats import t_mean_ci
 
     gaps = {g.world: g for g in contest_gaps(added, ad.WORLDS, ad.GAP_CLOSED)}
     before = {g.world: g for g in contest_gaps(contest, ad.WORLDS, ad.GAP_CLOSED)}
@@ -1855,7 +1855,7 @@ GLANCE_WORLDS = {
 
 
 def glance_data(contest, added) -> tuple[list, list, dict, dict]:
-    """The first screen's figure's arrays (:func:`docking.figures.fig_glance`): per world of
+    """The first screen's figure's arrays (:func:`docking.study.figures.fig_glance`): per world of
     the contest, each learner's per-seed held-out success (the addendum's where it ran, the
     contest's in the sideboard world) and the yardsticks' means."""
     keys = {c.key for c in added.cells} if added is not None else set()
@@ -1962,7 +1962,7 @@ def glance_text(
     learner's tuned exploration temperature}`` in the addendum; ``unbracketed``: the knobs
     of the paper's learner whose tuned value the search left at the edge of what it tried;
     ``revisited``: :func:`revisited_rows` of relocation and coping revisited (None: not in)."""
-    from docking.claims import rate_interval
+    from docking.study.claims import rate_interval
 
     h2 = headline(results2)
     e1 = np.mean([r.test.success.mean() for r in results1])

@@ -1,10 +1,10 @@
 """Per-seed measures that claims judge by, beyond held-out success
-(:func:`docking.claims.success`): each is ``measure(results, key) -> (seeds,)``.
+(:func:`docking.study.claims.success`): each is ``measure(results, key) -> (seeds,)``.
 
 A design's rules text names a claim's measure by its function's ``__name__``; the measures
 built from a design's constants (:func:`interpretability`, :func:`regain`) keep theirs. A
 measure's ``unit`` (:func:`_unit`: its unit's text and the decimals it is shown with) is
-display only, read by :meth:`docking.claims.Claim.format`; without one, three decimals.
+display only, read by :meth:`docking.study.claims.Claim.format`; without one, three decimals.
 """
 
 from __future__ import annotations
@@ -30,13 +30,13 @@ def _unit(text: str, digits: int, label: str) -> Callable[[Measure], Measure]:
 def interpretability(n_seeds: Callable, views: int, min_views: int) -> Measure:
     """The measure ``fidelity``: per seed (the first ``n_seeds(cell)`` of a cell), each
     winning unit's weights against the mean of the ``views`` start views it wins
-    (:func:`docking.analysis.feature_fidelity`, units that win at least ``min_views``),
+    (:func:`docking.study.analysis.feature_fidelity`, units that win at least ``min_views``),
     averaged over its units; a network with W frozen is read at its random start. Computed
     once per results (it renders)."""
 
     def compute(results, key: str) -> np.ndarray:
-        from docking.analysis import feature_fidelity, mean_winning_inputs
         from docking.experiments import initial_network
+        from docking.study.analysis import feature_fidelity, mean_winning_inputs
 
         cell = results.cell(key)
         out = []
@@ -57,7 +57,7 @@ def interpretability(n_seeds: Callable, views: int, min_views: int) -> Measure:
 @_unit("°", 2, "|heading error| at docking")
 def heading_error_deg(results, key: str) -> np.ndarray:
     """Per seed, the mean |heading error| (deg) at docking in the held-out trials."""
-    from docking.analysis import docked_heading_error_deg
+    from docking.study.analysis import docked_heading_error_deg
 
     return np.array([docked_heading_error_deg(log) for log in results.logs[key]])
 
@@ -65,7 +65,7 @@ def heading_error_deg(results, key: str) -> np.ndarray:
 @_unit(" actions", 2, "actions per docking")
 def actions_per_docking(results, key: str) -> np.ndarray:
     """Per seed, the mean actions of the docked held-out trials."""
-    from docking.analysis import actions_per_docking as per_log
+    from docking.study.analysis import actions_per_docking as per_log
 
     return np.array([per_log(log) for log in results.logs[key]])
 
@@ -92,7 +92,7 @@ def regain(level: float, censored: float) -> Measure:
 def final_error_m(results, key: str) -> np.ndarray:
     """Per seed, the mean distance (m) of the final reference point from the docking
     region's centre, over the docked held-out trials."""
-    from docking.analysis import final_poses
+    from docking.study.analysis import final_poses
 
     centre = -results.cell(key).world.dock_center
     out = []
@@ -107,7 +107,7 @@ def final_error_m(results, key: str) -> np.ndarray:
 @_unit(" m", 3, "metres walked per docking")
 def metres_per_docking(results, key: str) -> np.ndarray:
     """Per seed, the mean distance walked (m) in the docked held-out trials."""
-    from docking.analysis import path_lengths
+    from docking.study.analysis import path_lengths
 
     out = []
     for log in results.logs[key]:

@@ -1,5 +1,5 @@
 """Verification by recomputation: ``python -m docking verify``. Recomputes runs of the
-committed ledger (:mod:`docking.ledger`) in a temporary store, through the sweep, and
+committed ledger (:mod:`docking.study.ledger`) in a temporary store, through the sweep, and
 compares each one with what the ledger holds of it: its record's content digest (every array
 of the run) *and* its results table's row, column by column (the arrays a reader is served).
 
@@ -15,8 +15,8 @@ from pathlib import Path
 
 import numpy as np
 
-from docking import paths
-from docking.ledger import manifest
+from docking.study import paths
+from docking.study.ledger import manifest
 
 #: The paper's experiments: every run of theirs is recomputed by every ``verify``.
 PAPER_RUNS = ("experiment1", "experiment2")
@@ -63,12 +63,12 @@ def _commit() -> str:
                 return found.stdout.strip()
         except (OSError, subprocess.SubprocessError):
             pass
-    from docking.store import source_fingerprint
+    from docking.study.store import source_fingerprint
 
     return source_fingerprint()
 
 
-#: The kinds of run (:attr:`docking.store.Runner.name`) whose runs a sample never draws.
+#: The kinds of run (:attr:`docking.study.store.Runner.name`) whose runs a sample never draws.
 UNSAMPLED_RUNNERS = ("ppo",)
 
 
@@ -79,7 +79,7 @@ def chosen(data: dict, sample: int | None, commit: str, tables=()) -> list[str]:
     bound's (PPO) are recomputed by ``--all`` (:func:`verify`), as JAX's compiled CPU code may
     round differently on another CPU family, which a sample on every CI run should not
     hinge on. (The paper's learner's runs are drawn, and those of a learner registered from
-    outside the package, :mod:`docking.learners`.) ``tables``: every run of these results
+    outside the package, :mod:`docking.study.learners`.) ``tables``: every run of these results
     tables instead (PPO's too); ``ValueError`` naming the tables for a name the ledger lacks."""
     keys = sorted(data["runs"])
     if tables:
@@ -102,9 +102,9 @@ def chosen(data: dict, sample: int | None, commit: str, tables=()) -> list[str]:
 
 
 def platform_lines(mismatch: bool, folder: Path | str | None = None) -> list[str]:
-    """The ledger's numeric platform beside this machine's (:mod:`docking.platform_info`),
+    """The ledger's numeric platform beside this machine's (:mod:`docking.study.platform_info`),
     and, where they differ, what each difference means for a run's bits."""
-    from docking.platform_info import compare, numeric_platform
+    from docking.study.platform_info import compare, numeric_platform
 
     data = manifest(folder) or {}  # default: the ledger of paths.ledger_dir()
     theirs, ours = data.get("platform", {}), numeric_platform()
@@ -128,7 +128,7 @@ def platform_lines(mismatch: bool, folder: Path | str | None = None) -> list[str
 
 def _arrays(job, scratch) -> dict[str, np.ndarray]:
     """The arrays of ``job``'s recomputed run in the store ``scratch``."""
-    from docking.store import result_path
+    from docking.study.store import result_path
 
     with np.load(result_path(job.config, job.seed, scratch), allow_pickle=False) as f:
         return {k: f[k] for k in f.files}
@@ -138,8 +138,8 @@ def compare(data: dict, keys: list[str], jobs: list, scratch) -> list[Check]:
     """Each recomputed run of ``jobs`` (in the store ``scratch``) against the ledger whose
     manifest is ``data``: its content digest against its record's, its table row (read and
     checked against its record's row digest) against the row the recomputed run gives."""
-    from docking.ledger import row_differences, table_rows
-    from docking.store import content_digest
+    from docking.study.ledger import row_differences, table_rows
+    from docking.study.store import content_digest
 
     rows: dict[str, dict] = {}
     checks = []
@@ -168,8 +168,8 @@ def verify(
     fails)."""
     import tempfile
 
-    from docking.store import runner_named
-    from docking.sweep import Job, run_jobs
+    from docking.study.store import runner_named
+    from docking.study.sweep import Job, run_jobs
 
     folder = Path(folder) if folder is not None else paths.ledger_dir()
     data = manifest(folder)

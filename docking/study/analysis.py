@@ -1,9 +1,9 @@
 """What the figures and the notebooks compute, as functions that return arrays.
 
 Analysis is kept apart from drawing (rliable's way): every function here takes networks,
-results, trial logs or an environment and returns numbers and arrays; :mod:`docking.figures`
-takes those arrays and returns a figure; the caller (a notebook or :mod:`docking.report`) saves
-it. Nothing here draws or writes files.
+results, trial logs or an environment and returns numbers and arrays; :mod:`docking.study.figures`
+takes those arrays and returns a figure; the caller (a notebook or :mod:`docking.study.report`)
+saves it. Nothing here draws or writes files.
 
 * Weights: :func:`receptive_fields`, :func:`best_actions`, :func:`strongest_units`,
   :func:`feature_change`.
