@@ -10,9 +10,9 @@ from docking.presets import EXPERIMENT_1, EXPERIMENT_2, SEEDS
 from docking.study.analysis import rewarded_share
 from docking.study.design import Cell
 from docking.study.designs.calibration import BASELINE, run, variants
+from docking.study.kinds import config_key
 from docking.study.report import analyse, calibration_rows, calibration_table, computing_time
 from docking.study.stats import difference_ci, mean_ci
-from docking.study.store import config_key
 
 BASES = {"experiment1": EXPERIMENT_1, "experiment2": EXPERIMENT_2}
 
@@ -181,7 +181,7 @@ def test_run_goes_through_the_store_and_resumes(tmp_path, monkeypatch):
 
     from docking.study.stats import rate_ci
 
-    monkeypatch.setattr("docking.study.store.run_experiment", refuse)
+    monkeypatch.setattr("docking.study.kinds.run_experiment", refuse)
     again = run("experiment1", **kwargs)
     for key in ("epsQ", BASELINE):
         np.testing.assert_array_equal(again.score(key), first.score(key))

@@ -15,7 +15,8 @@ from docking.experiments import (
     trials_in_run,
 )
 from docking.presets import EXPERIMENT_1, EXPERIMENT_2
-from docking.study.store import load_result, result_path, run_or_load, save_result
+from docking.study.kinds import load_result, result_path, save_result
+from docking.study.store import run_or_load
 
 TINY = dataclasses.replace(EXPERIMENT_1, train_trials=4, test_trials=3, eval_every=2, eval_trials=2)
 

@@ -12,7 +12,7 @@ from docking.experiments import Curriculum, run_experiment
 from docking.presets import EXPERIMENT_1, EXPERIMENT_2
 from docking.region import StartRegion
 from docking.study import analysis, figures, report
-from docking.study.store import load_result, save_result
+from docking.study.kinds import load_result, save_result
 from docking.world import ACTION_LETTERS, DockingEnv
 
 TINY = dict(train_trials=4, test_trials=6, eval_every=2, eval_trials=2)

@@ -12,7 +12,7 @@ import pytest
 
 import docking
 from docking.study import fingerprint
-from docking.study.store import source_fingerprint
+from docking.study.kinds import source_fingerprint
 
 PACKAGE = Path(docking.__file__).resolve().parent
 

@@ -21,8 +21,9 @@ from helpers import SEEDS, TINY
 
 from docking.study import ledger, paths
 from docking.study.cli import main
-from docking.study.ledger import load_run
-from docking.study.store import run_key, run_or_load
+from docking.study.kinds import run_key
+from docking.study.runs import load_run
+from docking.study.store import run_or_load
 from docking.study.sweep import jobs_for, parse_seeds, run_jobs
 
 REPO = Path(__file__).resolve().parent.parent

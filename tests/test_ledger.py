@@ -15,18 +15,18 @@ import pytest
 from helpers import SEEDS, TINY
 
 from docking.experiments import run_experiment
-from docking.study import analysis, ledger, store, verify
-from docking.study.ledger import load_run
-from docking.study.store import (
+from docking.study import analysis, kinds, ledger, store, verify
+from docking.study.kinds import (
     CorruptResult,
     StaleCode,
     content_digest,
     load_result,
     result_path,
     run_key,
-    run_or_load,
     save_result,
 )
+from docking.study.runs import load_run
+from docking.study.store import run_or_load
 
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(store.__file__)))
 
@@ -74,7 +74,7 @@ def test_a_whole_run_is_served_bit_for_bit(built, monkeypatch):
     folder, data, full, _ = built
     served = _served(monkeypatch, folder, 0)
     assert (
-        store.content_digest(store.result_arrays(served))
+        kinds.content_digest(kinds.result_arrays(served))
         == data["runs"][run_key(TINY, 0)]["digest"]
     )
 
@@ -182,7 +182,7 @@ def test_sweeps_do_not_recompute_what_the_ledger_holds(built, monkeypatch, tmp_p
 
     folder, *_ = built
     monkeypatch.setenv("DOCKING_LEDGER", str(folder))
-    monkeypatch.setattr(store, "run_experiment", _refuse)
+    monkeypatch.setattr(kinds, "run_experiment", _refuse)
     found = run_configs({"tiny": TINY}, SEEDS, tmp_path, workers=1, progress=False)
     assert [r.seed for r in found["tiny"]] == list(SEEDS)
     assert not any(tmp_path.rglob("*.npz"))
@@ -281,7 +281,7 @@ def test_a_ledger_from_other_code_is_refused_naming_the_module(built, tmp_path):
                                      eval_every=4, eval_trials=1, heldout_trials=5)
         assert ledger.holds(config, 0)
         try:
-            ledger.load_run(config, 0, "/nonexistent-store")
+            load_run(config, 0, "/nonexistent-store")
         except ledger.StaleLedger as exc:
             print("REFUSED", exc)
         else:
@@ -302,12 +302,12 @@ def test_code_edited_after_import_cannot_key_runs(tmp_path):
     code = f"""
         import pathlib
         from docking.study import store
-        store.source_fingerprint()  # fine: the code on disk is the code loaded
+        kinds.source_fingerprint()  # fine: the code on disk is the code loaded
         world = pathlib.Path({str(root / "docking" / "world.py")!r})
         world.write_text(world.read_text() + "\\n_EDITED = 1\\n")
         try:
-            store.source_fingerprint()
-        except store.StaleCode as exc:
+            kinds.source_fingerprint()
+        except kinds.StaleCode as exc:
             print("STALE", exc)
         """
     found = _python(code, root)
@@ -390,7 +390,7 @@ def test_sizes_are_checked_before_decompression(two_runs, tmp_path):
 
 
 def test_the_rendering_stack_is_part_of_the_key():
-    stack = store.rendering_stack()
+    stack = kinds.rendering_stack()
     assert "Mesa" in stack or "GL" in stack
     assert run_key(TINY, 0) != run_key(TINY, 0, render="another stack")
     assert run_key(TINY, 0) == run_key(TINY, 0, render=stack)

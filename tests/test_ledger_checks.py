@@ -22,8 +22,9 @@ from helpers import SEEDS, TINY, tool
 from docking.presets import EXPERIMENT_1
 from docking.study import cli, ledger, verify
 from docking.study.cli import main
-from docking.study.ledger import load_run
-from docking.study.store import result_path, run_key, run_or_load
+from docking.study.kinds import result_path, run_key
+from docking.study.runs import load_run
+from docking.study.store import run_or_load
 
 REPO = Path(__file__).resolve().parent.parent
 #: What ``run experiment1`` with these options computes: :data:`SMALL`.

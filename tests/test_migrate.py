@@ -27,6 +27,7 @@ import dataclasses, sys
 from pathlib import Path
 
 from docking.study import ledger, store
+from docking.study import kinds
 from docking.study.design import yardstick_config
 from docking.study.designs.builders import experiment2_in
 from docking.presets import EXPERIMENT_1, FLOOR_WORLD
@@ -66,7 +67,7 @@ floor = dataclasses.replace(experiment2_in(FLOOR_WORLD, "tiny-floor"), **small)
 oracle = yardstick_config(tiny, "oracle", 5)
 checked = ledger.check_files(folder)
 stored = [
-    store.result_path(c, s, results).exists()
+    kinds.result_path(c, s, results).exists()
     for c, s in ((tiny, 0), (tiny, 1), (tiny, 2), (floor, 0), (oracle, 0))
 ]
 print(json.dumps({"checked": checked, "stored": stored}))

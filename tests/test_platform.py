@@ -28,7 +28,7 @@ import pytest
 from docking.experiments import run_experiment
 from docking.presets import EXPERIMENT_2
 from docking.study import platform_info
-from docking.study.store import content_digest, module_digests, result_arrays
+from docking.study.kinds import content_digest, module_digests, result_arrays
 
 RECORDING = Path(__file__).parent / "data" / "platform_digest.json"
 CONFIG = dataclasses.replace(
@@ -240,10 +240,10 @@ def test_fingerprinted_modules_compute_products_and_exp_only_through_arith():
     # (the fingerprinted ones) to the rule that keeps them so: no numpy call whose kernel is
     # chosen by the CPU, no `@` (OpenBLAS), except in docking.arith.
     import docking
-    from docking.study import fingerprint, store
+    from docking.study import fingerprint, kinds
 
     package_dir = Path(docking.__file__).parent
-    keyed = sorted(name for name, _ in fingerprint.walk(package_dir, store._ROOT_MODULE)[1])
+    keyed = sorted(name for name, _ in fingerprint.walk(package_dir, kinds._ROOT_MODULE)[1])
     assert "docking.arith" in keyed and "docking.network" in keyed, keyed
     offences = {
         name: calls

@@ -9,17 +9,12 @@ import numpy as np
 import pytest
 
 from docking.presets import EXPERIMENT_2
+from docking.study.kinds import PPO, CorruptResult, result_path, run_key, source_fingerprint
+from docking.study.kinds import load_result as load
+from docking.study.kinds import save_result as save
 from docking.study.ppo import PPOConfig, result_arrays, run_ppo, trials_in_run
-from docking.study.store import (
-    PPO,
-    CorruptResult,
-    result_path,
-    run_key,
-    run_or_load,
-    source_fingerprint,
-)
-from docking.study.store import load_result as load
-from docking.study.store import save_result as save
+from docking.study.runs import load_run
+from docking.study.store import run_or_load
 
 TINY = PPOConfig(name="ppo-test", world=EXPERIMENT_2.world, steps=64, envs=2, heldout_trials=3)
 
@@ -153,7 +148,7 @@ def test_the_ledger_serves_a_ppo_run_and_refuses_one_of_other_code(tiny_run, tmp
     (check,) = verify(None, workers=1, progress=False, folder=tmp_path / "ledger")
     assert check.ok and check.key == run_key(TINY, 0)  # --all recomputes the PPO run too
     monkeypatch.setenv("DOCKING_LEDGER", str(tmp_path / "ledger"))
-    served = ledger.load_run(TINY, 0, tmp_path / "empty-store")
+    served = load_run(TINY, 0, tmp_path / "empty-store")
     np.testing.assert_array_equal(served.train_success, stored.train_success)
     np.testing.assert_array_equal(served.heldout.success, stored.heldout.success)
     np.testing.assert_array_equal(served.heldout.steps, stored.heldout.steps)
@@ -167,7 +162,7 @@ def test_the_ledger_serves_a_ppo_run_and_refuses_one_of_other_code(tiny_run, tmp
     raw["fingerprints"]["ppo"] = "0" * 64  # as if docking.study.ppo had changed since
     manifest.write_text(json.dumps(raw))
     with pytest.raises(ledger.StaleLedger, match="ppo runs computed by other code"):
-        ledger.load_run(TINY, 0, tmp_path / "empty-store")
+        load_run(TINY, 0, tmp_path / "empty-store")
 
 
 @pytest.mark.slow
@@ -177,7 +172,7 @@ def test_continuous_actions_take_a_gaussian_policy_and_act_with_its_mean(monkeyp
     greedy held-out actions are vectors in [-1, 1], and a run repeats bit for bit."""
     import gymnasium
 
-    from docking.study.store import content_digest
+    from docking.study.kinds import content_digest
 
     seen = {"drawn": [], "sent": []}
     clip = gymnasium.wrappers.ClipAction.action

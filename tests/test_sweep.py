@@ -20,7 +20,7 @@ import psutil
 import pytest
 
 from docking.presets import EXPERIMENT_1
-from docking.study.store import load_result
+from docking.study.kinds import load_result
 from docking.study.sweep import (
     Job,
     apply_override,
@@ -205,7 +205,7 @@ def test_grid_and_overrides():
 
 @pytest.mark.slow
 def test_source_fingerprint_is_the_same_in_every_process():
-    code = "from docking.study.store import source_fingerprint; print(source_fingerprint())"
+    code = "from docking.study.kinds import source_fingerprint; print(source_fingerprint())"
     prints = {
         subprocess.run(
             [sys.executable, "-c", code],

@@ -374,37 +374,33 @@ def _warn_short_curriculum(*configs: ExperimentConfig) -> None:
 def _run(command: Run | Sweep, configs, seeds, desc: str) -> tuple[list, list, list]:
     """Run (or load) every configuration of ``configs`` for every seed as ``command``'s
     options say: per run (configuration by configuration), where it came from (computed,
-    store or ledger), its path in the store, and the run."""
-    from docking.study.ledger import load_run
-    from docking.study.sweep import jobs_for, run_jobs, source
+    store or ledger), its path in the store, and the run. Each job is located once
+    (:func:`docking.study.runs.locate`), before anything computes: the ledger's runs are read
+    there, so a damaged file of theirs is an error before any computation."""
+    from docking.study.runs import locate
+    from docking.study.sweep import _to_compute, jobs_for, sweep
 
     jobs = jobs_for(configs, seeds)
-    sources = ["computed" if command.force else source(j, command.results_dir) for j in jobs]
-    # The ledger's runs first: a damaged file of theirs is an error before anything computes.
-    loaded = {
-        k: load_run(j.config, j.seed, command.results_dir)
-        for k, j in enumerate(jobs)
-        if sources[k] == "ledger"
-    }
-    computed = sources.count("computed")
+    root = command.results_dir if command.results_dir is not None else paths.results_dir()
+    if command.force:
+        located = [_to_compute(j, Path(root).resolve()) for j in jobs]
+    else:
+        located = [locate(j.config, j.seed, root) for j in jobs]
+    computed = sum(found.place == "computed" for found in located)
     if computed:
         note = _ledger_note()
         if note:
             print(f"{PROG}: note: {note}; computing {computed} runs", file=sys.stderr)
         _say_where(command.results_dir)
-    paths = run_jobs(
+    found = sweep(
         jobs,
         command.results_dir,
         scheduler=command.scheduler,
         workers=command.processes,
-        force=command.force,
         desc=desc,
+        located=located,
     )
-    results = [
-        loaded[k] if k in loaded else load_run(j.config, j.seed, command.results_dir)
-        for k, j in enumerate(jobs)
-    ]
-    return sources, paths, results
+    return [f.place for f in found], [f.path for f in found], [f.run for f in found]
 
 
 def _say_where(results_dir) -> None:
@@ -447,7 +443,7 @@ def _ledger_note() -> str | None:
 
 
 def _source_words(folder) -> dict[str, str]:
-    """What each place a run came from is called (:func:`docking.study.sweep.source`'s kinds, in
+    """What each place a run came from is called (:data:`docking.study.runs.PLACES`, in
     the order they are shown), ``folder`` the store's folder."""
     return {
         "ledger": f"read from the committed ledger, {paths.ledger_dir()} (its files checked "
@@ -938,8 +934,8 @@ class Figures:
 
     def execute(self) -> int:
         from docking.presets import EXPERIMENT_1, EXPERIMENT_2
-        from docking.study.ledger import load_run
         from docking.study.report import save_figures
+        from docking.study.runs import load_run
 
         results = []
         for config in (EXPERIMENT_1, EXPERIMENT_2):

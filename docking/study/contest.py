@@ -53,7 +53,7 @@ import numpy as np
 
 from docking.presets import EXPERIMENT_2
 from docking.scene import WorldConfig
-from docking.study import paths, store
+from docking.study import kinds, paths
 from docking.study.design import Cell, Design, Results, run_design
 from docking.study.designs import third_edition as published_contest
 from docking.study.designs.builders import HELDOUT_TRIALS, YARDSTICK_LABELS, Tuning
@@ -412,7 +412,7 @@ def _maker(learner, heldout_trials: int) -> Callable:
             config = dataclasses.replace(
                 learner, world=where, heldout_trials=heldout_trials, **setting
             )
-        store.runner_for(config)  # TypeError for what is no registered learner's
+        kinds.runner_for(config)  # TypeError for what is no registered learner's
         if config.world != where:
             raise ValueError(f"contest: the learner made for the {world} world is in another")
         return config

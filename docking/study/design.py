@@ -28,7 +28,7 @@ import numpy as np
 
 from docking.experiments import ExperimentConfig, ExperimentResult, TrialLog, heldout_trials
 from docking.scene import WorldConfig
-from docking.study.store import runner_for
+from docking.study.kinds import runner_for
 from docking.validate import check_instance, check_name
 
 __all__ = [
@@ -298,7 +298,7 @@ class Results:
         tested in its world, :func:`tested_in`; a PPO cell: ``docking.study.ppo.PPOResult`` s).
       logs: ``{cell key: the measured trial logs in seed order}``.
       sources: ``{trained cell key: where each seed's run came from}``, ``"computed"``,
-        ``"store"`` or ``"ledger"`` (:func:`docking.study.sweep.source`, asked before the run).
+        ``"store"`` or ``"ledger"`` (:func:`docking.study.runs.locate`, asked before the run).
     """
 
     design: Design
@@ -365,8 +365,8 @@ def tested_in(run: ExperimentResult, world: WorldConfig, results_dir=None) -> Ex
     configuration computes (``python -m docking verify`` recomputes it in full). Stored and
     served like any run (the store, then the ledger); computed in memory, not stored, when
     ``run`` itself comes from the ledger."""
-    from docking.study.ledger import load_run
-    from docking.study.store import load_result, result_path, run_key, save_result
+    from docking.study.kinds import load_result, result_path, run_key, save_result
+    from docking.study.runs import load_run
 
     config = dataclasses.replace(run.config, heldout_world=world)
     found = load_run(config, run.seed, results_dir)
@@ -438,7 +438,7 @@ def _entries(design: Design, cells, c: Cell) -> list[tuple]:
 
 
 def _stored(design: Design, cells, c: Cell, results_dir=None) -> bool:
-    from docking.study.store import result_path
+    from docking.study.kinds import result_path
 
     return all(result_path(*e, results_dir).exists() for e in _entries(design, cells, c))
 
@@ -465,19 +465,23 @@ def _walk(design: Design, cells: list[Cell], runs_of, results_dir=None) -> tuple
 def _loaded(design: Design, cells, results_dir=None) -> dict[str, list]:
     """The runs of the trained ``cells``, from the store, else the ledger (LookupError if
     neither holds one)."""
-    from docking.study.ledger import load_run
+    from docking.study.runs import load_run
 
     found = {}
     for c in (c for c in cells if c.trained):
         found[c.key] = [load_run(*e, results_dir) for e in _entries(design, cells, c)]
         if any(r is None for r in found[c.key]):
-            raise LookupError(
-                f"design {design.name!r}: runs of cell {c.key!r} are neither stored nor in "
-                "the ledger; run the design first (python -m docking design run "
-                f"{design.name}), or write what is there (ledger update --under-way "
-                f"{design.name})"
-            )
+            raise LookupError(_absent(design, c))
     return found
+
+
+def _absent(design: Design, cell: Cell) -> str:
+    return (
+        f"design {design.name!r}: runs of cell {cell.key!r} are neither stored nor in "
+        "the ledger; run the design first (python -m docking design run "
+        f"{design.name}), or write what is there (ledger update --under-way "
+        f"{design.name})"
+    )
 
 
 def _with_stages(design: Design, cells: list[Cell], stored_only: bool, results_dir) -> list[Cell]:
@@ -496,15 +500,20 @@ def _with_stages(design: Design, cells: list[Cell], stored_only: bool, results_d
 def absent_runs(design: Design, results_dir=None) -> list:
     """The jobs (:class:`docking.study.sweep.Job`) of ``design``'s core cells that neither the
     results store nor the ledger holds, what :func:`run_design` would compute; a stage's
-    cells are asked once every run before them is there."""
-    from docking.study.sweep import jobs_for, missing
+    cells are asked once every run before them is there. Each job is located once
+    (:func:`docking.study.runs.locate`)."""
+    from docking.study.runs import locate
+    from docking.study.sweep import Job
 
     found = []
 
     def runs_of(new, before):
-        jobs = [j for c in new if c.trained for j in jobs_for([c.config], c.seeds or design.seeds)]
-        found.extend(missing(jobs, results_dir))
-        return None if found else _loaded(design, new, results_dir)
+        runs = {}
+        for c in (c for c in new if c.trained):
+            located = [locate(*e, results_dir, warn=False) for e in _entries(design, new, c)]
+            found.extend(Job(f.config, f.seed) for f in located if f.place == "computed")
+            runs[c.key] = [f.run for f in located]
+        return None if found else runs
 
     _walk(design, design.select(False), runs_of, results_dir)
     return found
@@ -513,18 +522,16 @@ def absent_runs(design: Design, results_dir=None) -> list:
 def _sweep(cells, seeds, desc: str, options, sources: dict) -> dict[str, list]:
     """Run (or load) the trained ``cells``: one sweep per distinct seed list (a cell's own
     seeds, else ``seeds``); where each run comes from goes into ``sources``."""
-    from docking.study.sweep import Job, run_configs, source
+    from docking.study.sweep import run_configs
 
     groups: dict[tuple[int, ...], dict] = {}
     for c in cells:
         if c.trained:
             groups.setdefault(c.seeds or tuple(seeds), {})[c.key] = c.config
-    runs, store = {}, options.get("results_dir")
+    runs = {}
     for k, (group_seeds, configs) in enumerate(groups.items()):
-        for key, config in configs.items():
-            sources[key] = [source(Job(config, seed), store) for seed in group_seeds]
         label = desc if len(groups) == 1 else f"{desc} ({k + 1}/{len(groups)})"
-        runs.update(run_configs(configs, group_seeds, desc=label, **options))
+        runs.update(run_configs(configs, group_seeds, desc=label, sources=sources, **options))
     return runs
 
 

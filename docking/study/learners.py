@@ -24,7 +24,7 @@ The paper's learner and linear SARSA (:class:`~docking.experiments.ExperimentCon
 ``heldout_trials``, ``to_dict``/``from_dict``; run functions of that signature, whose
 results hold ``heldout`` (drawn from the same streams), the training and the wall times
 (:func:`training_steps`). They are the package's built-in kinds of run (``"learner"``,
-``"ppo"``: :func:`docking.study.store.built_in`); :func:`register` makes a kind of run of any
+``"ppo"``: :func:`docking.study.kinds.built_in`); :func:`register` makes a kind of run of any
 other.
 
 **Keys.** A registered learner's runs are keyed as the built-in ones are
@@ -40,7 +40,7 @@ compute nothing a run stores and are not followed.
 
 The own code is read when the learner is registered: it is the code this process runs.
 A learner defined in a notebook, a script or code run with ``exec`` reaches a sweep's Dask
-workers by value (cloudpickle), its runner with its class (:func:`docking.study.store.runner_for`
+workers by value (cloudpickle), its runner with its class (:func:`docking.study.kinds.runner_for`
 adopts it there); one defined in a module file reaches them by name, so the workers must
 import that module (the embedded cluster's workers start in the current folder and inherit
 ``PYTHONPATH``).
@@ -75,7 +75,7 @@ from docking.protocol import (
     training_env,
 )
 from docking.scene import WorldConfig
-from docking.study import fingerprint, store
+from docking.study import fingerprint, kinds
 from docking.validate import MAX_SEED, check_int, check_name
 
 __all__ = [
@@ -141,8 +141,8 @@ class OwnCode:
 
 
 @dataclasses.dataclass(frozen=True)
-class LearnerRunner(store.Runner):
-    """The :class:`docking.study.store.Runner` of a registered learner: its runs are keyed by its
+class LearnerRunner(kinds.Runner):
+    """The :class:`docking.study.kinds.Runner` of a registered learner: its runs are keyed by its
     own code (:attr:`code`) and the code of the ``docking`` modules of :attr:`roots`.
 
     Attributes:
@@ -160,20 +160,20 @@ class LearnerRunner(store.Runner):
         versions (what a ledger records, so that a mismatch names what changed)."""
         found = {"own code": self.code.digest}
         for root in self.roots:
-            found.update(store.module_digests(package_dir, root=root, libraries=self.libraries))
+            found.update(kinds.module_digests(package_dir, root=root, libraries=self.libraries))
         return dict(sorted(found.items()))
 
     def fingerprint(self) -> str:
         """The source fingerprint of this learner's runs: SHA-256 of :meth:`module_digests`
-        (:class:`docking.study.store.StaleCode` if a ``docking`` file changed on disk since this
+        (:class:`docking.study.kinds.StaleCode` if a ``docking`` file changed on disk since this
         process imported it)."""
         for root in self.roots:
-            store.source_fingerprint(root=root, libraries=self.libraries)
+            kinds.source_fingerprint(root=root, libraries=self.libraries)
         text = json.dumps(self.module_digests(), sort_keys=True)
         return hashlib.sha256(f"learner code {text}\n".encode()).hexdigest()
 
     def from_table(self, config, seed: int, got: dict, logs: dict, walls) -> LearnerResult:
-        """A run read from a ledger's results table (:func:`docking.study.ledger.load_run`)."""
+        """A run read from a ledger's results table (:func:`docking.study.ledger.read`)."""
         steps = got.get("train_steps")
         return LearnerResult(
             config=config,
@@ -217,7 +217,7 @@ def register(
     if not isinstance(run, types.FunctionType):
         raise TypeError(f"register: run must be a function (def run(...)), got {run!r:.80}")
     name = check_name("register", "name", config_type.__name__ if name is None else name)
-    libraries = tuple(dict.fromkeys((*store._LIBRARIES, *_strings("libraries", libraries))))
+    libraries = tuple(dict.fromkeys((*kinds._LIBRARIES, *_strings("libraries", libraries))))
     own = [hasattr(config_type, m) for m in ("to_dict", "from_dict")]
     if own == [False, False]:
         config_type.to_dict = _to_dict
@@ -245,20 +245,20 @@ def register(
         code=code,
         roots=roots,
     )
-    store.register(runner)
-    setattr(config_type, store.RUNNER_ATTRIBUTE, runner)  # travels with a class sent by value
+    kinds.register(runner)
+    setattr(config_type, kinds.RUNNER_ATTRIBUTE, runner)  # travels with a class sent by value
     return runner
 
 
-def registered() -> dict[str, store.Runner]:
+def registered() -> dict[str, kinds.Runner]:
     """Every kind of run by name: the built-in ones and the registered learners."""
-    store.built_in()  # PPO's runner is made on first use
-    return {r.name: r for r in store.RUNNERS.values()}
+    kinds.built_in()  # PPO's runner is made on first use
+    return {r.name: r for r in kinds.RUNNERS.values()}
 
 
-def runner(config) -> store.Runner:
-    """The kind of run of ``config`` (:func:`docking.study.store.runner_for`)."""
-    return store.runner_for(config)
+def runner(config) -> kinds.Runner:
+    """The kind of run of ``config`` (:func:`docking.study.kinds.runner_for`)."""
+    return kinds.runner_for(config)
 
 
 def training_steps(result) -> int | None:
@@ -295,7 +295,7 @@ def _check_config_type(config_type) -> None:
             f"register: {config_type.__name__} lacks the learner protocol's fields "
             f"{', '.join(missing)} (docking.study.learners)"
         )
-    for own in store.built_in():
+    for own in kinds.built_in():
         if config_type is own.config_type:
             raise ValueError(f"register: {config_type.__name__} is a built-in kind of run")
 
@@ -447,12 +447,12 @@ def _arrays(result: LearnerResult) -> dict[str, np.ndarray]:
 
 def _parse(data, config, seed: int, walls) -> LearnerResult:
     """A registered learner's run of the stored file ``data`` (its meta record checked)."""
-    expected = {"meta", "train_steps"} | {f"heldout.{n}" for n in store._TRIAL_LOG_LAYOUT}
-    store._expect_members(data, expected)
-    steps = store._array(data, "train_steps", "i", 1, 8)
+    expected = {"meta", "train_steps"} | {f"heldout.{n}" for n in kinds._TRIAL_LOG_LAYOUT}
+    kinds._expect_members(data, expected)
+    steps = kinds._array(data, "train_steps", "i", 1, 8)
     if steps.shape != (1,) or steps[0] < 0:
-        raise store.CorruptResult(f"train_steps must hold one count >= 0, got {steps!r:.80}")
-    heldout = store._trial_log(data, "heldout", config.heldout_trials, config.world.max_steps)
+        raise kinds.CorruptResult(f"train_steps must hold one count >= 0, got {steps!r:.80}")
+    heldout = kinds._trial_log(data, "heldout", config.heldout_trials, config.world.max_steps)
     return LearnerResult(config, seed, heldout, int(steps[0]), *walls)
 
 
@@ -501,7 +501,7 @@ def own_code(config_type: type, run: Callable) -> OwnCode:
         imports |= found
         where.append(str(path))
     digest = hashlib.sha256("\n".join(texts).encode()).hexdigest()
-    package = Path(store.__file__).resolve().parents[1]
+    package = Path(kinds.__file__).resolve().parents[1]
     followed = sorted(m for m in imports if m not in NOT_FOLLOWED and _is_module(package, m))
     return OwnCode(digest, tuple(followed), tuple(where))
 

@@ -51,10 +51,10 @@ import numpy as np
 from docking.experiments import ExperimentResult, TrialLog
 from docking.fileio import UnsafeFile, atomic_write, read_regular
 from docking.network import Network
-from docking.study import paths, store
+from docking.study import kinds, paths
 from docking.validate import NAME_PATTERN
 
-__all__ = ["CorruptLedger", "NotInLedger", "StaleLedger", "TableLog", "holds", "load_run"]
+__all__ = ["CorruptLedger", "NotInLedger", "StaleLedger", "TableLog", "holds", "read"]
 
 LEDGER_FORMAT = 8  # the layout's version (8: row digests, tables' digests sealed)
 PARTS = ("train", "test", "heldout")
@@ -131,7 +131,7 @@ def manifest(folder: Path | None = None) -> dict | None:
     if computed by other code)."""
     data = _stored_manifest(paths.ledger_dir() if folder is None else Path(folder))
     for name in sorted(data["fingerprints"]) if data else ():
-        _check(data, store.runner_named(name))
+        _check(data, kinds.runner_named(name))
     return data
 
 
@@ -152,11 +152,11 @@ def _read_manifest(path: Path, _mtime: int) -> dict:
         raise CorruptLedger(f"the ledger's manifest cannot be read ({exc}); {_RESTORE}") from None
     try:
         data = json.loads(raw)
-        if data["format"] != LEDGER_FORMAT or data["store_format"] != store.FORMAT_VERSION:
+        if data["format"] != LEDGER_FORMAT or data["store_format"] != kinds.FORMAT_VERSION:
             raise StaleLedger(
                 f"the ledger in {path.parent} has format {data['format']}/"
                 f"{data['store_format']}, this package reads {LEDGER_FORMAT}/"
-                f"{store.FORMAT_VERSION}; "
+                f"{kinds.FORMAT_VERSION}; "
                 + (
                     f"upgrade it once: python tools/upgrade_ledger.py {path.parent}"
                     if data["format"] == LEDGER_FORMAT - 1
@@ -258,7 +258,7 @@ def missing_extra(runner_name: str) -> str | None:
     )
 
 
-def _check(data: dict, runner: store.Runner) -> None:
+def _check(data: dict, runner: kinds.Runner) -> None:
     """:class:`StaleLedger` unless ``runner``'s runs were computed by this code (first, if
     the extra its runs need is not installed, saying so); a warning (once) if by another
     rendering stack."""
@@ -277,11 +277,11 @@ def _check(data: dict, runner: store.Runner) -> None:
             f"the change computes the same numbers, python -m docking ledger migrate "
             f"re-keys them after recomputing a sample; else recompute them: {_RECOMPUTE}"
         )
-    if data["rendering_stack"] != store.rendering_stack() and not data.get("warned"):
+    if data["rendering_stack"] != kinds.rendering_stack() and not data.get("warned"):
         data["warned"] = True
         warnings.warn(
             f"the ledger's runs were rendered by {data['rendering_stack']!r}, this machine by "
-            f"{store.rendering_stack()!r}; `python -m docking verify` shows whether they agree",
+            f"{kinds.rendering_stack()!r}; `python -m docking verify` shows whether they agree",
             RuntimeWarning,
             stacklevel=3,
         )
@@ -301,7 +301,7 @@ def size_bytes(folder: Path | None = None) -> int:
 
 
 def _find(config, seed: int) -> tuple[dict, str] | None:
-    store.runner_for(config)  # TypeError for what is no run's configuration
+    kinds.runner_for(config)  # TypeError for what is no run's configuration
     data = _stored_manifest(paths.ledger_dir())
     key = data["index"].get(_index(config.to_dict(), seed)) if data else None
     return None if key is None else (data, key)
@@ -312,7 +312,7 @@ def holds(config, seed: int, check: bool = False) -> bool:
     :class:`StaleLedger` if it does but its runner's code is not this code."""
     found = _find(config, seed)
     if found is not None and check:
-        _check(found[0], store.runner_for(config))
+        _check(found[0], kinds.runner_for(config))
     return found is not None
 
 
@@ -352,8 +352,8 @@ def _rows(table: dict[str, np.ndarray]) -> list[tuple[str, dict]]:
 def row_digest(cells: dict[str, np.ndarray]) -> str:
     """The digest of a table row's cells (``{column: its cells}``, :func:`_rows`): what the
     table serves of a run, by name, dtype, shape and bytes
-    (:func:`docking.study.store.content_digest`)."""
-    return store.content_digest(cells)
+    (:func:`docking.study.kinds.content_digest`)."""
+    return kinds.content_digest(cells)
 
 
 def _table_bytes(raw: bytes) -> dict[str, np.ndarray]:
@@ -429,28 +429,25 @@ def _served_row(data: dict, name: str, key: str) -> dict[str, np.ndarray]:
     return got
 
 
-def load_run(config, seed: int, results_dir: Path | str | None = None):
-    """The run of (``config``, ``seed``): from the results store if it holds it (checked
-    against its key and digest), else from the ledger (whole, or from its results table,
-    its row checked against its record), else None. :class:`StaleLedger` if the ledger holds
-    it but was computed by other code."""
-    path = store.result_path(config, seed, results_dir)
-    if path.exists():
-        return store.load_result(path, store.run_key(config, seed))
+def read(config, seed: int):
+    """The run of (``config``, ``seed``) as the ledger holds it (whole, or from its results
+    table, its row checked against its record), or None if it holds none.
+    :class:`StaleLedger` if it holds it but was computed by other code. (The store is asked
+    first, by :func:`docking.study.runs.locate`.)"""
     found = _find(config, seed)
     if found is None:
         return None
-    (data, key), runner = found, store.runner_for(config)
+    (data, key), runner = found, kinds.runner_for(config)
     _check(data, runner)
     record = data["runs"][key]
-    if key != store.run_key(config, seed, render=data["rendering_stack"]):
+    if key != kinds.run_key(config, seed, render=data["rendering_stack"]):
         raise StaleLedger(f"the ledger's key of {config.name!r} seed {seed} is not this code's")
     if record.get("whole"):
         whole = data["folder"] / record["whole"]
         raw = _verified(whole, record["sha256"], data["folder"])
         try:
-            result = store.load_result(whole, key, within=data["folder"])
-        except store.CorruptResult as exc:
+            result = kinds.load_result(whole, key, within=data["folder"])
+        except kinds.CorruptResult as exc:
             raise CorruptLedger(f"the ledger file {record['whole']}: {exc}; {_RESTORE}") from None
         _check_content(raw, record, whole)
         return result
@@ -463,9 +460,8 @@ def load_run(config, seed: int, results_dir: Path | str | None = None):
 def _from_row(config, seed: int, runner, got: dict, walls) -> object:
     """The run of (``config``, ``seed``) read from its table row ``got``."""
     logs = {p: _log(got, p, f"{config.name!r} seed {seed}") for p in PARTS}
-    from_table = getattr(
-        runner, "from_table", None
-    )  # a registered learner's (docking.study.learners)
+    # a registered learner's (docking.study.learners)
+    from_table = getattr(runner, "from_table", None)
     if from_table is not None:
         return from_table(config, seed, got, logs, walls)
     if runner.name == "ppo":
@@ -494,7 +490,7 @@ def _check_content(raw: bytes, record: dict, path: Path) -> None:
     """:class:`CorruptLedger` unless the arrays of the whole run ``raw`` (a ledger file's
     bytes) have the content digest its ``record`` says."""
     with np.load(io.BytesIO(raw), allow_pickle=False) as arrays:
-        digest = store.content_digest(arrays)
+        digest = kinds.content_digest(arrays)
     if digest != record["digest"]:
         raise CorruptLedger(
             f"the manifest's content digest of {path} is not its arrays' digest; {_RESTORE}"
@@ -528,10 +524,10 @@ def _check_keys(data: dict) -> None:
     run's key is caught here, without recomputing)."""
     keys: dict[str, str] = {}
     for key, record in data["runs"].items():
-        runner = store.runner_named(record["runner"])
+        runner = kinds.runner_named(record["runner"])
         text = json.dumps(record["config"], sort_keys=True)
         if text not in keys:
-            keys[text] = store.config_key(
+            keys[text] = kinds.config_key(
                 runner.from_dict(record["config"]), data["rendering_stack"]
             )
         if key != f"{keys[text]}:seed{record['seed']}":
@@ -682,12 +678,12 @@ def update(runs, folder: Path | str | None = None, results_dir=None, only=None, 
     if only is not None:
         kept, tables = _kept_and_shared(folder, only, runs)
         records, files, configs = kept["runs"], kept["files"], kept["configs"]
-        runners = {name: store.runner_named(name) for name in kept["runners"]}
+        runners = {name: kinds.runner_named(name) for name in kept["runners"]}
     for config, seed, whole, keep in runs:
-        if only is not None and config.name not in only and store.run_key(config, seed) in records:
+        if only is not None and config.name not in only and kinds.run_key(config, seed) in records:
             continue  # a shared table's run the ledger holds already
         key, arrays, record = _record(config, seed, results_dir)
-        runner = runners.setdefault(store.runner_for(config).name, store.runner_for(config))
+        runner = runners.setdefault(kinds.runner_for(config).name, kinds.runner_for(config))
         configs[record["config"]] = config.to_dict()
         records[key] = {"runner": runner.name, **record}
         if rules and rules.get(config.name):
@@ -771,10 +767,10 @@ def _manifest(
     tables = {n: hashlib.sha256(files[f"tables/{n}.npz"]).hexdigest() for n in sorted(table_names)}
     found = {
         "format": LEDGER_FORMAT,
-        "store_format": store.FORMAT_VERSION,
+        "store_format": kinds.FORMAT_VERSION,
         "fingerprints": {name: r.fingerprint() for name, r in runners.items()},
         "modules": {name: r.module_digests() for name, r in runners.items()},
-        "rendering_stack": store.rendering_stack(),
+        "rendering_stack": kinds.rendering_stack(),
         "platform": platform,
         "configs": configs,
         "tables": tables,
@@ -795,8 +791,8 @@ def _config_ref(config: dict) -> str:
 def _record(config, seed: int, results_dir) -> tuple[str, dict, dict]:
     """A stored run as the ledger takes it: its key, its arrays (the file checked against the
     key and its content digest) and its record, but for its runner's name."""
-    key, path = store.run_key(config, seed), store.result_path(config, seed, results_dir)
-    result = store.load_result(path, key)  # checks the file against the key and digest
+    key, path = kinds.run_key(config, seed), kinds.result_path(config, seed, results_dir)
+    result = kinds.load_result(path, key)  # checks the file against the key and digest
     with np.load(path, allow_pickle=False) as stored:
         arrays = {k: stored[k] for k in stored.files}
     computed = json.loads(str(arrays["meta"])).get("computed_utc")
@@ -805,7 +801,7 @@ def _record(config, seed: int, results_dir) -> tuple[str, dict, dict]:
         "name": config.name,
         "seed": seed,
         "config": _config_ref(config.to_dict()),
-        "digest": store.content_digest(arrays),
+        "digest": kinds.content_digest(arrays),
         "wall_time_train": walls[0],
         "wall_time_test": walls[1],
         "wall_seconds": round(sum(walls), 1),

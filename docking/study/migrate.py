@@ -47,7 +47,7 @@ from pathlib import Path
 import numpy as np
 
 from docking.fileio import atomic_write, read_regular
-from docking.study import ledger, paths, store
+from docking.study import kinds, ledger, paths
 
 __all__ = ["Migration", "MIGRATION_FIELDS", "migrate", "migrate_store", "sample"]
 
@@ -132,11 +132,11 @@ def sample(data: dict, runners) -> list[str]:
 # ------------------------------------------------------------------------------------------
 
 
-def _changed(data: dict) -> dict[str, store.Runner]:
+def _changed(data: dict) -> dict[str, kinds.Runner]:
     """The runners of the ledger ``data`` whose recorded fingerprint is not this code's."""
     found = {}
     for name, fingerprint in sorted(data["fingerprints"].items()):
-        runner = store.runner_named(name)
+        runner = kinds.runner_named(name)
         if runner.fingerprint() != fingerprint:
             found[name] = runner
     return found
@@ -150,7 +150,7 @@ def _prove(data: dict, keys: list[str], scheduler, workers, progress) -> list:
 
     jobs = [
         Job(
-            store.runner_named(data["runs"][k]["runner"]).from_dict(data["runs"][k]["config"]),
+            kinds.runner_named(data["runs"][k]["runner"]).from_dict(data["runs"][k]["config"]),
             data["runs"][k]["seed"],
         )
         for k in keys
@@ -178,7 +178,7 @@ def _new_keys(data: dict, changed) -> dict[str, str]:
         text = json.dumps(record["config"], sort_keys=True)
         if text not in by_config:
             config = changed[record["runner"]].from_dict(record["config"])
-            by_config[text] = store.config_key(config, data["rendering_stack"])
+            by_config[text] = kinds.config_key(config, data["rendering_stack"])
         found[key] = f"{by_config[text]}:seed{record['seed']}"
     if len(set(found.values())) != len(found):
         raise ValueError("two runs of the ledger would have one key under this code")
@@ -255,13 +255,13 @@ def _write(data: dict, changed: dict, checks, commit: str | None) -> dict:
     keys = _new_keys(data, changed)
     files, records = _rekeyed(data, keys)
     configs = {ledger._config_ref(r["config"]): r["config"] for r in data["runs"].values()}
-    runners = {name: store.runner_named(name) for name in data["fingerprints"]}
+    runners = {name: kinds.runner_named(name) for name in data["fingerprints"]}
     migration = {
         "from": {n: data["fingerprints"][n] for n in changed},
         "to": {n: r.fingerprint() for n, r in changed.items()},
         "changed": {n: _modules_changed(data, r) for n, r in changed.items()},
         "commit": commit or _commit(),
-        "utc": store.computed_utc(),
+        "utc": kinds.computed_utc(),
         "recomputed": [
             {"name": c.name, "seed": c.seed, "key": keys[c.key], "digest": c.digest} for c in checks
         ],
@@ -320,19 +320,19 @@ def _migrate_file(path: Path, root: Path, chains: dict) -> str:
     """Migrate one stored run (:func:`migrate_store`): ``"moved"``, ``"current"`` or
     ``"left"``."""
     try:
-        raw = read_regular(path, store.RESULT_LIMIT, path.parent)
+        raw = read_regular(path, kinds.RESULT_LIMIT, path.parent)
         with np.load(io.BytesIO(raw), allow_pickle=False) as found:
             arrays = {k: found[k] for k in found.files}
         meta = json.loads(str(arrays["meta"]))
-        runner = store.runner_named(meta.get("runner", "learner"))
+        runner = kinds.runner_named(meta.get("runner", "learner"))
         config, seed = runner.from_dict(meta["config"]), int(meta["seed"])
-        if meta["key"] == store.run_key(config, seed):
+        if meta["key"] == kinds.run_key(config, seed):
             return "current"
         now, chain = runner.fingerprint(), chains.get(runner.name, {})
         for before in chain:
-            if meta["key"] != store.run_key(config, seed, source=before):
+            if meta["key"] != kinds.run_key(config, seed, source=before):
                 continue
-            store.load_result(path, meta["key"], source=before)  # valid: arrays and digest
+            kinds.load_result(path, meta["key"], source=before)  # valid: arrays and digest
             fingerprint, seen = before, set()
             while fingerprint in chain and fingerprint not in seen:
                 seen.add(fingerprint)
@@ -341,7 +341,7 @@ def _migrate_file(path: Path, root: Path, chains: dict) -> str:
                 return "left"
             _move(path, arrays, meta, config, seed, root)
             return "moved"
-    except (OSError, ValueError, KeyError, TypeError, store.CorruptResult):
+    except (OSError, ValueError, KeyError, TypeError, kinds.CorruptResult):
         return "left"
     return "left"
 
@@ -349,9 +349,9 @@ def _migrate_file(path: Path, root: Path, chains: dict) -> str:
 def _move(path: Path, arrays: dict, meta: dict, config, seed: int, root: Path) -> None:
     """Write the stored run ``arrays`` under this code's key and remove the old file (and
     its folder once it holds no run)."""
-    meta["key"] = store.run_key(config, seed)
+    meta["key"] = kinds.run_key(config, seed)
     arrays["meta"] = np.array(json.dumps(meta))
-    target = store.result_path(config, seed, root)
+    target = kinds.result_path(config, seed, root)
     buffer = io.BytesIO()
     np.savez_compressed(buffer, **arrays)
     atomic_write(target, lambda f: f.write(buffer.getvalue()))
@@ -359,7 +359,7 @@ def _move(path: Path, arrays: dict, meta: dict, config, seed: int, root: Path) -
     if not config_json.exists():
         text = json.dumps(meta["config"], indent=2, sort_keys=True) + "\n"
         atomic_write(config_json, lambda f: f.write(text.encode()))
-    store.load_result(target, meta["key"])  # the moved file is a valid run of its new key
+    kinds.load_result(target, meta["key"])  # the moved file is a valid run of its new key
     path.unlink()
     if not any(path.parent.glob("seed*.npz")):
         for left in path.parent.iterdir():

@@ -1,7 +1,9 @@
 """Sweeps: many (configuration, seed) runs on a Dask cluster, saved in the results store.
 
-A sweep is a list of :class:`Job` s, each one run of :func:`docking.study.store.run_or_load`. They
-run through ``dask.distributed``:
+A sweep is a list of :class:`Job` s. Each job is located once, before anything computes
+(:func:`docking.study.runs.locate`: a valid file in the results store, else the committed
+ledger's entry, else to compute); the runs found nowhere are computed through
+``dask.distributed``:
 
 * by default on an embedded cluster: the scheduler of a ``LocalCluster`` in this process and
   one worker *process* per core (or per job, if fewer), ``dask worker`` with one thread
@@ -11,12 +13,12 @@ run through ``dask.distributed``:
   the same ``docking`` code and see the results folder under the same path (one machine or a
   shared file system).
 
-Each job computes its run on a worker, which saves it in the store under the key of its
-configuration and seed (:func:`docking.study.store.result_path`) and returns the path. A run that is
-already stored is loaded instead, and the client skips stored runs before it submits
-anything, so an interrupted sweep resumes where it stopped and no finished run is computed
-twice. A job lost with a worker is rescheduled by Dask on another one. A progress bar on the
-terminal (stderr) counts finished jobs.
+Each such job computes its run on a worker, which saves it in the store in the file its key
+names (:func:`docking.study.store.compute`, :func:`docking.study.kinds.result_path`) and
+returns the path (or the run, to a caller that keeps the runs: :func:`sweep`). Stored runs
+are skipped before anything is submitted, so an interrupted sweep resumes where it stopped and
+no finished run is computed twice. A job lost with a worker is rescheduled by Dask on another
+one. A progress bar on the terminal (stderr) counts finished jobs.
 
 The embedded cluster's workers end with the process that started them
 (:func:`_die_with_parent`: ``PR_SET_PDEATHSIG`` on Linux and a ``getppid`` watchdog), and
@@ -44,16 +46,9 @@ from pathlib import Path
 from typing import TYPE_CHECKING
 
 from docking.experiments import ExperimentConfig
-from docking.study import ledger, paths
-from docking.study.ledger import load_run
-from docking.study.store import (
-    check_writable,
-    is_valid,
-    result_path,
-    run_key,
-    run_or_load,
-    runner_for,
-)
+from docking.study import paths, store
+from docking.study.kinds import result_path, runner_for
+from docking.study.runs import Located, locate
 from docking.validate import (
     DIGITS,
     MAX_SEED,
@@ -71,15 +66,17 @@ __all__ = [
     "apply_override",
     "grid_configs",
     "jobs_for",
+    "missing",
     "parse_seeds",
     "run_configs",
     "run_jobs",
+    "sweep",
 ]
 
 
 @dataclasses.dataclass(frozen=True)
 class Job:
-    """One run of a sweep: a configuration of a kind of run (:func:`docking.study.store.runner_for`:
+    """One run of a sweep: a configuration of a kind of run (:func:`docking.study.kinds.runner_for`:
     the paper's learner or a yardstick, PPO, or a registered learner) and a seed."""
 
     config: ExperimentConfig | PPOConfig
@@ -330,23 +327,25 @@ _PROGRESS_TOPIC = "docking-trials"
 def _run_job(
     config: ExperimentConfig,
     seed: int,
-    results_dir: str,
-    force: bool,
+    path: str,
     on_trials=None,
     report: str | None = None,
-) -> str:
-    """The task a worker runs: compute or load one run in the store; its path.
+    keep: bool = False,
+):
+    """The task a worker runs: compute one run and store it at ``path``
+    (:func:`docking.study.store.compute`: the client located it, :func:`docking.study.runs.locate`,
+    and found it nowhere, or was told to recompute it); the run if ``keep``, else the path.
     ``on_trials(n)``: called as trials finish (in this process); ``report``: ``"sweep:k"``
     to publish them, at most once a second, on the Dask event topic
     :data:`_PROGRESS_TOPIC` (in a worker)."""
     if report is not None:
         on_trials = _Reporter(report)
     try:
-        run_or_load(config, seed, results_dir, force=force, progress=False, on_trials=on_trials)
+        result = store.compute(config, seed, Path(path), progress=False, on_trials=on_trials)
     finally:
         if report is not None:
             on_trials.flush()
-    return str(result_path(config, seed, results_dir))
+    return result if keep else path
 
 
 class _Reporter:
@@ -371,31 +370,9 @@ class _Reporter:
 
 def missing(jobs: Iterable[Job], results_dir: Path | str | None = None) -> list[Job]:
     """The jobs whose runs neither the store nor the ledger holds (what a sweep would
-    compute)."""
+    compute), each located once (:func:`docking.study.runs.locate`)."""
     root = Path(results_dir) if results_dir is not None else paths.results_dir()
-    return [j for j in jobs if not _stored(j, root)]
-
-
-def source(job: Job, results_dir: Path | str | None = None) -> str:
-    """Where a sweep would take ``job``'s run from: ``"store"`` (a valid file in the results
-    store), ``"ledger"`` (the committed ledger's entry) or ``"computed"`` (neither holds it)."""
-    root = Path(results_dir) if results_dir is not None else paths.results_dir()
-    if not _stored(job, root):
-        return "computed"
-    # a stored file is read if it is valid (_stored checked it), the ledger only without one
-    return "store" if result_path(job.config, job.seed, root).exists() else "ledger"
-
-
-def _stored(job: Job, results_dir: Path) -> bool:
-    """Whether ``job``'s run can be loaded: a valid file in the store, or the ledger's
-    entry (``StaleLedger`` if the ledger holds it but was made by other code)."""
-    config, seed = job.config, job.seed
-    path = result_path(config, seed, results_dir)
-    if not path.exists():
-        # StaleLedger if the ledger holds it but was made by other code: no recomputing
-        # behind it.
-        return ledger.holds(config, seed, check=True)
-    return is_valid(path, run_key(config, seed))  # if not, the worker warns and recomputes it
+    return [j for j in jobs if locate(j.config, j.seed, root, warn=False).place == "computed"]
 
 
 class _EmbeddedCluster:
@@ -533,7 +510,8 @@ def run_jobs(
     progress: bool = True,
     desc: str = "runs",
 ) -> list[Path]:
-    """Run (or load) every job; the paths of their stored results, in the order of ``jobs``.
+    """Run (or load) every job; the paths of their stored results, in the order of ``jobs``
+    (:func:`sweep`, which says where each run came from and gives the runs).
 
     Args:
       jobs: The (configuration, seed) runs.
@@ -548,33 +526,75 @@ def run_jobs(
         when stderr is not a terminal.
       desc: The bar's label.
     """
+    found = sweep(jobs, results_dir, scheduler, workers, force, progress, desc, keep=False)
+    return [f.path for f in found]
+
+
+def sweep(
+    jobs: Sequence[Job],
+    results_dir: Path | str | None = None,
+    scheduler: str | None = None,
+    workers: int | None = None,
+    force: bool = False,
+    progress: bool = True,
+    desc: str = "runs",
+    keep: bool = True,
+    located: Sequence[Located] | None = None,
+) -> list[Located]:
+    """Run (or load) every job, as :func:`run_jobs` (the same arguments): each job is located
+    once (:func:`docking.study.runs.locate`: the store, else the ledger), the runs found
+    nowhere (every one with ``force``) are computed on the cluster and stored, and each job's
+    :class:`~docking.study.runs.Located` is returned in the order of ``jobs``: where its run
+    was (``"computed"`` for those computed now) and, with ``keep``, the run. ``located``: the
+    jobs located already by the caller (once each), who has read the ledger's runs before
+    anything computes."""
     jobs = [check_instance("run_jobs", "jobs[]", j, Job) for j in jobs]
     if workers is not None:
         workers = check_int("run_jobs", "workers", workers, lo=1)
     if scheduler is not None:
         _check_scheduler(scheduler)
     root = Path(results_dir if results_dir is not None else paths.results_dir()).resolve()
-    paths_ = [result_path(j.config, j.seed, root) for j in jobs]
-    todo = [k for k, j in enumerate(jobs) if force or not _stored(j, root)]
+    if force:
+        located = [_to_compute(j, root) for j in jobs]
+    elif located is None:
+        located = [locate(j.config, j.seed, root) for j in jobs]
+    located = list(located)
+    todo = [k for k, found in enumerate(located) if found.place == "computed"]
     if todo:  # a read-only store that holds every run can still be read
-        check_writable(root)
+        store.check_writable(root)
 
     trials = [_trials(j.config) for j in jobs]
     bar = _trial_bar(sum(trials), sum(trials) - sum(trials[k] for k in todo), desc, progress)
     runs = _RunCount(bar, len(jobs), len(jobs) - len(todo))
+    computed: dict[int, object] = {}
     try:
-        if not todo:
-            return paths_
-        n_workers = workers or min(len(todo), os.cpu_count() or 1)
-        if scheduler is None and n_workers <= 1:
-            for k in todo:
-                _run_job(jobs[k].config, jobs[k].seed, str(root), force, on_trials=bar.update)
-                runs.done(1)
-            return paths_
-        _run_on_dask(jobs, todo, root, scheduler, n_workers, force, bar, trials, runs)
-        return paths_
+        if todo:
+            n_workers = workers or min(len(todo), os.cpu_count() or 1)
+            if scheduler is None and n_workers <= 1:
+                for k in todo:
+                    job, path = jobs[k], str(located[k].path)
+                    result = _run_job(job.config, job.seed, path, bar.update, keep=keep)
+                    if keep:
+                        computed[k] = result
+                    runs.done(1)
+            else:
+                _run_on_dask(
+                    jobs, located, todo, scheduler, n_workers, bar, trials, runs, computed, keep
+                )
     finally:
         bar.close()
+    return [
+        dataclasses.replace(found, run=computed.get(k)) if k in computed and keep else found
+        for k, found in enumerate(located)
+    ]
+
+
+def _to_compute(job: Job, root: Path) -> Located:
+    """A job to compute whatever is stored (``force``), not located."""
+    from docking.study.kinds import run_key
+
+    key = run_key(job.config, job.seed)
+    return Located(job.config, job.seed, key, result_path(job.config, job.seed, root), "computed")
 
 
 def _trial_bar(total: int, stored: int, desc: str, progress: bool):
@@ -614,22 +634,28 @@ def run_configs(
     workers: int | None = None,
     progress: bool = True,
     desc: str = "runs",
+    sources: dict | None = None,
 ) -> dict:
     """Run (or load) every configuration of ``configs`` for every seed in one sweep
-    (:func:`run_jobs`); ``{key: its runs in seed order}`` (``ExperimentResult`` s, or
-    ``docking.study.ppo.PPOResult`` s for PPO configurations)."""
+    (:func:`sweep`); ``{key: its runs in seed order}`` (``ExperimentResult`` s, or
+    ``docking.study.ppo.PPOResult`` s for PPO configurations). ``sources``: a dict that gets
+    ``{key: where each seed's run came from}`` (:data:`docking.study.runs.PLACES`)."""
     seeds = tuple(seeds)
     jobs = jobs_for(configs.values(), seeds)
-    run_jobs(
-        jobs,
-        results_dir,
-        scheduler=scheduler,
-        workers=workers,
-        progress=progress,
-        desc=desc,
+    found = iter(
+        sweep(
+            jobs,
+            results_dir,
+            scheduler=scheduler,
+            workers=workers,
+            progress=progress,
+            desc=desc,
+        )
     )
-    loaded = iter(load_run(j.config, j.seed, results_dir) for j in jobs)
-    return {key: [next(loaded) for _ in seeds] for key in configs}
+    located = {key: [next(found) for _ in seeds] for key in configs}
+    if sources is not None:
+        sources.update({key: [f.place for f in runs] for key, runs in located.items()})
+    return {key: [f.run for f in runs] for key, runs in located.items()}
 
 
 #: How long connecting to a scheduler (TCP, and Dask's handshake) may take, in seconds.
@@ -734,13 +760,13 @@ def _handshake(scheduler: str, seconds: float) -> None:
 
 
 def _run_on_dask(
-    jobs, todo, root: Path, scheduler, n_workers: int, force: bool, bar, trials, runs
+    jobs, located, todo, scheduler, n_workers: int, bar, trials, runs, computed, keep
 ) -> None:
     with _quiet_distributed():
         cluster = _EmbeddedCluster(n_workers) if scheduler is None else None
         try:
             with cluster.client if cluster is not None else _connect(scheduler) as client:
-                _submit_and_follow(client, jobs, todo, root, force, bar, trials, runs)
+                _submit_and_follow(client, jobs, located, todo, bar, trials, runs, computed, keep)
         finally:
             if cluster is not None:
                 cluster.close()
@@ -785,21 +811,24 @@ def _quiet_distributed():
             os.environ[_LOG_VARIABLE] = saved_env
 
 
-def _submit_and_follow(client, jobs, todo, root: Path, force: bool, bar, trials, runs) -> None:
+def _submit_and_follow(
+    client, jobs, located, todo, bar, trials, runs, computed: dict, keep: bool
+) -> None:
     """Submit the jobs ``todo`` to ``client`` and move ``bar`` with the trials their workers
     report (:data:`_PROGRESS_TOPIC`) and ``runs`` with the jobs done, until all are done (a
-    job's exception is raised here)."""
+    job's exception is raised here); with ``keep``, each computed run goes into ``computed``
+    (by its job's index)."""
     from distributed import wait
 
-    sweep = uuid.uuid4().hex[:8]
+    tag = uuid.uuid4().hex[:8]
     reported = dict.fromkeys(todo, 0)  # trials each job has reported so far
     news: list = []  # (job, trials) from the event topic's handler thread
     lock = threading.Lock()
 
     def heard(event) -> None:
         _, message = event
-        tag, _, k = str(message.get("tag", "")).partition(":")
-        if tag == sweep and k.isdigit() and int(k) in reported:
+        name, _, k = str(message.get("tag", "")).partition(":")
+        if name == tag and k.isdigit() and int(k) in reported:
             with lock:
                 news.append((int(k), int(message.get("trials", 0))))
 
@@ -817,10 +846,10 @@ def _submit_and_follow(client, jobs, todo, root: Path, force: bool, bar, trials,
             _run_job,
             jobs[k].config,
             jobs[k].seed,
-            str(root),
-            force,
-            report=f"{sweep}:{k}",
-            key=f"docking-{jobs[k].config.name}-seed{jobs[k].seed}-{sweep}-{k}",
+            str(located[k].path),
+            report=f"{tag}:{k}",
+            keep=keep,
+            key=f"docking-{jobs[k].config.name}-seed{jobs[k].seed}-{tag}-{k}",
             pure=False,
         ): k
         for k in todo
@@ -836,8 +865,10 @@ def _submit_and_follow(client, jobs, todo, root: Path, force: bool, bar, trials,
             continue
         apply_news()
         for future in done:
-            future.result()  # re-raises a job's exception here
+            found = future.result()  # re-raises a job's exception here
             k = index[future]
+            if keep:
+                computed[k] = found
             bar.update(trials[k] - reported[k])  # a loaded run, or unreported trials
             reported[k] = trials[k]
         runs.done(len(done))

@@ -63,12 +63,12 @@ def _commit() -> str:
                 return found.stdout.strip()
         except (OSError, subprocess.SubprocessError):
             pass
-    from docking.study.store import source_fingerprint
+    from docking.study.kinds import source_fingerprint
 
     return source_fingerprint()
 
 
-#: The kinds of run (:attr:`docking.study.store.Runner.name`) whose runs a sample never draws.
+#: The kinds of run (:attr:`docking.study.kinds.Runner.name`) whose runs a sample never draws.
 UNSAMPLED_RUNNERS = ("ppo",)
 
 
@@ -128,7 +128,7 @@ def platform_lines(mismatch: bool, folder: Path | str | None = None) -> list[str
 
 def _arrays(job, scratch) -> dict[str, np.ndarray]:
     """The arrays of ``job``'s recomputed run in the store ``scratch``."""
-    from docking.study.store import result_path
+    from docking.study.kinds import result_path
 
     with np.load(result_path(job.config, job.seed, scratch), allow_pickle=False) as f:
         return {k: f[k] for k in f.files}
@@ -138,8 +138,8 @@ def compare(data: dict, keys: list[str], jobs: list, scratch) -> list[Check]:
     """Each recomputed run of ``jobs`` (in the store ``scratch``) against the ledger whose
     manifest is ``data``: its content digest against its record's, its table row (read and
     checked against its record's row digest) against the row the recomputed run gives."""
+    from docking.study.kinds import content_digest
     from docking.study.ledger import row_differences, table_rows
-    from docking.study.store import content_digest
 
     rows: dict[str, dict] = {}
     checks = []
@@ -168,7 +168,7 @@ def verify(
     fails)."""
     import tempfile
 
-    from docking.study.store import runner_named
+    from docking.study.kinds import runner_named
     from docking.study.sweep import Job, run_jobs
 
     folder = Path(folder) if folder is not None else paths.ledger_dir()
