@@ -104,13 +104,19 @@ ANIMATIONS = (
 
 
 def _animations(folder: Path) -> None:
-    """One episode of each world of :data:`ANIMATIONS` as a GIF in ``folder``
-    (:func:`docking.study.figures.episode_gif`: the pose oracle, the robot's input inset)."""
+    """One episode of each world of :data:`ANIMATIONS` as a GIF in ``folder``: the pose
+    oracle's frames, the robot's input inset (:func:`docking.study.episodes.episode_frames`),
+    captioned and written by :func:`docking.study.figures.episode_images` and
+    :func:`docking.study.figures.save_gif`."""
     from docking.gym import preset_world
-    from docking.study.figures import episode_gif
+    from docking.study.episodes import episode_frames
+    from docking.study.figures import episode_images, save_gif
 
     for name, preset, label, seed in ANIMATIONS:
-        episode_gif(preset_world(preset), folder / f"{name}.gif", seed=seed, label=label)
+        world = preset_world(preset)
+        frames, actions, docked = episode_frames(world, seed)
+        images = episode_images(frames, actions, docked, world.action_names, label=label)
+        save_gif(images, folder / f"{name}.gif")
 
 
 #: The notebook whose displays carry the paper's equation numbers (the site's copy).

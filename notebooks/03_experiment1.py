@@ -36,18 +36,14 @@ from IPython.display import Image, Markdown, display
 from docking.presets import EXPERIMENT_1
 from docking.study.analysis import best_actions, feature_change, learning_curves
 from docking.study.designs import calibration, design
-from docking.study.figures import FIGURES_DIR, fig_rewards, to_png
-from docking.study.report import (
-    PAPER_COLUMNS,
+from docking.study.designs.calibration_report import (
     calibration_rows,
     calibration_table,
     computing_time,
-    configuration_table,
-    experiment1_rows,
-    headline,
-    md_table,
-    save_fig3,
 )
+from docking.study.designs.paper_report import PAPER_COLUMNS, experiment1_rows, headline, save_fig3
+from docking.study.figures import FIGURES_DIR, fig_rewards, to_png
+from docking.study.report import configuration_table, md_table
 from docking.world import ACTION_LETTERS, DockingEnv
 
 config = EXPERIMENT_1

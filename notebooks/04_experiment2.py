@@ -43,20 +43,21 @@ from docking.study.analysis import (
     winner_change,
 )
 from docking.study.designs import calibration, design
-from docking.study.figures import FIGURES_DIR
-from docking.study.report import (
-    PAPER_COLUMNS,
+from docking.study.designs.calibration_report import (
     calibration_rows,
     calibration_table,
     computing_time,
-    configuration_table,
+)
+from docking.study.designs.paper_report import (
+    PAPER_COLUMNS,
     experiment2_rows,
     headline,
-    md_table,
     save_fig4,
     save_fig5,
     save_learning_curves,
 )
+from docking.study.figures import FIGURES_DIR
+from docking.study.report import configuration_table, md_table
 from docking.study.stats import difference_ci
 from docking.world import ACTION_LETTERS, DockingEnv
 

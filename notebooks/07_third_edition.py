@@ -63,10 +63,10 @@ import numpy as np
 from IPython.display import Image, Markdown, display
 
 from docking.presets import NAO_WORLD
-from docking.study import figures, report
+from docking.study import figures, provenance, report
 from docking.study.claims import design_verdicts, judge_family, rate_interval
 from docking.study.designs import addendum as ad
-from docking.study.designs import measures
+from docking.study.designs import addendum_report, bracketing_report, measures, third_edition_report
 from docking.study.designs import third_edition as te
 from docking.study.report import save_named
 from docking.study.stats import rate_ci, t_mean_ci
@@ -109,7 +109,7 @@ display(
         "floor, seen whole, nothing stopping the robot at the dock) was chosen after the second "
         "edition had shown that it breaks the paper's learner; the Nao-like world's published "
         "values (steps, camera) came after, on that scene. Its results are a second world of the "
-        "same kind, not an independent check.\n\n" + report.deviations_table(te.NAME)
+        "same kind, not an independent check.\n\n" + provenance.deviations_table(te.NAME)
     )
 )
 assert "scene" in shared
@@ -136,8 +136,10 @@ assert NAO_WORLD.max_steps == 25 and oracle.mean() >= 0.99  # 25 actions are eno
 # (`#0` is each learner's default).
 
 # %% tags=["fold-output"]
-tuning = report.tuning_rows(contest, te.CONTEST, te.LEARNERS, te.GRIDS, te.TUNING.tuned_setting)
-display(Markdown(report.tuning_table(tuning)))
+tuning = third_edition_report.tuning_rows(
+    contest, te.CONTEST, te.LEARNERS, te.GRIDS, te.TUNING.tuned_setting
+)
+display(Markdown(third_edition_report.tuning_table(tuning)))
 for r in tuning:  # the chosen setting is the best of round 2 by its three-seed mean
     assert r["chosen"] in r["round2"] and r["round2"][r["chosen"]] == max(r["round2"].values())
 
@@ -150,18 +152,18 @@ for r in tuning:  # the chosen setting is the best of round 2 by its three-seed 
 
 # %% tags=["hide-input", "fold-output"]
 # the third edition's contest: each learner's held-out success per world (table and figure)
-names = report.CONTEST_WORLDS  # the worlds' names in tables and figures
-display(Markdown(report.contest_table(contest, names)))
-labels = dict(report.CONTEST_COLUMNS)
+names = third_edition_report.CONTEST_WORLDS  # the worlds' names in tables and figures
+display(Markdown(third_edition_report.contest_table(contest, names)))
+labels = dict(third_edition_report.CONTEST_COLUMNS)
 scores = {
     (w, labels[v]): contest.score(f"{w}/{v}")
     for w in te.CONTEST
-    for v, _ in report.CONTEST_COLUMNS
+    for v, _ in third_edition_report.CONTEST_COLUMNS
     if f"{w}/{v}" in {c.key for c in contest.cells}
 }
 fig = figures.fig_contest(
     [names[w] for w in te.CONTEST],
-    [label for _, label in report.CONTEST_COLUMNS],
+    [label for _, label in third_edition_report.CONTEST_COLUMNS],
     {(names[w], label): s for (w, label), s in scores.items()},
 )
 display(Image(save_named(fig, "third_edition_contest")))
@@ -285,8 +287,8 @@ print({w: paper_gain[w].format(unit=" pp") for w in te.CONTEST})
 
 # %% tags=["hide-input"]
 added = ad.DESIGN.run(progress=False)
-rules_commit, rules_time = report.RULES_COMMITS[ad.NAME]  # tests/test_addendum.py checks it
-times = report.computed_times(ad.NAME)
+rules_commit, rules_time = provenance.RULES_COMMITS[ad.NAME]  # tests/test_addendum.py checks it
+times = provenance.computed_times(ad.NAME)
 n_runs = sum(len(added.runs[c.key]) for c in added.cells if c.trained)
 print(
     f"rules committed {rules_time} ({rules_commit[:7]}); the addendum's {len(times)} runs "
@@ -301,8 +303,8 @@ assert len(times) == n_runs and min(times) > report.utc(rules_time)  # every run
 # values); *interior* means values on both sides were tried and did worse.
 
 # %% tags=["hide-input", "fold-output"]
-bracketed = report.bracketed_rows(added, ad)
-display(Markdown(report.bracketed_table(bracketed)))
+bracketed = addendum_report.bracketed_rows(added, ad)
+display(Markdown(addendum_report.bracketed_table(bracketed)))
 edges = {
     (r["world"], r["learner"], knob): where
     for r in bracketed
@@ -346,15 +348,15 @@ def shown_walk(walk):
     """A walk of the bracketing (its design module): its results and rows, its table shown,
     its budget, its "bracketed" and its rules-before-runs asserted."""
     own = walk.DESIGN.run(progress=False)
-    rows = report.bracketing_rows(own, walk)
-    display(Markdown(report.bracketing_table(rows)))
+    rows = bracketing_report.bracketing_rows(own, walk)
+    display(Markdown(bracketing_report.bracketing_table(rows)))
     for r in rows:
         assert r["runs"] <= walk.BUDGET
         assert r["bracketed"] == all(
             not w.startswith("at the edge") for _, w in r["positions"].values()
         )
-    times = report.computed_times(walk.NAME)
-    assert min(times) > report.utc(report.RULES_COMMITS[walk.NAME][1])  # runs after rules
+    times = provenance.computed_times(walk.NAME)
+    assert min(times) > report.utc(provenance.RULES_COMMITS[walk.NAME][1])  # runs after rules
     return own, rows
 
 
@@ -391,7 +393,7 @@ from docking.study.designs import bracketing_continued as bc  # noqa: E402
 
 walk = bc
 own, bracketing = shown_walk(bc)
-final = report.bracketed_addendum(added, own, bc)  # the tuned learners from here on
+final = bracketing_report.bracketed_addendum(added, own, bc)  # the tuned learners from here on
 for w in ad.WORLDS:  # every tuned learner judged on the fresh seeds
     for v in ("paper-tuned", "linear-tuned", "ppo-matched"):
         assert {r.seed for r in final.runs[f"{w}/{v}"]} == set(bc.SEEDS)
@@ -422,7 +424,7 @@ for r in bracketing:
     )
 header = ("world", "learner", "the 4 best settings (%)", "one setting's s.e.", "search")
 display(Markdown(report.md_table(header, flat)))
-display(Markdown(report.bracketing_summary(bracketing, final, ad)))
+display(Markdown(bracketing_report.bracketing_summary(bracketing, final, ad)))
 
 # %% [markdown]
 # ### Training steps, and PPO's budget matched to them
@@ -434,11 +436,11 @@ variants = {
     "linear-tuned": "linear SARSA, tuned",
     "ppo-matched": "PPO (its budget)",
 }
-steps_rows = report.training_steps_rows(final, ad.WORLDS, variants)
-display(Markdown(report.training_steps_table(steps_rows)))
+steps_rows = addendum_report.training_steps_rows(final, ad.WORLDS, variants)
+display(Markdown(addendum_report.training_steps_table(steps_rows)))
 by_row = {(w, label): steps for w, label, _, steps in steps_rows}
 for w in ad.WORLDS:
-    name = report.CONTEST_WORLDS[w]
+    name = third_edition_report.CONTEST_WORLDS[w]
     paper_steps = by_row[name, variants["paper-tuned"]].mean()
     assert abs(by_row[name, variants["ppo-matched"]][0] / paper_steps - 1) < 0.05  # within 5%
 
@@ -544,11 +546,11 @@ display(Markdown(design_verdicts(results)))
 
 # %% tags=["fold-output"]
 # Read with care: tests that could not fail, choices made after results, rules before runs
-display(Markdown(report.candour_text()))  # notebooks 08 and 09 test relocation and coping again
+display(Markdown(provenance.candour_text()))  # notebooks 08 and 09 test relocation and coping again
 
 # %% tags=["fold-output"]
 # the verdicts as a figure: each comparison's interval against its rule's bound
-fig = figures.fig_verdicts(report.verdict_panels(te.CLAIMS, results, per_claim))
+fig = figures.fig_verdicts(third_edition_report.verdict_panels(te.CLAIMS, results, per_claim))
 display(Image(save_named(fig, "third_edition_verdicts")))
 
 # %% [markdown]
@@ -604,9 +606,9 @@ display(Markdown(report.md_table((*header, "actions per docking"), rows)))
 # %% tags=["hide-input", "fold-output"]
 # the path from the sideboard world to the floor world: each step's cost to each learner
 what = {k: v[0] for k, v in te.WORLDS.items()}
-steps = report.path_steps(results, list(pairwise(te.PATH)), te.BREAK_DROP, te.ALPHA)
-branches = report.path_steps(results, te.BRANCHES, te.BREAK_DROP, te.ALPHA)
-display(Markdown(report.path_table(steps + branches, what)))
+steps = third_edition_report.path_steps(results, list(pairwise(te.PATH)), te.BREAK_DROP, te.ALPHA)
+branches = third_edition_report.path_steps(results, te.BRANCHES, te.BREAK_DROP, te.ALPHA)
+display(Markdown(third_edition_report.path_table(steps + branches, what)))
 n = len(te.PATH_SEEDS)
 print(
     {

@@ -57,17 +57,18 @@
 import numpy as np
 from IPython.display import Image, Markdown, display
 
-from docking.study import figures, report
+from docking.study import figures, provenance, report
 from docking.study.claims import design_verdicts, rate_interval
 from docking.study.designs import revisited as rv
+from docking.study.designs import revisited_report
 from docking.study.report import save_named
 
 results = rv.DESIGN.run(progress=False)
-rows = report.revisited_rows(results, rv)
+rows = revisited_report.revisited_rows(results, rv)
 verdict = rows["verdict"]
 pct = lambda ci: ci.format(unit="%")  # noqa: E731
-rules_commit, rules_time = report.RULES_COMMITS[rv.NAME]  # tests/test_provenance.py checks it
-times = report.computed_times(rv.NAME)
+rules_commit, rules_time = provenance.RULES_COMMITS[rv.NAME]  # tests/test_provenance.py checks it
+times = provenance.computed_times(rv.NAME)
 print(
     f"rules committed {rules_time} ({rules_commit[:7]}); the {len(times)} runs computed "
     f"{min(times):%Y-%m-%d %H:%M} to {max(times):%Y-%m-%d %H:%M} (UTC)"

@@ -13,7 +13,7 @@ import numpy as np
 import pinned
 import pytest
 
-from docking.study import report
+from docking.study import provenance
 from docking.study.designs import addendum as ad
 
 #: The SHA-256 of rules_text() when the rules were committed, before any run of the addendum.
@@ -38,7 +38,7 @@ def test_the_rules_moved_unchanged():
     ``report.paired_over_shared_seeds``'s import of ``t_paired_ci``."""
     if not pinned.history():
         pytest.skip("a shallow clone (or no git): the history that pinned the rules is not here")
-    commit = report.RULES_COMMITS[ad.NAME][0]
+    commit = provenance.RULES_COMMITS[ad.NAME][0]
     read = pinned.check_moved(ad.rules_text, commit, [ad], RULES_DIGEST)
     assert sorted(read["functions"]) == [
         "docking.study.report.contest_gaps",
@@ -168,7 +168,7 @@ def test_ppo_trains_for_the_paper_learners_mean_training_steps():
 
 #: The commit that added the addendum's rules, and its time (what the runs are compared with;
 #: checked against the repository's history where the history is there).
-RULES_COMMIT = report.RULES_COMMITS[ad.NAME]
+RULES_COMMIT = provenance.RULES_COMMITS[ad.NAME]
 
 
 def _rules_commit_time():

@@ -9,7 +9,7 @@ import math
 import pinned
 import pytest
 
-from docking.study import report
+from docking.study import provenance
 from docking.study.designs import addendum as ad
 from docking.study.designs import bracketing as br
 
@@ -36,7 +36,7 @@ def test_the_rules_moved_unchanged():
     these, by the same proof)."""
     if not pinned.history():
         pytest.skip("a shallow clone (or no git): the history that pinned the rules is not here")
-    commit = report.RULES_COMMITS[br.NAME][0]
+    commit = provenance.RULES_COMMITS[br.NAME][0]
     read = pinned.check_moved(br.rules_text, commit, [br, ad], RULES_DIGEST)
     assert sorted(read["functions"]) == [
         "docking.study.report.contest_gaps",

@@ -10,7 +10,7 @@ from pathlib import Path
 import pinned
 import pytest
 
-from docking.study import report
+from docking.study import provenance
 from docking.study.designs import addendum as ad
 from docking.study.designs import bracketing as br
 from docking.study.designs import bracketing_continued as bc
@@ -39,7 +39,7 @@ def test_the_rules_moved_unchanged():
     addendum's rules, part of these, by the same proof)."""
     if not pinned.history():
         pytest.skip("a shallow clone (or no git): the history that pinned the rules is not here")
-    commit = report.RULES_COMMITS[bc.NAME][0]
+    commit = provenance.RULES_COMMITS[bc.NAME][0]
     read = pinned.check_moved(bc.rules_text, commit, [bc, br, ad], RULES_DIGEST)
     assert sorted(read["functions"]) == [
         "docking.study.report.contest_gaps",

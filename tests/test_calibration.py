@@ -10,8 +10,13 @@ from docking.presets import EXPERIMENT_1, EXPERIMENT_2, SEEDS
 from docking.study.analysis import rewarded_share
 from docking.study.design import Cell
 from docking.study.designs.calibration import BASELINE, run, variants
+from docking.study.designs.calibration_report import (
+    analyse,
+    calibration_rows,
+    calibration_table,
+    computing_time,
+)
 from docking.study.kinds import config_key
-from docking.study.report import analyse, calibration_rows, calibration_table, computing_time
 from docking.study.stats import difference_ci, mean_ci
 
 BASES = {"experiment1": EXPERIMENT_1, "experiment2": EXPERIMENT_2}

@@ -46,7 +46,7 @@ def _cli(args, tmp_path, timeout=300, env=None):
 
 def test_a_runs_label_names_the_options_that_differ_from_its_preset():
     from docking.presets import EXPERIMENT_1, EXPERIMENT_2
-    from docking.study.cli import _label
+    from docking.study.cli.runs import _label
 
     assert _label(EXPERIMENT_2) == "experiment2"
     network = dataclasses.replace(EXPERIMENT_2.network, eps_w=0.0)
@@ -61,7 +61,7 @@ def test_a_runs_label_names_the_options_that_differ_from_its_preset():
 
 def test_the_warning_says_which_range_a_short_training_sees():
     from docking.presets import EXPERIMENT_1, EXPERIMENT_2
-    from docking.study.cli import _curriculum_cut
+    from docking.study.cli.runs import _curriculum_cut
 
     assert _curriculum_cut(EXPERIMENT_2) is None and _curriculum_cut(EXPERIMENT_1) is None
     short = dataclasses.replace(EXPERIMENT_2, train_trials=100)

@@ -200,7 +200,7 @@ def test_ctrl_c_while_a_command_runs_is_one_line_and_130(monkeypatch, capsys):
     def interrupted(self):
         raise KeyboardInterrupt
 
-    monkeypatch.setattr(cli.Verify, "execute", interrupted)
+    monkeypatch.setattr(cli.ledger.Verify, "execute", interrupted)
     handler = signal.getsignal(signal.SIGTERM)
     try:
         assert main(["verify"]) == 130
@@ -461,7 +461,7 @@ def test_a_grid_of_millions_is_refused_before_any_configuration_is_built(monkeyp
 def test_a_sweep_too_large_is_one_line_before_any_run(args, says, monkeypatch, capsys):
     from docking.study import cli
 
-    monkeypatch.setattr(cli, "_run", lambda *a: pytest.fail("the sweep started"))
+    monkeypatch.setattr(cli.runs, "_run", lambda *a: pytest.fail("the sweep started"))
     handler = signal.getsignal(signal.SIGTERM)
     try:
         assert main(["sweep", "experiment1", *args]) == 2

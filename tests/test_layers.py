@@ -179,6 +179,15 @@ def test_the_layers_sizes_are_counted_by_code_when_the_site_is_built():
     assert core <= layers.CORE_LIMIT
 
 
+def test_no_module_is_over_1000_lines():
+    """Issue 51: no module of the package over 1,000 lines, docstrings included."""
+    files = [p for p in (ROOT / "docking").rglob("*.py") if "__pycache__" not in p.parts]
+    long = {
+        str(p.relative_to(ROOT)): n for p in files if (n := len(p.read_text().splitlines())) > 1000
+    }
+    assert not long, long
+
+
 def test_contributings_example_design_is_a_valid_design_in_one_file(tmp_path):
     """The example of "How to add a design" builds as written (issue 18: a new study is a
     design file)."""

@@ -276,6 +276,7 @@ def test_a_ledger_from_other_code_is_refused_naming_the_module(built, tmp_path):
     code = """
         import dataclasses
         from docking.study import ledger
+        from docking.study.runs import load_run
         from docking.presets import EXPERIMENT_1
         config = dataclasses.replace(EXPERIMENT_1, name="tiny", train_trials=4, test_trials=6,
                                      eval_every=4, eval_trials=1, heldout_trials=5)
@@ -301,7 +302,7 @@ def test_code_edited_after_import_cannot_key_runs(tmp_path):
     root = _copied_package(tmp_path)
     code = f"""
         import pathlib
-        from docking.study import store
+        from docking.study import kinds
         kinds.source_fingerprint()  # fine: the code on disk is the code loaded
         world = pathlib.Path({str(root / "docking" / "world.py")!r})
         world.write_text(world.read_text() + "\\n_EDITED = 1\\n")

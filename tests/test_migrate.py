@@ -55,7 +55,7 @@ CHECK = """
 import dataclasses, json, sys
 from pathlib import Path
 
-from docking.study import ledger, store
+from docking.study import kinds, ledger
 from docking.study.design import yardstick_config
 from docking.study.designs.builders import experiment2_in
 from docking.presets import EXPERIMENT_1, FLOOR_WORLD

@@ -12,7 +12,7 @@ import numpy as np
 import pinned
 import pytest
 
-from docking.study import claims, report
+from docking.study import claims, provenance
 from docking.study.designs import revisited as rv
 
 #: The SHA-256 of rules_text() when the rules were committed, before any of their runs.
@@ -37,7 +37,7 @@ def test_the_rules_moved_unchanged():
     judging code's text is byte for byte the same."""
     if not pinned.history():
         pytest.skip("a shallow clone (or no git): the history that pinned the rules is not here")
-    commit = report.RULES_COMMITS[rv.NAME][0]
+    commit = provenance.RULES_COMMITS[rv.NAME][0]
     read = pinned.check_moved(rv.rules_text, commit, [rv], RULES_DIGEST)
     assert len(read["functions"]) == 9 and pinned.changed_functions(read) == set()
 

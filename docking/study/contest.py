@@ -554,7 +554,8 @@ def _gaps(both: Results, worlds, label: str) -> list:
 
 def _success_table(both: Results, budget: Budget, label: str) -> str:
     from docking.study.claims import rate_interval
-    from docking.study.report import CONTEST_WORLDS, md_table
+    from docking.study.designs.third_edition_report import CONTEST_WORLDS
+    from docking.study.report import md_table
 
     def row(name: str, variant: str) -> tuple:
         keys = [f"{w}/{variant}" for w in budget.worlds]
@@ -638,8 +639,8 @@ def _tuned_lines(mine: Results, budget: Budget, label: str, tuned: dict) -> str:
 
 
 def _figure(both: Results, budget: Budget, label: str):
+    from docking.study.designs.third_edition_report import CONTEST_NAMES
     from docking.study.figures import fig_glance
-    from docking.study.report import CONTEST_NAMES
 
     names = {w: CONTEST_NAMES[w] for w in budget.worlds}
     learners = {f"{label}-tuned": f"{label}, tuned (yours)", **TUNED}

@@ -69,9 +69,21 @@ def find(config, seed: int, path: Path, key: str):
         raise ForeignFile(f"{exc}; remove it to compute the run again") from None
 
 
-def compute(config, seed: int, path: Path, progress: bool = True, on_trials=None):
+def compute(
+    config, seed: int, path: Path, progress: bool = True, on_trials=None, again: bool = False
+):
     """Compute the run of (``config``, ``seed``) with its runner and store it at ``path``
-    (replacing whatever is there); the run. ``on_trials(n)``: called as its trials finish."""
+    (replacing whatever is there); the run. ``on_trials(n)``: called as its trials finish.
+
+    Unless ``again``, a valid file of this very run already at ``path`` is read instead: an
+    earlier attempt of the same job stored it (a sweep's job that Dask runs again after its
+    worker was lost once the run was stored, or another sweep's), and a stored run is never
+    computed twice."""
+    if not again and path.exists():
+        try:
+            return kinds.load_result(path, kinds.run_key(config, seed))
+        except CorruptResult:
+            pass  # not this run: computed and replaced below (ForeignFile is raised)
     check_writable(path.parent)
     result = kinds.runner_for(config).run(config, seed, progress=progress, on_trials=on_trials)
     kinds.save_result(result, path)
@@ -106,4 +118,4 @@ def run_or_load(
         else:
             if found is not None:
                 return found
-    return compute(config, seed, path, progress=progress, on_trials=on_trials)
+    return compute(config, seed, path, progress=progress, on_trials=on_trials, again=True)

@@ -328,20 +328,25 @@ def _run_job(
     config: ExperimentConfig,
     seed: int,
     path: str,
+    force: bool = False,
     on_trials=None,
     report: str | None = None,
     keep: bool = False,
 ):
     """The task a worker runs: compute one run and store it at ``path``
-    (:func:`docking.study.store.compute`: the client located it, :func:`docking.study.runs.locate`,
-    and found it nowhere, or was told to recompute it); the run if ``keep``, else the path.
+    (:func:`docking.study.store.compute`: the client located it,
+    :func:`docking.study.runs.locate`, and found it nowhere, or was told to recompute it:
+    ``force``); the run if ``keep``, else the path. A job Dask runs again after its worker was
+    lost reads the run an earlier attempt stored.
     ``on_trials(n)``: called as trials finish (in this process); ``report``: ``"sweep:k"``
     to publish them, at most once a second, on the Dask event topic
     :data:`_PROGRESS_TOPIC` (in a worker)."""
     if report is not None:
         on_trials = _Reporter(report)
     try:
-        result = store.compute(config, seed, Path(path), progress=False, on_trials=on_trials)
+        result = store.compute(
+            config, seed, Path(path), progress=False, on_trials=on_trials, again=force
+        )
     finally:
         if report is not None:
             on_trials.flush()
@@ -573,13 +578,23 @@ def sweep(
             if scheduler is None and n_workers <= 1:
                 for k in todo:
                     job, path = jobs[k], str(located[k].path)
-                    result = _run_job(job.config, job.seed, path, bar.update, keep=keep)
+                    result = _run_job(job.config, job.seed, path, force, bar.update, keep=keep)
                     if keep:
                         computed[k] = result
                     runs.done(1)
             else:
                 _run_on_dask(
-                    jobs, located, todo, scheduler, n_workers, bar, trials, runs, computed, keep
+                    jobs,
+                    located,
+                    todo,
+                    scheduler,
+                    n_workers,
+                    force,
+                    bar,
+                    trials,
+                    runs,
+                    computed,
+                    keep,
                 )
     finally:
         bar.close()
@@ -760,13 +775,15 @@ def _handshake(scheduler: str, seconds: float) -> None:
 
 
 def _run_on_dask(
-    jobs, located, todo, scheduler, n_workers: int, bar, trials, runs, computed, keep
+    jobs, located, todo, scheduler, n_workers: int, force, bar, trials, runs, computed, keep
 ) -> None:
     with _quiet_distributed():
         cluster = _EmbeddedCluster(n_workers) if scheduler is None else None
         try:
             with cluster.client if cluster is not None else _connect(scheduler) as client:
-                _submit_and_follow(client, jobs, located, todo, bar, trials, runs, computed, keep)
+                _submit_and_follow(
+                    client, jobs, located, todo, force, bar, trials, runs, computed, keep
+                )
         finally:
             if cluster is not None:
                 cluster.close()
@@ -812,7 +829,7 @@ def _quiet_distributed():
 
 
 def _submit_and_follow(
-    client, jobs, located, todo, bar, trials, runs, computed: dict, keep: bool
+    client, jobs, located, todo, force: bool, bar, trials, runs, computed: dict, keep: bool
 ) -> None:
     """Submit the jobs ``todo`` to ``client`` and move ``bar`` with the trials their workers
     report (:data:`_PROGRESS_TOPIC`) and ``runs`` with the jobs done, until all are done (a
@@ -847,6 +864,7 @@ def _submit_and_follow(
             jobs[k].config,
             jobs[k].seed,
             str(located[k].path),
+            force,
             report=f"{tag}:{k}",
             keep=keep,
             key=f"docking-{jobs[k].config.name}-seed{jobs[k].seed}-{tag}-{k}",

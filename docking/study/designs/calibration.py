@@ -7,8 +7,8 @@ much does each matter? Two designs (:data:`DESIGNS`) whose cells are
 two of those choices changed (coordinates ``experiment``, ``variant``, ``changes``; the rows
 :func:`variants`), measured by their test trials beside the main experiment's runs (the row
 "this configuration", :data:`BASELINE`). The notebooks show
-:func:`docking.study.report.calibration_table` and assert their claims on the runs;
-``python -m docking design run calibration-experiment1 calibration-experiment2`` prints the
+:func:`docking.study.designs.calibration_report.calibration_table` and assert their claims on the
+runs; ``python -m docking design run calibration-experiment1 calibration-experiment2`` prints the
 tables.
 """
 
@@ -172,7 +172,11 @@ def _report(results: Results) -> str:
     turn on), and the difference to this configuration by
     :func:`docking.study.stats.difference_ci`, which resamples each row's seeds independently:
     it ignores the pairing, so its interval is, if anything, wider than a paired one."""
-    from docking.study.report import calibration_rows, calibration_table, computing_time
+    from docking.study.designs.calibration_report import (
+        calibration_rows,
+        calibration_table,
+        computing_time,
+    )
 
     rows = calibration_rows(results, BASELINE)
     table = calibration_table(rows, BASELINE, seeds_at_100=results.design.name.endswith("1"))

@@ -1,7 +1,8 @@
 """The paper's Experiments 1 and 2 (notebooks 03 and 04) as a design: each preset
 (:data:`~docking.presets.EXPERIMENT_1`, :data:`~docking.presets.EXPERIMENT_2`) for the seeds
 of :data:`~docking.presets.SEEDS`, measured by its test trials; the report is the README's
-results table, the paper's numbers beside ours (:func:`docking.study.report.results_table`).
+results table, the paper's numbers beside ours
+(:func:`docking.study.designs.paper_report.results_table`).
 
 ``python -m docking design run paper`` (or ``python -m docking run experiment1``, which also
 takes any field as an option).
@@ -17,7 +18,7 @@ if SEEDS["experiment1"] != SEEDS["experiment2"]:  # one design, one seed list
 
 
 def _report(results: Results) -> str:
-    from docking.study.report import results_table
+    from docking.study.designs.paper_report import results_table
 
     return results_table(results.runs["experiment1"], results.runs["experiment2"])
 
