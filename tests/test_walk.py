@@ -81,16 +81,21 @@ def _walk_stages(design_extend, walk: Walk, own: _Results, stages: int) -> _Resu
     return own
 
 
-def test_the_walk_with_the_bracketings_parameters_is_the_bracketings_walk(monkeypatch):
-    addendum = _tuning()
-    monkeypatch.setattr(br, "addendum", lambda: addendum)
-    walk = Walk(
+def _bracketing_walk(addendum) -> Walk:
+    """The bracketing's parameters, its scores before it the addendum's tuning cells."""
+    return Walk(
         name=br.NAME,
         variant="bracket",
         compare_seeds=br.COMPARE_SEEDS,
         budget=br.BUDGET,
         before=lambda world, learner: scores_of(addendum, f"tune-{learner}", world, learner),
     )
+
+
+def test_the_walk_with_the_bracketings_parameters_is_the_bracketings_walk(monkeypatch):
+    addendum = _tuning()
+    monkeypatch.setattr(br, "addendum", lambda: addendum)
+    walk = _bracketing_walk(addendum)
     own = _walk_stages(br._extend, walk, _Results([]), br.STAGES)
     for world in ad.WORLDS:
         for learner in ad.LEARNERS:
@@ -121,16 +126,6 @@ def test_the_walk_with_the_continuations_parameters_is_the_continuations_walk(mo
         for learner in ad.LEARNERS:
             assert walk.tuned(own, world, learner) == bc.tuned(own, world, learner)
             assert walk.bracketed(own, world, learner) == bc.bracketed(own, world, learner)
-
-
-def _bracketing_walk(addendum) -> Walk:
-    return Walk(
-        name=br.NAME,
-        variant="bracket",
-        compare_seeds=br.COMPARE_SEEDS,
-        budget=br.BUDGET,
-        before=lambda world, learner: scores_of(addendum, f"tune-{learner}", world, learner),
-    )
 
 
 @pytest.mark.parametrize("budget", [0, 25])

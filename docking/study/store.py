@@ -25,9 +25,18 @@ from pathlib import Path
 
 from docking.fileio import remove_stale_temporaries
 from docking.study import kinds, paths
-from docking.study.kinds import CorruptResult, ForeignFile
+from docking.study.kinds import CorruptResult, ForeignFile, module_digests, source_fingerprint
 
-__all__ = ["check_writable", "compute", "find", "run_or_load"]
+#: ``source_fingerprint`` and ``module_digests`` (:mod:`docking.study.kinds`): the code the
+#: store's keys name, here too, where a reader of the store looks for them.
+__all__ = [
+    "check_writable",
+    "compute",
+    "find",
+    "module_digests",
+    "run_or_load",
+    "source_fingerprint",
+]
 
 #: Free space the results folder must have before a run starts (a stored run is < 2 MiB).
 _MIN_FREE = 16 << 20
