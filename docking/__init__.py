@@ -5,12 +5,15 @@ a robot learns to dock from 32x10 camera pixels with a two-layer network (softma
 layer -> Q-value action layer) trained by SARSA, where the same TD error delta also trains
 the visual features (Eq. 8).
 
-Modules: ``world`` (the dm-control scene, from ``assets/docking.xml``, and the ``dm_env``
-task), ``render`` (offscreen rendering), ``camera`` (the observation pipeline of Fig. 2),
-``oracle`` (a pose-reading reference policy), ``network`` (Eq. 1-16), ``trial`` (SARSA
-trials), ``experiments`` (Experiments 1 and 2), ``designs`` (every question the package
-asks, as data, run by ``design``), ``figures``; docs/guide/package.md lists every module. The
-world is imported lazily, so ``docking.network`` works without OpenGL.
+The core, at this top level (``docking.core`` imports it in one line): ``world`` (the
+dm-control scene, from ``assets/docking.xml``, and the ``dm_env`` task), ``render`` (offscreen
+rendering), ``camera`` (the observation pipeline of Fig. 2), ``oracle`` (a pose-reading
+reference policy), ``network`` (Eq. 1-16), ``trial`` (SARSA trials), ``experiments``
+(Experiments 1 and 2). The study layer, the machinery of the study's many runs, is the folder
+``docking.study`` (the store and the ledger, ``designs``: every question the package asks, as
+data, run by ``design``; the reports, ``figures``, the command line); docs/guide/package.md
+lists every module. The world is imported lazily, so ``docking.network`` works without
+OpenGL.
 """
 
 __version__ = "0.1.0"

@@ -188,7 +188,7 @@ display(Markdown(report.gaps_table(gaps + ppo_gaps)))
 # removed (rotation). The equivalence rule decides by the paired interval too.
 
 # %% tags=["hide-input"]
-TOOLS = Path(te.__file__).resolve().parents[2] / "tools"  # scripts beside the package
+TOOLS = Path(te.__file__).resolve().parents[3] / "tools"  # scripts beside the package
 spec = importlib.util.spec_from_file_location("checks", TOOLS / "interval_coverage.py")
 checks = importlib.util.module_from_spec(spec)
 spec.loader.exec_module(checks)
