@@ -6,21 +6,22 @@ Every command asks it once per job (``python -m docking run`` and ``sweep``, a d
 the report's check that nothing is missing); the sweep computes what it finds nowhere. The
 chain of one job, from the command line to its stored file (docs/guide/layers.md draws it)::
 
-    cli: Run.execute -> _run                       the configurations and seeds as jobs
-      sweep: run_jobs(jobs)
-        runs: locate(config, seed)                 once per job
-          kinds: run_key, result_path              its key, the file it names
-          store: find                              a valid file there: the run   -> "store"
-          ledger: read                             else the ledger's entry       -> "ledger"
-                                                   else                          -> "computed"
-        sweep: _run_job (a Dask worker, or here)   the jobs found nowhere
-          store: compute                           its runner runs it; the file is written
+    cli.runs: Run.execute -> _run                the configurations and seeds as jobs
+      runs: locate(config, seed)                 once per job, before anything computes
+        kinds: run_key, result_path              its key, the file it names
+        store: find                              a valid file there: the run   -> "store"
+        ledger: read                             else the ledger's entry       -> "ledger"
+                                                 else                          -> "computed"
+      sweep: sweep(jobs, located)                the jobs found nowhere
+        sweep: _run_job (a Dask worker, or here)
+          store: compute                         its runner runs it; the file is written
 
-So a configuration enters the store once (to read its file, or to write the file of the run
-just computed) and the ledger at most once (when the store holds no file of it), and neither
-calls the other: both build on :mod:`docking.study.kinds` (the kinds of run, the keys and the
-run files). A file in the store that is not a valid run of its key is a warning and the run is
-computed again (it replaces the file), as :func:`docking.study.store.run_or_load` does.
+(:func:`docking.study.sweep.run_jobs` and :func:`~docking.study.sweep.sweep` locate the jobs
+themselves when no caller has.) So a configuration enters the store once (to read its file, or to
+write the file of the run just computed) and the ledger at most once (when the store holds no file
+of it), and neither calls the other: both build on :mod:`docking.study.kinds` (the kinds of run, the
+keys and the run files). A file in the store that is not a valid run of its key is a warning and the
+run is computed again (it replaces the file), as :func:`docking.study.store.run_or_load` does.
 """
 
 from __future__ import annotations
