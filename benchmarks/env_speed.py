@@ -276,9 +276,26 @@ def run(
     }
 
 
+def main(argv=None) -> int:
+    """``python benchmarks/env_speed.py [--repeats N] [--steps N] [--seeds 0-1] [--quick]``:
+    :func:`run` with the options of ``python -m docking benchmark`` (which imports this module;
+    this one never imports the command line)."""
+    import argparse
+
+    from docking.study.sweep import parse_seeds
+
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n", 1)[0])
+    parser.add_argument("--repeats", type=int, default=None, help="repetitions of each timing")
+    parser.add_argument("--steps", type=int, default=None, help="environment steps per repetition")
+    parser.add_argument("--seeds", default="0-1", help="seeds of the Experiment 2 runs")
+    parser.add_argument("--quick", action="store_true", help="a smoke test of about 10 s")
+    args = parser.parse_args(argv)
+    try:
+        run(args.repeats, args.steps, parse_seeds(args.seeds), args.quick)
+    except ValueError as exc:
+        parser.error(str(exc))
+    return 0
+
+
 if __name__ == "__main__":
-    import sys
-
-    from docking.cli import main
-
-    raise SystemExit(main(["benchmark", *sys.argv[1:]]))
+    raise SystemExit(main())

@@ -5,12 +5,15 @@ a robot learns to dock from 32x10 camera pixels with a two-layer network (softma
 layer -> Q-value action layer) trained by SARSA, where the same TD error delta also trains
 the visual features (Eq. 8).
 
-Modules: ``world`` (the dm-control scene, from ``assets/docking.xml``, and the ``dm_env``
-task), ``render`` (offscreen rendering), ``camera`` (the observation pipeline of Fig. 2),
-``oracle`` (a pose-reading reference policy), ``network`` (Eq. 1-16), ``trial`` (SARSA
-trials), ``experiments`` (Experiments 1 and 2), ``designs`` (every question the package
-asks, as data, run by ``design``), ``figures``; docs/guide/package.md lists every module. The
-world is imported lazily, so ``docking.network`` works without OpenGL.
+The core, at this top level (``docking.core`` imports it in one line): ``world`` (the
+dm-control scene, from ``assets/docking.xml``, and the ``dm_env`` task), ``render`` (offscreen
+rendering), ``camera`` (the observation pipeline of Fig. 2), ``oracle`` (a pose-reading
+reference policy), ``network`` (Eq. 1-16), ``trial`` (SARSA trials), ``experiments``
+(Experiments 1 and 2). The study layer, the machinery of the study's many runs, is the folder
+``docking.study`` (the store and the ledger, ``designs``: every question the package asks, as
+data, run by ``design``; the reports, ``figures``, the command line); docs/guide/package.md
+lists every module. The world is imported lazily, so ``docking.network`` works without
+OpenGL.
 """
 
 __version__ = "0.1.0"
@@ -19,7 +22,7 @@ import os as _os  # noqa: E402
 import signal as _signal  # noqa: E402
 import sys as _sys  # noqa: E402
 
-#: The command line's name in its messages (:data:`docking.cli.PROG`), here because
+#: The command line's name in its messages (:data:`docking.study.cli.PROG`), here because
 #: ``python -m docking`` may need it before the command line is imported.
 _PROG = "python -m docking"
 
@@ -123,7 +126,7 @@ _load_triton_first()
 
 def _snapshot_sources() -> dict:
     """SHA-256 of every ``.py`` file of the package as it is when ``docking`` is imported:
-    :mod:`docking.store` fingerprints this code, and refuses to key runs if a file has changed
+    :mod:`docking.study.store` fingerprints this code, and refuses to key runs if a file has changed
     on disk since (the process would compute with the code it loaded, not the edited one)."""
     import hashlib
     from pathlib import Path

@@ -1,4 +1,4 @@
-"""``python -m docking``: the command line (:mod:`docking.cli`)."""
+"""``python -m docking``: the command line (:mod:`docking.study.cli`)."""
 
 if __name__ == "__main__":
     import atexit
@@ -13,13 +13,13 @@ if __name__ == "__main__":
     ctrl_c = _take_ctrl_c()
     from docking.glenv import RenderingUnavailable, check_gl_backend
 
-    try:  # before docking.cli imports MuJoCo, whose own failure is a traceback
+    try:  # before docking.study.cli imports MuJoCo, whose own failure is a traceback
         check_gl_backend()
     except RenderingUnavailable as exc:
         print(f"{_PROG}: error: {exc}", file=sys.stderr)
         raise SystemExit(1) from None
 
-    from docking.cli import main
+    from docking.study.cli import main
 
     # A command is interrupted by KeyboardInterrupt, so that a sweep closes its cluster on the
     # way out; main says so in one line and returns 130.

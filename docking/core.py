@@ -1,15 +1,15 @@
 """The docking library, in one import: what a user needs to build a world, run a learner in it
-and look at one run. Everything else in the package is the *study layer*, the machinery that
-asks the paper's questions of many runs (the results store and ledger, sweeps, designs,
-claims, statistics, the contest, the report and the command line).
+and look at one run. It is the top level of the package, ``docking/``; the *study layer*, the
+machinery that asks the paper's questions of many runs (the results store and ledger, sweeps,
+designs, claims, statistics, the contest, the report, the figures and the command line), is
+the folder ``docking/study/``.
 
     from docking.core import DockingEnv, WorldConfig, EXPERIMENT_2, run_experiment
 
     env = DockingEnv(WorldConfig(), seed=0)  # a dm_env.Environment
     result = run_experiment(EXPERIMENT_2, seed=0)  # one run of the paper's learner
 
-The core's modules (``[tool.importlinter]`` in pyproject.toml names them, and
-docs/guide/layers.md draws the two layers):
+The core's modules (docs/guide/layers.md draws the two layers):
 
 - the world: :mod:`~docking.scene` (``WorldConfig``, the action sets), :mod:`~docking.world`
   (``DockingEnv``), :mod:`~docking.camera`, :mod:`~docking.render`, :mod:`~docking.region`;
@@ -18,25 +18,26 @@ docs/guide/layers.md draws the two layers):
   :mod:`~docking.policies` and :mod:`~docking.oracle` (the yardsticks);
 - any learner: :mod:`~docking.protocol` (its streams, worlds and held-out judgement);
 - Gymnasium: :mod:`~docking.gym` and :mod:`~docking.gym_ids`;
-- looking at a run: :mod:`~docking.analysis` (arrays, never drawings);
 - their helpers: :mod:`~docking.validate`, :mod:`~docking.arith`, :mod:`~docking.glenv`,
   :mod:`~docking.fileio`.
 
 An import-linter contract ("the core never imports the study layer", run by ``make check``)
-keeps the core free of the study: no module above imports the store, the ledger, the stats or
-the designs, directly or through another module. This module imports the core only, and no
-module of the package imports it.
+keeps the core free of the study: no module of the top level imports ``docking.study``,
+directly or through another module. This module imports the core only, and no module of the
+package imports it.
 
-Why the two layers are two lists and not two folders (``docking.study``): a stored run is keyed
-by the code that computed it, module by module under its name (:mod:`docking.fingerprint`), so
-moving ``docking/world.py`` to ``docking/core/world.py`` would re-key every stored run and
-every row of the committed ledger, hours of computation, for no change of a single number. The
-split is kept by the contract instead, and the files stay where their keys name them.
+Why the core stays at the top level rather than moving into a folder of its own: a stored run
+is keyed by the code that computed it, module by module under its name
+(:mod:`docking.study.fingerprint`), so moving ``docking/world.py`` to ``docking/core/world.py``
+would re-key every stored run of the paper's learner and every row of the committed ledger
+for no change of a single number. The study layer's modules key no learner's run (PPO's runs,
+keyed by ``docking.study.ppo``, were migrated when it moved: ``python -m docking ledger
+migrate``).
 """
 
 from __future__ import annotations
 
-from docking import analysis, policies
+from docking import policies
 from docking.camera import CameraConfig, preprocess
 from docking.experiments import (
     Curriculum,
@@ -95,6 +96,4 @@ __all__ = [
     "training_env",
     # Gymnasium
     "DockingGymEnv",
-    # looking at a run
-    "analysis",
 ]

@@ -10,7 +10,7 @@
 A run is determined by its :class:`ExperimentConfig` and seed, bit for bit: one
 ``numpy.random.SeedSequence(seed)`` is split into independent streams for the training world,
 the test world, the network's initial weights, and the action choices in training and testing.
-:mod:`docking.store` saves every run, keyed by what produced it, and re-uses it instead of
+:mod:`docking.study.store` saves every run, keyed by what produced it, and re-uses it instead of
 re-training.
 """
 

@@ -32,7 +32,7 @@ def preset_world(name: str | None) -> WorldConfig:
         "experiment1": EXPERIMENT_1.world,
         "experiment2": EXPERIMENT_2.world,
         "floor": FLOOR_WORLD,
-        # Experiment 3's worlds at the paper's 2 deg (docking.designs.experiment3.world).
+        # Experiment 3's worlds at the paper's 2 deg (docking.study.designs.experiment3.world).
         "turning": dataclasses.replace(EXPERIMENT_2.world, actions="turning"),
         "precision": dataclasses.replace(
             EXPERIMENT_2.world, actions="turning", dock_heading_deg=10.0

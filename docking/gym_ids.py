@@ -2,7 +2,7 @@
 :class:`docking.gym.DockingGymEnv`, with its arguments and actions checked here, and the
 conventions of reinforcement-learning libraries such as Stable-Baselines3.
 
-The adapter's code is part of the fingerprint of PPO's runs (:mod:`docking.ppo` builds it), so
+The adapter's code is part of the fingerprint of PPO's runs (:mod:`docking.study.ppo` builds it), so
 what its code could hold lives in this module instead, which no run imports:
 
 * a ``seed`` that is no integer (``seed=True``) and, in a world with continuous actions

@@ -1,7 +1,7 @@
 """The preset configurations: the paper's two experiments, the study's floor world, and the
 seeds of the multi-seed runs.
 
-Outside the code that computes results (:mod:`docking.store` fingerprints
+Outside the code that computes results (:mod:`docking.study.store` fingerprints
 :mod:`docking.experiments` and what it imports, not this module): a configuration is data, and
 its values enter every run's key through the configuration itself, so editing a seed list here
 re-keys nothing that it does not change.

@@ -1,5 +1,5 @@
 """What any learner's run computes with: its worlds, its streams and its judgement on the
-held-out trials (the computing half of the learner protocol; :mod:`docking.learners` is the
+held-out trials (the computing half of the learner protocol; :mod:`docking.study.learners` is the
 other half, the registration, and docs/guide/bring_your_own_learner.md the guide).
 
 A run of any learner, the paper's, PPO or one from outside the package, is judged the same
@@ -12,7 +12,7 @@ agree: a trial that ends sooner draws fewer step noises) and its held-out succes
 with theirs seed by seed, as the third edition's contest compares them.
 
 This module is keyed: a learner registered from outside the package
-(:func:`docking.learners.register`) has its runs keyed by this module's code and every
+(:func:`docking.study.learners.register`) has its runs keyed by this module's code and every
 ``docking`` module it imports (the world, the camera, the streams of
 :mod:`docking.experiments`), besides the learner's own code.
 """
@@ -45,7 +45,7 @@ __all__ = [
 
 @dataclasses.dataclass
 class LearnerResult:
-    """A run of a learner registered with :func:`docking.learners.register`.
+    """A run of a learner registered with :func:`docking.study.learners.register`.
 
     Attributes:
       config: The learner's configuration.

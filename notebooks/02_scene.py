@@ -53,13 +53,13 @@ import dataclasses
 import numpy as np
 from IPython.display import Image, Markdown, display
 
-from docking.analysis import VIEW_POSES, floor_plan
-from docking.figures import FIGURES_DIR, fig_trial, to_png
 from docking.oracle import oracle_action
 from docking.policies import run_oracle_trial
 from docking.presets import EXPERIMENT_1, EXPERIMENT_2
-from docking.report import save_fig2
 from docking.scene import scene_facts
+from docking.study.analysis import VIEW_POSES, floor_plan
+from docking.study.designs.paper_report import save_fig2
+from docking.study.figures import FIGURES_DIR, fig_trial, to_png
 from docking.world import ACTION_NAMES, DockingEnv, WorldConfig
 
 env = DockingEnv(seed=0)

@@ -33,21 +33,17 @@
 import numpy as np
 from IPython.display import Image, Markdown, display
 
-from docking.analysis import best_actions, feature_change, learning_curves
-from docking.designs import calibration, design
-from docking.figures import FIGURES_DIR, fig_rewards, to_png
 from docking.presets import EXPERIMENT_1
-from docking.report import (
-    PAPER_COLUMNS,
+from docking.study.analysis import best_actions, feature_change, learning_curves
+from docking.study.designs import calibration, design
+from docking.study.designs.calibration_report import (
     calibration_rows,
     calibration_table,
     computing_time,
-    configuration_table,
-    experiment1_rows,
-    headline,
-    md_table,
-    save_fig3,
 )
+from docking.study.designs.paper_report import PAPER_COLUMNS, experiment1_rows, headline, save_fig3
+from docking.study.figures import FIGURES_DIR, fig_rewards, to_png
+from docking.study.report import configuration_table, md_table
 from docking.world import ACTION_LETTERS, DockingEnv
 
 config = EXPERIMENT_1
@@ -139,7 +135,7 @@ assert backward < 0.01
 # started, shorter steps, $\epsilon_Q$ halved and doubled, a start region further out) and
 # runs it for the same seeds, paired with the runs above (the same initial weights and random
 # streams), each network tested greedily as above on the test trials of its own start region;
-# the bold row *is* the runs above. `docking.designs.calibration` defines the rows and says why these.
+# the bold row *is* the runs above. `docking.study.designs.calibration` defines the rows and says why these.
 # Intervals are 95% bootstrap intervals over seeds; the difference to this configuration
 # resamples each row's seeds independently. "Training trials rewarded" is the share of the
 # 100 training trials that ended in the dock.

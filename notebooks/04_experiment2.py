@@ -32,7 +32,9 @@
 import numpy as np
 from IPython.display import Image, Markdown, display
 
-from docking.analysis import (
+from docking.experiments import initial_network
+from docking.presets import EXPERIMENT_1, EXPERIMENT_2
+from docking.study.analysis import (
     FAILURE_CLASSES,
     failure_taxonomy,
     feature_change,
@@ -40,24 +42,23 @@ from docking.analysis import (
     start_views,
     winner_change,
 )
-from docking.designs import calibration, design
-from docking.experiments import initial_network
-from docking.figures import FIGURES_DIR
-from docking.presets import EXPERIMENT_1, EXPERIMENT_2
-from docking.report import (
-    PAPER_COLUMNS,
+from docking.study.designs import calibration, design
+from docking.study.designs.calibration_report import (
     calibration_rows,
     calibration_table,
     computing_time,
-    configuration_table,
+)
+from docking.study.designs.paper_report import (
+    PAPER_COLUMNS,
     experiment2_rows,
     headline,
-    md_table,
     save_fig4,
     save_fig5,
     save_learning_curves,
 )
-from docking.stats import difference_ci
+from docking.study.figures import FIGURES_DIR
+from docking.study.report import configuration_table, md_table
+from docking.study.stats import difference_ci
 from docking.world import ACTION_LETTERS, DockingEnv
 
 config = EXPERIMENT_2
@@ -184,7 +185,7 @@ display(Image(filename=str(FIGURES_DIR / "fig5_trajectories.png")))
 
 # %% [markdown]
 # **Why trials fail.** Each failed test trial of every seed, classified from its logged poses
-# and actions by `docking.analysis.failure_taxonomy` (a trial can fall in several classes):
+# and actions by `docking.study.analysis.failure_taxonomy` (a trial can fall in several classes):
 
 # %% tags=["hide-input", "fold-output"]
 env = DockingEnv(config.world, seed=0)
@@ -213,7 +214,7 @@ print(
 # 15 cm; $\epsilon_Q$ 0.03 and 0.2; $\epsilon_W$ 20 times larger) and runs it for the same
 # seeds, paired with the runs above (the same initial weights and random streams), each
 # network tested greedily on 725 trials from the full region; the bold row *is* the runs
-# above, and $\epsilon_W$ is this configuration's unless a row names it. `docking.designs.calibration`
+# above, and $\epsilon_W$ is this configuration's unless a row names it. `docking.study.designs.calibration`
 # defines the rows and says why these ($\epsilon_W = 0$ is notebook 05's, with ten seeds).
 # Intervals are 95% bootstrap intervals over seeds; the difference to this configuration
 # resamples each row's seeds independently. "Training trials rewarded" is the share of the

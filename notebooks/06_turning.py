@@ -41,12 +41,12 @@
 import numpy as np
 from IPython.display import Image, Markdown, display
 
-from docking import analysis, figures, report
-from docking.analysis import FAILURE_CLASSES
-from docking.designs import design, experiment3
 from docking.policies import centroid_offset, oracle, run_episode
-from docking.report import save_named
-from docking.stats import difference_ci
+from docking.study import analysis, figures, report
+from docking.study.analysis import FAILURE_CLASSES
+from docking.study.designs import design, experiment3, experiment3_report
+from docking.study.report import save_named
+from docking.study.stats import difference_ci
 from docking.world import DockingEnv
 
 pct = lambda ci: ci.format(unit="%")  # noqa: E731
@@ -91,7 +91,7 @@ display(
 # docked in only about 98% of trials.
 
 # %%
-oracle_rates = report.oracle_rates(design("experiment3-oracle").run())
+oracle_rates = experiment3_report.oracle_rates(design("experiment3-oracle").run())
 rates = [(key, f"{100 * rate:.1f}%") for key, rate in oracle_rates.items()]
 display(Markdown(report.md_table(("cell", "oracle success"), rates)))
 grid = {c.key: c for c in experiment3.experiment3_cells()}
@@ -124,8 +124,8 @@ print(
 # four-action learner's failures that are gone with six actions.
 
 # %% tags=["hide-input"]
-comparisons = report.turning_comparisons(results)
-display(Markdown(report.turning_table(comparisons, oracle_rates)))
+comparisons = experiment3_report.turning_comparisons(results)
+display(Markdown(experiment3_report.turning_table(comparisons, oracle_rates)))
 found = {(c.task, c.noise): c for c in comparisons}
 
 tasks, noise = list(experiment3.TASKS), np.array(experiment3.NOISE_DEG)
@@ -176,7 +176,7 @@ assert hard.six.high < oracle_rates["4 actions, precision, 6 deg"] < 0.9
 # same claim by removing the heading noise at test instead.)
 
 # %%
-verdict, removed = report.rotation_verdict(comparisons, experiment3.ROTATION_RULE)
+verdict, removed = experiment3_report.rotation_verdict(comparisons, experiment3.ROTATION_RULE)
 base = found["paper task", 2.0]
 display(
     Markdown(
@@ -198,7 +198,7 @@ assert verdict == "contradicted" and removed.high < 0
 # %% [markdown]
 # ## Where the failures go: the failure taxonomy of every cell
 #
-# The study's taxonomy (notebook 05, `docking.analysis.FAILURE_CLASSES`) of every cell's
+# The study's taxonomy (notebook 05, `docking.study.analysis.FAILURE_CLASSES`) of every cell's
 # held-out failures, its first five seeds pooled (`experiment3.TAXONOMY_SEEDS`: the ledger
 # keeps their failures' paths); a trial can be in several classes. "Heading off in
 # region" exists only with precision docking: the reference point reached the region, but the
@@ -208,7 +208,7 @@ assert verdict == "contradicted" and removed.high < 0
 # %% tags=["hide-input"]
 keys = [c.key for c in results.cells]
 n_taxonomy = len(experiment3.TAXONOMY_SEEDS)
-shares, failures = report.failure_shares(results, keys, n_taxonomy)
+shares, failures = experiment3_report.failure_shares(results, keys, n_taxonomy)
 classes = list(FAILURE_CLASSES)
 display(
     Image(
@@ -233,8 +233,8 @@ lines = []
 for c in found.values():
     k4 = experiment3.cell_key("paper", c.task, c.noise)
     k6 = experiment3.cell_key("turning", c.task, c.noise)
-    yaw4 = np.median(report.final_headings(results, k4, n_taxonomy))
-    yaw6 = np.median(report.final_headings(results, k6, n_taxonomy))
+    yaw4 = np.median(experiment3_report.final_headings(results, k4, n_taxonomy))
+    yaw6 = np.median(experiment3_report.final_headings(results, k6, n_taxonomy))
     rewarded = difference_ci(
         analysis.rewarded_share(results.runs[k6]), analysis.rewarded_share(results.runs[k4])
     )

@@ -22,7 +22,7 @@
 # edition's **contest**: in each world every learner gets **the same tuning budget**, and
 # tuned learners are compared with tuned learners, on seeds no earlier run used.
 #
-# **The rules were committed before any of this edition's runs** (`docking/designs/third_edition.py`,
+# **The rules were committed before any of this edition's runs** (`docking/study/designs/third_edition.py`,
 # commit 396630d, pinned by `tests/test_third_edition.py`'s digest of `rules_text()`):
 #
 # * **Worlds:** the sideboard world (the one the package's choices were calibrated in), the
@@ -62,14 +62,14 @@ from pathlib import Path
 import numpy as np
 from IPython.display import Image, Markdown, display
 
-from docking import figures, report
-from docking.claims import design_verdicts, judge_family, rate_interval
-from docking.designs import addendum as ad
-from docking.designs import measures
-from docking.designs import third_edition as te
 from docking.presets import NAO_WORLD
-from docking.report import save_named
-from docking.stats import rate_ci, t_mean_ci
+from docking.study import figures, provenance, report
+from docking.study.claims import design_verdicts, judge_family, rate_interval
+from docking.study.designs import addendum as ad
+from docking.study.designs import addendum_report, bracketing_report, measures, third_edition_report
+from docking.study.designs import third_edition as te
+from docking.study.report import save_named
+from docking.study.stats import rate_ci, t_mean_ci
 
 pct = lambda ci: ci.format(unit="%")  # noqa: E731
 
@@ -109,7 +109,7 @@ display(
         "floor, seen whole, nothing stopping the robot at the dock) was chosen after the second "
         "edition had shown that it breaks the paper's learner; the Nao-like world's published "
         "values (steps, camera) came after, on that scene. Its results are a second world of the "
-        "same kind, not an independent check.\n\n" + report.deviations_table(te.NAME)
+        "same kind, not an independent check.\n\n" + provenance.deviations_table(te.NAME)
     )
 )
 assert "scene" in shared
@@ -136,8 +136,10 @@ assert NAO_WORLD.max_steps == 25 and oracle.mean() >= 0.99  # 25 actions are eno
 # (`#0` is each learner's default).
 
 # %% tags=["fold-output"]
-tuning = report.tuning_rows(contest, te.CONTEST, te.LEARNERS, te.GRIDS, te.TUNING.tuned_setting)
-display(Markdown(report.tuning_table(tuning)))
+tuning = third_edition_report.tuning_rows(
+    contest, te.CONTEST, te.LEARNERS, te.GRIDS, te.TUNING.tuned_setting
+)
+display(Markdown(third_edition_report.tuning_table(tuning)))
 for r in tuning:  # the chosen setting is the best of round 2 by its three-seed mean
     assert r["chosen"] in r["round2"] and r["round2"][r["chosen"]] == max(r["round2"].values())
 
@@ -150,18 +152,18 @@ for r in tuning:  # the chosen setting is the best of round 2 by its three-seed 
 
 # %% tags=["hide-input", "fold-output"]
 # the third edition's contest: each learner's held-out success per world (table and figure)
-names = report.CONTEST_WORLDS  # the worlds' names in tables and figures
-display(Markdown(report.contest_table(contest, names)))
-labels = dict(report.CONTEST_COLUMNS)
+names = third_edition_report.CONTEST_WORLDS  # the worlds' names in tables and figures
+display(Markdown(third_edition_report.contest_table(contest, names)))
+labels = dict(third_edition_report.CONTEST_COLUMNS)
 scores = {
     (w, labels[v]): contest.score(f"{w}/{v}")
     for w in te.CONTEST
-    for v, _ in report.CONTEST_COLUMNS
+    for v, _ in third_edition_report.CONTEST_COLUMNS
     if f"{w}/{v}" in {c.key for c in contest.cells}
 }
 fig = figures.fig_contest(
     [names[w] for w in te.CONTEST],
-    [label for _, label in report.CONTEST_COLUMNS],
+    [label for _, label in third_edition_report.CONTEST_COLUMNS],
     {(names[w], label): s for (w, label), s in scores.items()},
 )
 display(Image(save_named(fig, "third_edition_contest")))
@@ -186,7 +188,7 @@ display(Markdown(report.gaps_table(gaps + ppo_gaps)))
 # removed (rotation). The equivalence rule decides by the paired interval too.
 
 # %% tags=["hide-input"]
-TOOLS = Path(te.__file__).resolve().parents[2] / "tools"  # scripts beside the package
+TOOLS = Path(te.__file__).resolve().parents[3] / "tools"  # scripts beside the package
 spec = importlib.util.spec_from_file_location("checks", TOOLS / "interval_coverage.py")
 checks = importlib.util.module_from_spec(spec)
 spec.loader.exec_module(checks)
@@ -264,7 +266,7 @@ print({w: paper_gain[w].format(unit=" pp") for w in te.CONTEST})
 # two SARSA learners were not tuned on the same knobs. **The addendum** (a new, labelled
 # analysis; the tables above stay as they were run) asks the question again in the two worlds
 # where the gap remained. Its rules were committed before any of its runs
-# (`docking/designs/addendum.py`, pinned by `tests/test_addendum.py`'s digest, which covers
+# (`docking/study/designs/addendum.py`, pinned by `tests/test_addendum.py`'s digest, which covers
 # the search's code and the gap rule's):
 #
 # * **The same knobs for both SARSA learners:** eps_Q, the exploration temperature beta_a in
@@ -285,8 +287,8 @@ print({w: paper_gain[w].format(unit=" pp") for w in te.CONTEST})
 
 # %% tags=["hide-input"]
 added = ad.DESIGN.run(progress=False)
-rules_commit, rules_time = report.RULES_COMMITS[ad.NAME]  # tests/test_addendum.py checks it
-times = report.computed_times(ad.NAME)
+rules_commit, rules_time = provenance.RULES_COMMITS[ad.NAME]  # tests/test_addendum.py checks it
+times = provenance.computed_times(ad.NAME)
 n_runs = sum(len(added.runs[c.key]) for c in added.cells if c.trained)
 print(
     f"rules committed {rules_time} ({rules_commit[:7]}); the addendum's {len(times)} runs "
@@ -301,8 +303,8 @@ assert len(times) == n_runs and min(times) > report.utc(rules_time)  # every run
 # values); *interior* means values on both sides were tried and did worse.
 
 # %% tags=["hide-input", "fold-output"]
-bracketed = report.bracketed_rows(added, ad)
-display(Markdown(report.bracketed_table(bracketed)))
+bracketed = addendum_report.bracketed_rows(added, ad)
+display(Markdown(addendum_report.bracketed_table(bracketed)))
 edges = {
     (r["world"], r["learner"], knob): where
     for r in bracketed
@@ -330,7 +332,7 @@ assert edges and {learner for _, learner, _ in edges} == {"paper"}  # linear SAR
 # ### The bracketing: the search continued until each optimum is inside
 #
 # A second labelled analysis, its rules committed before its runs
-# (`docking/designs/bracketing.py`, pinned by `tests/test_bracketing.py`'s digest): from
+# (`docking/study/designs/bracketing.py`, pinned by `tests/test_bracketing.py`'s digest): from
 # where the addendum stopped, every setting is compared on the same 10 tuning seeds
 # (5900-5909), and every neighbour of the best one on the ladders is run on the seeds it
 # lacks, stage after stage, until the best setting has every neighbour tried (or 100 runs
@@ -339,22 +341,22 @@ assert edges and {learner for _, learner, _ in edges} == {"paper"}  # linear SAR
 # the addendum's judged runs.
 
 # %% tags=["hide-input"]
-from docking.designs import bracketing as br  # noqa: E402
+from docking.study.designs import bracketing as br  # noqa: E402
 
 
 def shown_walk(walk):
     """A walk of the bracketing (its design module): its results and rows, its table shown,
     its budget, its "bracketed" and its rules-before-runs asserted."""
     own = walk.DESIGN.run(progress=False)
-    rows = report.bracketing_rows(own, walk)
-    display(Markdown(report.bracketing_table(rows)))
+    rows = bracketing_report.bracketing_rows(own, walk)
+    display(Markdown(bracketing_report.bracketing_table(rows)))
     for r in rows:
         assert r["runs"] <= walk.BUDGET
         assert r["bracketed"] == all(
             not w.startswith("at the edge") for _, w in r["positions"].values()
         )
-    times = report.computed_times(walk.NAME)
-    assert min(times) > report.utc(report.RULES_COMMITS[walk.NAME][1])  # runs after rules
+    times = provenance.computed_times(walk.NAME)
+    assert min(times) > report.utc(provenance.RULES_COMMITS[walk.NAME][1])  # runs after rules
     return own, rows
 
 
@@ -379,7 +381,7 @@ display(
 #
 # A third labelled analysis, written after the bracketing's runs were seen (which is why it
 # is a new analysis, not a change of the bracketing's rules), its rules committed before its
-# own runs (`docking/designs/bracketing_continued.py`, pinned by
+# own runs (`docking/study/designs/bracketing_continued.py`, pinned by
 # `tests/test_bracketing_continued.py`'s digest): the bracketing's walk, unchanged, with a
 # further budget of runs per learner and world, the same for both learners; then **both**
 # tuned SARSA learners, and PPO at the paper's learner's training steps, judged on fresh
@@ -387,11 +389,11 @@ display(
 # From here on, "tuned" means tuned by this walk and judged on these seeds.
 
 # %% tags=["hide-input"]
-from docking.designs import bracketing_continued as bc  # noqa: E402
+from docking.study.designs import bracketing_continued as bc  # noqa: E402
 
 walk = bc
 own, bracketing = shown_walk(bc)
-final = report.bracketed_addendum(added, own, bc)  # the tuned learners from here on
+final = bracketing_report.bracketed_addendum(added, own, bc)  # the tuned learners from here on
 for w in ad.WORLDS:  # every tuned learner judged on the fresh seeds
     for v in ("paper-tuned", "linear-tuned", "ppo-matched"):
         assert {r.seed for r in final.runs[f"{w}/{v}"]} == set(bc.SEEDS)
@@ -422,7 +424,7 @@ for r in bracketing:
     )
 header = ("world", "learner", "the 4 best settings (%)", "one setting's s.e.", "search")
 display(Markdown(report.md_table(header, flat)))
-display(Markdown(report.bracketing_summary(bracketing, final, ad)))
+display(Markdown(bracketing_report.bracketing_summary(bracketing, final, ad)))
 
 # %% [markdown]
 # ### Training steps, and PPO's budget matched to them
@@ -434,11 +436,11 @@ variants = {
     "linear-tuned": "linear SARSA, tuned",
     "ppo-matched": "PPO (its budget)",
 }
-steps_rows = report.training_steps_rows(final, ad.WORLDS, variants)
-display(Markdown(report.training_steps_table(steps_rows)))
+steps_rows = addendum_report.training_steps_rows(final, ad.WORLDS, variants)
+display(Markdown(addendum_report.training_steps_table(steps_rows)))
 by_row = {(w, label): steps for w, label, _, steps in steps_rows}
 for w in ad.WORLDS:
-    name = report.CONTEST_WORLDS[w]
+    name = third_edition_report.CONTEST_WORLDS[w]
     paper_steps = by_row[name, variants["paper-tuned"]].mean()
     assert abs(by_row[name, variants["ppo-matched"]][0] / paper_steps - 1) < 0.05  # within 5%
 
@@ -544,11 +546,11 @@ display(Markdown(design_verdicts(results)))
 
 # %% tags=["fold-output"]
 # Read with care: tests that could not fail, choices made after results, rules before runs
-display(Markdown(report.candour_text()))  # notebooks 08 and 09 test relocation and coping again
+display(Markdown(provenance.candour_text()))  # notebooks 08 and 09 test relocation and coping again
 
 # %% tags=["fold-output"]
 # the verdicts as a figure: each comparison's interval against its rule's bound
-fig = figures.fig_verdicts(report.verdict_panels(te.CLAIMS, results, per_claim))
+fig = figures.fig_verdicts(third_edition_report.verdict_panels(te.CLAIMS, results, per_claim))
 display(Image(save_named(fig, "third_edition_verdicts")))
 
 # %% [markdown]
@@ -604,9 +606,9 @@ display(Markdown(report.md_table((*header, "actions per docking"), rows)))
 # %% tags=["hide-input", "fold-output"]
 # the path from the sideboard world to the floor world: each step's cost to each learner
 what = {k: v[0] for k, v in te.WORLDS.items()}
-steps = report.path_steps(results, list(pairwise(te.PATH)), te.BREAK_DROP, te.ALPHA)
-branches = report.path_steps(results, te.BRANCHES, te.BREAK_DROP, te.ALPHA)
-display(Markdown(report.path_table(steps + branches, what)))
+steps = third_edition_report.path_steps(results, list(pairwise(te.PATH)), te.BREAK_DROP, te.ALPHA)
+branches = third_edition_report.path_steps(results, te.BRANCHES, te.BREAK_DROP, te.ALPHA)
+display(Markdown(third_edition_report.path_table(steps + branches, what)))
 n = len(te.PATH_SEEDS)
 print(
     {

@@ -30,7 +30,7 @@
 # Points 1-3 are the design's judged part (`ut.part("judged")`), points 4-6 its findings
 # part (`ut.part("findings")`, ten seeds per cell): the same design, the same rules.
 #
-# **The rules were committed before any of these runs** (`docking/designs/untested.py`,
+# **The rules were committed before any of these runs** (`docking/study/designs/untested.py`,
 # pinned by `tests/test_untested.py`'s digest of its `rules_text()`; two amendments before
 # any run, named there), on seeds no earlier run used (4000-4019). The judged claims
 # (relocation, coping, continuous accuracy and path) are decided by Holm's adjustment within
@@ -48,17 +48,17 @@ from gymnasium.utils.env_checker import check_env
 from IPython.display import Image, Markdown, display
 
 import docking  # noqa: F401  (registers the Gymnasium ids)
-from docking import analysis, figures, report
-from docking.claims import design_verdicts, judge_family, rate_interval
-from docking.designs import addendum as ad
-from docking.designs import measures
-from docking.designs import third_edition as te
-from docking.designs import untested as ut
-from docking.designs.builders import with_cup
 from docking.experiments import initial_network
-from docking.report import save_named
 from docking.scene import scene_facts
-from docking.stats import t_mean_ci, t_paired_ci
+from docking.study import analysis, figures, provenance, report
+from docking.study.claims import design_verdicts, judge_family, rate_interval
+from docking.study.designs import addendum as ad
+from docking.study.designs import addendum_report, measures, third_edition_report
+from docking.study.designs import third_edition as te
+from docking.study.designs import untested as ut
+from docking.study.designs.builders import with_cup
+from docking.study.report import save_named
+from docking.study.stats import t_mean_ci, t_paired_ci
 
 results = ut.part("judged").run(progress=False)
 per_claim = judge_family(results.design.claims, results, alpha=ut.ALPHA, per_claim=True)
@@ -69,7 +69,7 @@ pp = lambda ci: ci.format(unit=" pp")  # noqa: E731
 
 
 def md_table(header, rows) -> Markdown:
-    """The Markdown table of ``rows`` under ``header`` (:func:`docking.report.md_table`)."""
+    """The Markdown table of ``rows`` under ``header`` (:func:`docking.study.report.md_table`)."""
     return Markdown(report.md_table(header, rows))
 
 
@@ -82,8 +82,8 @@ def md_table(header, rows) -> Markdown:
 # this design's history, each checked against the history by `tests/test_provenance.py`:
 
 # %%
-display(Markdown(report.deviations_table(ut.NAME)))
-assert {c: report.OUTSIDE_COUNTS[c] for c in ("relocation", "coping")}
+display(Markdown(provenance.deviations_table(ut.NAME)))
+assert {c: third_edition_report.OUTSIDE_COUNTS[c] for c in ("relocation", "coping")}
 
 # %% [markdown]
 # ## 1. Relocation
@@ -175,7 +175,7 @@ assert other[0] > 0.2 * other[1] and abs(along.interval.estimate) < 0.01
 # %% [markdown]
 # Where the walk differs along the wall: the robot touches no furniture in the start region
 # or on the straight walk from a start to the dock, in any place (checked on 60 starts and
-# their walks per place, `docking.analysis.furniture_contacts`); but the shifted table stands
+# their walks per place, `docking.study.analysis.furniture_contacts`); but the shifted table stands
 # where a robot that wanders off that walk reaches it (the trials that differ begin to
 # diverge near (-1.20, 0.70) m).
 
@@ -466,7 +466,9 @@ assert all(v > 0 for v in heading.values())
 display(Markdown(design_verdicts(results)))
 
 # %%
-fig = figures.fig_verdicts(report.verdict_panels(results.design.claims, results, per_claim))
+fig = figures.fig_verdicts(
+    third_edition_report.verdict_panels(results.design.claims, results, per_claim)
+)
 display(Image(save_named(fig, "untested_verdicts")))
 
 # %% [markdown]
@@ -608,7 +610,7 @@ assert largest < 0.005  # within half a percentage point, every trained state
 
 # %%
 (mechanism,) = [c for c in ut.CLAIMS if c.key == "mechanism"]
-(panel,) = report.verdict_panels([mechanism], findings, [])
+(panel,) = third_edition_report.verdict_panels([mechanism], findings, [])
 by_world = []
 for w in ut.WORLDS:
     rows = [r for r in panel["rows"] if r[0].startswith(f"{w}:")]
@@ -694,7 +696,7 @@ assert gap["floor", best][0].estimate < 0.6 * gap["floor", "paper"][0].estimate
 # %% tags=["hide-input"]
 added = ad.DESIGN.run(progress=False)
 labelled = {w: analysis.oracle_views(ad.WORLDS[w], 300, seed=0) for w in ad.WORLDS}
-parts = {d.world: d for d in report.decomposition(added, labelled)}
+parts = {d.world: d for d in addendum_report.decomposition(added, labelled)}
 columns = [
     "linear SARSA, tuned",
     "paper's W, oracle-labelled Q",
@@ -707,23 +709,19 @@ for w, d in parts.items():
     for label, values in zip(
         columns, (d.linear, d.labelled, d.paper, d.fixed_labelled, d.fixed), strict=True
     ):
-        seeds[report.CONTEST_WORLDS[w], label] = values
-split = {
-    report.CONTEST_WORLDS[w]: (100 * d.representation.estimate, 100 * d.learning_q.estimate)
-    for w, d in parts.items()
-}
-# no arrows: the runs show the oracle-labelled Q is no bound (below), so there is no split to draw
-fig = figures.fig_decomposition([report.CONTEST_WORLDS[w] for w in parts], columns, seeds, {})
+        seeds[third_edition_report.CONTEST_WORLDS[w], label] = values
+# no split of the gap: the runs show the oracle-labelled Q is no bound (below)
+fig = figures.fig_decomposition(
+    [third_edition_report.CONTEST_WORLDS[w] for w in parts], columns, seeds
+)
 display(Image(save_named(fig, "addendum_decomposition")))
 display(
     md_table(
-        ["world", "gap", "representation", "learning Q", "purity of W's partition"],
+        ["world", "gap", "purity of W's partition"],
         [
             [
-                report.CONTEST_WORLDS[w],
+                third_edition_report.CONTEST_WORLDS[w],
                 pp(d.gap),
-                pp(d.representation),
-                pp(d.learning_q),
                 f"{100 * d.purity.mean():.0f}%",
             ]
             for w, d in parts.items()
@@ -739,7 +737,7 @@ answer = []
 for w, d in parts.items():
     learned = t_paired_ci(d.paper, d.labelled)
     answer.append(
-        f"In {report.CONTEST_NAMES[w]} the Q the paper's rule learned docks {learned.format(unit=' pp')} "
+        f"In {third_edition_report.CONTEST_NAMES[w]} the Q the paper's rule learned docks {learned.format(unit=' pp')} "
         f"more often than the oracle-labelled Q on the same W ({100 * d.paper.mean():.1f}% against "
         f"{100 * d.labelled.mean():.1f}%; {100 * d.purity.mean():.0f}% of the oracle's views share their "
         f"unit's majority action), and linear SARSA's lead over it is {pp(d.gap)}. SARSA on a fixed "
@@ -771,7 +769,7 @@ for w in ad.WORLDS:
     init = report.paired_over_shared_seeds(added, f"{w}/views-init", f"{w}/paper-tuned")
     levers.append(
         [
-            report.CONTEST_WORLDS[w],
+            third_edition_report.CONTEST_WORLDS[w],
             pct(rate_interval(added, f"{w}/paper-tuned")),
             pct(rate_interval(added, f"{w}/views-init")),
             pp(init),

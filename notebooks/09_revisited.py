@@ -29,7 +29,7 @@
 #   and stay outside the counts too.
 #
 # This notebook is their revisit: a new, labelled analysis whose **rules were committed
-# before any of its runs** (`docking/designs/revisited.py`, pinned by
+# before any of its runs** (`docking/study/designs/revisited.py`, pinned by
 # `tests/test_revisited.py`'s digest, which covers the code of the measure and of the
 # judging functions, not only their names), on fresh seeds 6000-6009.
 #
@@ -57,17 +57,18 @@
 import numpy as np
 from IPython.display import Image, Markdown, display
 
-from docking import figures, report
-from docking.claims import design_verdicts, rate_interval
-from docking.designs import revisited as rv
-from docking.report import save_named
+from docking.study import figures, provenance, report
+from docking.study.claims import design_verdicts, rate_interval
+from docking.study.designs import revisited as rv
+from docking.study.designs import revisited_report
+from docking.study.report import save_named
 
 results = rv.DESIGN.run(progress=False)
-rows = report.revisited_rows(results, rv)
+rows = revisited_report.revisited_rows(results, rv)
 verdict = rows["verdict"]
 pct = lambda ci: ci.format(unit="%")  # noqa: E731
-rules_commit, rules_time = report.RULES_COMMITS[rv.NAME]  # tests/test_provenance.py checks it
-times = report.computed_times(rv.NAME)
+rules_commit, rules_time = provenance.RULES_COMMITS[rv.NAME]  # tests/test_provenance.py checks it
+times = provenance.computed_times(rv.NAME)
 print(
     f"rules committed {rules_time} ({rules_commit[:7]}); the {len(times)} runs computed "
     f"{min(times):%Y-%m-%d %H:%M} to {max(times):%Y-%m-%d %H:%M} (UTC)"

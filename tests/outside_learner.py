@@ -1,6 +1,6 @@
 """A learner defined outside the package (tests/test_learners.py): SARSA on a few random
 features of the pixels, registered as a kind of run of its own. Its module imports only
-docking.learners (not followed for its key) and docking.scene, so its runs are keyed by this
+docking.study.learners (not followed for its key) and docking.scene, so its runs are keyed by this
 file's code, docking.protocol's and docking.scene's (and what they import)."""
 
 from __future__ import annotations
@@ -9,8 +9,8 @@ import dataclasses
 
 import numpy as np
 
-from docking import learners
 from docking.scene import WorldConfig
+from docking.study import learners
 
 
 @dataclasses.dataclass(frozen=True)

@@ -28,15 +28,15 @@ sys.path.insert(0, str(ROOT))
 from docking.experiments import Curriculum  # noqa: E402
 from docking.network import Network, NetworkConfig  # noqa: E402
 from docking.presets import EXPERIMENT_1  # noqa: E402
-from docking.store import (  # noqa: E402
+from docking.study.kinds import (  # noqa: E402
     CorruptResult,
     content_digest,
     load_result,
     result_arrays,
     result_path,
     run_key,
-    run_or_load,
 )
+from docking.study.store import run_or_load  # noqa: E402
 from docking.world import DockingEnv, WorldConfig  # noqa: E402
 
 TINY = dataclasses.replace(

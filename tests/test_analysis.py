@@ -1,4 +1,4 @@
-"""Tests of docking.analysis: every function returns the arrays it promises, on hand-made
+"""Tests of docking.study.analysis: every function returns the arrays it promises, on hand-made
 networks and trials whose answers are known."""
 
 import dataclasses
@@ -6,11 +6,11 @@ import dataclasses
 import numpy as np
 import pytest
 
-from docking import analysis
 from docking.experiments import TrialLog, initial_network, run_experiment
 from docking.network import Network, NetworkConfig
 from docking.presets import EXPERIMENT_1
 from docking.scene import scene_facts
+from docking.study import analysis
 from docking.world import ACTION_LETTERS, DockingEnv, WorldConfig
 
 TINY = dict(train_trials=4, test_trials=6, eval_every=2, eval_trials=2)
@@ -307,9 +307,9 @@ def test_learning_curves_of_several_seeds(result1):
 
 
 def test_floor_plan_and_taxonomy_of_the_floor_scene():
-    from docking.analysis import failure_taxonomy, floor_plan
     from docking.experiments import TrialLog
     from docking.presets import FLOOR_WORLD
+    from docking.study.analysis import failure_taxonomy, floor_plan
     from docking.world import DockingEnv
 
     plan = floor_plan(FLOOR_WORLD)
@@ -331,8 +331,8 @@ def test_floor_plan_and_taxonomy_of_the_floor_scene():
 
 
 def test_winner_change_counts_views_whose_winner_or_action_moved():
-    from docking.analysis import winner_change
     from docking.network import Network, NetworkConfig
+    from docking.study.analysis import winner_change
 
     config = NetworkConfig(n_inputs=4, n_features=2, n_actions=2)
     W0 = np.array([[1.0, 0, 0, 0], [0, 1.0, 0, 0]])
@@ -346,7 +346,7 @@ def test_winner_change_counts_views_whose_winner_or_action_moved():
 
 
 def test_start_views_are_seeded_start_observations():
-    from docking.analysis import start_views
+    from docking.study.analysis import start_views
     from docking.world import WorldConfig
 
     views = start_views(WorldConfig(), 4, seed=3)
@@ -472,7 +472,7 @@ def test_centroid_rows_weigh_each_row_by_its_intensity():
 
 
 def test_view_shift_is_zero_in_the_same_world_and_signed_by_the_landmarks_move():
-    from docking.designs import revisited as rv
+    from docking.study.designs import revisited as rv
 
     assert np.all(analysis.view_shift(rv._HOME, rv._HOME, n=5) == 0)
     places = rv.places()

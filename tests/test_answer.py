@@ -1,4 +1,4 @@
-"""The answer as the evidence allows it (docking.answer): the first screen's sentences are at
+"""The answer as the evidence allows it (docking.study.answer): the first screen's sentences are at
 most five of at most thirty words, in every outcome the replication could have; each name
 what the issue asks for; the wording follows the replication's rule."""
 
@@ -9,12 +9,12 @@ import itertools
 import numpy as np
 import pytest
 
-from docking import answer
-from docking.answer import Replication
+from docking.study import answer
+from docking.study.answer import Replication
 
 
 def _rep(world, gap, verdict, lead, first_verdict="closed", first_lead="no lead shown"):
-    from docking.designs import replication as rp
+    from docking.study.designs import replication as rp
 
     paper = np.full(20, 0.94)
     return Replication(

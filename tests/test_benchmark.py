@@ -1,7 +1,7 @@
 """Smoke tests of the benchmark's measurements (issue 9); the acceptance figures come from a
 full run of ``python -m docking benchmark`` on an idle machine."""
 
-from docking.cli import benchmark_module
+from docking.study.cli.ledger import benchmark_module
 from docking.world import WorldConfig
 
 env_step_time, floor_time = benchmark_module().env_step_time, benchmark_module().floor_time
@@ -38,3 +38,23 @@ def test_outside_a_clone_the_benchmark_says_where_it_is(tmp_path):
     assert done.returncode == 2, done.stderr
     assert "benchmarks/env_speed.py of the repository" in done.stderr
     assert "run it from a clone" in done.stderr
+
+
+def test_the_benchmark_never_imports_the_command_line():
+    """Issue 51: ``python -m docking benchmark`` imports the benchmark (benchmark_module), and
+    the benchmark never imports the command line, so the two make no import circle; run on
+    its own it reads its options itself."""
+    import ast
+    import subprocess
+    import sys
+    from pathlib import Path
+
+    path = Path(benchmark_module().__file__)
+    tree = ast.parse(path.read_text())
+    imported = {n.module for n in ast.walk(tree) if isinstance(n, ast.ImportFrom)}
+    imported |= {a.name for n in ast.walk(tree) if isinstance(n, ast.Import) for a in n.names}
+    assert not {m for m in imported if m and m.startswith("docking.study.cli")}
+    shown = subprocess.run(
+        [sys.executable, str(path), "--help"], capture_output=True, text=True, timeout=120
+    )
+    assert shown.returncode == 0 and "--quick" in shown.stdout and "--seeds" in shown.stdout

@@ -6,13 +6,18 @@ import dataclasses
 import numpy as np
 import pytest
 
-from docking.analysis import rewarded_share
-from docking.design import Cell
-from docking.designs.calibration import BASELINE, run, variants
 from docking.presets import EXPERIMENT_1, EXPERIMENT_2, SEEDS
-from docking.report import analyse, calibration_rows, calibration_table, computing_time
-from docking.stats import difference_ci, mean_ci
-from docking.store import config_key
+from docking.study.analysis import rewarded_share
+from docking.study.design import Cell
+from docking.study.designs.calibration import BASELINE, run, variants
+from docking.study.designs.calibration_report import (
+    analyse,
+    calibration_rows,
+    calibration_table,
+    computing_time,
+)
+from docking.study.kinds import config_key
+from docking.study.stats import difference_ci, mean_ci
 
 BASES = {"experiment1": EXPERIMENT_1, "experiment2": EXPERIMENT_2}
 
@@ -136,7 +141,7 @@ def test_markdown_table_from_synthetic_results():
 def test_with_its_trials_a_rows_success_gets_the_interval_for_a_rate():
     """Given each seed's test trials (as calibration_rows gives them), a row's success has
     the interval for a rate: seeds at 100% are not the point [1, 1] the bootstrap gives."""
-    from docking.stats import rate_ci
+    from docking.study.stats import rate_ci
 
     success = {"worse": [0.5, 1.0, 0.75], BASELINE: [1.0, 1.0, 1.0]}
     trials = {"worse": [200] * 3, BASELINE: [200] * 3}
@@ -179,9 +184,9 @@ def test_run_goes_through_the_store_and_resumes(tmp_path, monkeypatch):
     def refuse(*args, **kwargs):
         raise AssertionError("a stored run was computed again")
 
-    from docking.stats import rate_ci
+    from docking.study.stats import rate_ci
 
-    monkeypatch.setattr("docking.store.run_experiment", refuse)
+    monkeypatch.setattr("docking.study.kinds.run_experiment", refuse)
     again = run("experiment1", **kwargs)
     for key in ("epsQ", BASELINE):
         np.testing.assert_array_equal(again.score(key), first.score(key))
@@ -204,7 +209,7 @@ def test_seeds_are_the_main_experiments():
 
 
 def test_one_markdown_table_helper_for_every_table():
-    from docking.report import md_table
+    from docking.study.report import md_table
 
     assert (
         md_table(("a", "b"), [(1, "x"), ("", 2.5)]) == "| a | b |\n|---|---|\n| 1 | x |\n|  | 2.5 |"

@@ -5,8 +5,9 @@ import dataclasses
 import numpy as np
 import pytest
 
-from docking import claims
-from docking.stats import Interval
+from docking.study import claims
+from docking.study.designs import third_edition_report
+from docking.study.stats import Interval
 
 
 def _ci(low, high):
@@ -84,7 +85,7 @@ def test_holm_per_claim_and_one_family_and_the_gate():
 
 
 def test_the_verdict_table_and_figure_show_both_decisions_and_the_findings():
-    from docking import figures, report
+    from docking.study import figures
 
     scores = {"a": _seeds(0.9), "a0": _seeds(0.8), "b": _seeds(0.9), "b0": _seeds(0.9)}
     results = _Results(scores, {"a0": "a", "b0": "b"})
@@ -108,7 +109,7 @@ def test_the_verdict_table_and_figure_show_both_decisions_and_the_findings():
     equal = "w1: 0.0 pp [0.0, 0.0], identical in every seed -> not supported | not supported |"
     assert equal in table[3]
     assert "w: 0.0 pp [0.0, 0.0] -> finding | finding | finding |" in table[4]
-    panels = report.verdict_panels(found, results, per)
+    panels = third_edition_report.verdict_panels(found, results, per)
     assert [len(p["rows"]) for p in panels] == [1, 1, 1]
     assert panels[0]["rows"][0][2] == claims.SUPPORTED and panels[0]["scale"] == 100.0
     assert "not judged" in panels[2]["title"]
@@ -119,7 +120,6 @@ def test_the_verdict_table_and_figure_show_both_decisions_and_the_findings():
 
 
 def test_the_claims_sentence_counts_and_names_each_group():
-    from docking import report
 
     scores = {"a": _seeds(0.9), "a0": _seeds(0.8), "b": _seeds(0.9), "b0": _seeds(0.9)}
     scores.update({"c": _seeds(0.8), "c0": _seeds(0.9)})
@@ -133,7 +133,7 @@ def test_the_claims_sentence_counts_and_names_each_group():
         dataclasses.replace(claims.Claim("f", "w", "s", "x", rule, {"w": ("a0",)}), judged=False),
     ]
     decisions = claims.judge_family(found, results, per_claim=True)
-    text = report.claims_summary(found, decisions)
+    text = third_edition_report.claims_summary(found, decisions)
     assert text == (
         "Of the paper's 4 claims judged, by the decision rule committed before the runs (Holm "
         "within each claim): 1 supported wherever judged (good); 1 supported in some worlds "
@@ -179,7 +179,7 @@ def test_one_verdict_table_of_two_designs_keeps_each_designs_family():
 def test_a_design_with_claims_needs_the_level_of_their_verdicts():
     from helpers import TINY
 
-    from docking.design import Cell, Design
+    from docking.study.design import Cell, Design
 
     one = claims.Claim("one", "w", "s", "x", claims.Above(0.0), {"w1": ("a",)})
     cells = (Cell("a", TINY, {"v": "a"}),)
@@ -189,7 +189,6 @@ def test_a_design_with_claims_needs_the_level_of_their_verdicts():
 
 
 def test_several_comparisons_of_one_world_are_labelled_by_what_tells_them_apart():
-    from docking import report
 
     scores = {k: _seeds(0.8) for k in ("w/paper", "w/units144", "w/units576", "v/paper")}
     scores["v/units144"] = _seeds(0.9)
@@ -200,7 +199,7 @@ def test_several_comparisons_of_one_world_are_labelled_by_what_tells_them_apart(
     }
     finding = claims.Claim("m", "w", "s", "x", claims.Above(0.0, method="paired"), entries)
     finding = dataclasses.replace(finding, judged=False)
-    (panel,) = report.verdict_panels([finding], results, [])
+    (panel,) = third_edition_report.verdict_panels([finding], results, [])
     assert [r[0] for r in panel["rows"]] == ["w: units144", "w: units576", "v"]
 
 
@@ -292,7 +291,6 @@ def test_one_family_from_the_decisions_is_judge_familys_one_family():
 
 
 def test_the_claims_sentence_counts_under_both_decision_rules_where_they_differ():
-    from docking import report
 
     results = _close_call()
     rule = claims.Above(0.0, method="paired")
@@ -304,7 +302,7 @@ def test_the_claims_sentence_counts_under_both_decision_rules_where_they_differ(
     per = claims.judge_family(found, results, per_claim=True)
     family = claims.judge_family(found, results)
     assert per[0].p_adjusted < 0.05 < family[0].p_adjusted  # Holm over 4 undecides "close"
-    text = report.claims_summary(found, per)
+    text = third_edition_report.claims_summary(found, per)
     assert text == (
         "Of the paper's 3 claims judged, by the decision rule committed before the runs (Holm "
         "within each claim): 2 supported wherever judged (close, clear); 1 not supported in "
@@ -320,12 +318,12 @@ def test_rate_tables_show_an_interval_for_a_rate():
     p-value in the path table."""
     import types
 
-    from docking import design, report
+    from docking.study import design
 
     outcomes = {"w/oracle": [np.ones(500)] * 10, "w/paper": [np.arange(500) < 450] * 4}
     outcomes["w/paper"] += [np.arange(500) < 400] * 6
     results = _Logged(outcomes, {})
-    table = report.contest_table(results, {"w": "the w world"})
+    table = third_edition_report.contest_table(results, {"w": "the w world"})
     assert "| pose oracle | 10 | 100.0% [99.9, 100.0] |" in table
     assert "[100.0, 100.0]" not in table
     paper = claims.rate_interval(results, "w/paper")
@@ -335,5 +333,7 @@ def test_rate_tables_show_an_interval_for_a_rate():
     text = design.summary(results)
     assert "| w/oracle | 100.0% [99.9, 100.0] (seeds: 10) |" in text
     drop = Interval(0.0, 0.0, 0.0, (0.0, 0.0, 0.0), se=0.0, df=2)
-    step = report.PathStep("a", "b", drop, 1.0, "does not break", 0.05)
-    assert "| identical in every seed | does not break |" in report.path_table([step], {"b": "x"})
+    step = third_edition_report.PathStep("a", "b", drop, 1.0, "does not break", 0.05)
+    assert "| identical in every seed | does not break |" in third_edition_report.path_table(
+        [step], {"b": "x"}
+    )

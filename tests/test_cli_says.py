@@ -45,8 +45,8 @@ def _cli(args, tmp_path, timeout=300, env=None):
 
 
 def test_a_runs_label_names_the_options_that_differ_from_its_preset():
-    from docking.cli import _label
     from docking.presets import EXPERIMENT_1, EXPERIMENT_2
+    from docking.study.cli.runs import _label
 
     assert _label(EXPERIMENT_2) == "experiment2"
     network = dataclasses.replace(EXPERIMENT_2.network, eps_w=0.0)
@@ -60,8 +60,8 @@ def test_a_runs_label_names_the_options_that_differ_from_its_preset():
 
 
 def test_the_warning_says_which_range_a_short_training_sees():
-    from docking.cli import _curriculum_cut
     from docking.presets import EXPERIMENT_1, EXPERIMENT_2
+    from docking.study.cli.runs import _curriculum_cut
 
     assert _curriculum_cut(EXPERIMENT_2) is None and _curriculum_cut(EXPERIMENT_1) is None
     short = dataclasses.replace(EXPERIMENT_2, train_trials=100)
@@ -117,7 +117,7 @@ def test_an_experiments_help_shows_its_common_options_and_help_all_every_one(tmp
         brief.replace("│", " ").split()
     )
     # An option the help leaves out is an option all the same.
-    from docking.cli import parse
+    from docking.study.cli import parse
 
     command = parse(["run", "experiment2", "--world.camera.tilt-deg", "5", "--network.q-init", "1"])
     assert command.experiment.world.camera.tilt_deg == 5 and command.experiment.network.q_init == 1
@@ -157,7 +157,7 @@ def test_benchmark_quick_is_short_and_names_its_ratios(tmp_path):
 
 
 def test_ledger_show_is_a_short_table(tmp_path):
-    from docking import ledger
+    from docking.study import ledger
 
     data = ledger.manifest(REPO / "ledger")
     out = _cli(
@@ -189,7 +189,7 @@ def _installed(tmp_path) -> Path:
 
 
 def test_an_installed_package_writes_to_the_per_user_data_folder(tmp_path, monkeypatch):
-    from docking import paths
+    from docking.study import paths
 
     monkeypatch.setattr(paths, "checkout_root", lambda: None)
     monkeypatch.delenv("DOCKING_RESULTS", raising=False)
@@ -227,7 +227,7 @@ def test_a_missing_extra_is_named_with_its_pip_install(tmp_path):
     code = (
         "import sys\n"
         "sys.modules['skrl'] = None  # as if not installed: find_spec gives None\n"
-        "from docking.cli import main\n"
+        "from docking.study.cli import main\n"
         "sys.exit(main(['report']))\n"
     )
     env = _env(tmp_path, DOCKING_LEDGER=str(REPO / "ledger"))
@@ -249,7 +249,7 @@ def test_a_missing_extra_is_named_with_its_pip_install(tmp_path):
 def test_missing_extra_is_none_when_the_extra_is_installed(monkeypatch):
     import importlib.util
 
-    from docking import ledger
+    from docking.study import ledger
 
     assert ledger.missing_extra("learner") is None
     real = importlib.util.find_spec

@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 from helpers import TINY
 
-from docking.design import Cell, Design, absent_runs, ledger_runs
+from docking.study.design import Cell, Design, absent_runs, ledger_runs
 
 
 def _stage(results):
@@ -56,7 +56,7 @@ def test_a_stage_is_asked_once_the_runs_before_it_are_there(store):
     assert len(found) == 3 and found[2][1] == 2  # the stage's cell, on its own seed
     assert [k for *_, k in found] == [frozenset({"ends", "networks"})] + [frozenset({"ends"})] * 2
     # its summary shows single-seed cells (a tuning round's) without an interval
-    from docking.design import summary
+    from docking.study.design import summary
 
     again = DESIGN.run(progress=False, workers=1)
     assert list(again.sources.values()) == [["store"]] * 3
@@ -81,9 +81,9 @@ def test_tuning_keeps_the_best_settings_and_tunes_to_the_best_mean():
 
     import numpy as np
 
-    from docking.design import Cell
-    from docking.designs.builders import Tuning
     from docking.presets import EXPERIMENT_1
+    from docking.study.design import Cell
+    from docking.study.designs.builders import Tuning
 
     def make(world, learner, **setting):
         network = dataclasses.replace(EXPERIMENT_1.network, **setting)
@@ -123,8 +123,8 @@ def test_tuning_keeps_the_best_settings_and_tunes_to_the_best_mean():
 
 
 def test_the_ledger_keeps_what_kept_seeds_names_only_for_those_seeds():
-    from docking.design import Cell, Design, ledger_runs
     from docking.presets import EXPERIMENT_1
+    from docking.study.design import Cell, Design, ledger_runs
 
     cell = Cell("a", EXPERIMENT_1, {"x": 1}, "a")
     design = Design(
@@ -145,7 +145,7 @@ def test_only_keeps_the_matching_cells_and_the_baselines_they_need(store):
     assert part.run(progress=False, workers=1).score("a").shape == (1,)
     with pytest.raises(ValueError, match="no cell matching 'c/\\*'"):
         DESIGN.only(["c/*"])
-    from docking.designs import untested
+    from docking.study.designs import untested
 
     moved = untested.DESIGN.only(["along the wall/paper"])  # test-only: its baseline comes too
     assert [c.key for c in moved.cells] == ["home/paper", "along the wall/paper"]
@@ -155,7 +155,7 @@ def test_part_of_a_design_with_a_report_is_summarised_without_it():
     """The paper design's report is the README's table of both experiments: a part holding
     only Experiment 1 drops it (as it drops stages and claims), so its summary is the cells'
     table, not a KeyError for the cell it lacks."""
-    from docking.designs import design
+    from docking.study.designs import design
 
     paper = design("paper")
     part = paper.only(["experiment1"])

@@ -601,7 +601,7 @@ def test_a_folded_output_opens(browser):
 
 def test_each_world_has_an_animation_of_one_episode(shown_images):
     """The worlds' page (docs/guide/worlds.md) shows one episode of each of the three worlds
-    as an animated GIF the package drew (docs/build.py: docking.figures.episode_gif), each
+    as an animated GIF the package drew (docs/build.py: docking.study.figures.episode_images), each
     with more than one frame, under 1 MB, shown at its own size."""
     from PIL import Image
 

@@ -44,7 +44,7 @@ def test_an_example_runs_as_written(code, tmp_path, monkeypatch):
 
 def remembered(code: str) -> str:
     """A file name for ``code``, with its source in ``linecache`` (as Jupyter registers a
-    cell's): a learner defined in an example is keyed by its source (docking.learners)."""
+    cell's): a learner defined in an example is keyed by its source (docking.study.learners)."""
     name = f"<example {hashlib.sha256(code.encode()).hexdigest()[:12]}>"
     linecache.cache[name] = (len(code), None, code.splitlines(keepends=True), name)
     return name
@@ -83,7 +83,7 @@ def test_the_pages_have_command_lines():
 def test_a_documented_command_line_parses(args, capsys):
     """Each documented command line is one the CLI takes (parsed, not run); ``--help``
     prints its help and exits 0."""
-    from docking.cli import parse
+    from docking.study.cli import parse
 
     if "--help" in args or "--help-all" in args:
         with pytest.raises(SystemExit) as exit_:

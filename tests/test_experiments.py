@@ -15,7 +15,8 @@ from docking.experiments import (
     trials_in_run,
 )
 from docking.presets import EXPERIMENT_1, EXPERIMENT_2
-from docking.store import load_result, result_path, run_or_load, save_result
+from docking.study.kinds import load_result, result_path, save_result
+from docking.study.store import run_or_load
 
 TINY = dataclasses.replace(EXPERIMENT_1, train_trials=4, test_trials=3, eval_every=2, eval_trials=2)
 
@@ -86,7 +87,7 @@ def test_the_record_is_complete(tiny_result):
     assert r.curve_rewarded[-1] <= int(r.train.success.sum())
     assert r.wall_time_train > 0 and r.wall_time_test > 0
     # The learning run starts from initial_network(config, seed).
-    # (docking.analysis.feature_change compares them; tests/test_analysis.py tests it.)
+    # (docking.study.analysis.feature_change compares them; tests/test_analysis.py tests it.)
     assert initial_network(TINY, 3).W.shape == r.network.W.shape
 
 

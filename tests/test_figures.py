@@ -1,4 +1,4 @@
-"""Tests of docking.figures: every figure is drawn from the analysis arrays of fresh and
+"""Tests of docking.study.figures: every figure is drawn from the analysis arrays of fresh and
 re-loaded results, returns a Figure and writes nothing; save_figure writes png and pdf; the
 report's save_fig* functions run analysis, figure and save end to end."""
 
@@ -8,11 +8,12 @@ import numpy as np
 import pytest
 from matplotlib.figure import Figure
 
-from docking import analysis, figures, report
 from docking.experiments import Curriculum, run_experiment
 from docking.presets import EXPERIMENT_1, EXPERIMENT_2
 from docking.region import StartRegion
-from docking.store import load_result, save_result
+from docking.study import analysis, figures, readme
+from docking.study.designs import paper_report
+from docking.study.kinds import load_result, save_result
 from docking.world import ACTION_LETTERS, DockingEnv
 
 TINY = dict(train_trials=4, test_trials=6, eval_every=2, eval_trials=2)
@@ -162,14 +163,14 @@ def test_save_figure_writes_png_and_pdf(tmp_path):
 
 _FIG4_SCRIPT = """
 import dataclasses, sys
-from docking import report
+from docking.study import report
 from docking.experiments import Curriculum, run_experiment
 from docking.presets import EXPERIMENT_2
 config = dataclasses.replace(
     EXPERIMENT_2, curriculum=Curriculum(far_initial=0.7, grow_trials=2), train_trials=4,
     test_trials=6, eval_every=2, eval_trials=2,
 )
-report.save_fig4(run_experiment(config, seed=0, progress=False), sys.argv[1], n_samples=20)
+paper_report.save_fig4(run_experiment(config, seed=0, progress=False), sys.argv[1], n_samples=20)
 """
 
 
@@ -178,7 +179,7 @@ def test_a_figure_saved_in_another_process_has_the_same_bytes(tmp_path):
     """Fig. 4 of the same run, saved by three processes: the same PNG and the same PDF.
     Constrained layout's positions differ in their last bits from process to process; the
     PDF wrote them out (its bytes differed in two of three processes before the layout was
-    frozen, figures._freeze_layout)."""
+    frozen, figures.common._freeze_layout)."""
     import subprocess
     import sys
 
@@ -191,11 +192,11 @@ def test_a_figure_saved_in_another_process_has_the_same_bytes(tmp_path):
 
 @pytest.mark.slow
 def test_report_saves_every_figure(result1, result2, tmp_path):
-    report.save_fig2(DockingEnv(seed=0), tmp_path)
-    report.save_fig3(result1, DockingEnv(result1.config.world, seed=0), tmp_path)
-    report.save_fig4(result2, tmp_path, n_samples=20)
-    report.save_fig5(result2, tmp_path, n=4)
-    report.save_learning_curves([result1], [result2], tmp_path)
+    paper_report.save_fig2(DockingEnv(seed=0), tmp_path)
+    paper_report.save_fig3(result1, DockingEnv(result1.config.world, seed=0), tmp_path)
+    paper_report.save_fig4(result2, tmp_path, n_samples=20)
+    paper_report.save_fig5(result2, tmp_path, n=4)
+    paper_report.save_learning_curves([result1], [result2], tmp_path)
     for name in (
         "fig2_scene",
         "fig3_experiment1",
@@ -228,24 +229,24 @@ def test_fig4_draws_the_random_start_below_the_learned_weights(result2):
     assert len(three.axes) == len(two.axes) + 36
     # the blocks one above the other, as wide as a page (the site's figures are read there)
     assert three.get_figheight() > two.get_figheight()
-    assert three.get_figwidth() == two.get_figwidth() == figures._PAGE_WIDTH_IN
+    assert three.get_figwidth() == two.get_figwidth() == figures.common._PAGE_WIDTH_IN
 
 
 def test_results_table_rows_of_sample_efficiency_and_held_out_success(result1, result2):
     r2 = dataclasses.replace(result2, curve_success=np.array([0.5, 0.95, 1.0]))
     r2.curve_trials = np.array([0, 5, 10])
     never = dataclasses.replace(r2, seed=1, curve_success=np.array([0.5, 0.6, 0.7]))
-    table = report.results_table([result1], [r2, never], {"Exp. 1": np.array([0.9, 1.0])})
+    table = paper_report.results_table([result1], [r2, never], {"Exp. 1": np.array([0.9, 1.0])})
     row = next(line for line in table.splitlines() if "first reach 90%" in line)
     assert "per seed 5, never; median 5" in row
     assert "| Exp. 1 held-out success, 2 seeds (the study) | (not reported) | mean 95.0%" in table
-    assert "held-out" not in report.results_table([result1], [r2])
+    assert "held-out" not in paper_report.results_table([result1], [r2])
 
 
 def test_the_summary_quotes_the_runs_and_the_world_they_hold_in(result1, result2):
-    from docking.stats import Interval
+    from docking.study.stats import Interval
 
-    text = report.summary_text([result1], [result2])
+    text = readme.summary_text([result1], [result2])
     h1, h2 = result1, result2
     assert f"{h1.test_successes}/{len(h1.test)} test trials of Experiment 1" in text
     assert f"{h2.test_successes}/{len(h2.test)} = " in text
@@ -258,10 +259,10 @@ def test_the_summary_quotes_the_runs_and_the_world_they_hold_in(result1, result2
             self.gain = Interval(gain, gain - 0.03, gain + 0.03, ())
             self.four = Interval(0.9, 0.88, 0.92, ())
 
-    text = report.summary_text([result1], [result2], [Pair(-0.2), Pair(-0.05)])
+    text = readme.summary_text([result1], [result2], [Pair(-0.2), Pair(-0.05)])
     assert "**Not supported.**" in text
     assert "in 2 of Experiment 3's 2 cells; six minus four actions ranges from -20.0 to" in text
-    text = report.summary_text([result1], [result2], [Pair(-0.2), Pair(0.01)])
+    text = readme.summary_text([result1], [result2], [Pair(-0.2), Pair(0.01)])
     assert "**Mixed.**" in text and "in 1 of Experiment 3's 2 cells" in text
 
 
@@ -282,7 +283,7 @@ def test_fig_coping_draws_fresh_and_relearning_curves_per_change():
 
 
 def test_fig_verdicts_draws_a_reference_where_asked():
-    from docking.stats import t_paired_ci
+    from docking.study.stats import t_paired_ci
 
     ci = t_paired_ci([0.5, 0.6, 0.7], [0.4, 0.4, 0.5])
     panel = dict(title="t", xlabel="x", scale=100.0, bound=0.0, band=None)
@@ -300,7 +301,7 @@ def test_fig_claims_is_as_wide_as_a_page_however_many_comparisons():
     rows = [("claim-a", bound, [("sideboard", "1 [0, 2]", "supported")], None)]
     rows.append(("claim-b", bound, seven, "why"))
     one, both = figures.fig_claims(rows[:1]), figures.fig_claims(rows)
-    assert one.get_figwidth() == both.get_figwidth() == figures._PAGE_WIDTH_IN
+    assert one.get_figwidth() == both.get_figwidth() == figures.common._PAGE_WIDTH_IN
     assert both.get_figheight() > one.get_figheight()  # seven boxes: three lines of boxes
     with pytest.raises(ValueError, match="at least one claim"):
         figures.fig_claims([])
@@ -308,15 +309,20 @@ def test_fig_claims_is_as_wide_as_a_page_however_many_comparisons():
 
 def test_episode_gif_writes_an_animation_of_an_episode(tmp_path):
     """One episode of the pose oracle as a GIF (the site's page of the worlds): a few frames
-    here, each the overview with the robot's input inset; more than one frame, small."""
+    here, each the overview with the robot's input inset; more than one frame, small. The
+    frames are computed outside the figures (docking.study.episodes), which only draw them."""
     from PIL import Image
 
     from docking.presets import FLOOR_WORLD
+    from docking.study.episodes import episode_frames
 
-    frames, actions, docked = figures.episode_frames(FLOOR_WORLD, seed=0, width=64, height=48)
+    frames, actions, docked = episode_frames(FLOOR_WORLD, seed=0, width=64, height=48)
     assert len(frames) == len(actions) + 1 >= 2 and frames[0].shape == (48, 64, 3)
     assert docked  # the oracle docks from this start
-    path = figures.episode_gif(FLOOR_WORLD, tmp_path / "a" / "floor.gif", max_frames=3, label="x")
+    frames, actions, docked = episode_frames(FLOOR_WORLD, seed=0, max_frames=3)
+    names = FLOOR_WORLD.action_names
+    images = figures.episode_images(frames, actions, docked, names, ended=False, label="x")
+    path = figures.save_gif(images, tmp_path / "a" / "floor.gif")
     with Image.open(path) as gif:
         assert gif.format == "GIF" and gif.n_frames == 3 and gif.size == (320, 240)
         assert gif.info["loop"] == 0

@@ -1,5 +1,5 @@
-"""The source fingerprint (docking.fingerprint): the same on every Python; moved by a change to
-what computes a run, never by a reworded message, docstring or comment."""
+"""The source fingerprint (docking.study.fingerprint): the same on every Python; moved by a change
+to what computes a run, never by a reworded message, docstring or comment."""
 
 import ast
 import glob
@@ -11,8 +11,8 @@ from pathlib import Path
 import pytest
 
 import docking
-from docking import fingerprint
-from docking.store import source_fingerprint
+from docking.study import fingerprint
+from docking.study.kinds import source_fingerprint
 
 PACKAGE = Path(docking.__file__).resolve().parent
 
@@ -57,7 +57,7 @@ def test_the_fingerprint_is_the_same_under_every_installed_python():
     ours = fingerprint.walk(PACKAGE, "docking.experiments")
     for exe in interpreters:
         out = subprocess.run(
-            [exe, "-I", str(PACKAGE / "fingerprint.py")],
+            [exe, "-I", str(PACKAGE / "study" / "fingerprint.py")],
             capture_output=True,
             text=True,
             timeout=120,

@@ -19,11 +19,12 @@ from pathlib import Path
 import pytest
 from helpers import SEEDS, TINY
 
-from docking import ledger, paths
-from docking.cli import main
-from docking.ledger import load_run
-from docking.store import run_key, run_or_load
-from docking.sweep import jobs_for, parse_seeds, run_jobs
+from docking.study import ledger, paths
+from docking.study.cli import main
+from docking.study.kinds import run_key
+from docking.study.runs import load_run
+from docking.study.store import run_or_load
+from docking.study.sweep import jobs_for, parse_seeds, run_jobs
 
 REPO = Path(__file__).resolve().parent.parent
 TINY_ARGS = ["--train-trials", "4", "--test-trials", "3", "--eval-every", "2", "--eval-trials", "2"]
@@ -343,7 +344,7 @@ def test_the_ledger_variable_accepts_off_and_absolute_folders(monkeypatch, tmp_p
 )
 def test_an_empty_results_dir_is_refused(args, tmp_path, monkeypatch, capsys, restore_sigterm):
     monkeypatch.chdir(tmp_path)
-    monkeypatch.setattr("docking.sweep.run_jobs", _refuse)
+    monkeypatch.setattr("docking.study.sweep.run_jobs", _refuse)
     assert main(args) == 2
     assert "is empty; name a folder" in _one_error_line(capsys.readouterr().err)
     assert not any(tmp_path.iterdir())

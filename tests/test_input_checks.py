@@ -21,12 +21,12 @@ import pytest
 
 import docking  # noqa: F401  (registers the Gymnasium ids)
 from docking.camera import CameraConfig
-from docking.cli import main
 from docking.experiments import ExperimentConfig
 from docking.gym import DockingGymEnv
 from docking.presets import EXPERIMENT_1, EXPERIMENT_2, FLOOR_WORLD, NAO_WORLD
 from docking.scene import Distractor, WorldConfig
-from docking.sweep import grid_configs, parse_seeds
+from docking.study.cli import main
+from docking.study.sweep import grid_configs, parse_seeds
 
 REPO = Path(__file__).resolve().parent.parent
 
@@ -195,12 +195,12 @@ def test_a_bogus_rendering_backend_is_one_clear_line(value, tmp_path):
 
 
 def test_ctrl_c_while_a_command_runs_is_one_line_and_130(monkeypatch, capsys):
-    from docking import cli
+    from docking.study import cli
 
     def interrupted(self):
         raise KeyboardInterrupt
 
-    monkeypatch.setattr(cli.Verify, "execute", interrupted)
+    monkeypatch.setattr(cli.ledger.Verify, "execute", interrupted)
     handler = signal.getsignal(signal.SIGTERM)
     try:
         assert main(["verify"]) == 130
@@ -303,7 +303,7 @@ def test_ctrl_c_that_cpython_counts_unhandled_still_ends_130(tmp_path):
     out = _ctrl_c_at_import(
         tmp_path,
         "dm_control.mujoco",
-        when='"docking.cli" in sys.modules',
+        when='"docking.study.cli" in sys.modules',
         before=f"import ctypes; {flag}",
     )
     assert out.returncode == 130, out.stderr
@@ -367,7 +367,7 @@ def test_help_into_a_closed_pipe_is_no_traceback(tmp_path):
 
 def _parse_error(args, monkeypatch, capsys) -> str:
     """What tyro says of the command line ``args`` (it must refuse it), on one line."""
-    from docking import cli
+    from docking.study import cli
 
     monkeypatch.setenv("COLUMNS", "200")
     with pytest.raises(SystemExit) as exit_:
@@ -396,7 +396,7 @@ def test_a_number_option_is_ascii_digits_without_underscores(
 
 
 def test_ordinary_numbers_still_parse():
-    from docking import cli
+    from docking.study import cli
 
     args = ["run", "experiment1", "--train-trials", "12", "--network.eps-w", "1e-3"]
     args += ["--network.eps-q", "0.5", "--network.beta-s", "5", "--world.start-near", ".6"]
@@ -442,7 +442,7 @@ def test_a_run_without_test_trials_says_so_not_nan(tmp_path, capsys, monkeypatch
 
 def test_a_grid_of_millions_is_refused_before_any_configuration_is_built(monkeypatch):
     monkeypatch.setattr(
-        "docking.sweep.apply_override", lambda *a: pytest.fail("a configuration was built")
+        "docking.study.sweep.apply_override", lambda *a: pytest.fail("a configuration was built")
     )
     values = ",".join(str(k) for k in range(1, 201))
     grid = [f"train_trials={values}", f"test_trials={values}", f"heldout_trials={values}"]
@@ -459,9 +459,9 @@ def test_a_grid_of_millions_is_refused_before_any_configuration_is_built(monkeyp
     ids=["grid", "grid x seeds"],
 )
 def test_a_sweep_too_large_is_one_line_before_any_run(args, says, monkeypatch, capsys):
-    from docking import cli
+    from docking.study import cli
 
-    monkeypatch.setattr(cli, "_run", lambda *a: pytest.fail("the sweep started"))
+    monkeypatch.setattr(cli.runs, "_run", lambda *a: pytest.fail("the sweep started"))
     handler = signal.getsignal(signal.SIGTERM)
     try:
         assert main(["sweep", "experiment1", *args]) == 2
@@ -511,7 +511,7 @@ def test_a_sweep_too_large_is_one_line_before_any_run(args, says, monkeypatch, c
 def test_the_contests_arguments_are_checked_before_any_work(
     learner, grid, error, says, monkeypatch
 ):
-    from docking import contest as contest_module
+    from docking.study import contest as contest_module
 
     monkeypatch.setattr(contest_module, "published", lambda *a: pytest.fail("it went on"))
     with pytest.raises(error, match=says):

@@ -1,4 +1,4 @@
-"""The fragility landscape (docking.designs.landscape): its rules pinned before its runs; its
+"""The fragility landscape (docking.study.designs.landscape): its rules pinned before its runs; its
 list of grid points to fill is the ledger's sparse ones; its cells are the tuning runs'
 configurations at those points."""
 
@@ -10,9 +10,9 @@ import json
 from collections import Counter
 from pathlib import Path
 
-from docking.designs import addendum as ad
-from docking.designs import landscape as ls
-from docking.designs import replication as rp
+from docking.study.designs import addendum as ad
+from docking.study.designs import landscape as ls
+from docking.study.designs import replication as rp
 
 REPO = Path(__file__).resolve().parents[1]
 #: The SHA-256 of rules_text() when the rules were committed, before any of its runs.

@@ -20,15 +20,17 @@ import outside_learner as outside
 import pytest
 from helpers import TINY
 
-from docking import learners, ledger, protocol, store, verify
-from docking.contest import CONTEST_BUDGET, Budget, contest, small_budget
-from docking.design import yardstick_config
-from docking.designs import third_edition as te
+from docking import protocol
 from docking.experiments import ExperimentConfig, run_experiment
 from docking.policies import oracle
-from docking.ppo import PPOConfig, run_ppo
 from docking.presets import EXPERIMENT_2
 from docking.scene import WorldConfig
+from docking.study import kinds, learners, ledger, store, verify
+from docking.study.contest import CONTEST_BUDGET, Budget, contest, small_budget
+from docking.study.design import yardstick_config
+from docking.study.designs import third_edition as te
+from docking.study.ppo import PPOConfig, run_ppo
+from docking.study.runs import load_run
 
 ROOT = Path(__file__).resolve().parents[1]
 GUIDE = ROOT / "docs" / "guide" / "bring_your_own_learner.md"
@@ -38,9 +40,9 @@ CONFIG = outside.RandomFeatures()
 @pytest.fixture
 def registry(monkeypatch):
     """The registry of kinds of run, restored after the test."""
-    monkeypatch.setattr(store, "RUNNERS", dict(store.RUNNERS))
-    monkeypatch.setattr(store, "_BY_NAME", dict(store._BY_NAME))
-    monkeypatch.setattr(store, "_CARRIED", set(store._CARRIED))
+    monkeypatch.setattr(kinds, "RUNNERS", dict(kinds.RUNNERS))
+    monkeypatch.setattr(kinds, "_BY_NAME", dict(kinds._BY_NAME))
+    monkeypatch.setattr(kinds, "_CARRIED", set(kinds._CARRIED))
 
 
 # ------------------------------------------------------------------------------------------
@@ -62,7 +64,7 @@ def test_the_built_in_learners_fit_the_protocol():
             "progress",
             "on_trials",
         ]
-    assert learners.runner(TINY) is store.LEARNER and learners.runner(PPOConfig()) is store.PPO
+    assert learners.runner(TINY) is kinds.LEARNER and learners.runner(PPOConfig()) is kinds.PPO
     assert learners.runner(CONFIG) is outside.RUNNER
     assert {"learner", "ppo", "random-features"} <= set(learners.registered())
 
@@ -111,7 +113,7 @@ LEARNER_SOURCE = '''
 """A learner written to a file by a test."""
 import dataclasses
 
-from docking import learners
+from docking.study import learners
 from docking.scene import WorldConfig
 
 
@@ -149,29 +151,29 @@ def test_the_key_follows_the_learners_own_code_in_a_module(tmp_path, registry, m
         return _module(tmp_path, name, source, monkeypatch)
 
     first = module("edited_1", LEARNER_SOURCE)
-    key = store.config_key(first.Edited())
+    key = kinds.config_key(first.Edited())
     assert first.RUNNER.code.where == (str(tmp_path / "edited_1.py"),)
     assert first.RUNNER.roots == ("docking.protocol", "docking.scene")
     assert "own code" in first.RUNNER.module_digests()
-    assert store.config_key(first.Edited(alpha=0.25)) != key  # its configuration
-    assert store.run_key(first.Edited(), 1) != store.run_key(first.Edited(), 2)  # the seed
+    assert kinds.config_key(first.Edited(alpha=0.25)) != key  # its configuration
+    assert kinds.run_key(first.Edited(), 1) != kinds.run_key(first.Edited(), 2)  # the seed
     reworded = LEARNER_SOURCE.replace("# three steps", "# a comment, reworded").replace(
         '"""A learner written', '"""A docstring, reworded: a learner written'
     )
     second = module("edited_2", reworded)
-    assert store.config_key(second.Edited()) == key
+    assert kinds.config_key(second.Edited()) == key
     changed = module("edited_3", LEARNER_SOURCE.replace("steps = 3", "steps = 4"))
-    assert store.config_key(changed.Edited()) != key
+    assert kinds.config_key(changed.Edited()) != key
     # a docking module its code imports enters the key with what it imports
     more = LEARNER_SOURCE.replace(
         "import dataclasses\n", "import dataclasses\nimport docking.presets\n"
     )
     other = module("edited_4", more)
     assert other.RUNNER.roots == ("docking.protocol", "docking.presets", "docking.scene")
-    assert store.config_key(other.Edited()) != key
+    assert kinds.config_key(other.Edited()) != key
     # the learner's registry and the contest are not followed
     unfollowed = LEARNER_SOURCE.replace(
-        "import dataclasses\n", "import dataclasses\nimport docking.contest\n"
+        "import dataclasses\n", "import dataclasses\nimport docking.study.contest\n"
     )
     assert module("edited_5", unfollowed).RUNNER.roots == first.RUNNER.roots
 
@@ -180,7 +182,7 @@ HELPED = """
 import dataclasses
 
 import {helper}
-from docking import learners
+from docking.study import learners
 from docking.scene import WorldConfig
 
 
@@ -219,10 +221,10 @@ def test_the_key_follows_a_helper_module_of_the_users_transitively(tmp_path, reg
         str(tmp_path / "a" / "deeper.py"),
         str(tmp_path / "a" / "helper.py"),
     )
-    key = store.config_key(first.Helped())
-    assert store.config_key(helped("b", "ACTION = 0  # a comment\n", "X = 1\n").Helped()) == key
-    assert store.config_key(helped("c", "ACTION = 1\n", "X = 1\n").Helped()) != key
-    assert store.config_key(helped("d", "ACTION = 0\n", "X = 2\n").Helped()) != key
+    key = kinds.config_key(first.Helped())
+    assert kinds.config_key(helped("b", "ACTION = 0  # a comment\n", "X = 1\n").Helped()) == key
+    assert kinds.config_key(helped("c", "ACTION = 1\n", "X = 1\n").Helped()) != key
+    assert kinds.config_key(helped("d", "ACTION = 0\n", "X = 2\n").Helped()) != key
 
 
 def test_a_helper_module_without_source_is_refused_naming_it(tmp_path, registry, monkeypatch):
@@ -249,15 +251,15 @@ def test_a_learner_named_as_a_path_is_refused(registry):
         learners.register(Escaping, outside.run)
     for name in ("../../../x", "/tmp/x", "a/b", ".."):
         with pytest.raises(ValueError, match="name must be a safe file-name component"):
-            store.result_path(dataclasses.replace(CONFIG, name=name), 0, "/nonexistent")
+            kinds.result_path(dataclasses.replace(CONFIG, name=name), 0, "/nonexistent")
 
 
 CONTESTED = """
 import dataclasses
 
 import helper
-from docking import learners
-from docking.contest import contest, small_budget
+from docking.study import learners
+from docking.study.contest import contest, small_budget
 from docking.scene import WorldConfig
 
 
@@ -315,9 +317,9 @@ FAILING = """
 import dataclasses
 import sys
 
-from docking import learners
+from docking.study import learners
 from docking.scene import WorldConfig
-from docking.sweep import Job, run_jobs
+from docking.study.sweep import Job, run_jobs
 
 
 @dataclasses.dataclass(frozen=True)
@@ -364,7 +366,7 @@ def test_a_learners_error_on_the_embedded_cluster_names_the_users_file_and_line(
 CELL = """
 import dataclasses
 
-from docking import learners
+from docking.study import learners
 from docking.scene import WorldConfig
 
 
@@ -395,14 +397,14 @@ def _cell(source: str, name: str):
 def test_the_key_follows_the_learners_own_code_in_a_notebook_cell(registry):
     first = _cell(CELL, "<cell 1>")
     assert first["runner"].code.where == ("<cell 1>: InCell", "<cell 1>: run")
-    key = store.config_key(first["InCell"]())
+    key = kinds.config_key(first["InCell"]())
     reworded = _cell(CELL.replace("# three steps", "# reworded") + "\nx = 1\n", "<cell 2>")
-    assert store.config_key(reworded["InCell"]()) == key  # a comment; code outside both
+    assert kinds.config_key(reworded["InCell"]()) == key  # a comment; code outside both
     changed = _cell(
         CELL.replace("heldout_trials: int = 1", "heldout_trials: int = 1\n    k: int = 2"),
         "<cell 3>",
     )
-    assert store.config_key(changed["InCell"](k=2)) != key
+    assert kinds.config_key(changed["InCell"](k=2)) != key
     with pytest.raises(TypeError, match="cannot read the source of InCell"):
         exec(compile(CELL, "<no source>", "exec"), {"__name__": "__main__"})
 
@@ -417,19 +419,19 @@ def test_an_outside_learner_is_stored_and_loaded_not_recomputed(tmp_path, regist
     assert isinstance(computed, learners.LearnerResult)
     assert len(computed.heldout) == CONFIG.heldout_trials and computed.train_steps > 0
     assert computed.wall_time_train > 0 and computed.wall_time_test > 0
-    path = store.result_path(CONFIG, 0, tmp_path)
-    assert path == tmp_path / "outside" / store.config_key(CONFIG)[:16] / "seed0.npz"
+    path = kinds.result_path(CONFIG, 0, tmp_path)
+    assert path == tmp_path / "outside" / kinds.config_key(CONFIG)[:16] / "seed0.npz"
     assert (path.parent / "config.json").exists()
     failing = dataclasses.replace(outside.RUNNER, run=lambda *a, **k: pytest.fail("recomputed"))
-    store.register(failing)
+    kinds.register(failing)
     loaded = store.run_or_load(CONFIG, 0, tmp_path, progress=False)
     assert loaded.train_steps == computed.train_steps and loaded.config == CONFIG
     np.testing.assert_array_equal(loaded.heldout.poses, computed.heldout.poses)
     raw = dict(np.load(path))
     raw["train_steps"] = raw["train_steps"] + 1  # an array edited behind the digest's back
     np.savez(tmp_path / "edited.npz", **raw)
-    with pytest.raises(store.CorruptResult, match="digest"):
-        store.load_result(tmp_path / "edited.npz", store.run_key(CONFIG, 0))
+    with pytest.raises(kinds.CorruptResult, match="digest"):
+        kinds.load_result(tmp_path / "edited.npz", kinds.run_key(CONFIG, 0))
 
 
 def test_a_runs_result_is_checked(tmp_path, registry):
@@ -446,7 +448,7 @@ def test_a_runs_result_is_checked(tmp_path, registry):
         (too_few, ValueError, "returned 1 held-out trials, its configuration asks for 3"),
         (lambda config, seed, **kw: None, TypeError, "not a LearnerResult"),
     ):
-        store.register(dataclasses.replace(outside.RUNNER, run=_wrapped(run)))
+        kinds.register(dataclasses.replace(outside.RUNNER, run=_wrapped(run)))
         with pytest.raises(error, match=match):
             store.run_or_load(CONFIG, 0, tmp_path, progress=False)
 
@@ -455,7 +457,7 @@ def test_a_runs_result_is_checked(tmp_path, registry):
         result.heldout = protocol.heldout_log(config.world, seed + 1, 3, lambda o, env: 0)
         return result
 
-    store.register(dataclasses.replace(outside.RUNNER, run=_wrapped(other_stream)))
+    kinds.register(dataclasses.replace(outside.RUNNER, run=_wrapped(other_stream)))
     with pytest.raises(ValueError, match="not drawn from the held-out stream of seed 0"):
         store.run_or_load(CONFIG, 0, tmp_path, progress=False)
 
@@ -469,18 +471,18 @@ def _wrapped(run):
 def test_a_learners_class_carries_its_runner_to_another_process(registry):
     """A Dask worker that receives a learner's class by value adopts its runner (simulated:
     the registry emptied); a class whose name this process registered otherwise is not."""
-    del store.RUNNERS[outside.RandomFeatures], store._BY_NAME["random-features"]
-    assert store.runner_for(CONFIG) is outside.RUNNER
-    assert store.runner_named("random-features") is outside.RUNNER
-    store.register(outside.RUNNER)  # registered here: no class carrying one of its name wins
+    del kinds.RUNNERS[outside.RandomFeatures], kinds._BY_NAME["random-features"]
+    assert kinds.runner_for(CONFIG) is outside.RUNNER
+    assert kinds.runner_named("random-features") is outside.RUNNER
+    kinds.register(outside.RUNNER)  # registered here: no class carrying one of its name wins
 
     @dataclasses.dataclass(frozen=True)
     class Impostor(outside.RandomFeatures):
         pass
 
     Impostor._docking_runner = dataclasses.replace(outside.RUNNER, config_type=Impostor)
-    with pytest.raises(TypeError, match="registered with docking.learners.register"):
-        store.runner_for(Impostor())
+    with pytest.raises(TypeError, match="registered with docking.study.learners.register"):
+        kinds.runner_for(Impostor())
 
 
 @pytest.fixture
@@ -502,19 +504,19 @@ def test_an_outside_learners_runs_are_served_from_a_ledger(learner_ledger, tmp_p
     assert data["modules"]["random-features"]["own code"] == outside.RUNNER.code.digest
     empty = tmp_path / "empty"
     for run in runs:
-        served = ledger.load_run(CONFIG, run.seed, empty)
+        served = load_run(CONFIG, run.seed, empty)
         assert isinstance(served, learners.LearnerResult)
         np.testing.assert_array_equal(served.heldout.success, run.heldout.success)
         np.testing.assert_array_equal(served.heldout.steps, run.heldout.steps)
         assert served.train_steps == run.train_steps
-    assert ledger.load_run(CONFIG, 0, empty).heldout.poses is not None  # kept whole
-    assert ledger.load_run(CONFIG, 1, empty).heldout.poses is None  # a row of its table
-    assert ledger.load_run(CONFIG, 2, empty) is None
+    assert load_run(CONFIG, 0, empty).heldout.poses is not None  # kept whole
+    assert load_run(CONFIG, 1, empty).heldout.poses is None  # a row of its table
+    assert load_run(CONFIG, 2, empty) is None
     # a ledger computed by the learner's earlier code is refused, naming its own code
     code = dataclasses.replace(outside.RUNNER.code, digest="0" * 64)
-    store.register(dataclasses.replace(outside.RUNNER, code=code))
+    kinds.register(dataclasses.replace(outside.RUNNER, code=code))
     with pytest.raises(ledger.StaleLedger, match="own code"):
-        ledger.load_run(CONFIG, 1, empty)
+        load_run(CONFIG, 1, empty)
 
 
 def test_an_outside_learners_runs_are_verified(learner_ledger):
@@ -564,7 +566,7 @@ def test_the_command_line_verifies_an_outside_learners_runs(learner_ledger):
 
 def _published_linear(world, **setting):
     """The third edition's linear SARSA in ``world`` (its design's cells' configurations)."""
-    from docking.designs.builders import experiment2_in, linear_sarsa, variant
+    from docking.study.designs.builders import experiment2_in, linear_sarsa, variant
 
     base = experiment2_in(world, te.NAME)
     return variant(base, te.NAME, network=linear_sarsa(base, **setting))
@@ -575,7 +577,7 @@ def test_the_contest_of_the_published_linear_sarsa_is_the_published_contest(tmp_
     run is the ledger's (none computed), the tuned settings and the judged row are the
     published ones, and each published learner's lead over it is the published table's."""
     monkeypatch.delenv("DOCKING_LEDGER")  # the committed ledger
-    monkeypatch.setattr("docking.store.run_experiment", lambda *a, **k: pytest.fail("ran"))
+    monkeypatch.setattr("docking.study.kinds.run_experiment", lambda *a, **k: pytest.fail("ran"))
     budget = Budget(tuning_seeds=te.TUNING_SEEDS)
     found = contest(
         _published_linear,
@@ -626,7 +628,7 @@ def test_a_contest_budget_is_checked():
         world: object = None
         heldout_trials: int = 1
 
-    with pytest.raises(TypeError, match="registered with docking.learners.register"):
+    with pytest.raises(TypeError, match="registered with docking.study.learners.register"):
         contest(Unregistered(), [{}, {}], small)
 
 

@@ -14,21 +14,21 @@ import numpy as np
 import pytest
 from helpers import SEEDS, TINY
 
-from docking import analysis, ledger, store, verify
 from docking.experiments import run_experiment
-from docking.ledger import load_run
-from docking.store import (
+from docking.study import analysis, kinds, ledger, store, verify
+from docking.study.kinds import (
     CorruptResult,
     StaleCode,
     content_digest,
     load_result,
     result_path,
     run_key,
-    run_or_load,
     save_result,
 )
+from docking.study.runs import load_run
+from docking.study.store import run_or_load
 
-ROOT = os.path.dirname(os.path.dirname(store.__file__))
+ROOT = os.path.dirname(os.path.dirname(os.path.dirname(store.__file__)))
 
 
 KEEP = frozenset({"paths", "starts"})
@@ -74,7 +74,7 @@ def test_a_whole_run_is_served_bit_for_bit(built, monkeypatch):
     folder, data, full, _ = built
     served = _served(monkeypatch, folder, 0)
     assert (
-        store.content_digest(store.result_arrays(served))
+        kinds.content_digest(kinds.result_arrays(served))
         == data["runs"][run_key(TINY, 0)]["digest"]
     )
 
@@ -178,11 +178,11 @@ def test_the_manifest_records_each_runs_digest(built):
 
 
 def test_sweeps_do_not_recompute_what_the_ledger_holds(built, monkeypatch, tmp_path):
-    from docking.sweep import run_configs
+    from docking.study.sweep import run_configs
 
     folder, *_ = built
     monkeypatch.setenv("DOCKING_LEDGER", str(folder))
-    monkeypatch.setattr(store, "run_experiment", _refuse)
+    monkeypatch.setattr(kinds, "run_experiment", _refuse)
     found = run_configs({"tiny": TINY}, SEEDS, tmp_path, workers=1, progress=False)
     assert [r.seed for r in found["tiny"]] == list(SEEDS)
     assert not any(tmp_path.rglob("*.npz"))
@@ -275,13 +275,14 @@ def test_a_ledger_from_other_code_is_refused_naming_the_module(built, tmp_path):
     network.write_text(network.read_text().replace("MAX_RATE = 100.0", "MAX_RATE = 99.0"))
     code = """
         import dataclasses
-        from docking import ledger
+        from docking.study import ledger
+        from docking.study.runs import load_run
         from docking.presets import EXPERIMENT_1
         config = dataclasses.replace(EXPERIMENT_1, name="tiny", train_trials=4, test_trials=6,
                                      eval_every=4, eval_trials=1, heldout_trials=5)
         assert ledger.holds(config, 0)
         try:
-            ledger.load_run(config, 0, "/nonexistent-store")
+            load_run(config, 0, "/nonexistent-store")
         except ledger.StaleLedger as exc:
             print("REFUSED", exc)
         else:
@@ -301,13 +302,13 @@ def test_code_edited_after_import_cannot_key_runs(tmp_path):
     root = _copied_package(tmp_path)
     code = f"""
         import pathlib
-        from docking import store
-        store.source_fingerprint()  # fine: the code on disk is the code loaded
+        from docking.study import kinds
+        kinds.source_fingerprint()  # fine: the code on disk is the code loaded
         world = pathlib.Path({str(root / "docking" / "world.py")!r})
         world.write_text(world.read_text() + "\\n_EDITED = 1\\n")
         try:
-            store.source_fingerprint()
-        except store.StaleCode as exc:
+            kinds.source_fingerprint()
+        except kinds.StaleCode as exc:
             print("STALE", exc)
         """
     found = _python(code, root)
@@ -390,7 +391,7 @@ def test_sizes_are_checked_before_decompression(two_runs, tmp_path):
 
 
 def test_the_rendering_stack_is_part_of_the_key():
-    stack = store.rendering_stack()
+    stack = kinds.rendering_stack()
     assert "Mesa" in stack or "GL" in stack
     assert run_key(TINY, 0) != run_key(TINY, 0, render="another stack")
     assert run_key(TINY, 0) == run_key(TINY, 0, render=stack)
@@ -421,7 +422,7 @@ def test_a_nearly_full_disk_is_refused_before_a_run_naming_the_folder(tmp_path, 
 
 
 def test_an_empty_results_variable_is_refused(monkeypatch):
-    from docking import paths
+    from docking.study import paths
 
     monkeypatch.setenv("DOCKING_RESULTS", "")
     with pytest.raises(ValueError, match="DOCKING_RESULTS is set but empty"):
@@ -433,7 +434,7 @@ def test_a_test_only_cell_is_stored_as_the_run_it_equals(tmp_path, monkeypatch):
     """A baseline's networks tested in another world are stored under the key of the run
     with that held-out world, bit for bit what computing that run gives (so ``verify`` can
     check them), and loaded, not recomputed, the next time."""
-    from docking.design import tested_in
+    from docking.study.design import tested_in
 
     monkeypatch.setenv("DOCKING_LEDGER", "off")
     other = dataclasses.replace(TINY.world, step_noise_yaw_deg=0.0)
@@ -445,7 +446,7 @@ def test_a_test_only_cell_is_stored_as_the_run_it_equals(tmp_path, monkeypatch):
     save_result(full, tmp_path / "full.npz")
     with np.load(tmp_path / "full.npz") as a, np.load(result_path(config, 0, tmp_path)) as b:
         assert content_digest(a) == content_digest(b)
-    monkeypatch.setattr("docking.design.heldout_trials", _refuse)
+    monkeypatch.setattr("docking.study.design.heldout_trials", _refuse)
     again = tested_in(base, other, tmp_path)
     np.testing.assert_array_equal(again.heldout.success, derived.heldout.success)
 

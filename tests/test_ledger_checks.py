@@ -19,11 +19,12 @@ import numpy as np
 import pytest
 from helpers import SEEDS, TINY, tool
 
-from docking import cli, ledger, verify
-from docking.cli import main
-from docking.ledger import load_run
 from docking.presets import EXPERIMENT_1
-from docking.store import result_path, run_key, run_or_load
+from docking.study import cli, ledger, verify
+from docking.study.cli import main
+from docking.study.kinds import result_path, run_key
+from docking.study.runs import load_run
+from docking.study.store import run_or_load
 
 REPO = Path(__file__).resolve().parent.parent
 #: What ``run experiment1`` with these options computes: :data:`SMALL`.
@@ -412,7 +413,7 @@ def test_run_says_the_ledger_is_unusable_before_it_computes(
         says = "/etc is not a ledger (it has no manifest.json)"
     else:
         monkeypatch.delenv("DOCKING_LEDGER")
-        monkeypatch.setattr("docking.paths.checkout_root", lambda: tmp_path / "clone")
+        monkeypatch.setattr("docking.study.paths.checkout_root", lambda: tmp_path / "clone")
         says = f"the ledger folder {tmp_path / 'clone' / 'ledger'} does not exist"
     assert _run(["--seeds", "0"], monkeypatch, tmp_path) == 0
     captured = capsys.readouterr()
@@ -443,11 +444,11 @@ def test_run_refuses_a_damaged_ledger_before_it_computes(
 
 
 def test_verify_caps_its_sample_and_says_how_long_before_it_starts(copy):
-    line = cli._verify_plan(10**12, False, 2)
+    line = cli.ledger._verify_plan(10**12, False, 2)
     assert "2 of the 2 others the ledger holds (--sample 1000000000000 capped at 2)" in line
     assert line.startswith("verify: recomputing 3 runs: the 1 of experiment1 and experiment2")
     assert "about " in line and "of the runs' wall times in the ledger" in line
-    assert "capped" not in cli._verify_plan(1, False, 2)
+    assert "capped" not in cli.ledger._verify_plan(1, False, 2)
 
 
 def _log_arrays(part: str, n_trials: int) -> dict[str, np.ndarray]:

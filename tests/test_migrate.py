@@ -1,4 +1,4 @@
-"""The migration (docking.migrate, ``python -m docking ledger migrate``): a real refactor of a
+"""The migration (docking.study.migrate, ``python -m docking ledger migrate``): a real refactor of a
 copy of the package (a keyed function split in two, a keyed module renamed) re-keys a tiny
 ledger and its store without recomputing them, after recomputing a sample that covers every
 table, kind of run and world; a change that alters a number migrates nothing and names the
@@ -16,7 +16,7 @@ from pathlib import Path
 
 import pytest
 
-from docking import migrate
+from docking.study import migrate
 
 ROOT = Path(__file__).resolve().parents[1]
 
@@ -26,9 +26,10 @@ BUILD = """
 import dataclasses, sys
 from pathlib import Path
 
-from docking import ledger, store
-from docking.design import yardstick_config
-from docking.designs.builders import experiment2_in
+from docking.study import ledger, store
+from docking.study import kinds
+from docking.study.design import yardstick_config
+from docking.study.designs.builders import experiment2_in
 from docking.presets import EXPERIMENT_1, FLOOR_WORLD
 
 results, folder = Path(sys.argv[1]), Path(sys.argv[2])
@@ -54,9 +55,9 @@ CHECK = """
 import dataclasses, json, sys
 from pathlib import Path
 
-from docking import ledger, store
-from docking.design import yardstick_config
-from docking.designs.builders import experiment2_in
+from docking.study import kinds, ledger
+from docking.study.design import yardstick_config
+from docking.study.designs.builders import experiment2_in
 from docking.presets import EXPERIMENT_1, FLOOR_WORLD
 
 results, folder = Path(sys.argv[1]), Path(sys.argv[2])
@@ -66,7 +67,7 @@ floor = dataclasses.replace(experiment2_in(FLOOR_WORLD, "tiny-floor"), **small)
 oracle = yardstick_config(tiny, "oracle", 5)
 checked = ledger.check_files(folder)
 stored = [
-    store.result_path(c, s, results).exists()
+    kinds.result_path(c, s, results).exists()
     for c, s in ((tiny, 0), (tiny, 1), (tiny, 2), (floor, 0), (oracle, 0))
 ]
 print(json.dumps({"checked": checked, "stored": stored}))

@@ -25,10 +25,10 @@ from pathlib import Path
 
 import pytest
 
-from docking import platform_info
 from docking.experiments import run_experiment
 from docking.presets import EXPERIMENT_2
-from docking.store import content_digest, module_digests, result_arrays
+from docking.study import platform_info
+from docking.study.kinds import content_digest, module_digests, result_arrays
 
 RECORDING = Path(__file__).parent / "data" / "platform_digest.json"
 CONFIG = dataclasses.replace(
@@ -63,8 +63,8 @@ def _option_configs() -> dict:
     untested claims: the Nao-like world (its camera height, the whole frame), a forced
     single winner, a network learning on after a change (``before``), the oracle's
     continuous steps with turns, and held-out trials in the second room."""
-    from docking.design import yardstick_config
     from docking.presets import NAO_WORLD
+    from docking.study.design import yardstick_config
 
     base = dataclasses.replace(CONFIG, train_trials=40, test_trials=10)
     winner = dataclasses.replace(base.network, feature_layer="winner", rule="local")
@@ -240,10 +240,10 @@ def test_fingerprinted_modules_compute_products_and_exp_only_through_arith():
     # (the fingerprinted ones) to the rule that keeps them so: no numpy call whose kernel is
     # chosen by the CPU, no `@` (OpenBLAS), except in docking.arith.
     import docking
-    from docking import fingerprint, store
+    from docking.study import fingerprint, kinds
 
     package_dir = Path(docking.__file__).parent
-    keyed = sorted(name for name, _ in fingerprint.walk(package_dir, store._ROOT_MODULE)[1])
+    keyed = sorted(name for name, _ in fingerprint.walk(package_dir, kinds._ROOT_MODULE)[1])
     assert "docking.arith" in keyed and "docking.network" in keyed, keyed
     offences = {
         name: calls

@@ -1,5 +1,5 @@
-"""The pixel-level bound (docking.ppo): its configuration, key, storage (the one store,
-docking.store, through its runner "ppo") and streams."""
+"""The pixel-level bound (docking.study.ppo): its configuration, key, storage (the one store,
+docking.study.store, through its runner "ppo") and streams."""
 
 from __future__ import annotations
 
@@ -8,18 +8,13 @@ import dataclasses
 import numpy as np
 import pytest
 
-from docking.ppo import PPOConfig, result_arrays, run_ppo, trials_in_run
 from docking.presets import EXPERIMENT_2
-from docking.store import (
-    PPO,
-    CorruptResult,
-    result_path,
-    run_key,
-    run_or_load,
-    source_fingerprint,
-)
-from docking.store import load_result as load
-from docking.store import save_result as save
+from docking.study.kinds import PPO, CorruptResult, result_path, run_key, source_fingerprint
+from docking.study.kinds import load_result as load
+from docking.study.kinds import save_result as save
+from docking.study.ppo import PPOConfig, result_arrays, run_ppo, trials_in_run
+from docking.study.runs import load_run
+from docking.study.store import run_or_load
 
 TINY = PPOConfig(name="ppo-test", world=EXPERIMENT_2.world, steps=64, envs=2, heldout_trials=3)
 
@@ -110,7 +105,7 @@ def test_it_is_judged_on_the_learners_heldout_streams(tiny_run):
 def test_a_sweep_runs_ppo_jobs_beside_the_learners(tmp_path):
     """PPO runs go through the same sweep as the learner's: stored under their key, loaded
     on the next call instead of recomputed."""
-    from docking.sweep import run_configs
+    from docking.study.sweep import run_configs
 
     runs = run_configs({"ppo": TINY}, [1], tmp_path, workers=1, progress=False)
     (first,) = runs["ppo"]
@@ -122,7 +117,7 @@ def test_a_sweep_runs_ppo_jobs_beside_the_learners(tmp_path):
 
 
 def test_a_design_cell_may_be_the_pixel_level_bound_but_not_test_only():
-    from docking.design import Cell
+    from docking.study.design import Cell
 
     cell = Cell("w/ppo", TINY, {"world": "w"}, seeds=(0, 1))
     assert cell.trained and cell.world == TINY.world
@@ -138,8 +133,8 @@ def test_the_ledger_serves_a_ppo_run_and_refuses_one_of_other_code(tiny_run, tmp
     arrays); served from it bit for bit; per-step data is not kept; other code is refused."""
     import json
 
-    from docking import ledger
-    from docking.sweep import run_configs
+    from docking.study import ledger
+    from docking.study.sweep import run_configs
 
     folder, stored = tiny_run
     monkeypatch.setenv("DOCKING_LEDGER", "off")
@@ -148,26 +143,26 @@ def test_the_ledger_serves_a_ppo_run_and_refuses_one_of_other_code(tiny_run, tmp
     assert data["runs"][run_key(TINY, 0)]["runner"] == "ppo" and set(data["fingerprints"]) == {
         "ppo"
     }
-    from docking.verify import verify
+    from docking.study.verify import verify
 
     (check,) = verify(None, workers=1, progress=False, folder=tmp_path / "ledger")
     assert check.ok and check.key == run_key(TINY, 0)  # --all recomputes the PPO run too
     monkeypatch.setenv("DOCKING_LEDGER", str(tmp_path / "ledger"))
-    served = ledger.load_run(TINY, 0, tmp_path / "empty-store")
+    served = load_run(TINY, 0, tmp_path / "empty-store")
     np.testing.assert_array_equal(served.train_success, stored.train_success)
     np.testing.assert_array_equal(served.heldout.success, stored.heldout.success)
     np.testing.assert_array_equal(served.heldout.steps, stored.heldout.steps)
     with pytest.raises(ledger.NotInLedger, match="path of trial 0"):
         served.heldout.trial_poses(0)
-    monkeypatch.setattr("docking.ppo.run_ppo", lambda *a, **k: pytest.fail("recomputed"))
+    monkeypatch.setattr("docking.study.ppo.run_ppo", lambda *a, **k: pytest.fail("recomputed"))
     (again,) = run_configs({"p": TINY}, [0], tmp_path / "s", workers=1, progress=False)["p"]
     assert again.heldout_success == stored.heldout_success
     manifest = tmp_path / "ledger" / "manifest.json"
     raw = json.loads(manifest.read_text())
-    raw["fingerprints"]["ppo"] = "0" * 64  # as if docking.ppo had changed since
+    raw["fingerprints"]["ppo"] = "0" * 64  # as if docking.study.ppo had changed since
     manifest.write_text(json.dumps(raw))
     with pytest.raises(ledger.StaleLedger, match="ppo runs computed by other code"):
-        ledger.load_run(TINY, 0, tmp_path / "empty-store")
+        load_run(TINY, 0, tmp_path / "empty-store")
 
 
 @pytest.mark.slow
@@ -177,7 +172,7 @@ def test_continuous_actions_take_a_gaussian_policy_and_act_with_its_mean(monkeyp
     greedy held-out actions are vectors in [-1, 1], and a run repeats bit for bit."""
     import gymnasium
 
-    from docking.store import content_digest
+    from docking.study.kinds import content_digest
 
     seen = {"drawn": [], "sent": []}
     clip = gymnasium.wrappers.ClipAction.action

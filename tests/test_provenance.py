@@ -1,5 +1,5 @@
 """Rules before runs, provable from the ledger: for every design whose rules commit is
-recorded (:data:`docking.report.RULES_COMMITS`), the commit is the one the history holds,
+recorded (:data:`docking.study.provenance.RULES_COMMITS`), the commit is the one the history holds,
 and every run of its ledger table was computed after it."""
 
 from __future__ import annotations
@@ -8,10 +8,11 @@ import json
 import subprocess
 from pathlib import Path
 
+import pinned
 import pytest
 
-from docking import report
-from docking.designs import MODULES
+from docking.study import provenance, report
+from docking.study.designs import MODULES
 
 ROOT = Path(__file__).resolve().parents[1]
 
@@ -30,24 +31,24 @@ def early(runs, rules_time) -> list:
     ]
 
 
-@pytest.mark.parametrize("name", sorted(report.RULES_COMMITS))
+@pytest.mark.parametrize("name", sorted(provenance.RULES_COMMITS))
 def test_the_rules_commit_is_the_one_history_holds(name):
     shallow = subprocess.run(
         ["git", "rev-parse", "--is-shallow-repository"], capture_output=True, text=True, cwd=ROOT
     ).stdout.strip()
     if shallow != "false":
         pytest.skip("a shallow clone (or no git): the history that added the rules is not here")
-    module = MODULES[name].replace(".", "/") + ".py"
+    module = pinned.old_path(MODULES[name])  # its path at the rules' commit: docking/designs/
     git = ["git", "log", "--diff-filter=A", "--format=%H %cI", "--", module]
     log = subprocess.run(git, capture_output=True, text=True, check=True, cwd=ROOT).stdout
-    assert log.split() == list(report.RULES_COMMITS[name])
+    assert log.split() == list(provenance.RULES_COMMITS[name])
 
 
-@pytest.mark.parametrize("name", sorted(report.RULES_COMMITS))
+@pytest.mark.parametrize("name", sorted(provenance.RULES_COMMITS))
 def test_every_run_was_computed_after_its_rules_commit(name):
     runs = _manifest_runs(name)
     assert runs, f"the ledger holds no run of {name}"
-    assert early(runs, report.utc(report.RULES_COMMITS[name][1])) == []
+    assert early(runs, report.utc(provenance.RULES_COMMITS[name][1])) == []
 
 
 def test_a_run_older_than_its_rules_or_without_a_time_is_caught():
@@ -67,7 +68,7 @@ def _history() -> bool:
     return shallow == "false"
 
 
-@pytest.mark.parametrize("deviation", [d for d in report.DEVIATIONS if d.commit], ids=str)
+@pytest.mark.parametrize("deviation", [d for d in provenance.DEVIATIONS if d.commit], ids=str)
 def test_each_deviation_is_the_history_s(deviation):
     """A listed deviation's commit exists, touched the file named, and came after the
     commit that added its design's rules."""
@@ -77,17 +78,17 @@ def test_each_deviation_is_the_history_s(deviation):
     shown = subprocess.run(git, capture_output=True, text=True, check=True, cwd=ROOT).stdout
     when, *paths = [line for line in shown.splitlines() if line]
     assert deviation.path in paths
-    module = MODULES[deviation.design].replace(".", "/") + ".py"
+    module = pinned.old_path(MODULES[deviation.design])
     added = ["git", "log", "--diff-filter=A", "--format=%cI", "--", module]
     rules = subprocess.run(added, capture_output=True, text=True, check=True, cwd=ROOT).stdout
     assert report.utc(when) > report.utc(rules.split()[-1])
 
 
 def test_every_deviation_names_a_design_and_is_shown_in_its_table():
-    for d in report.DEVIATIONS:
+    for d in provenance.DEVIATIONS:
         assert d.design in MODULES
-        assert d.what in report.deviations_table(d.design)
-    assert "none known" in report.deviations_table("paper")
+        assert d.what in provenance.deviations_table(d.design)
+    assert "none known" in provenance.deviations_table("paper")
 
 
 #: The designs whose every ledger run records the rules it was judged by (the designs whose
@@ -98,14 +99,29 @@ RULES_RECORDED = ("addendum-bracketing", "addendum-bracketing-continued", "untes
 
 @pytest.mark.parametrize("name", RULES_RECORDED)
 def test_every_run_carries_the_digest_of_its_designs_rules(name):
-    from docking.designs import rules_digest
+    """Every run records the digest of its design's rules as they were at the rules' commit:
+    the rules read now with their modules' tokens and judging functions' source as at that
+    commit (tests/pinned.py). The study layer's move into docking/study/ (issue 51) changed
+    these designs' import statements, so :func:`rules_digest` now gives another digest of the
+    same rules; each design's test proves they differ only in imports."""
+    import importlib
+    import sys
 
+    from docking.study.designs import rules_digest
+
+    if not pinned.history():
+        pytest.skip("a shallow clone (or no git): the history that pinned the rules is not here")
+    module = importlib.import_module(MODULES[name])
+    designs = [sys.modules[m] for m in set(MODULES.values()) if m in sys.modules]
+    then, read = pinned.digest_at(module.rules_text, provenance.RULES_COMMITS[name][0], designs)
+    assert module.__name__ in read["files"]
     runs = _manifest_runs(name)
-    assert runs and {r.get("rules_sha256") for r in runs} == {rules_digest(name)}
+    assert runs and {r.get("rules_sha256") for r in runs} == {then}
+    assert rules_digest(name) != then  # the digest since the move (pinned by its test)
 
 
 def test_a_run_with_other_rules_breaks_its_tables_seal():
-    from docking import ledger
+    from docking.study import ledger
 
     records = {"k1": {"name": "t", "digest": "d", "rules_sha256": "a"}}
     sealed = ledger._seals(records)
@@ -116,16 +132,16 @@ def test_a_run_with_other_rules_breaks_its_tables_seal():
 
 
 def test_the_summary_says_where_rules_before_runs_is_proven_and_where_not():
-    """report.provenance_text: the designs whose runs' times prove their rules came first,
+    """provenance.provenance_text: the designs whose runs' times prove their rules came first,
     and every other table whose runs carry no time, with their counts from the manifest."""
     folder = ROOT / "ledger"
-    timed, untimed = report.provenance_counts(folder)
-    assert set(timed) == set(report.RULES_COMMITS)
+    timed, untimed = provenance.provenance_counts(folder)
+    assert set(timed) == set(provenance.RULES_COMMITS)
     for name, n in timed.items():
         assert n == len(_manifest_runs(name))
     for name, n in untimed.items():
         assert name not in timed
         assert n == sum("computed_utc" not in r for r in _manifest_runs(name)) > 0
-    text = report.provenance_text(folder)
+    text = provenance.provenance_text(folder)
     assert all(f"{name} ({n:,})" in text for name, n in {**timed, **untimed}.items())
-    assert text in report.candour_text(folder)
+    assert text in provenance.candour_text(folder)

@@ -17,20 +17,21 @@ RATE = re.compile(r"(-?\d+\.\d+)% \[(-?\d+\.\d+)%?, (-?\d+\.\d+)%?\]")
 def test_the_committed_contest_and_verdicts_have_no_degenerate_rate_and_no_p_0(
     monkeypatch, tmp_path
 ):
-    from docking import report
-    from docking.claims import design_verdicts
-    from docking.designs import third_edition, untested
+    from docking.study.claims import design_verdicts
+    from docking.study.designs import third_edition, third_edition_report, untested, untested_report
 
     monkeypatch.setenv("DOCKING_LEDGER", str(REPO / "ledger"))
     contest = third_edition.DESIGN.run(results_dir=tmp_path, progress=False)
     judged = untested.part("judged").run(results_dir=tmp_path, progress=False)
-    text = report.contest_table(contest, report.CONTEST_WORLDS) + report.contest_summary(contest)
+    text = third_edition_report.contest_table(
+        contest, third_edition_report.CONTEST_WORLDS
+    ) + third_edition_report.contest_summary(contest)
     rates = RATE.findall(text)
     assert len(rates) >= 30 + 3  # every row and world of the table, the summary's three
     for found in rates:
         estimate, low, high = map(float, found)
         assert 0 <= low <= estimate <= high <= 100 and low < high, found
-    verdicts = design_verdicts(contest, (judged, report.UNTESTED_IN_README))
+    verdicts = design_verdicts(contest, (judged, untested_report.UNTESTED_IN_README))
     assert not re.search(r", p 0( |<|$)", verdicts)
     assert "identical in every trial" in verdicts  # relocation: "another wall", "second room"
 

@@ -1,4 +1,4 @@
-"""The replication (docking.designs.replication): its rules, pinned before its runs; its
+"""The replication (docking.study.designs.replication): its rules, pinned before its runs; its
 seeds, fresh; its cells, the bracketing continued's; its verdicts, rules that can fail."""
 
 from __future__ import annotations
@@ -11,7 +11,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from docking.designs import replication as rp
+from docking.study.designs import replication as rp
 
 REPO = Path(__file__).resolve().parents[1]
 #: The SHA-256 of rules_text() when the rules were committed, before any of its runs.
@@ -33,7 +33,7 @@ def test_no_other_run_of_the_ledger_uses_its_seeds():
 def test_its_cells_are_the_bracketing_continueds_judged_cells_renamed(monkeypatch):
     """Each cell's configuration, renamed, is the one the bracketing continued judged: the
     tuned settings and PPO's matched steps as committed there (read from its ledger)."""
-    from docking.designs import bracketing_continued as bc
+    from docking.study.designs import bracketing_continued as bc
 
     monkeypatch.setenv("DOCKING_LEDGER", str(REPO / "ledger"))
 

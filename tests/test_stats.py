@@ -5,7 +5,7 @@ import pytest
 from helpers import tool
 from scipy import stats
 
-from docking.stats import Interval, difference_ci, mean_ci
+from docking.study.stats import Interval, difference_ci, mean_ci
 
 
 def test_mean_ci_brackets_the_mean_and_is_seeded():
@@ -46,7 +46,7 @@ def test_bad_samples_raise(bad):
 
 
 def test_removed_share_ci_paired_and_unpaired():
-    from docking.stats import removed_share_ci
+    from docking.study.stats import removed_share_ci
 
     base = np.full(10, 0.10) + np.linspace(-0.01, 0.01, 10)
     half = base / 2
@@ -79,7 +79,7 @@ def test_power_matches_a_simulation_and_gives_the_seeds_it_needs():
 
 
 def test_the_paired_interval_pairs_seeds_and_covers():
-    from docking.stats import t_paired_ci
+    from docking.study.stats import t_paired_ci
 
     coverage = tool("interval_coverage").coverage
 
@@ -97,8 +97,8 @@ def test_the_paired_interval_pairs_seeds_and_covers():
 def test_the_student_t_intervals_are_scipys():
     """t_mean_ci, t_paired_ci and t_difference_ci are scipy's ttest_1samp, ttest_rel and
     ttest_ind(equal_var=False) intervals (to 1e-12; the last bits differ), with their degrees
-    of freedom and p-values; docking.stats says why they are computed by hand."""
-    from docking.stats import t_difference_ci, t_mean_ci, t_paired_ci
+    of freedom and p-values; docking.study.stats says why they are computed by hand."""
+    from docking.study.stats import t_difference_ci, t_mean_ci, t_paired_ci
 
     rng = np.random.default_rng(43)
     for k in range(300):
@@ -123,7 +123,7 @@ def test_the_student_t_intervals_are_scipys():
 def test_a_rate_where_every_trial_succeeds_or_fails_has_an_interval_in_0_1_of_some_width():
     """Ten seeds at 500/500: the Student-t interval is the point [1, 1]; the interval for a
     rate is Wilson's of the 5000 pooled trials, [0.99923, 1], and prints as such."""
-    from docking.stats import rate_ci, t_mean_ci
+    from docking.study.stats import rate_ci, t_mean_ci
 
     every = rate_ci(np.ones(10), 500)
     wilson = stats.binomtest(5000, 5000).proportion_ci(method="wilson")
@@ -145,7 +145,7 @@ def test_a_rate_interval_is_wilsons_on_pooled_trials_or_the_t_interval_over_seed
     """Seeds that differ no more than binomially: Wilson's interval of the pooled trials
     (scipy's); seeds that differ much more: about the Student-t interval over seeds; trials
     per seed weigh the pooled rate."""
-    from docking.stats import rate_ci, t_mean_ci
+    from docking.study.stats import rate_ci, t_mean_ci
 
     same = rate_ci(np.full(10, 0.9), 500)
     wilson = stats.binomtest(4500, 5000).proportion_ci(method="wilson")
@@ -165,7 +165,7 @@ def test_a_rate_interval_is_wilsons_on_pooled_trials_or_the_t_interval_over_seed
     + [([0.5, 0.5001], 500, "whole successes")],
 )
 def test_a_rate_interval_refuses_what_is_not_a_rate_over_seeds(bad, trials, match):
-    from docking.stats import rate_ci
+    from docking.study.stats import rate_ci
 
     with pytest.raises(ValueError, match=match):
         rate_ci(bad, trials)

@@ -14,21 +14,21 @@ import zipfile
 import numpy as np
 import pytest
 
-from docking import store
+import docking
 from docking.experiments import ExperimentConfig, run_experiment
 from docking.fileio import atomic_write, remove_stale_temporaries
 from docking.network import NetworkConfig
 from docking.presets import EXPERIMENT_1
-from docking.store import (
+from docking.study import kinds
+from docking.study.kinds import (
     CorruptResult,
-    check_writable,
     load_result,
     result_path,
-    run_or_load,
     save_result,
     source_fingerprint,
 )
-from docking.sweep import run_configs
+from docking.study.store import check_writable, run_or_load
+from docking.study.sweep import run_configs
 
 TINY = dataclasses.replace(EXPERIMENT_1, train_trials=3, test_trials=2, eval_every=3, eval_trials=1)
 SEED = 7
@@ -107,15 +107,15 @@ def test_a_checked_file_is_not_read_again_until_it_is_replaced(stored, monkeypat
     """``is_valid`` reads a file once per process; an atomic rewrite (a new file) is read
     again, and a corrupt one found invalid."""
     _, path = stored
-    key = store.run_key(TINY, SEED)
-    assert store.is_valid(path, key) and not store.is_valid(path, "0" * 64 + ":seed7")
+    key = kinds.run_key(TINY, SEED)
+    assert kinds.is_valid(path, key) and not kinds.is_valid(path, "0" * 64 + ":seed7")
     reads = []
-    monkeypatch.setattr(store, "_parse", lambda data, asked: reads.append(asked))
-    assert store.is_valid(path, key) and reads == []
+    monkeypatch.setattr(kinds, "_parse", lambda data, asked: reads.append(asked))
+    assert kinds.is_valid(path, key) and reads == []
     monkeypatch.undo()
     _rewrite(path, lambda a: a.update({"train.actions": a["train.actions"][:-1]}))
-    assert not store.is_valid(path, key)
-    assert not store.is_valid(path.with_name("seed8.npz"), key)  # no file
+    assert not kinds.is_valid(path, key)
+    assert not kinds.is_valid(path.with_name("seed8.npz"), key)  # no file
 
 
 def test_a_file_of_another_configuration_or_code_is_refused(stored):
@@ -138,7 +138,7 @@ def test_variants_of_one_name_live_side_by_side(tmp_path):
 
 
 def _copy_package(tmp_path):
-    src = os.path.dirname(store.__file__)
+    src = os.path.dirname(docking.__file__)
     dst = tmp_path / "docking"
     shutil.copytree(src, dst, ignore=shutil.ignore_patterns("__pycache__"))
     return dst
@@ -152,7 +152,7 @@ def test_the_fingerprint_is_the_same_in_every_process():
     import subprocess
     import sys
 
-    code = "from docking.store import source_fingerprint; print(source_fingerprint())"
+    code = "from docking.study.kinds import source_fingerprint; print(source_fingerprint())"
     prints = {
         subprocess.run(
             [sys.executable, "-c", code],
@@ -190,12 +190,12 @@ def test_a_code_change_in_trial_py_changes_the_fingerprint(tmp_path):
 def test_a_code_change_invalidates_the_cache(stored, reference, monkeypatch):
     results_dir, path = stored
     assert run_or_load(TINY, SEED, results_dir=results_dir, progress=False)  # loads
-    monkeypatch.setattr(store, "source_fingerprint", lambda package_dir=None, **_: "other code")
+    monkeypatch.setattr(kinds, "source_fingerprint", lambda package_dir=None, **_: "other code")
     new_path = result_path(TINY, SEED, results_dir)
     assert new_path != path  # another key: the old file is never returned for the new code
     calls = []
-    real = store.run_experiment
-    monkeypatch.setattr(store, "run_experiment", lambda *a, **k: calls.append(1) or real(*a, **k))
+    real = kinds.run_experiment
+    monkeypatch.setattr(kinds, "run_experiment", lambda *a, **k: calls.append(1) or real(*a, **k))
     _assert_same_run(run_or_load(TINY, SEED, results_dir=results_dir, progress=False), reference)
     assert calls == [1] and new_path.exists()
 
@@ -204,7 +204,7 @@ def test_an_unwritable_results_folder_fails_before_the_run(tmp_path, monkeypatch
     blocker = tmp_path / "a-file"
     blocker.write_text("not a folder")
     calls = []
-    monkeypatch.setattr(store, "run_experiment", lambda *a, **k: calls.append(1))
+    monkeypatch.setattr(kinds, "run_experiment", lambda *a, **k: calls.append(1))
     with pytest.raises(PermissionError, match="a-file"):
         run_or_load(TINY, SEED, results_dir=blocker / "results", progress=False)
     with pytest.raises(PermissionError, match="a-file"):
@@ -329,6 +329,8 @@ def test_a_run_without_a_final_test_saves_and_loads(tmp_path):
 
 def test_presets_and_designs_are_outside_the_fingerprint():
     """A seed list or a preset is data: editing it must not re-key the stored runs."""
-    modules = store.module_digests()
+    modules = kinds.module_digests()
     assert "docking.experiments" in modules and "docking.scene" in modules
-    assert not any(name.startswith(("docking.presets", "docking.designs")) for name in modules)
+    assert not any(
+        name.startswith(("docking.presets", "docking.study.designs")) for name in modules
+    )

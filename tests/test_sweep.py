@@ -20,8 +20,8 @@ import psutil
 import pytest
 
 from docking.presets import EXPERIMENT_1
-from docking.store import load_result
-from docking.sweep import (
+from docking.study.kinds import load_result
+from docking.study.sweep import (
     Job,
     apply_override,
     grid_configs,
@@ -205,7 +205,7 @@ def test_grid_and_overrides():
 
 @pytest.mark.slow
 def test_source_fingerprint_is_the_same_in_every_process():
-    code = "from docking.store import source_fingerprint; print(source_fingerprint())"
+    code = "from docking.study.kinds import source_fingerprint; print(source_fingerprint())"
     prints = {
         subprocess.run(
             [sys.executable, "-c", code],
@@ -332,7 +332,7 @@ def test_the_embedded_cluster_listens_on_loopback_only():
     """The scheduler, its dashboard and every worker's servers: no socket of the cluster's
     processes is bound to anything but 127.0.0.1 (whoever reaches a Dask scheduler can run
     code as its user)."""
-    from docking.sweep import _EmbeddedCluster
+    from docking.study.sweep import _EmbeddedCluster
 
     cluster = _EmbeddedCluster(2)
     try:
@@ -361,7 +361,7 @@ def test_bad_seeds_and_scheduler_addresses_are_refused_before_any_work(tmp_path)
 
 @pytest.mark.slow
 def test_a_scheduler_that_does_not_answer_is_a_clear_error(tmp_path):
-    from docking.sweep import _connect
+    from docking.study.sweep import _connect
 
     with socket.socket() as s:  # a port that nothing listens on
         s.bind(("127.0.0.1", 0))
@@ -428,7 +428,7 @@ def test_closing_our_cluster_logs_no_warning_of_its_own_shutdown():
     the terminal as the cluster closed). Here that heartbeat arrives, deterministically,
     while the cluster closes: nothing at WARNING. The same heartbeat while the cluster runs
     is still logged (a lost worker stays visible)."""
-    from docking.sweep import _EmbeddedCluster, _quiet_distributed
+    from docking.study.sweep import _EmbeddedCluster, _quiet_distributed
 
     collect = _Collect()
     scheduler_log = logging.getLogger("distributed.scheduler")
@@ -467,7 +467,7 @@ def test_the_embedded_cluster_keeps_its_scratch_in_its_own_folder(tmp_path, monk
     in-process scheduler wrote <tmp>/dask-scratch-space, Dask's default, and left it)."""
     import tempfile
 
-    from docking.sweep import _EmbeddedCluster, _quiet_distributed
+    from docking.study.sweep import _EmbeddedCluster, _quiet_distributed
 
     monkeypatch.setattr(tempfile, "tempdir", str(tmp_path))  # the system's temporary folder
     with _quiet_distributed():
@@ -495,7 +495,7 @@ def test_a_heartbeat_cut_by_the_workers_own_close_is_no_traceback_once_its_clust
     with scheduler during heartbeat." and its traceback (a heartbeat still waiting when the
     closing worker shut its connections). distributed logs it at ERROR: while the cluster
     runs it is news; once the cluster that started the worker closes it, it is our race."""
-    from docking.sweep import _QuietFailures
+    from docking.study.sweep import _QuietFailures
 
     closing = tmp_path / "closing"
     quiet = _QuietFailures(str(closing))
@@ -510,7 +510,7 @@ def test_a_terminals_ctrl_c_reaches_the_command_not_its_workers():
     """A terminal's Ctrl-C signals its foreground process group. The embedded cluster's
     workers live in a session of their own, so only the command hears it and closes them in
     order (the file they watch first); hearing it too, they raced that close (CI, stop 47)."""
-    from docking.sweep import _EmbeddedCluster
+    from docking.study.sweep import _EmbeddedCluster
 
     cluster = _EmbeddedCluster(2)
     try:
@@ -523,7 +523,7 @@ def test_a_terminals_ctrl_c_reaches_the_command_not_its_workers():
 
 
 def test_an_embedded_worker_is_quiet_below_error_once_its_cluster_closes(tmp_path):
-    from docking.sweep import _QuietFailures
+    from docking.study.sweep import _QuietFailures
 
     closing = tmp_path / "closing"
     quiet = _QuietFailures(str(closing))

@@ -1,4 +1,4 @@
-"""The third edition's rules, pinned before its runs (docking.designs.third_edition)."""
+"""The third edition's rules, pinned before its runs (docking.study.designs.third_edition)."""
 
 from __future__ import annotations
 
@@ -9,8 +9,9 @@ import numpy as np
 import pytest
 from helpers import tool, unknown_cells, unquoted
 
-from docking import report
-from docking.designs import third_edition as te
+from docking.study import report
+from docking.study.designs import third_edition as te
+from docking.study.designs import third_edition_report
 
 #: The SHA-256 of rules_text() when the rules were committed, before any run of the edition.
 RULES_DIGEST = "cd2a0602b296679342c67a9afe926c24a0baa8901a6f55c48a4e2fbac2984ac4"
@@ -103,7 +104,7 @@ def test_the_path_is_decided_by_intervals():
     results = _Scores(
         {"a/paper": base, "b/paper": base - 0.3 + noise, "c/paper": base - 0.3 - 0.01 + noise}
     )
-    steps = report.path_steps(results, [("a", "b"), ("b", "c")], 0.05, 0.05)
+    steps = third_edition_report.path_steps(results, [("a", "b"), ("b", "c")], 0.05, 0.05)
     assert [s.decision for s in steps] == ["breaks", "does not break"]
     assert steps[0].p_adjusted < 1e-6
 

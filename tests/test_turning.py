@@ -6,13 +6,13 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from docking import analysis, report
-from docking.designs import experiment3
-from docking.designs.builders import variant
 from docking.experiments import ExperimentConfig, TrialLog, run_experiment
 from docking.gym import DockingGymEnv
 from docking.oracle import oracle_action
 from docking.presets import EXPERIMENT_2
+from docking.study import analysis
+from docking.study.designs import experiment3, experiment3_report
+from docking.study.designs.builders import variant
 from docking.world import (
     ACTION_LETTERS,
     FORWARD,
@@ -225,8 +225,8 @@ def test_failure_taxonomy_flags_a_wrong_heading_in_the_region():
 
 def _synthetic(rates: dict[str, float], n: int = 200):
     """Experiment 3 results with held-out logs of the given success rates per cell key."""
-    from docking.design import Results
-    from docking.designs.builders import SEEDS
+    from docking.study.design import Results
+    from docking.study.designs.builders import SEEDS
 
     def log(rate, seed):
         success = np.random.default_rng(seed).random(n) < rate
@@ -251,31 +251,31 @@ def test_experiment3_comparisons_table_and_verdict_on_synthetic_results():
         four = c.key.startswith("4")
         rates[c.key] = 0.90 if four else (0.97 if "paper task" in c.key else 0.91)
     results = _synthetic(rates)
-    found = report.turning_comparisons(results)
+    found = experiment3_report.turning_comparisons(results)
     assert len(found) == len(experiment3.TASKS) * len(experiment3.NOISE_DEG)
     first = found[0]
     assert (first.task, first.noise) == ("paper task", 2.0)
     assert first.gain.estimate == pytest.approx(first.six.estimate - first.four.estimate)
-    from docking.claims import rate_interval  # each arm's success: the interval for a rate
+    from docking.study.claims import rate_interval  # each arm's success: the interval for a rate
 
     assert (first.four, first.six) == tuple(
         rate_interval(results, k) for k in (first.four_key, first.six_key)
     )
     assert 0.5 < first.removed.estimate < 0.9 and first.removed.low > 0.5
-    verdict, ci = report.rotation_verdict(found, experiment3.ROTATION_RULE)
+    verdict, ci = experiment3_report.rotation_verdict(found, experiment3.ROTATION_RULE)
     assert verdict == "supported" and ci == first.removed
     # the precision rows remove few failures: their interval straddles 0 or lies low
     assert all(c.removed.estimate < 0.3 for c in found if c.task == "precision")
     oracle = {c.key: 1.0 for c in experiment3.experiment3_cells()}
-    text = report.turning_table(found, oracle)
+    text = experiment3_report.turning_table(found, oracle)
     assert text.count("\n") == 1 + len(found) and "| paper task | 2 |" in text
     ratio = first.failure_ratio
     assert ratio.estimate == pytest.approx(1 - first.removed.estimate)
     assert ratio.low == pytest.approx(1 - first.removed.high)
     rates = {k: (0.9 if k.startswith("4") else 0.899) for k in rates}
     assert (
-        report.rotation_verdict(
-            report.turning_comparisons(_synthetic(rates)), experiment3.ROTATION_RULE
+        experiment3_report.rotation_verdict(
+            experiment3_report.turning_comparisons(_synthetic(rates)), experiment3.ROTATION_RULE
         )[0]
         == "contradicted"
     )
@@ -285,7 +285,7 @@ def test_failure_shares_pool_the_seeds_of_a_cell():
     rates = {c.key: 0.8 for c in experiment3.experiment3_cells()}
     results = _synthetic(rates, n=20)
     keys = ["4 actions, paper task, 2 deg"]
-    shares, failures = report.failure_shares(results, keys)
+    shares, failures = experiment3_report.failure_shares(results, keys)
     assert failures[0] == sum(int((~log.success).sum()) for log in results.logs[keys[0]])
     assert shares.shape == (1, len(analysis.FAILURE_CLASSES))
     assert np.all((shares >= 0) & (shares <= 1))
@@ -294,7 +294,7 @@ def test_failure_shares_pool_the_seeds_of_a_cell():
 def test_experiment3_figures_draw_from_arrays():
     from matplotlib.figure import Figure
 
-    from docking import figures
+    from docking.study import figures
 
     noise = np.array([2.0, 4.0, 6.0])
     ci = np.tile([0.9, 0.85, 0.95], (2, 3, 1))
@@ -345,15 +345,15 @@ def test_centroid_offset_of_stacks_and_final_headings():
     rates = {c.key: 0.5 for c in experiment3.experiment3_cells()}
     results = _synthetic(rates, n=10)
     key = "4 actions, paper task, 2 deg"
-    headings = report.final_headings(results, key)
+    headings = experiment3_report.final_headings(results, key)
     assert len(headings) == sum(int((~log.success).sum()) for log in results.logs[key])
     assert np.all(headings == 0)  # the synthetic trials end facing the wall
 
 
 def test_fig4_follows_the_configured_action_set():
-    from docking import figures
-    from docking.analysis import MeanInputs, receptive_fields, strongest_units
     from docking.network import Network
+    from docking.study import figures
+    from docking.study.analysis import MeanInputs, receptive_fields, strongest_units
 
     cell = next(c for c in experiment3.experiment3_cells() if c.key.startswith("6"))
     config = cell.config

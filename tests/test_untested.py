@@ -1,4 +1,4 @@
-"""The rules of the claims nobody had tested (docking.designs.untested), pinned before their
+"""The rules of the claims nobody had tested (docking.study.designs.untested), pinned before their
 runs; the relocations' and changes' effect on the views, measured before any run."""
 
 from __future__ import annotations
@@ -11,7 +11,7 @@ import numpy as np
 import pytest
 from helpers import unknown_cells, unquoted
 
-from docking.designs import third_edition, untested
+from docking.study.designs import third_edition, untested
 
 #: The SHA-256 of rules_text() when the rules were committed, before any of their runs (last
 #: amended, still before any run: the relocation claim's label with the statistic's sign, and
@@ -89,9 +89,9 @@ def test_relocations_change_no_view_and_the_changes_do():
 def test_ambiguous_views_are_poses_with_one_input_and_different_oracle_actions():
     """Each group of ambiguous start views re-renders to one input byte for byte, and the
     pose oracle acts differently on its poses."""
-    from docking.analysis import ambiguous_views
     from docking.oracle import oracle_action
     from docking.presets import EXPERIMENT_2
+    from docking.study.analysis import ambiguous_views
     from docking.world import DockingEnv
 
     world = EXPERIMENT_2.world
@@ -110,10 +110,10 @@ def test_ambiguous_views_are_poses_with_one_input_and_different_oracle_actions()
 def test_weight_mass_moves_onto_the_landmark_when_W_draws_it():
     """At W's random start the shares are the parts' areas; with every unit's weights set to
     the mean landmark view it wins, the landmark's share rises and the distractor's falls."""
-    from docking.analysis import MASS_PARTS, mean_winning_inputs, weight_mass
-    from docking.designs.builders import with_cup
     from docking.experiments import initial_network
     from docking.presets import EXPERIMENT_2
+    from docking.study.analysis import MASS_PARTS, mean_winning_inputs, weight_mass
+    from docking.study.designs.builders import with_cup
 
     world = with_cup(EXPERIMENT_2.world)
     net = initial_network(EXPERIMENT_2, 0)
@@ -132,7 +132,7 @@ def test_weight_mass_moves_onto_the_landmark_when_W_draws_it():
 
 
 def test_a_measures_statistic_is_shown_in_its_unit():
-    from docking.stats import Interval
+    from docking.study.stats import Interval
 
     shown = {c.key: c.format(Interval(45.0, 34.5, 55.5, ())) for c in untested.CLAIMS}
     assert shown["coping"] == "45 trials [34, 56]"  # trials, whole
@@ -141,7 +141,7 @@ def test_a_measures_statistic_is_shown_in_its_unit():
 
 
 def test_a_measure_without_a_unit_is_shown_raw_under_its_name():
-    from docking.claims import measure_display
+    from docking.study.claims import measure_display
 
     def walked(results, key):
         return results

@@ -7,8 +7,8 @@ import dataclasses
 import numpy as np
 import pytest
 
-from docking import analysis
 from docking.presets import EXPERIMENT_2, RELOCATIONS
+from docking.study import analysis
 
 HOME = EXPERIMENT_2.world
 PLACES = {

@@ -34,13 +34,13 @@ import gymnasium  # noqa: E402
 
 import docking  # noqa: E402, F401  (registers the ids)
 from docking.camera import CameraConfig  # noqa: E402
-from docking.contest import contest, small_budget  # noqa: E402
 from docking.experiments import Curriculum, ExperimentConfig  # noqa: E402
 from docking.network import NetworkConfig  # noqa: E402
 from docking.presets import EXPERIMENT_1, EXPERIMENT_2, FLOOR_WORLD, NAO_WORLD  # noqa: E402
 from docking.protocol import heldout_log  # noqa: E402
 from docking.scene import Distractor, WorldConfig  # noqa: E402
-from docking.sweep import grid_configs, parse_seeds  # noqa: E402
+from docking.study.contest import contest, small_budget  # noqa: E402
+from docking.study.sweep import grid_configs, parse_seeds  # noqa: E402
 
 #: Three count fields of ExperimentConfig: 200 values each make a grid of 8 million.
 _THREE_COUNTS = ("train_trials", "test_trials", "heldout_trials")

@@ -1,12 +1,12 @@
 """How often the study's intervals cover the truth, on synthetic studies like its own: the
-checks of :mod:`docking.stats`'s intervals (issue 43: simulations that only tests and notebook
+checks of :mod:`docking.study.stats`'s intervals (issue 43: simulations that only tests and notebook
 07 use live beside the package, not in it).
 
 * :func:`coverage`: bootstrap and Student-t intervals of a difference of two groups' means,
   and the paired Student-t interval (tests/test_stats.py);
 * :func:`rule_coverage`: the intervals the third edition's rules decide by (notebook 07's
   table, tests/test_third_edition.py);
-* :func:`rate_coverage`: :func:`docking.stats.rate_ci` near 0 and 1 (tests/test_stats.py).
+* :func:`rate_coverage`: :func:`docking.study.stats.rate_ci` near 0 and 1 (tests/test_stats.py).
 
 Each is seeded: the same arguments give the same share. Load it by its path (it is not a
 package): ``importlib.util.spec_from_file_location("interval_coverage", path)``.
@@ -17,7 +17,7 @@ from __future__ import annotations
 import numpy as np
 from scipy import stats
 
-from docking.stats import (
+from docking.study.stats import (
     Interval,
     _rate_ci,  # rate_ci's bounds, vectorised over many studies at once
     t_difference_ci,

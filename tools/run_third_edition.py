@@ -16,7 +16,7 @@ from __future__ import annotations
 import argparse
 import os
 
-from docking.designs import third_edition as te
+from docking.study.designs import third_edition as te
 
 
 def main() -> None:

@@ -51,7 +51,7 @@ def timed(command: list[str]) -> dict:
 def step_time() -> dict:
     """``benchmark --quick``'s CPU milliseconds per environment step (min and median)."""
     code = (
-        "import contextlib, io, json; from docking.cli import benchmark_module\n"
+        "import contextlib, io, json; from docking.study.cli.ledger import benchmark_module\n"
         "with contextlib.redirect_stdout(io.StringIO()): r = benchmark_module().run(quick=True)\n"
         "print(json.dumps(r['env_step']))"
     )

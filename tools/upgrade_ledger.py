@@ -1,8 +1,8 @@
 """Upgrade a ledger of format 7 to format 8 (issue 49), once, without recomputing a run.
 
 Format 8 adds to every run's record its *row digest* (the digest of the arrays its results
-table serves of it, :func:`docking.ledger.row_digest`), and seals each table's file digest
-with its runs' records (:func:`docking.ledger._seals`), so that a table rewritten and named
+table serves of it, :func:`docking.study.ledger.row_digest`), and seals each table's file digest
+with its runs' records (:func:`docking.study.ledger._seals`), so that a table rewritten and named
 anew in the manifest is refused unless the manifest is resealed. This reads a format-7
 manifest, checks it as format 7 did (every table and whole run against its SHA-256, the
 format-7 seals of the runs' digests and wall times), computes each row digest from the table
@@ -22,8 +22,8 @@ import sys
 import tempfile
 from pathlib import Path
 
-from docking import ledger, paths
 from docking.fileio import atomic_write
+from docking.study import ledger, paths
 
 #: Format 7's sealed fields (its seal: the SHA-256 of these per run, in key order, per table).
 SEALED_7 = ("digest", "wall_time_train", "wall_time_test", "wall_seconds", "computed_utc")

@@ -1,0 +1,343 @@
+"""``report`` and ``figures``: the README's tables, summary, verdicts and first screen from
+the designs' reports (each design's beside it, ``docking/study/designs/<design>_report.py``),
+and the paper's figures, from runs the store or the ledger holds.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+from pathlib import Path
+from typing import Annotated
+
+from docking.presets import SEEDS
+from docking.study import paths
+from docking.study.cli.options import (
+    _absent,
+    _FiguresDir,
+    _Processes,
+    _ResultsDir,
+    _seed_text,
+    _shown,
+)
+
+
+@dataclasses.dataclass
+class Report:
+    """Print the results: the paper's numbers beside ours, Experiment 3's table, the third
+    edition's contest and verdict table, and the summary above them, from the runs the
+    results store or the committed ledger holds (--compute: computing any that neither
+    holds; without it, the report refuses to compute)."""
+
+    readme: Annotated[Path | None, _shown("PATH", "none, the tables are only printed")] = None
+    """Also write the table into this README, between <!-- results:start --> and
+    <!-- results:end -->."""
+    processes: _Processes = None
+    """Worker processes for missing runs."""
+    results_dir: _ResultsDir = None
+    """The results store."""
+    experiment3: bool = True
+    """Also the table of Experiment 3 (notebook 06; runs it if it is not stored, and the
+    oracle in every cell), into the README between <!-- experiment3:start --> and
+    <!-- experiment3:end -->."""
+    third_edition: bool = True
+    """Also the third edition (notebook 07): its contest in the README's summary and its table
+    between <!-- third-edition:start --> and <!-- third-edition:end -->, its verdict table
+    between <!-- verdicts:start --> and <!-- verdicts:end -->."""
+    figures: bool = False
+    """Also save Figs. 2-5 and the learning curves of Experiments 1 and 2 into figures/
+    (or DOCKING_FIGURES)."""
+
+    compute: bool = False
+    """Compute the runs that neither the results store nor the ledger holds (without it, the
+    report refuses to start a computation: Experiment 3 is hours on 2 cores)."""
+
+    def execute(self) -> int:
+        from docking.study import provenance, readme
+        from docking.study.designs import (
+            addendum_report,
+            bracketing_report,
+            design,
+            paper_report,
+            revisited_report,
+            untested_report,
+        )
+
+        if not self.compute:
+            _refuse_to_compute(self.experiment3, self.results_dir, self.third_edition)
+        paper = design("paper").run(results_dir=self.results_dir, workers=self.processes)
+        results = [paper.runs["experiment1"], paper.runs["experiment2"]]
+        if self.figures:
+            paper_report.save_figures(*results)
+        changed = self._write(paper_report.results_table(*results))
+        comparisons, first = None, None
+        if self.experiment3:
+            comparisons, rates, text = self._experiment3()
+            changed |= self._write(text, readme.EXPERIMENT3_START, readme.EXPERIMENT3_END)
+            first = rates[comparisons[0].four_key]
+        contest, claims, untested, decisions, added = None, None, [], None, None
+        if self.third_edition:
+            contest, claims, untested, decisions, changed_here = self._third_edition()
+            changed |= changed_here
+            added = self._addendum()
+        summary = readme.summary_text(
+            *results, comparisons, first, contest, claims, corrected=added is not None
+        )
+        if added is not None:
+            from docking.study.designs import addendum
+
+            unmerged = getattr(self, "_unmerged", None) or added  # the addendum as it ran
+            summary += "\n\n" + addendum_report.addendum_summary(unmerged, contest, addendum)
+            if getattr(self, "_bracketing", None):
+                summary += "\n\n" + bracketing_report.bracketing_summary(
+                    self._bracketing, added, addendum
+                )
+        for found, _ in untested:
+            if found.design.name == "untested":
+                summary += "\n\n" + untested_report.untested_summary(found)
+            else:
+                from docking.study.designs import revisited
+
+                self._revisited = revisited_report.revisited_rows(found, revisited)
+                summary += "\n\n" + revisited_report.revisited_summary(
+                    self._revisited, found, revisited
+                )
+        if self.third_edition:
+            summary += "\n\n" + provenance.candour_text()
+        changed |= self._write(summary, readme.SUMMARY_START, readme.SUMMARY_END)
+        if contest is not None:
+            changed |= self._glance(results, comparisons, contest, added, decisions)
+        if self.readme is not None:
+            changed |= _write_timings(self.readme)
+            print(f"{self.readme}: {'updated' if changed else 'already up to date'}")
+        return 0
+
+    def _write(self, text: str, *markers: str) -> bool:
+        """Print ``text`` and write it into the README between ``markers`` (default: the
+        results table's); whether the README changed."""
+        from docking.study.readme import update_readme
+
+        print(text)
+        return self.readme is not None and update_readme(self.readme, text, *markers)
+
+    def _experiment3(self) -> tuple:
+        """Experiment 3's four-against-six comparisons, the oracle's rates and its table."""
+        from docking.study.designs import experiment3, experiment3_report
+
+        found = experiment3.run(results_dir=self.results_dir, workers=self.processes)
+        oracle = experiment3.ORACLE.run(results_dir=self.results_dir, workers=self.processes)
+        comparisons, rates = (
+            experiment3_report.turning_comparisons(found),
+            experiment3_report.oracle_rates(oracle),
+        )
+        return comparisons, rates, experiment3_report.turning_table(comparisons, rates)
+
+    def _third_edition(self) -> tuple:
+        """The third edition's contest table and verdict table (with the untested claims'
+        rows, :meth:`_untested`) written; its results, its claims' sentence, the untested
+        rows and whether the README changed."""
+        from docking.study import readme
+        from docking.study.claims import design_verdicts, judge_family
+        from docking.study.designs import third_edition, third_edition_report
+
+        contest = third_edition.DESIGN.run(results_dir=self.results_dir, workers=self.processes)
+        untested = self._untested()
+        changed = self._write(
+            third_edition_report.contest_table(contest, third_edition_report.CONTEST_WORLDS),
+            readme.THIRD_EDITION_START,
+            readme.THIRD_EDITION_END,
+        )
+        changed |= self._verdicts(
+            design_verdicts(contest, *untested, notes=third_edition_report.OUTSIDE_COUNTS),
+            third_edition_report.claims_glance_rows(
+                contest, *untested, notes=third_edition_report.OUTSIDE_COUNTS
+            ),
+        )
+        design = contest.design
+        decisions = judge_family(design.claims, contest, alpha=design.alpha, per_claim=True)
+        claims = third_edition_report.claims_summary(design.claims, decisions)
+        return contest, claims, untested, decisions, changed
+
+    def _verdicts(self, table: str, rows: list) -> bool:
+        """The full verdict table into the site's page beside the README
+        (:data:`docking.study.readme.VERDICTS_PAGE`, where it exists), and into the README the
+        claims at a glance (its figure, saved into the figures folder) with a link to the
+        page; whether either file changed."""
+        from docking.study import figures, readme, report
+        from docking.study.readme import update_readme
+
+        print(table)
+        fig = figures.fig_claims(rows)
+        png = Path(report.save_named(fig, readme.CLAIMS_FIGURE))
+        text = (
+            f"\n![The paper's claims at a glance](figures/{png.name}) **The paper's claims at a "
+            "glance:** one row per claim, one box per comparison (its world or setting, its 95% "
+            "interval, its decision by the committed rule), coloured by the decision (green "
+            "supported, red contradicted, orange at the bound, grey not supported; pale: outside "
+            "the counts). The full verdict table, with the paper's words, every p-value and the "
+            f"verdicts under both decision rules, is [a page of its own]({readme.VERDICTS_PAGE}).\n"
+        )
+        changed = self._write(text, readme.VERDICTS_START, readme.VERDICTS_END)
+        if self.readme is not None:
+            page = self.readme.parent / readme.VERDICTS_PAGE
+            if page.exists():
+                changed |= update_readme(page, table, readme.VERDICTS_START, readme.VERDICTS_END)
+        return changed
+
+    def _addendum(self):
+        """The third edition's addendum's results, once every run of it is stored or in the
+        ledger (None before), with the bracketing's tuned learners in place once its runs
+        are in (:func:`docking.study.designs.bracketing_report.bracketed_addendum`; its rows kept
+        for the first screen)."""
+        from docking.study.design import absent_runs
+        from docking.study.designs import addendum, bracketing_report
+
+        if absent_runs(addendum.DESIGN, self.results_dir):
+            return None
+        added = addendum.DESIGN.run(results_dir=self.results_dir, workers=self.processes)
+        from docking.study.designs import bracketing, bracketing_continued
+
+        walk = None  # the last of the bracketing's designs whose every run is in
+        for module in (bracketing, bracketing_continued):
+            if not absent_runs(module.DESIGN, self.results_dir):
+                walk = module
+        if walk is None:
+            return added
+        own = walk.DESIGN.run(results_dir=self.results_dir, workers=self.processes)
+        self._bracketing = bracketing_report.bracketing_rows(own, walk)
+        self._unmerged = added
+        return bracketing_report.bracketed_addendum(added, own, walk)
+
+    def _glance(self, results, comparisons, contest, added, decisions) -> bool:
+        """The README's first screen: the figure of every learner's held-out success per
+        world (saved into the figures folder) and at most five sentences under it."""
+        from docking.study import figures, readme, report
+        from docking.study.designs import addendum_report
+
+        fig = figures.fig_glance(*readme.glance_data(contest, added))
+        png = Path(report.save_named(fig, readme.GLANCE_FIGURE))
+        tuned, unbracketed = None, ()
+        if added is not None:
+            from docking.study.designs import addendum
+
+            tuned = {
+                w: added.cell(f"{w}/paper-tuned").config.network.beta_a_train
+                for w in addendum.WORLDS
+            }
+            rows = getattr(self, "_bracketing", None) or addendum_report.bracketed_rows(
+                added, addendum
+            )
+            unbracketed = tuple(
+                dict.fromkeys(
+                    knob
+                    for r in rows
+                    if r["learner"] == "paper"
+                    for knob, (_, where) in r["positions"].items()
+                    if where.startswith("at the edge")
+                )
+            )
+        text = readme.glance_text(
+            *results,
+            comparisons,
+            contest,
+            added,
+            contest.design.claims,
+            decisions,
+            tuned,
+            unbracketed,
+            getattr(self, "_revisited", None),
+        )
+        image = (
+            f"![The answer per world](figures/{png.name}) **The answer per world:** each dot "
+            "one network's success on 500 held-out start poses, the mean with its 95% interval; "
+            "lines: the *pose oracle* (it reads the true pose), a centroid rule, random actions."
+        )
+        return self._write(f"\n{image}\n\n{text}\n", readme.GLANCE_START, readme.GLANCE_END)
+
+    def _untested(self) -> list:
+        """The untested claims' rows of the verdict table
+        (:data:`docking.study.designs.untested_report.UNTESTED_IN_README`) and their revisit's
+        (:data:`docking.study.designs.revisited_report.REVISITED_IN_README`), each once every run of
+        its design (``untested.part("judged")``, ``revisited.DESIGN``) is stored or in the
+        ledger."""
+        from docking.study.design import absent_runs
+        from docking.study.designs import revisited, untested
+        from docking.study.designs.revisited_report import REVISITED_IN_README
+        from docking.study.designs.untested_report import UNTESTED_IN_README
+
+        found = []
+        for design, keys in (
+            (untested.part("judged"), UNTESTED_IN_README),
+            (revisited.DESIGN, REVISITED_IN_README),
+        ):
+            if not absent_runs(design, self.results_dir):
+                runs = design.run(results_dir=self.results_dir, workers=self.processes)
+                found.append((runs, keys))
+        return found
+
+
+def _write_timings(readme: Path) -> bool:
+    """The README's paragraph of times from the ledger (its runs' wall times and the tiers'
+    record of tools/time_tiers.py); whether the README changed."""
+    from docking.study import ledger
+    from docking.study.readme import TIMINGS_END, TIMINGS_START, timings_text, update_readme
+
+    data = ledger.manifest()
+    if data is None:
+        return False
+    walls = sum(r["wall_seconds"] for r in data["runs"].values())
+    text = timings_text(
+        ledger.timings(), len(data["runs"]), walls, ledger_bytes=ledger.size_bytes()
+    )
+    return update_readme(readme, text, TIMINGS_START, TIMINGS_END)
+
+
+def _refuse_to_compute(experiment3: bool, results_dir, third_edition: bool = False) -> None:
+    """``ValueError`` if the report would compute runs: it names how many and the option."""
+    from docking.study.design import absent_runs
+    from docking.study.designs import design
+    from docking.study.designs import third_edition as te
+
+    names = ["paper"] + ["experiment3", "experiment3-oracle"] * experiment3
+    designs = [design(name) for name in names] + [te.DESIGN] * third_edition
+    absent = [job for d in designs for job in absent_runs(d, results_dir)]
+    if absent:
+        kinds = sorted({j.config.name for j in absent})
+        text = f"{len(absent)} runs ({', '.join(kinds)}) are neither stored nor in the ledger"
+        how = (
+            "pass --compute to compute them (from minutes to hours), or run the designs first "
+            "(python -m docking design run ...)"
+        )
+        raise ValueError(_absent(text, how))
+
+
+@dataclasses.dataclass
+class Figures:
+    """Regenerate Figs. 2-5 and the learning curves of Experiments 1 and 2 from their runs in
+    the results store or the committed ledger (never computing one); Experiment 3's figures
+    are written by notebook 06, the study's by notebooks 07 and 08."""
+
+    folder: _FiguresDir = None
+    """Where the .png and .pdf files go."""
+    results_dir: _ResultsDir = None
+    """The results store."""
+
+    def execute(self) -> int:
+        from docking.presets import EXPERIMENT_1, EXPERIMENT_2
+        from docking.study.designs.paper_report import save_figures
+        from docking.study.runs import load_run
+
+        results = []
+        for config in (EXPERIMENT_1, EXPERIMENT_2):
+            runs = [load_run(config, s, self.results_dir) for s in SEEDS[config.name]]
+            absent = [s for s, r in zip(SEEDS[config.name], runs, strict=True) if r is None]
+            if absent:
+                text = (
+                    f"{config.name} seeds {_seed_text(absent)} are neither stored nor in the ledger"
+                )
+                how = f"compute them with python -m docking run {config.name}"
+                raise ValueError(_absent(text, how))
+            results.append(runs)
+        for fig in save_figures(*results, self.folder):
+            del fig
+        print(f"figures written to {self.folder or paths.figures_dir()}")
+        return 0

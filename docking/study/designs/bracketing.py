@@ -1,0 +1,289 @@
+"""The addendum's bracketing: each SARSA learner's search continued until its optimum is
+bracketed (issue 40), a second labelled analysis beside :mod:`docking.study.designs.addendum`.
+
+**These rules were committed before any of its runs** and are not changed after seeing them
+(``tests/test_bracketing.py`` pins them by a digest of :func:`rules_text`, which covers this
+module's code, the addendum's rules and the gap rule's code).
+
+Why: the addendum's search ran out of extension stages before the paper's learner's tuned
+setting had all its neighbours evaluated (its tables say "at the edge: the search
+stopped"); linear SARSA's tuned values were interior. The addendum's runs and tables stay as
+they were run; this search starts where it stopped.
+
+The rule, the same for both SARSA learners in each world of the addendum:
+
+* A setting is *complete* when it has held-out success on every one of
+  :data:`COMPARE_SEEDS` (the addendum's first 10 tuning seeds), from the addendum's runs
+  where it ran that setting and seed, else from this design's. Settings are compared by
+  their mean over these seeds: the same seeds for every setting (paired).
+* Each stage (:data:`STAGES` at most): the *incumbent* is the complete setting with the
+  best mean (ties: the first in the addendum's order of evaluation, then this design's);
+  every neighbour of it on the addendum's ladders (one rung up or down one knob,
+  :data:`docking.study.designs.addendum.LADDERS`) runs the seeds it lacks, while the learner's
+  runs in this design stay within :data:`BUDGET`. A learner whose incumbent has every
+  neighbour complete is *bracketed*: each tuned value is interior, or at a ladder's end
+  (a stated limit, :data:`docking.study.designs.addendum.LIMITS`). The first incumbent is
+  chosen by this rule too, among the addendum's complete settings (its round-2 finalists).
+* The tuned setting is the last incumbent. If it differs from the addendum's tuned setting,
+  it is judged on the addendum's judged seeds (:data:`docking.study.designs.addendum.SEEDS`,
+  untouched by any tuning, on the same matched seeds); otherwise the
+  addendum's judged runs stand.
+* The gap rule is the addendum's (and the third edition's): linear SARSA minus the paper's
+  learner, paired over the judged seeds, Student-t; *closed* if its 95% interval lies
+  below :data:`docking.study.designs.addendum.GAP_CLOSED`, *remains* if above, else *undecided*.
+* PPO's budget in steps: if the paper's learner's tuned setting changes in a world and its
+  judged runs' mean training steps differ by more than :data:`STEPS_TOLERANCE` from the
+  steps the addendum's PPO trained for, PPO (the addendum's setting) trains again for the
+  new mean (:data:`docking.study.designs.addendum.PPO_ENVS` copies of the world).
+
+Budgets: :data:`BUDGET` training runs per learner and world, the same for both learners
+(a learner already bracketed uses fewer). This can only help a learner whose optimum the
+addendum had not bracketed: the paper's learner. Cut: nothing beyond the addendum's cuts.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import functools
+import hashlib
+import inspect
+import itertools
+import json
+from pathlib import Path
+
+import numpy as np
+
+from docking.study.design import Cell, Design
+from docking.study.design import rules_text as design_rules_text
+from docking.study.designs import addendum as ad
+from docking.study.designs.builders import experiment2_in, linear_sarsa, net, variant
+
+NAME = "addendum-bracketing"
+#: The seeds every setting is compared on (the addendum's first 10 tuning seeds: every
+#: round-2 finalist of the addendum has them).
+COMPARE_SEEDS = ad.TUNING_SEEDS[:10]
+#: Training runs per learner and world in this design, every stage included.
+BUDGET = 100
+STAGES = 5
+#: How far the paper's learner's mean training steps may move from PPO's before PPO is
+#: trained again (the acceptance of issue 40: PPO within 5%).
+STEPS_TOLERANCE = 0.05
+
+
+@functools.cache
+def addendum():
+    """The addendum's results (from the store, else the ledger)."""
+    return ad.DESIGN.run(progress=False)
+
+
+def learner_config(world: str, learner: str, **setting):
+    """The learner ``learner`` of ``world`` with ``setting``, named for this design."""
+    base = experiment2_in(ad.WORLDS[world], NAME)
+    make = linear_sarsa if learner == "linear" else net
+    return variant(base, NAME, network=make(base, **setting))
+
+
+def _setting(coords, learner) -> tuple:
+    return tuple((k, coords[k]) for k in ad.KNOBS[learner])
+
+
+def scores(own, world: str, learner: str) -> dict[tuple, dict[int, float]]:
+    """Per setting (a tuple of ``(knob, value)``), in the order evaluated (the addendum's
+    tuning cells, then this design's): its held-out success on each seed it ran."""
+    found: dict[tuple, dict[int, float]] = {}
+    sources = [(addendum(), f"tune-{learner}")]
+    if own is not None:
+        sources.append((own, f"bracket-{learner}"))
+    for results, variant_name in sources:
+        for c in results.cells:
+            if c.coords.get("variant") != variant_name or c["world"] != world:
+                continue
+            seeds = [r.seed for r in results.runs[c.key]]
+            got = found.setdefault(_setting(c.coords, learner), {})
+            got.update(zip(seeds, map(float, results.score(c.key)), strict=True))
+    return found
+
+
+def complete(found: dict[tuple, dict[int, float]]) -> dict[tuple, float]:
+    """The complete settings' means over :data:`COMPARE_SEEDS`, in the order evaluated."""
+    return {
+        s: float(np.mean([got[seed] for seed in COMPARE_SEEDS]))
+        for s, got in found.items()
+        if all(seed in got for seed in COMPARE_SEEDS)
+    }
+
+
+def incumbent(found) -> dict:
+    """The complete setting with the best mean (ties: the first evaluated)."""
+    means = complete(found)
+    order = list(means)
+    best = max(range(len(order)), key=lambda i: (means[order[i]], -i))
+    return dict(order[best])
+
+
+def runs_used(own, world: str, learner: str) -> int:
+    if own is None:
+        return 0
+    return sum(
+        len(own.runs[c.key])
+        for c in own.cells
+        if c.coords.get("variant") == f"bracket-{learner}" and c["world"] == world
+    )
+
+
+def missing_neighbours(found, setting: dict) -> list[tuple[dict, tuple[int, ...]]]:
+    """Each neighbour of ``setting`` on the ladders with the compared seeds it lacks."""
+    return [
+        (other, tuple(s for s in COMPARE_SEEDS if s not in found.get(tuple(other.items()), {})))
+        for other, limit in ad.neighbours(setting)
+        if limit is None
+        and not all(s in found.get(tuple(other.items()), {}) for s in COMPARE_SEEDS)
+    ]
+
+
+def bracketed(own, world: str, learner: str) -> bool:
+    """Whether the learner's incumbent has every neighbour complete."""
+    found = scores(own, world, learner)
+    return not missing_neighbours(found, incumbent(found))
+
+
+def _extend(own) -> list[Cell]:
+    cells = []
+    for world, learner in itertools.product(ad.WORLDS, ad.LEARNERS):
+        found = scores(own, world, learner)
+        used = runs_used(own, world, learner)
+        for setting, seeds in missing_neighbours(found, incumbent(found)):
+            if used + len(seeds) <= BUDGET:
+                used += len(seeds)
+                cells.append(
+                    Cell(
+                        f"{world}/bracket-{learner}/{ad.tag(setting)}",
+                        learner_config(world, learner, **setting),
+                        {"world": world, "variant": f"bracket-{learner}", "learner": learner}
+                        | setting,
+                        f"{learner} {ad.tag(setting)}",
+                        seeds=seeds,
+                    )
+                )
+    return cells
+
+
+def tuned(own, world: str, learner: str) -> dict:
+    """The tuned setting: the last incumbent."""
+    return incumbent(scores(own, world, learner))
+
+
+def changed(own, world: str, learner: str) -> bool:
+    return tuned(own, world, learner) != ad.TUNING.tuned(addendum(), world, learner)
+
+
+def _judged(own) -> list[Cell]:
+    return [
+        Cell(
+            f"{world}/{learner}-bracketed",
+            learner_config(world, learner, **tuned(own, world, learner)),
+            {"world": world, "variant": f"{learner}-bracketed", "learner": learner},
+            f"{learner}, bracketed: {ad.tag(tuned(own, world, learner))}",
+        )
+        for world, learner in itertools.product(ad.WORLDS, ad.LEARNERS)
+        if changed(own, world, learner)
+    ]
+
+
+def judged_key(own, world: str, learner: str) -> tuple:
+    """Where the tuned learner's judged runs are: ``(results, key)``."""
+    if changed(own, world, learner):
+        return own, f"{world}/{learner}-bracketed"
+    return addendum(), f"{world}/{learner}-tuned"
+
+
+def judged_scores(own, world: str, learner: str) -> np.ndarray:
+    results, key = judged_key(own, world, learner)
+    return results.score(key)
+
+
+def paper_steps(own, world: str) -> float:
+    """The tuned paper learner's mean training steps over its judged runs."""
+    results, key = judged_key(own, world, "paper")
+    return float(np.mean(ad.training_steps(results, key)))
+
+
+def ppo_steps(world: str) -> int:
+    """The steps the addendum's PPO trained for in ``world``."""
+    return int(addendum().cell(f"{world}/ppo-matched").config.steps)
+
+
+def _ppo(own) -> list[Cell]:
+    cells = []
+    for world in ad.WORLDS:
+        mean = paper_steps(own, world)
+        if abs(ppo_steps(world) - mean) <= STEPS_TOLERANCE * mean:
+            continue
+        steps = ad.PPO_ENVS * int(round(mean / ad.PPO_ENVS))
+        config = ad.learner_config(
+            world, "ppo", steps=steps, envs=ad.PPO_ENVS, **ad.PPO_SETTINGS[world]
+        )
+        cells.append(
+            Cell(
+                f"{world}/ppo-matched",
+                dataclasses.replace(config, name=NAME),
+                {"world": world, "variant": "ppo-matched", "learner": "ppo"},
+                f"PPO at the paper learner's {steps} training steps",
+            )
+        )
+    return cells
+
+
+class _Judged:
+    """The judged success of the tuned learners (``{world}/{learner}-tuned``), wherever their
+    runs are: what the gap rule reads."""
+
+    def __init__(self, own):
+        self.own = own
+
+    def score(self, key: str) -> np.ndarray:
+        world, variant_name = key.split("/")
+        return judged_scores(self.own, world, variant_name.removesuffix("-tuned"))
+
+
+def gaps(own):
+    """The gap rule on the bracketed learners (:func:`docking.study.report.contest_gaps`)."""
+    from docking.study import report
+
+    return report.contest_gaps(_Judged(own), ad.WORLDS, ad.GAP_CLOSED)
+
+
+DESIGN = Design(
+    name=NAME,
+    title="the addendum's search continued until each SARSA learner's optimum is bracketed",
+    cells=(),
+    seeds=ad.SEEDS,
+    measure="heldout",
+    stages=(*[_extend] * STAGES, _judged, _ppo),
+    alpha=ad.ALPHA,
+)
+
+
+def _code_digest() -> str:
+    """SHA-256 of this module's tokens (without comments and docstrings), the addendum's
+    rules text and the gap rule's and its interval's source."""
+    from docking.study import fingerprint, report, stats
+
+    digest = hashlib.sha256()
+    digest.update(fingerprint.code_tokens(Path(__file__).read_text(), __name__)[0].encode())
+    digest.update(ad.rules_text().encode())
+    for function in (report.contest_gaps, report.paired_over_shared_seeds, stats.t_paired_ci):
+        digest.update(inspect.getsource(function).encode())
+    return digest.hexdigest()
+
+
+#: The constants that are rules (in :func:`rules_text`).
+RULES = "COMPARE_SEEDS BUDGET STAGES STEPS_TOLERANCE".split()
+
+
+def rules_text() -> str:
+    """Every rule of the bracketing as canonical text: its constants and
+    :func:`_code_digest`."""
+    constants = {n: globals()[n] for n in RULES}
+    constants["code"] = _code_digest()
+    return design_rules_text(DESIGN, json.loads(json.dumps(constants, default=list)))

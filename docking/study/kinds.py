@@ -1,0 +1,767 @@
+"""The kinds of run, the key of each run and the file that holds it: what the results store
+(:mod:`docking.study.store`) and the committed ledger (:mod:`docking.study.ledger`) both build
+on, so that neither calls the other.
+
+There are kinds of run, one :class:`Runner` each, looked up by the type of the configuration
+(:func:`runner_for`): the paper's learner and its yardsticks (``"learner"``:
+:class:`docking.experiments.ExperimentConfig`, :func:`docking.experiments.run_experiment`)
+and the pixel-level bound (``"ppo"``: :class:`docking.study.ppo.PPOConfig`,
+:func:`docking.study.ppo.run_ppo`); a learner from outside the package becomes a kind of run of
+its own when it is registered (:func:`register`, through :func:`docking.study.learners.register`).
+A runner names the module whose code computes its runs, the libraries whose versions enter its
+keys, how a run is computed, which arrays it stores and how they are read back; everything
+else here (keys, paths, saving, loading, the checks) is one implementation for every kind.
+
+A run is fully determined by its configuration, its seed and the code that computes it. Its
+key is the SHA-256 of
+
+* the configuration, every field, as canonical JSON (``config.to_dict()``);
+* the *source fingerprint*: the code of the runner's root module (``docking.experiments`` for
+  the learner, ``docking.study.ppo`` for PPO) and of every ``docking`` module its code imports,
+  directly or indirectly (world, camera, network, trial, ...), read by
+  :mod:`docking.study.fingerprint` as Python tokens without comments, docstrings, error
+  messages and the validation, parsing and serialisation it names (so a reworded message or
+  docstring re-keys nothing, a change to what computes a run does; the same on every Python),
+  plus every file under ``docking/assets/``, plus the versions of the libraries whose
+  arithmetic the runs depend on (MuJoCo, dm-control, NumPy, OpenCV; for PPO also skrl, JAX,
+  Flax, Optax and Gymnasium). It is taken of the code this process *loaded*: if a
+  fingerprinted file has changed on disk since ``docking`` was imported, keying a run raises
+  :class:`StaleCode` (the run would be computed by the old code and stored under the new
+  code's key);
+* the *rendering stack* (:func:`docking.render.gl_stack`: the OpenGL version, renderer and
+  vendor strings, e.g. Mesa's version and llvmpipe's), which draws every observation;
+
+and the seed names the file: ``<results>/<config.name>/<key[:16]>/seed<k>.npz``
+(:func:`result_path`; the folder also holds ``config.json``, the configuration in readable
+form). Variants of one experiment therefore live side by side, and a code change makes every
+run be recomputed without anyone deleting ``results/``.
+
+Every file carries a SHA-256 *content digest* of its arrays (:func:`content_digest`; the
+wall times in its meta record are not part of it). Loading validates a file
+(:func:`load_result`): every member's size is checked against the configuration before it is
+decompressed, every array present with the right shape and dtype, consistent lengths, poses,
+TD errors and weights finite, the configuration round-trips, the key stored in the file equals
+the key of its configuration under this code *and* the key asked for, and the digest matches
+the arrays. Files are written by :func:`docking.fileio.atomic_write` (:func:`save_result`).
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import functools
+import hashlib
+import importlib.metadata
+import io
+import json
+import os
+from collections.abc import Callable
+from pathlib import Path
+
+import numpy as np
+
+from docking.experiments import (
+    ExperimentConfig,
+    ExperimentResult,
+    TrialLog,
+    run_experiment,
+    trials_in_run,
+)
+from docking.fileio import UnsafeFile, atomic_write, read_regular, remove_stale_temporaries
+from docking.network import Network
+from docking.study import fingerprint, paths
+from docking.validate import MAX_SEED, check_int, check_name
+
+__all__ = [
+    "CorruptResult",
+    "FORMAT_VERSION",
+    "ForeignFile",
+    "LEARNER",
+    "RUNNERS",
+    "Runner",
+    "StaleCode",
+    "built_in",
+    "computed_utc",
+    "config_key",
+    "content_digest",
+    "is_valid",
+    "load_result",
+    "module_digests",
+    "register",
+    "rendering_stack",
+    "result_arrays",
+    "result_path",
+    "run_key",
+    "runner_for",
+    "runner_named",
+    "save_result",
+    "source_fingerprint",
+]
+
+#: Version of the file layout of the learner's runs written by :func:`save_result` (3: the
+#: content digest); a PPO run's is :data:`docking.study.ppo.FORMAT_VERSION`.
+FORMAT_VERSION = 3
+
+#: The module whose code, with everything it imports from the package, computes results.
+_ROOT_MODULE = "docking.experiments"
+
+#: Libraries whose versions enter the key: their arithmetic decides the runs bit for bit.
+_LIBRARIES = ("mujoco", "dm-control", "numpy", "opencv-python-headless")
+
+
+class CorruptResult(ValueError):
+    """A saved result that cannot be used: unreadable, incomplete or inconsistent."""
+
+
+class ForeignFile(CorruptResult):
+    """A stored result's path holds what the store never writes (a FIFO, a device, a link out
+    of its folder, a file beyond the size bound): refused, never read and never replaced."""
+
+
+class StaleCode(RuntimeError):
+    """The package's code on disk is not the code this process loaded: a run computed now
+    would be stored under a key that does not describe it."""
+
+
+# ------------------------------------------------------------------------------------------
+# Keys.
+# ------------------------------------------------------------------------------------------
+
+
+def source_fingerprint(
+    package_dir: Path | str | None = None,
+    root: str = _ROOT_MODULE,
+    libraries: tuple[str, ...] = _LIBRARIES,
+) -> str:
+    """SHA-256 of the code that computes results (see the module docstring).
+
+    ``package_dir`` is the ``docking`` package folder to read (default: this package's, whose
+    files must still be those this process imported, or :class:`StaleCode` is raised);
+    ``root`` and ``libraries`` name another computation's code (e.g. :mod:`docking.study.ppo`'s)."""
+    own = Path(__file__).resolve().parents[1]  # the docking package
+    package_dir = (Path(package_dir) if package_dir else own).resolve()
+    fingerprint, _, files = _fingerprint_parts(
+        package_dir, _stamp(package_dir), root, tuple(libraries)
+    )
+    if package_dir == own:
+        import docking
+
+        loaded = docking._SOURCES_AT_IMPORT
+        changed = sorted(f for f, digest in files.items() if loaded.get(f) != digest)
+        if changed:
+            raise StaleCode(
+                f"docking's code changed on disk after this process imported it "
+                f"({', '.join('docking/' + f for f in changed)}): a run computed now would use "
+                "the code in memory but be keyed by the code on disk. Restart the interpreter "
+                "(in Jupyter: restart the kernel)."
+            )
+    return fingerprint
+
+
+def module_digests(
+    package_dir: Path | str | None = None,
+    root: str = _ROOT_MODULE,
+    libraries: tuple[str, ...] = _LIBRARIES,
+) -> dict[str, str]:
+    """``{module: SHA-256 of its code}`` for every fingerprinted module of ``root``'s
+    computation (the code as the fingerprint reads it), plus ``assets/...`` and
+    ``library ...`` entries: what a ledger records, so that a mismatch can name what
+    changed."""
+    package_dir = (Path(package_dir) if package_dir else Path(__file__).parents[1]).resolve()
+    parts = _fingerprint_parts(package_dir, _stamp(package_dir), root, tuple(libraries))
+    return dict(parts[1])
+
+
+def _stamp(package_dir: Path) -> tuple:
+    # Cached by the files' sizes and modification times, so an edit is always seen.
+    return tuple(
+        (str(p), st.st_mtime_ns, st.st_size)
+        for p in sorted(package_dir.rglob("*"))
+        if "__pycache__" not in p.parts and p.is_file() and (st := p.stat())
+    )
+
+
+@functools.lru_cache(maxsize=8)
+def _fingerprint_parts(
+    package_dir: Path, stamp: tuple, root: str = _ROOT_MODULE, libraries: tuple = _LIBRARIES
+) -> tuple[str, tuple, dict]:
+    """(fingerprint, ((part, digest), ...), {file: SHA-256 of its bytes})."""
+    code, parts, files = fingerprint.walk(package_dir, root)
+    digest = hashlib.sha256(f"code {code}\n".encode())
+    assets = package_dir / "assets"
+    if assets.is_dir():
+        for path in sorted(p for p in assets.rglob("*") if p.is_file()):
+            relative = path.relative_to(assets).as_posix()
+            data = path.read_bytes()
+            digest.update(f"asset {relative}\n".encode())
+            digest.update(data)
+            parts.append((f"assets/{relative}", hashlib.sha256(data).hexdigest()))
+    for library in libraries:
+        try:
+            version = importlib.metadata.version(library)
+        except importlib.metadata.PackageNotFoundError:
+            version = "absent"
+        digest.update(f"library {library} {version}\n".encode())
+        parts.append((f"library {library}", version))
+    return digest.hexdigest(), tuple(sorted(parts)), files
+
+
+def rendering_stack() -> str:
+    """The OpenGL stack that renders observations (:func:`docking.render.gl_stack`)."""
+    from docking.render import gl_stack
+
+    return gl_stack()
+
+
+def _canonical(config) -> str:
+    return json.dumps(config.to_dict(), sort_keys=True, separators=(",", ":"))
+
+
+def config_key(config, render: str | None = None, source: str | None = None) -> str:
+    """SHA-256 of the canonical configuration, the source fingerprint of its runner's code and
+    the rendering stack (the folder key); ``render`` names another stack than this process's
+    (for the ledger), ``source`` another fingerprint than this code's (the key a run had
+    before a migration, :mod:`docking.study.migrate`)."""
+    runner = runner_for(config)
+    text = (
+        f"{runner.key_prefix}format {runner.format}\nconfig {_canonical(config)}"
+        f"\nsource {runner.fingerprint() if source is None else source}"
+        f"\nrender {rendering_stack() if render is None else render}"
+    )
+    return hashlib.sha256(text.encode()).hexdigest()
+
+
+def run_key(config, seed: int, render: str | None = None, source: str | None = None) -> str:
+    """The key of the run of (``config``, ``seed``): the configuration key and the seed."""
+    seed = check_int("run_key", "seed", seed, lo=0, hi=MAX_SEED)
+    return f"{config_key(config, render, source)}:seed{seed}"
+
+
+def result_path(config, seed: int, results_dir: Path | str | None = None) -> Path:
+    """Where the run of (``config``, ``seed``) is stored (see the module docstring)."""
+    seed = check_int("result_path", "seed", seed, lo=0, hi=MAX_SEED)
+    name = check_name(type(config).__name__, "name", config.name)  # a folder of the store
+    root = Path(results_dir) if results_dir is not None else paths.results_dir()
+    return root / name / config_key(config)[:16] / f"seed{seed}.npz"
+
+
+# ------------------------------------------------------------------------------------------
+# Saving and loading.
+# ------------------------------------------------------------------------------------------
+
+
+def content_digest(arrays) -> str:
+    """SHA-256 of a run's arrays: every array but ``meta``, by name, dtype, shape and bytes.
+
+    ``arrays`` maps names to arrays (a dict, or an open ``.npz``). Two runs with equal digests
+    are equal bit for bit in every array; the wall times (in ``meta``) are not covered."""
+    digest = hashlib.sha256()
+    names = arrays.files if hasattr(arrays, "files") else list(arrays)
+    for name in sorted(n for n in names if n != "meta"):
+        array = np.ascontiguousarray(arrays[name])
+        digest.update(f"{name}\0{array.dtype.str}\0{array.shape}\0".encode())
+        digest.update(array.tobytes())
+    return digest.hexdigest()
+
+
+def computed_utc() -> str:
+    """Now, in UTC, to the second (ISO 8601): the time a run is stored as computed."""
+    import datetime
+
+    return datetime.datetime.now(datetime.UTC).isoformat(timespec="seconds")
+
+
+def save_result(result, path: Path | str) -> Path:
+    """Write ``result`` (a run of any :class:`Runner`) to ``path`` (compressed .npz)
+    atomically; also ``config.json`` beside it (the configuration, readable). Returns
+    ``path``."""
+    path = Path(path)
+    runner = runner_for(result.config)
+    arrays = runner.arrays(result)
+    meta = {
+        "runner": runner.name,
+        "format": runner.format,
+        "key": run_key(result.config, result.seed),
+        "digest": content_digest(arrays),
+        "config": result.config.to_dict(),
+        "seed": result.seed,
+        "wall_time_train": float(result.wall_time_train),
+        "wall_time_test": float(result.wall_time_test),
+        # when it was computed (UTC), what a design's provenance test compares with the
+        # commit of its rules (outside the content digest, as the wall times are)
+        "computed_utc": computed_utc(),
+    }
+    arrays["meta"] = np.array(json.dumps(meta))
+    buffer = io.BytesIO()
+    np.savez_compressed(buffer, **arrays)
+    try:
+        remove_stale_temporaries(path)
+        atomic_write(path, lambda f: f.write(buffer.getvalue()))
+        config_json = path.parent / "config.json"
+        if not config_json.exists():
+            text = json.dumps(meta["config"], indent=2, sort_keys=True) + "\n"
+            remove_stale_temporaries(config_json)
+            atomic_write(config_json, lambda f: f.write(text.encode()))
+    except OSError as exc:
+        raise OSError(
+            exc.errno, f"cannot save the run in {str(path)!r}: {exc.strerror or exc}"
+        ) from exc
+    return path
+
+
+def result_arrays(result: ExperimentResult) -> dict[str, np.ndarray]:
+    """The arrays a stored run of the learner holds (all but its ``meta`` record), by name."""
+    arrays = {
+        "W": result.network.W,
+        "Q": result.network.Q,
+        "curve_trials": result.curve_trials,
+        "curve_success": result.curve_success,
+        "curve_steps": result.curve_steps,
+        "curve_rewarded": result.curve_rewarded,
+    }
+    for part in ("train", "test", "heldout"):
+        log = getattr(result, part)
+        for field in dataclasses.fields(TrialLog) if log is not None else ():
+            arrays[f"{part}.{field.name}"] = getattr(log, field.name)
+    return arrays
+
+
+#: dtype kind and number of dimensions of every array in a result file.
+_TRIAL_LOG_LAYOUT = {
+    "success": ("b", 1),
+    "steps": ("i", 1),
+    "start_far": ("f", 1),
+    "poses": ("f", 2),
+    "actions": ("i", 1),
+    "winners": ("i", 1),
+    "deltas": ("f", 1),
+}
+_CURVE_LAYOUT = {
+    "curve_trials": ("i", 1),
+    "curve_success": ("f", 1),
+    "curve_steps": ("f", 1),
+    "curve_rewarded": ("i", 1),
+}
+
+
+#: The largest meta record a result file may hold (bytes, uncompressed).
+_META_LIMIT = 1 << 20
+
+
+def _member_size(data, name: str) -> int:
+    try:
+        return data.zip.getinfo(f"{name}.npy").file_size
+    except KeyError:
+        raise CorruptResult(f"array {name!r} is missing") from None
+
+
+def _array(data, name: str, kind: str, ndim: int, limit: int) -> np.ndarray:
+    """The array ``name``, checked to hold at most ``limit`` bytes of data *before* it is
+    decompressed, then for its dtype kind and dimensions."""
+    size = _member_size(data, name)
+    if size > limit + 4096:  # the .npy header is at most a few hundred bytes
+        raise CorruptResult(f"array {name!r} would decompress to {size} bytes, at most {limit}")
+    array = data[name]
+    if array.dtype.kind != kind or array.ndim != ndim:
+        raise CorruptResult(
+            f"array {name!r} has dtype {array.dtype} and {array.ndim} dimensions, expected "
+            f"kind {kind!r} and {ndim}"
+        )
+    if kind == "f" and name != "curve_steps" and not np.isfinite(array).all():
+        raise CorruptResult(f"array {name!r} holds non-finite values")
+    return array
+
+
+def _trial_log(data, part: str, expected_trials: int, max_steps: int) -> TrialLog:
+    # Bytes an array of this part can hold at most: 8 per entry, 3 entries per pose, one pose
+    # per action plus the start, at most max_steps actions per trial.
+    per = {"poses": 24 * (max_steps + 1), "actions": 8 * max_steps, "winners": 8 * max_steps}
+    per["deltas"] = 8 * max_steps
+    fields = {
+        name: _array(data, f"{part}.{name}", kind, ndim, expected_trials * per.get(name, 8))
+        for name, (kind, ndim) in _TRIAL_LOG_LAYOUT.items()
+    }
+    log = TrialLog(**fields)
+    n = len(log.success)
+    if n != expected_trials:
+        raise CorruptResult(f"{part} holds {n} trials, the configuration {expected_trials}")
+    if len(log.steps) != n or len(log.start_far) != n:
+        raise CorruptResult(f"{part}: per-trial arrays of different lengths")
+    if np.any(log.steps < 1):
+        raise CorruptResult(f"{part}: a trial with no action")
+    actions = int(np.sum(log.steps))
+    if log.poses.shape != (actions + n, 3):
+        raise CorruptResult(
+            f"{part}.poses has shape {log.poses.shape}, expected ({actions + n}, 3)"
+        )
+    for name in ("actions", "winners", "deltas"):
+        if len(fields[name]) != actions:
+            raise CorruptResult(
+                f"{part}.{name} holds {len(fields[name])} steps, expected {actions}"
+            )
+    return log
+
+
+#: The largest stored run :func:`load_result` reads (bytes on disk; a run holds a few MiB).
+RESULT_LIMIT = 256 << 20
+
+
+def load_result(
+    path: Path | str,
+    key: str | None = None,
+    within: Path | str | None = None,
+    source: str | None = None,
+):
+    """Read and validate a result written by :func:`save_result`, of any runner (the file's
+    meta record names it; a file without one is the learner's) (see the module docstring);
+    ``key``, if given, is the run key asked for (:func:`run_key`): a file holding another run
+    is refused. The file must be a regular file of at most :data:`RESULT_LIMIT` bytes inside
+    the folder ``within`` (default: its own folder), checked before it is read
+    (:func:`docking.fileio.read_regular`). ``source``: the fingerprint its key must have been
+    made with, if not this code's (a run before its migration). ``CorruptResult`` (naming the
+    reason) if the file cannot be used."""
+    path = Path(path)
+    try:
+        stamp = _file_stamp(path)
+        raw = read_regular(path, RESULT_LIMIT, path.parent if within is None else within)
+        with np.load(io.BytesIO(raw), allow_pickle=False) as data:
+            result = _parse(data, key, source)
+    except CorruptResult:
+        raise
+    except UnsafeFile as exc:
+        raise ForeignFile(str(exc)) from None
+    except Exception as exc:  # unreadable: truncated, bit flips, not a zip, ...
+        raise CorruptResult(f"{type(exc).__name__}: {exc}") from exc
+    if source is None:
+        _CHECKED.add((*stamp, key if key is not None else run_key(result.config, result.seed)))
+    return result
+
+
+#: ``(path, inode, mtime_ns, size, run key)`` of every file :func:`load_result` has read and
+#: found valid in this process: a file unchanged since (an atomic write replaces the inode)
+#: is not read again to learn that (:func:`is_valid`).
+_CHECKED: set[tuple] = set()
+
+
+def _file_stamp(path: Path) -> tuple:
+    found = path.stat()
+    return str(path.resolve()), found.st_ino, found.st_mtime_ns, found.st_size
+
+
+def is_valid(path: Path | str, key: str) -> bool:
+    """Whether ``path`` holds a valid run of ``key`` (:func:`load_result` would return it
+    and not raise): read and checked once per process, while the file is unchanged."""
+    path = Path(path)
+    try:
+        if (*_file_stamp(path), key) in _CHECKED:
+            return True
+        load_result(path, key)
+    except (OSError, CorruptResult):
+        return False
+    return True
+
+
+def _parse(data, asked: str | None, source: str | None = None):
+    if "meta" not in data.files:
+        raise CorruptResult("no 'meta' record")
+    if _member_size(data, "meta") > _META_LIMIT:
+        raise CorruptResult(f"the meta record is larger than {_META_LIMIT} bytes")
+    try:
+        meta = json.loads(str(data["meta"]))
+        runner = runner_named(meta.get("runner", LEARNER.name))
+        config = runner.from_dict(meta["config"])
+        seed = check_int("meta", "seed", meta["seed"], lo=0, hi=MAX_SEED)
+        fmt, key, digest = meta["format"], meta["key"], meta["digest"]
+        walls = float(meta["wall_time_train"]), float(meta["wall_time_test"])
+    except (ValueError, TypeError, KeyError, AttributeError) as exc:
+        raise CorruptResult(f"bad meta record: {type(exc).__name__}: {exc}") from exc
+    if fmt != runner.format:
+        raise CorruptResult(
+            f"file format {fmt}, this package reads {runner.format} ({runner.name} runs)"
+        )
+    if config.to_dict() != meta["config"]:
+        raise CorruptResult("the configuration does not round-trip")
+    if key != run_key(config, seed, source=source):
+        raise CorruptResult("made by other code or another configuration (key mismatch)")
+    if asked is not None and key != asked:
+        raise CorruptResult(
+            f"holds the run {key[:16]}...:seed{seed} of {config.name!r}, not the run asked for "
+            f"({asked[:16]}...:{asked.rpartition(':')[2]})"
+        )
+    result = runner.parse(data, config, seed, walls)
+    # Every member has been size-checked and read: the digest covers them all (an extra
+    # member changes it too).
+    if content_digest(data) != digest:
+        raise CorruptResult("the arrays do not match the file's content digest")
+    return result
+
+
+def _expect_members(data, expected: set[str]) -> None:
+    if set(data.files) != expected:
+        odd = sorted(set(data.files) ^ expected)
+        raise CorruptResult(f"unexpected or missing arrays: {', '.join(odd)}")
+
+
+def _parse_learner(data, config: ExperimentConfig, seed: int, walls) -> ExperimentResult:
+    """The learner's run of the file ``data`` (its meta record checked already)."""
+    parts = ("train", "test") + (("heldout",) if config.heldout_trials else ())
+    expected = {"meta", "W", "Q", *_CURVE_LAYOUT}
+    expected |= {f"{part}.{name}" for part in parts for name in _TRIAL_LOG_LAYOUT}
+    _expect_members(data, expected)
+    net = config.network
+    W = _array(data, "W", "f", 2, 8 * net.n_features * net.n_inputs)
+    Q = _array(data, "Q", "f", 2, 8 * net.n_actions * net.n_features)
+    if W.shape != (net.n_features, net.n_inputs) or Q.shape != (net.n_actions, net.n_features):
+        raise CorruptResult(f"W {W.shape} or Q {Q.shape} do not fit the network")
+    points = 1 + config.train_trials // config.eval_every if config.eval_trials else 0
+    curve = {
+        name: _array(data, name, kind, ndim, 8 * points)
+        for name, (kind, ndim) in _CURVE_LAYOUT.items()
+    }
+    if any(len(v) != points for v in curve.values()):
+        raise CorruptResult(f"learning-curve arrays must hold {points} points")
+    try:
+        network = Network.from_weights(config.network, W, Q)
+    except ValueError as exc:
+        raise CorruptResult(str(exc)) from exc
+    steps = config.world.max_steps
+    logs = {
+        "train": _trial_log(data, "train", config.train_trials, steps),
+        "test": _trial_log(data, "test", config.test_trials, steps),
+        "heldout": (
+            _trial_log(data, "heldout", config.heldout_trials, steps)
+            if config.heldout_trials
+            else None
+        ),
+    }
+    return ExperimentResult(
+        config=config,
+        seed=seed,
+        network=network,
+        **logs,
+        **curve,
+        wall_time_train=walls[0],
+        wall_time_test=walls[1],
+    )
+
+
+def _parse_ppo(data, config, seed: int, walls):
+    """PPO's run (a :class:`docking.study.ppo.PPOResult`) of the file ``data`` (its meta record
+    checked already): its training episodes (at most one per environment step) and its
+    held-out trial log."""
+    from docking.study import ppo
+
+    expected = {"meta", "train.success", "train.steps"}
+    expected |= {f"heldout.{name}" for name in _TRIAL_LOG_LAYOUT}
+    _expect_members(data, expected)
+    success = _array(data, "train.success", "b", 1, 8 * config.steps)
+    steps = _array(data, "train.steps", "i", 1, 8 * config.steps)
+    if len(success) != len(steps):
+        raise CorruptResult("train.success and train.steps hold different numbers of episodes")
+    if np.any(steps < 1) or int(np.sum(steps)) > config.steps:
+        raise CorruptResult(f"training episodes of more steps than the budget ({config.steps})")
+    heldout = _trial_log(data, "heldout", config.heldout_trials, config.world.max_steps)
+    return ppo.PPOResult(
+        config=config,
+        seed=seed,
+        train_success=success,
+        train_steps=steps,
+        heldout=heldout,
+        wall_time_train=walls[0],
+        wall_time_test=walls[1],
+    )
+
+
+# ------------------------------------------------------------------------------------------
+# The kinds of run.
+# ------------------------------------------------------------------------------------------
+
+
+@dataclasses.dataclass(frozen=True)
+class Runner:
+    """One kind of run: what computes it and what its key depends on.
+
+    Attributes:
+      name: The kind's name, recorded in every stored file and ledger record.
+      config_type: The type of its configurations (:func:`runner_for` looks it up).
+      root: The module whose code, with every ``docking`` module it imports, computes its
+        runs (its source fingerprint's root).
+      libraries: The libraries whose versions enter its keys.
+      format: The version of its stored files' layout.
+      key_prefix: What its keys' text starts with (keeps the keys of every kind apart).
+      run: ``run(config, seed, progress=..., on_trials=...)`` computes a run.
+      arrays: ``arrays(result)``: the arrays a stored run holds, by name (not ``meta``).
+      parse: ``parse(data, config, seed, (wall_time_train, wall_time_test))``: the run of an
+        open stored file whose meta record is checked; :class:`CorruptResult` if its arrays
+        are not a run of ``config``.
+      trials_in_run: ``trials_in_run(config)``: the trials a run reports to ``on_trials``.
+      test_elsewhere: Whether a design cell may test its trained runs in another world.
+    """
+
+    name: str
+    config_type: type
+    root: str
+    libraries: tuple[str, ...]
+    format: int
+    key_prefix: str
+    run: Callable
+    arrays: Callable
+    parse: Callable
+    trials_in_run: Callable
+    test_elsewhere: bool
+
+    def from_dict(self, d: dict):
+        """The configuration of the JSON-ready ``d`` (``config_type.from_dict``)."""
+        return self.config_type.from_dict(d)
+
+    def fingerprint(self) -> str:
+        """The source fingerprint of this kind's runs (:func:`source_fingerprint`)."""
+        return source_fingerprint(root=self.root, libraries=self.libraries)
+
+    def module_digests(self, package_dir: Path | str | None = None) -> dict[str, str]:
+        """:func:`module_digests` of this kind's computation."""
+        return module_digests(package_dir, root=self.root, libraries=self.libraries)
+
+
+#: The paper's learner and its yardsticks.
+LEARNER = Runner(
+    name="learner",
+    config_type=ExperimentConfig,
+    root=_ROOT_MODULE,
+    libraries=_LIBRARIES,
+    format=FORMAT_VERSION,
+    key_prefix="",
+    # looked up when called, so that a patched run_experiment is the one run
+    run=lambda config, seed, **kwargs: run_experiment(config, seed, **kwargs),
+    arrays=result_arrays,
+    parse=_parse_learner,
+    trials_in_run=trials_in_run,
+    test_elsewhere=True,
+)
+
+#: Every kind of run, by its configuration's type (:func:`register` adds one; PPO's is added
+#: when first asked for, :func:`_ppo_runner`).
+RUNNERS: dict[type, Runner] = {LEARNER.config_type: LEARNER}
+_BY_NAME: dict[str, Runner] = {LEARNER.name: LEARNER}
+#: The module of the pixel-level bound, imported only when a PPO run is asked for: a run of
+#: the paper's learner loads no PPO code (issue 43).
+_PPO_MODULE = "docking.study.ppo"
+
+
+def _ppo_runner() -> Runner:
+    """The pixel-level bound's kind of run, PPO on the same pixels (made and added to
+    :data:`RUNNERS` on first use)."""
+    runner = _BY_NAME.get("ppo")
+    if runner is not None:
+        return runner
+    from docking.study import ppo
+
+    runner = Runner(
+        name="ppo",
+        config_type=ppo.PPOConfig,
+        root=ppo.__name__,
+        libraries=ppo.LIBRARIES,
+        format=ppo.FORMAT_VERSION,
+        key_prefix="ppo ",
+        run=lambda config, seed, **kwargs: ppo.run_ppo(config, seed, **kwargs),
+        arrays=ppo.result_arrays,
+        parse=_parse_ppo,
+        trials_in_run=ppo.trials_in_run,
+        test_elsewhere=False,
+    )
+    RUNNERS[runner.config_type], _BY_NAME[runner.name] = runner, runner
+    return runner
+
+
+def built_in() -> tuple[Runner, ...]:
+    """The package's own kinds of run: the paper's learner and PPO."""
+    return (LEARNER, _ppo_runner())
+
+
+def __getattr__(name: str):
+    """``kinds.PPO`` (the pixel-level bound's :class:`Runner`) and ``kinds.BUILT_IN``, made
+    when first asked for (:func:`_ppo_runner`)."""
+    if name == "PPO":
+        return _ppo_runner()
+    if name == "BUILT_IN":
+        return built_in()
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+
+
+#: Names of the runners adopted from a configuration's class (:func:`runner_for`).
+_CARRIED: set[str] = set()
+#: The environment variable naming modules to import for their learners (:func:`runner_named`).
+LEARNERS_VARIABLE = "DOCKING_LEARNERS"
+#: The attribute of a registered learner's configuration class that holds its runner.
+RUNNER_ATTRIBUTE = "_docking_runner"
+
+
+def register(runner: Runner) -> Runner:
+    """Add a kind of run (:func:`docking.study.learners.register` makes one for a learner from
+    outside the package). It replaces an earlier runner of its name or configuration type (a
+    notebook cell run again defines the class anew), never a built-in one (``ValueError``).
+    Returns ``runner``."""
+    if not isinstance(runner, Runner):
+        raise TypeError(f"register takes a Runner, got {runner!r:.80}")
+    for own in built_in():
+        if runner.name == own.name or runner.config_type is own.config_type:
+            raise ValueError(f"{runner.name!r} would replace the built-in kind of run")
+    for config_type, old in list(RUNNERS.items()):
+        if old.name == runner.name or config_type is runner.config_type:
+            del RUNNERS[config_type], _BY_NAME[old.name]
+    RUNNERS[runner.config_type], _BY_NAME[runner.name] = runner, runner
+    _CARRIED.discard(runner.name)
+    return runner
+
+
+def runner_for(config) -> Runner:
+    """The :class:`Runner` of ``config``'s kind (by its exact type); ``TypeError`` naming
+    the known configuration types for anything else.
+
+    A registered learner's configuration class carries its runner (:data:`RUNNER_ATTRIBUTE`):
+    where the class arrived by value (a Dask worker given a job of a learner defined in a
+    notebook), that runner is adopted, unless this process registered one of its name."""
+    if type(config).__module__ == _PPO_MODULE:
+        _ppo_runner()
+    runner = RUNNERS.get(type(config))
+    carried = getattr(type(config), RUNNER_ATTRIBUTE, None)
+    if runner is None and isinstance(carried, Runner) and carried.config_type is type(config):
+        if carried.name not in _BY_NAME or carried.name in _CARRIED:
+            runner = register(carried)
+            _CARRIED.add(carried.name)
+    if runner is None:
+        known = " or ".join(r.config_type.__name__ for r in built_in())
+        raise TypeError(
+            f"a run's configuration must be a {known}, got {config!r:.80} (or the "
+            "configuration of a learner registered with docking.study.learners.register)"
+        )
+    return runner
+
+
+def runner_named(name: str) -> Runner:
+    """The :class:`Runner` called ``name``; ``ValueError`` naming the known ones otherwise.
+    A name not registered yet is looked up again after importing the modules that the
+    environment variable :data:`LEARNERS_VARIABLE` names (comma-separated; a module that
+    registers learners, e.g. for ``python -m docking verify`` of their runs)."""
+    if name == "ppo":
+        return _ppo_runner()
+    runner = _BY_NAME.get(name) if isinstance(name, str) else None
+    if runner is None and isinstance(name, str) and _import_learners():
+        runner = _BY_NAME.get(name)
+    if runner is None:
+        built_in()  # the known names include PPO's, made on first use
+        raise ValueError(
+            f"no kind of run is called {name!r:.40}; known: {', '.join(_BY_NAME)} (a learner "
+            f"from outside the package: import its module first, or name it in "
+            f"{LEARNERS_VARIABLE})"
+        )
+    return runner
+
+
+def _import_learners() -> bool:
+    """Import the modules :data:`LEARNERS_VARIABLE` names; whether it names any."""
+    import importlib
+
+    names = [n.strip() for n in os.environ.get(LEARNERS_VARIABLE, "").split(",") if n.strip()]
+    for name in names:
+        importlib.import_module(name)
+    return bool(names)

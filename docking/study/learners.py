@@ -1,0 +1,680 @@
+"""Bring your own learner: the learner protocol, and the registry that makes any learner a
+kind of run like the paper's learner and PPO (stored, served from a ledger, verified,
+entered into the contest, :mod:`docking.study.contest`). The guide:
+docs/guide/bring_your_own_learner.md.
+
+**The protocol.** A learner is two things.
+
+* A *configuration*: a frozen dataclass of JSON-able fields (numbers, strings, booleans,
+  tuples of them, a :class:`~docking.scene.WorldConfig`) with at least ``name`` (the results
+  folder), ``world`` (the :class:`~docking.scene.WorldConfig` it trains and is judged in) and
+  ``heldout_trials`` (how many greedy trials it is judged on); ``to_dict()`` and
+  ``from_dict(d)`` (derived by :func:`register` when the class defines neither).
+* A *run function* ``run(config, seed, progress=True, on_trials=None)``: train in
+  ``config.world`` (a :class:`~docking.world.DockingEnv`, :func:`training_env`, or the
+  Gymnasium env :class:`docking.gym.DockingGymEnv`), calling ``on_trials(n)`` as training
+  trials finish; then return :func:`judge` of the greedy policy: a :class:`LearnerResult`
+  of its held-out trials, drawn from the held-out streams of ``seed`` (so matched by seed
+  with every other learner's run of ``seed``: the same first start pose, later ones following
+  its own path), with its training steps and wall times.
+
+The paper's learner and linear SARSA (:class:`~docking.experiments.ExperimentConfig`,
+:func:`~docking.experiments.run_experiment`) and PPO (:class:`~docking.study.ppo.PPOConfig`,
+:func:`~docking.study.ppo.run_ppo`) fit the protocol: configurations with ``name``, ``world``,
+``heldout_trials``, ``to_dict``/``from_dict``; run functions of that signature, whose
+results hold ``heldout`` (drawn from the same streams), the training and the wall times
+(:func:`training_steps`). They are the package's built-in kinds of run (``"learner"``,
+``"ppo"``: :func:`docking.study.kinds.built_in`); :func:`register` makes a kind of run of any
+other.
+
+**Keys.** A registered learner's runs are keyed as the built-in ones are
+(:mod:`docking.study.store`): by the configuration (canonical JSON), the seed, the rendering stack,
+the versions of the libraries (MuJoCo, dm-control, NumPy, OpenCV and those named at
+registration), and the code: the learner's *own code* (:func:`own_code`: the tokens of the
+module file that defines it, read as :mod:`docking.study.fingerprint` reads the package's, so a
+comment or a docstring re-keys nothing; in a notebook cell or other code without a module
+file, the tokens of the configuration class and the run function) and the tokens of every
+``docking`` module that code imports and of :mod:`docking.protocol` (the worlds, the streams,
+the held-out trials), with everything they import. This module and :mod:`docking.study.contest`
+compute nothing a run stores and are not followed.
+
+The own code is read when the learner is registered: it is the code this process runs.
+A learner defined in a notebook, a script or code run with ``exec`` reaches a sweep's Dask
+workers by value (cloudpickle), its runner with its class (:func:`docking.study.kinds.runner_for`
+adopts it there); one defined in a module file reaches them by name, so the workers must
+import that module (the embedded cluster's workers start in the current folder and inherit
+``PYTHONPATH``).
+"""
+
+from __future__ import annotations
+
+import ast
+import dataclasses
+import functools
+import hashlib
+import inspect
+import json
+import linecache
+import sys
+import textwrap
+import time
+import types
+from collections.abc import Callable
+from pathlib import Path
+from typing import Protocol, runtime_checkable
+
+import numpy as np
+
+from docking.experiments import TrialLog
+from docking.protocol import (
+    LearnerResult,
+    heldout_env,
+    heldout_log,
+    judge,
+    streams,
+    training_env,
+)
+from docking.scene import WorldConfig
+from docking.study import fingerprint, kinds
+from docking.validate import MAX_SEED, check_int, check_name
+
+__all__ = [
+    "Learner",
+    "LearnerResult",
+    "LearnerRunner",
+    "OwnCode",
+    "heldout_env",
+    "heldout_log",
+    "judge",
+    "own_code",
+    "register",
+    "registered",
+    "runner",
+    "streams",
+    "training_env",
+    "training_steps",
+]
+
+#: The version of the layout of a registered learner's stored runs (:func:`_arrays`).
+FORMAT_VERSION = 1
+
+#: ``docking`` modules a learner's code may import that are not followed for its key: they
+#: compute nothing a run stores (the package's and the study layer's ``__init__``, this
+#: registry, the contest).
+NOT_FOLLOWED = frozenset(
+    {"docking", "docking.study", "docking.study.learners", "docking.study.contest"}
+)
+
+#: The module every registered learner's runs are keyed by (the held-out judgement).
+PROTOCOL_MODULE = "docking.protocol"
+
+
+@runtime_checkable
+class Learner(Protocol):
+    """A learner's configuration (see the module docstring): what :func:`register` takes,
+    and what the package's :class:`~docking.experiments.ExperimentConfig` and
+    :class:`~docking.study.ppo.PPOConfig` are."""
+
+    name: str
+    world: WorldConfig
+    heldout_trials: int
+
+    def to_dict(self) -> dict: ...
+
+    @classmethod
+    def from_dict(cls, d: dict): ...
+
+
+@dataclasses.dataclass(frozen=True)
+class OwnCode:
+    """A learner's own code as its key reads it (:func:`own_code`).
+
+    Attributes:
+      digest: SHA-256 of its tokens.
+      imports: The ``docking`` modules it imports (or refers to).
+      where: Where it was read: module files, or ``"<cell>: class X, function run"``.
+    """
+
+    digest: str
+    imports: tuple[str, ...]
+    where: tuple[str, ...]
+
+
+@dataclasses.dataclass(frozen=True)
+class LearnerRunner(kinds.Runner):
+    """The :class:`docking.study.kinds.Runner` of a registered learner: its runs are keyed by its
+    own code (:attr:`code`) and the code of the ``docking`` modules of :attr:`roots`.
+
+    Attributes:
+      code: The learner's own code (:class:`OwnCode`).
+      roots: :data:`PROTOCOL_MODULE` and the ``docking`` modules its code imports (each
+        with every module it imports).
+    """
+
+    code: OwnCode | None = None
+    roots: tuple[str, ...] = ()
+
+    def module_digests(self, package_dir: Path | str | None = None) -> dict[str, str]:
+        """``{part: digest}`` of what keys this learner's runs: ``"own code"``, every
+        fingerprinted ``docking`` module of :attr:`roots`, the assets and the libraries'
+        versions (what a ledger records, so that a mismatch names what changed)."""
+        found = {"own code": self.code.digest}
+        for root in self.roots:
+            found.update(kinds.module_digests(package_dir, root=root, libraries=self.libraries))
+        return dict(sorted(found.items()))
+
+    def fingerprint(self) -> str:
+        """The source fingerprint of this learner's runs: SHA-256 of :meth:`module_digests`
+        (:class:`docking.study.kinds.StaleCode` if a ``docking`` file changed on disk since this
+        process imported it)."""
+        for root in self.roots:
+            kinds.source_fingerprint(root=root, libraries=self.libraries)
+        text = json.dumps(self.module_digests(), sort_keys=True)
+        return hashlib.sha256(f"learner code {text}\n".encode()).hexdigest()
+
+    def from_table(self, config, seed: int, got: dict, logs: dict, walls) -> LearnerResult:
+        """A run read from a ledger's results table (:func:`docking.study.ledger.read`)."""
+        steps = got.get("train_steps")
+        return LearnerResult(
+            config=config,
+            seed=seed,
+            heldout=logs["heldout"],
+            train_steps=None if steps is None else int(steps[0]),
+            wall_time_train=walls[0],
+            wall_time_test=walls[1],
+        )
+
+
+# ------------------------------------------------------------------------------------------
+# Registration.
+# ------------------------------------------------------------------------------------------
+
+
+def register(
+    config_type: type,
+    run: Callable,
+    *,
+    name: str | None = None,
+    libraries: tuple[str, ...] = (),
+    trials: Callable | None = None,
+) -> LearnerRunner:
+    """Make the learner of ``config_type`` and ``run`` a kind of run (see the module
+    docstring); returns its runner (it replaces an earlier registration of ``name``).
+
+    Args:
+      config_type: The configuration's class: a frozen dataclass with ``name``, ``world``
+        and ``heldout_trials`` fields (``to_dict``/``from_dict`` are derived if it has
+        neither).
+      run: ``run(config, seed, progress=True, on_trials=None) -> LearnerResult``.
+      name: The kind's name in stored files and ledgers (default: the class's name); not
+        ``"learner"`` or ``"ppo"``.
+      libraries: Distributions whose versions enter the keys besides MuJoCo's,
+        dm-control's, NumPy's and OpenCV's (e.g. ``("scipy",)``).
+      trials: ``trials(config)``: the trials a run reports to ``on_trials`` (default: its
+        ``train_trials`` field, if any, plus ``heldout_trials``), what progress bars count.
+    """
+    _check_config_type(config_type)
+    if not isinstance(run, types.FunctionType):
+        raise TypeError(f"register: run must be a function (def run(...)), got {run!r:.80}")
+    name = check_name("register", "name", config_type.__name__ if name is None else name)
+    libraries = tuple(dict.fromkeys((*kinds._LIBRARIES, *_strings("libraries", libraries))))
+    own = [hasattr(config_type, m) for m in ("to_dict", "from_dict")]
+    if own == [False, False]:
+        config_type.to_dict = _to_dict
+        config_type.from_dict = classmethod(_from_dict)
+    elif own != [True, True]:
+        raise TypeError(
+            f"register: {config_type.__name__} must define both to_dict and "
+            "from_dict, or neither (then both are derived)"
+        )
+    _check_defaults(config_type)
+    code = own_code(config_type, run)
+    roots = (PROTOCOL_MODULE, *sorted(m for m in code.imports if m != PROTOCOL_MODULE))
+    runner = LearnerRunner(
+        name=name,
+        config_type=config_type,
+        root=PROTOCOL_MODULE,
+        libraries=libraries,
+        format=FORMAT_VERSION,
+        key_prefix=f"learner {name} ",
+        run=functools.partial(_run, run, files=_code_files(config_type, run)),
+        arrays=_arrays,
+        parse=_parse,
+        trials_in_run=_default_trials if trials is None else trials,
+        test_elsewhere=False,
+        code=code,
+        roots=roots,
+    )
+    kinds.register(runner)
+    setattr(config_type, kinds.RUNNER_ATTRIBUTE, runner)  # travels with a class sent by value
+    return runner
+
+
+def registered() -> dict[str, kinds.Runner]:
+    """Every kind of run by name: the built-in ones and the registered learners."""
+    kinds.built_in()  # PPO's runner is made on first use
+    return {r.name: r for r in kinds.RUNNERS.values()}
+
+
+def runner(config) -> kinds.Runner:
+    """The kind of run of ``config`` (:func:`docking.study.kinds.runner_for`)."""
+    return kinds.runner_for(config)
+
+
+def training_steps(result) -> int | None:
+    """The environment steps a run of any kind trained for: a registered learner's
+    ``train_steps``; the paper's learner's pretraining and training trials' actions (None
+    where a ledger's table does not keep them); PPO's budget."""
+    if isinstance(result, LearnerResult):
+        return result.train_steps
+    train = getattr(result, "train", None)
+    if isinstance(train, TrialLog):
+        return int(np.sum(train.steps)) if train.steps is not None else None
+    steps = getattr(result.config, "steps", None)  # PPO: the budget it trained for
+    return int(steps) if steps is not None else None
+
+
+def _strings(field: str, values) -> tuple[str, ...]:
+    if isinstance(values, str) or not all(isinstance(v, str) for v in values):
+        raise TypeError(f"register: {field} must be a tuple of names, got {values!r:.80}")
+    return tuple(values)
+
+
+def _check_config_type(config_type) -> None:
+    if not (isinstance(config_type, type) and dataclasses.is_dataclass(config_type)):
+        raise TypeError(f"register: the configuration must be a dataclass, got {config_type!r}")
+    if not config_type.__dataclass_params__.frozen:
+        raise TypeError(
+            f"register: {config_type.__name__} must be frozen (@dataclass(frozen=True)): a "
+            "run's key is taken of its configuration"
+        )
+    names = {f.name for f in dataclasses.fields(config_type)}
+    missing = [n for n in ("name", "world", "heldout_trials") if n not in names]
+    if missing:
+        raise TypeError(
+            f"register: {config_type.__name__} lacks the learner protocol's fields "
+            f"{', '.join(missing)} (docking.study.learners)"
+        )
+    for own in kinds.built_in():
+        if config_type is own.config_type:
+            raise ValueError(f"register: {config_type.__name__} is a built-in kind of run")
+
+
+def _check_defaults(config_type) -> None:
+    """If every field has a default: the default configuration round-trips through
+    ``to_dict``/``from_dict`` as JSON."""
+    try:
+        config = config_type()
+    except TypeError:  # a field without a default: checked when a run is keyed
+        return
+    check_name(config_type.__name__, "name", config.name)  # a folder of the results store
+    d = config.to_dict()
+    if config_type.from_dict(json.loads(json.dumps(d))) != config:
+        raise ValueError(
+            f"register: {config_type.__name__}'s default configuration does not round-trip "
+            "through to_dict and from_dict"
+        )
+
+
+def _to_dict(self) -> dict:
+    """Every field, nested, as JSON-ready values (tuples become lists)."""
+    return json.loads(json.dumps(dataclasses.asdict(self)))
+
+
+def _from_dict(cls, d: dict):
+    """The configuration of ``d`` (:func:`_to_dict`'s inverse): a ``world`` (or any field
+    whose default is a :class:`~docking.scene.WorldConfig`) is read back as one, lists as
+    tuples."""
+    from docking.experiments import _fields, _world_from_dict
+
+    fields = _fields(cls.__name__, cls, d)
+    for f in dataclasses.fields(cls):
+        if f.name not in fields:
+            continue
+        value = fields[f.name]
+        default = f.default if f.default is not dataclasses.MISSING else None
+        if isinstance(value, dict) and (f.name == "world" or isinstance(default, WorldConfig)):
+            fields[f.name] = _world_from_dict(value, f"{cls.__name__}.{f.name}")
+        else:
+            fields[f.name] = _tuples(value)
+    return cls(**fields)
+
+
+def _tuples(value):
+    return tuple(_tuples(v) for v in value) if isinstance(value, list) else value
+
+
+def _default_trials(config) -> int:
+    return int(getattr(config, "train_trials", 0)) + int(config.heldout_trials)
+
+
+# ------------------------------------------------------------------------------------------
+# Running and storing.
+# ------------------------------------------------------------------------------------------
+
+
+def _run(run: Callable, config, seed: int, progress: bool = True, on_trials=None, files=None):
+    """A registered learner's run: ``run``'s result, checked (its configuration and seed,
+    its held-out trials drawn from the held-out stream of ``seed``, as many as the
+    configuration asks for), its training time filled in if ``run`` left it out.
+    ``files``: :func:`_code_files` of the learner, taken where it was registered; a copy of
+    its code sent by value (to a Dask worker) gets its files back, so that a traceback from
+    it names the user's file and line (cloudpickle names them ``<dynamic-code>``)."""
+    if files:
+        _restore_files([run, type(config), *run.__globals__.values()], dict(files))
+    seed = check_int(type(config).__name__, "seed", seed, lo=0, hi=MAX_SEED)
+    t0 = time.perf_counter()
+    result = run(config, seed, progress=progress, on_trials=on_trials)
+    elapsed = time.perf_counter() - t0
+    what = f"the run of {type(config).__name__} {config.name!r} seed {seed}"
+    if not isinstance(result, LearnerResult):
+        raise TypeError(f"{what} returned {type(result).__name__}, not a LearnerResult (judge)")
+    if result.config != config or result.seed != seed:
+        raise ValueError(f"{what} returned the result of another configuration or seed")
+    n = len(result.heldout)
+    if n != config.heldout_trials:
+        raise ValueError(
+            f"{what} returned {n} held-out trials, its configuration asks for "
+            f"{config.heldout_trials}"
+        )
+    if n and not np.array_equal(result.heldout.starts[0], _first_heldout_start(config, seed)):
+        raise ValueError(
+            f"{what}: its held-out trials are not drawn from the held-out stream of seed {seed} "
+            "(judge them with docking.study.learners.judge)"
+        )
+    if result.wall_time_train is None:
+        result.wall_time_train = max(elapsed - result.wall_time_test, 0.0)
+    return result
+
+
+#: What cloudpickle names the file of code it sends by value.
+_DYNAMIC = "<dynamic-code>"
+
+
+def _functions(objects) -> list:
+    """The functions among ``objects`` and the functions of the classes among them."""
+    found = []
+    for obj in objects:
+        if isinstance(obj, types.FunctionType):
+            found.append(obj)
+        elif isinstance(obj, type):
+            found += [f for f in vars(obj).values() if isinstance(f, types.FunctionType)]
+    return found
+
+
+def _code_files(config_type: type, run: Callable) -> tuple[tuple[str, str], ...]:
+    """``((qualified name, file), ...)`` of the learner's functions: ``run``, the
+    configuration's methods and the functions and classes ``run``'s module holds."""
+    objects = [run, config_type, *run.__globals__.values()]
+    found = {
+        f.__qualname__: f.__code__.co_filename
+        for f in _functions(objects)
+        if f.__module__ == run.__module__ or f.__module__ == config_type.__module__
+    }
+    return tuple(sorted(found.items()))
+
+
+def _restore_files(objects, files: dict[str, str]) -> None:
+    """Give each function among ``objects`` whose code cloudpickle renamed
+    ``<dynamic-code>`` its file back (``files``: :func:`_code_files`), nested code included."""
+
+    def renamed(code: types.CodeType, file: str) -> types.CodeType:
+        consts = tuple(
+            renamed(c, file) if isinstance(c, types.CodeType) else c for c in code.co_consts
+        )
+        return code.replace(co_filename=file, co_consts=consts)
+
+    for function in _functions(objects):
+        file = files.get(function.__qualname__)
+        if file is not None and function.__code__.co_filename == _DYNAMIC:
+            function.__code__ = renamed(function.__code__, file)
+
+
+def _first_heldout_start(config, seed: int) -> np.ndarray:
+    """The first start pose of the held-out stream of ``seed`` in ``config.world``."""
+    env = heldout_env(config.world, seed)
+    env.reset()
+    return env.pose
+
+
+def _arrays(result: LearnerResult) -> dict[str, np.ndarray]:
+    """The arrays a stored run of a registered learner holds (all but its ``meta``)."""
+    arrays = {"train_steps": np.array([result.train_steps], dtype=np.int64)}
+    for field in dataclasses.fields(TrialLog):
+        arrays[f"heldout.{field.name}"] = getattr(result.heldout, field.name)
+    return arrays
+
+
+def _parse(data, config, seed: int, walls) -> LearnerResult:
+    """A registered learner's run of the stored file ``data`` (its meta record checked)."""
+    expected = {"meta", "train_steps"} | {f"heldout.{n}" for n in kinds._TRIAL_LOG_LAYOUT}
+    kinds._expect_members(data, expected)
+    steps = kinds._array(data, "train_steps", "i", 1, 8)
+    if steps.shape != (1,) or steps[0] < 0:
+        raise kinds.CorruptResult(f"train_steps must hold one count >= 0, got {steps!r:.80}")
+    heldout = kinds._trial_log(data, "heldout", config.heldout_trials, config.world.max_steps)
+    return LearnerResult(config, seed, heldout, int(steps[0]), *walls)
+
+
+# ------------------------------------------------------------------------------------------
+# The learner's own code.
+# ------------------------------------------------------------------------------------------
+
+
+def own_code(config_type: type, run: Callable) -> OwnCode:
+    """The own code of the learner of ``config_type`` and ``run``, as its key reads it.
+
+    Where each is defined in a module with a file (a user's module, a test file, a script
+    run as ``__main__``): the tokens of that whole file
+    (:func:`docking.study.fingerprint.code_tokens`: no comments, docstrings, type hints or error
+    messages), and the ``docking`` modules it imports. Otherwise (a notebook cell, code run with
+    ``exec`` whose source ``linecache`` holds, as Jupyter's cells): the tokens of the class's and
+    the function's own source, and the ``docking`` modules they import or refer to. Then,
+    transitively, every module of the user's own that this code imports or refers to
+    (:func:`user_modules`): its tokens, and the ``docking`` modules it imports. ``TypeError`` if a
+    source cannot be read, or a module of the user's cannot be keyed (:func:`user_modules`)."""
+    texts, imports, where, names = [], set(), [], set()
+    for module in dict.fromkeys((config_type.__module__, run.__module__)):
+        path = _module_file(module, [o for o in (config_type, run) if o.__module__ == module])
+        if path is not None:
+            source = path.read_text(encoding="utf-8")
+            tokens, found = fingerprint.code_tokens(source, module)
+            texts.append(f"file\n{tokens}")
+            imports |= found
+            names |= _resolved(fingerprint.imported_names(source, module))
+            where.append(str(path))
+            continue
+        for obj in (config_type, run):
+            if obj.__module__ != module:
+                continue
+            source, origin = _source(obj, run)
+            tokens, found = fingerprint.code_tokens(source, module)
+            texts.append(f"{'class' if isinstance(obj, type) else 'function'}\n{tokens}")
+            imports |= found | _referenced(obj)
+            names |= _resolved(fingerprint.imported_names(source, module))
+            names |= _referenced(obj, user=True)
+            where.append(f"{origin}: {obj.__qualname__}")
+    done = {m for m in (config_type.__module__, run.__module__) if _module_file(m, []) is not None}
+    for name, path in user_modules(names - done):
+        tokens, found = fingerprint.code_tokens(path.read_text(encoding="utf-8"), name)
+        texts.append(f"module {name}\n{tokens}")
+        imports |= found
+        where.append(str(path))
+    digest = hashlib.sha256("\n".join(texts).encode()).hexdigest()
+    package = Path(kinds.__file__).resolve().parents[1]
+    followed = sorted(m for m in imports if m not in NOT_FOLLOWED and _is_module(package, m))
+    return OwnCode(digest, tuple(followed), tuple(where))
+
+
+def user_modules(names) -> list[tuple[str, Path]]:
+    """``[(module, its file)]`` of the modules of the user's own among ``names`` (imported
+    names: modules, or names in one) and every module of the user's own that those import,
+    transitively, in name order. A module of the user's own is one outside the standard
+    library, the installed distributions and ``docking``; it is keyed by its source file.
+    A name that is no module (a function imported from one, a module that cannot be found)
+    is passed over. ``TypeError`` naming a module of the user's that has no Python source
+    (a compiled extension, a ``.pyc`` only), which no key can cover."""
+    found: dict[str, Path] = {}
+    queue = sorted(set(names))
+    while queue:
+        name = queue.pop()
+        if name in found or not _is_users(name):
+            continue
+        spec = _spec(name)
+        if spec is None:
+            continue
+        origin = spec.origin
+        if origin is None or origin in ("built-in", "frozen"):  # a namespace package: no code
+            continue
+        path = Path(origin)
+        if path.suffix != ".py" or not path.is_file():
+            raise TypeError(
+                f"register: the learner's code imports {name}, a module of your own with no "
+                f"Python source ({path.name}): its code cannot be keyed; import it from a .py file"
+            )
+        found[name] = path.resolve()
+        source = path.read_text(encoding="utf-8")
+        package = name if path.name == "__init__.py" else name.rpartition(".")[0]
+        imported = fingerprint.imported_names(source, f"{package}.__init__" if package else name)
+        queue.extend(sorted(_resolved(imported) | _resolved([name])))
+    return sorted(found.items())
+
+
+def _resolved(names) -> set[str]:
+    """``names`` as :func:`docking.study.fingerprint.imported_names` found them, with each one's
+    parents (``helpers.GAIN``: ``helpers`` too, the module, or a package whose
+    ``__init__`` runs when a module of it is imported)."""
+    found = set()
+    for name in names:
+        found.add(name)
+        parent = name.rpartition(".")[0]
+        if parent:
+            found.add(parent)
+    return found
+
+
+#: The top-level names of the installed distributions' packages and modules.
+@functools.cache
+def _distributed_names() -> frozenset[str]:
+    import importlib.metadata
+
+    return frozenset(importlib.metadata.packages_distributions())
+
+
+def _is_users(name: str) -> bool:
+    """Whether module ``name`` may be the user's own: not ``docking``, not the standard
+    library's, not an installed distribution's."""
+    top = name.partition(".")[0]
+    if not top or top == "docking" or top == "__main__":
+        return False
+    if top in sys.stdlib_module_names or top in sys.builtin_module_names:
+        return False
+    return top not in _distributed_names()
+
+
+def _spec(name: str):
+    """The import spec of module ``name`` (its loaded module's, if it is loaded), or None if
+    there is no such module."""
+    import importlib.util
+
+    loaded = sys.modules.get(name)
+    if loaded is not None:
+        return getattr(loaded, "__spec__", None)
+    try:
+        return importlib.util.find_spec(name)
+    except (ImportError, ValueError, AttributeError):
+        return None
+
+
+def _module_file(module: str, objects: list) -> Path | None:
+    """The file of ``module`` if it is loaded from a ``.py`` file and ``objects`` are
+    defined in it (not a notebook's or ``exec``'s namespace)."""
+    found = getattr(sys.modules.get(module), "__file__", None)
+    if not found or not found.endswith(".py") or not Path(found).is_file():
+        return None
+    path = Path(found).resolve()
+    for obj in objects:
+        code = getattr(obj, "__code__", None)
+        if code is not None and Path(code.co_filename).resolve() != path:
+            return None
+    return path
+
+
+def _source(obj, run: Callable) -> tuple[str, str]:
+    """``(source, its file name)`` of a class or function defined outside a module file."""
+    if not isinstance(obj, type):
+        try:
+            return textwrap.dedent(inspect.getsource(obj)), obj.__code__.co_filename
+        except (OSError, TypeError):
+            pass
+    else:
+        # inspect cannot find a class without a module file (before Python 3.13): look for
+        # its definition in the cells its methods or the run function were defined in
+        files = [
+            f.__code__.co_filename
+            for f in vars(obj).values()
+            if isinstance(f, types.FunctionType)
+            and not f.__code__.co_filename.startswith("<string")
+        ]
+        for filename in dict.fromkeys([*files, run.__code__.co_filename]):
+            text = "".join(linecache.getlines(filename))
+            found = _class_source(text, obj.__name__)
+            if found is not None:
+                return found, filename
+    raise TypeError(
+        f"cannot read the source of {obj.__qualname__} (defined in {obj.__module__!r}): define "
+        "the learner in a module file, a script or a notebook cell"
+    )
+
+
+def _class_source(text: str, name: str) -> str | None:
+    """The source of the last definition of class ``name`` in ``text`` (with its
+    decorators), or None."""
+    try:
+        tree = ast.parse(text)
+    except SyntaxError:
+        return None
+    found = [n for n in ast.walk(tree) if isinstance(n, ast.ClassDef) and n.name == name]
+    if not found:
+        return None
+    node = found[-1]
+    lines = text.splitlines(keepends=True)
+    first = min([node.lineno, *(d.lineno for d in node.decorator_list)])
+    return textwrap.dedent("".join(lines[first - 1 : node.end_lineno]))
+
+
+def _referenced(obj, user: bool = False) -> set[str]:
+    """The ``docking`` modules the code of ``obj`` (a function, or a class's functions)
+    refers to through its globals: a module, or a function or class of one. With ``user``:
+    the modules of the user's own it refers to instead (:func:`_is_users`)."""
+    functions = (
+        [obj]
+        if isinstance(obj, types.FunctionType)
+        else [f for f in vars(obj).values() if isinstance(f, types.FunctionType)]
+    )
+    found = set()
+    for function in functions:
+        names, stack = set(), [function.__code__]
+        while stack:
+            code = stack.pop()
+            names.update(code.co_names)
+            stack.extend(c for c in code.co_consts if isinstance(c, types.CodeType))
+        for name in names:
+            value = function.__globals__.get(name)
+            module = value.__name__ if isinstance(value, types.ModuleType) else None
+            module = module or getattr(value, "__module__", None)
+            if not isinstance(module, str):
+                continue
+            if user and _is_users(module):
+                found.add(module)
+            elif not user and (module == "docking" or module.startswith("docking.")):
+                found.add(module)
+    return found
+
+
+def _is_module(package: Path, name: str) -> bool:
+    """Whether ``name`` is a module of the ``docking`` package in ``package``."""
+    if not name.startswith("docking."):
+        return False
+    relative = Path(*name.split(".")[1:])
+    return (package / f"{relative}.py").is_file() or (package / relative / "__init__.py").is_file()

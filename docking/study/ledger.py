@@ -1,0 +1,870 @@
+"""The results ledger: the committed evidence, a results table per design (``ledger/``).
+
+``tables/<name>.npz`` holds the runs stored under ``name``: per trial of each part
+(``train``, ``test``, ``heldout``) ``success``, ``steps``, ``start_far``, each run's learning
+curves, and what its design's ``keep`` adds (:attr:`docking.study.design.Design.keep`).
+``whole/<name>/<key[:16]>/seed<k>.npz`` holds the runs a design names whole, and
+``manifest.json`` every run's key, seed, configuration, content digest and wall times, the
+fingerprint of the code that computed them and the SHA-256 of every file. The layout, for
+any tool that opens ``.npz``: docs/guide/ledger.md.
+
+What is checked, and where (docs/guide/ledger.md says what each check proves):
+
+* a file is read only if it is a regular file inside the ledger's folder, of bounded size,
+  and its bytes match the manifest's SHA-256 (:func:`_verified`); table names are plain
+  names;
+* each run's record holds its content digest (all its arrays) and its *row digest* (the
+  arrays its table serves); each table's *seal* (:data:`SEALED`, :func:`_seals`) is the
+  SHA-256 of its file's digest and of those fields of its runs, and the migrations are
+  sealed too: an edit of any of them, the table's bytes included, is refused;
+* :func:`check_files` (``python -m docking ledger show``) checks every file, every row of
+  every table against its record's row digest, every whole run's arrays against its
+  content digest, and every record's key against the key of its configuration and seed
+  under this code.
+
+The seal lives in the manifest beside what it seals, so it refuses an edit, not a forgery:
+someone who rewrites a table and reseals the manifest passes every digest. Only recomputing
+a run shows that the arrays a reader is served are its arrays (``python -m docking
+verify``: every recomputed run is compared with its record's digest *and* with its table's
+row).
+
+A run read from a table is an ordinary result whose logs are :class:`TableLog` objects: what the
+table does not keep is ``None``. A ledger computed by other code raises :class:`StaleLedger`
+naming the changed modules. ``DOCKING_LEDGER=off`` turns the ledger off (every run is
+computed); ``DOCKING_LEDGER=/path`` reads another one.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import functools
+import hashlib
+import io
+import json
+import re
+import warnings
+import zipfile
+from pathlib import Path
+
+import numpy as np
+
+from docking.experiments import ExperimentResult, TrialLog
+from docking.fileio import UnsafeFile, atomic_write, read_regular
+from docking.network import Network
+from docking.study import kinds, paths
+from docking.validate import NAME_PATTERN
+
+__all__ = ["CorruptLedger", "NotInLedger", "StaleLedger", "TableLog", "holds", "read"]
+
+LEDGER_FORMAT = 8  # the layout's version (8: row digests, tables' digests sealed)
+PARTS = ("train", "test", "heldout")
+STEPS = ("poses", "actions", "winners", "deltas")  # a trial log's per-step arrays
+NO_TRAIN = "no-train"
+TIMINGS_FILE = "timings.json"  # the tiers' measured times (tools/time_tiers.py)
+_RECOMPUTE = "make reproduce (recomputes the runs, then python -m docking ledger update)"
+_RESTORE = "check out the committed ledger again (git checkout -- ledger)"
+#: What a table's seal covers of each of its runs' records (besides its key), with the
+#: table file's SHA-256.
+SEALED = ("digest", "row", "wall_time_train", "wall_time_test", "wall_seconds", "computed_utc")
+#: Sealed too where a record has them (records written before them are sealed as they were;
+#: ``sha256``: a whole run's file).
+SEALED_IF_PRESENT = ("rules_sha256", "sha256")
+#: The seal of the manifest's migrations (not a table's name: table names are plain names).
+MIGRATIONS_SEAL = "(migrations)"
+#: The largest manifest, results table or whole run read (bytes on disk), and the most a
+#: table's arrays may hold decompressed.
+MANIFEST_LIMIT = 64 << 20
+FILE_LIMIT = 256 << 20
+UNPACKED_LIMIT = 1 << 30
+#: A run's key: the SHA-256 of its configuration and code, and its seed.
+KEY_PATTERN = re.compile(r"[0-9a-f]{64}:seed(0|[1-9][0-9]*)")
+
+
+class StaleLedger(RuntimeError):
+    """The ledger was computed by other code (or its files do not match the manifest)."""
+
+
+class CorruptLedger(StaleLedger):
+    """A ledger file is damaged or not a ledger file."""
+
+
+class NotInLedger(LookupError):
+    """An analysis asked a table run for what its table does not keep."""
+
+
+@dataclasses.dataclass
+class TableLog(TrialLog):
+    """A trial log read from a results table. ``poses``, ``actions`` and ``deltas`` are
+    None (``winners`` too unless kept); ``start_poses``, ``ends`` and ``lengths`` are the
+    kept per-trial columns (None if not kept); ``paths`` maps a failed trial to its kept
+    ``(poses, actions)``."""
+
+    start_poses: np.ndarray | None = None
+    ends: np.ndarray | None = None
+    lengths: np.ndarray | None = None
+    paths: dict = dataclasses.field(default_factory=dict)
+    what: str = "a run"
+
+    @property
+    def starts(self) -> np.ndarray:
+        return self.require(self.start_poses, "the trials' start poses")
+
+    def trial_poses(self, k: int) -> np.ndarray:
+        return self.require(self.paths.get(int(k), (None,))[0], f"the path of trial {k}")
+
+    def trial_actions(self, k: int) -> np.ndarray:
+        return self.require(self.paths.get(int(k), (None, None))[1], f"the path of trial {k}")
+
+    def require(self, value, what: str):
+        """``value`` (a kept column), or :class:`NotInLedger` naming ``what`` if it is None."""
+        if value is None:
+            raise NotInLedger(
+                f"the ledger's table of {self.what} does not keep {what}: keep it in its "
+                "design (`keep`, or the run in `whole`; then python -m docking ledger "
+                "update), or compute it (DOCKING_LEDGER=off)"
+            )
+        return value
+
+
+def manifest(folder: Path | None = None) -> dict | None:
+    """The ledger's manifest (None if none), checked against this code (:class:`StaleLedger`
+    if computed by other code)."""
+    data = _stored_manifest(paths.ledger_dir() if folder is None else Path(folder))
+    for name in sorted(data["fingerprints"]) if data else ():
+        _check(data, kinds.runner_named(name))
+    return data
+
+
+def _stored_manifest(folder: Path | None) -> dict | None:
+    """The manifest in ``folder`` as read (cached until the file changes); None if none."""
+    if folder is None or not (folder / "manifest.json").exists():
+        return None
+    path = Path(folder).resolve() / "manifest.json"
+    return _read_manifest(path, path.stat().st_mtime_ns)
+
+
+@functools.lru_cache(maxsize=4)
+def _read_manifest(path: Path, _mtime: int) -> dict:
+    """The manifest at ``path``, its layout, names and seals checked (not its code)."""
+    try:
+        raw = read_regular(path, MANIFEST_LIMIT, path.parent)
+    except (OSError, UnsafeFile) as exc:
+        raise CorruptLedger(f"the ledger's manifest cannot be read ({exc}); {_RESTORE}") from None
+    try:
+        data = json.loads(raw)
+        if data["format"] != LEDGER_FORMAT or data["store_format"] != kinds.FORMAT_VERSION:
+            raise StaleLedger(
+                f"the ledger in {path.parent} has format {data['format']}/"
+                f"{data['store_format']}, this package reads {LEDGER_FORMAT}/"
+                f"{kinds.FORMAT_VERSION}; "
+                + (
+                    f"upgrade it once: python tools/upgrade_ledger.py {path.parent}"
+                    if data["format"] == LEDGER_FORMAT - 1
+                    else f"recompute it: {_RECOMPUTE}"
+                )
+            )
+        _check_names(data)
+        data["index"] = {_index(r["config"], r["seed"]): k for k, r in data["runs"].items()}
+        seals = data["seals"]
+        found = _seals(data["runs"], data["tables"], data.get("migrations", []))
+    except (ValueError, KeyError, TypeError, AttributeError, AssertionError) as exc:
+        raise CorruptLedger(f"{path} is not a ledger manifest ({exc!r:.300}); {_RESTORE}") from None
+    broken = sorted(n for n in set(seals) | set(found) if seals.get(n) != found.get(n))
+    if broken:
+        raise CorruptLedger(
+            f"{path}: the files, digests or wall times of {', '.join(map(str, broken))[:200]} "
+            f"do not match their seal (the manifest or a table was edited); {_RESTORE}"
+        )
+    data["folder"] = path.parent
+    return data
+
+
+def _check_names(data: dict) -> None:
+    """AssertionError unless every table and run of the manifest ``data`` is named as the
+    ledger names them (plain table names, run keys of their seeds, each whole run in its own
+    file), its seed and wall times are numbers; replaces each record's configuration reference
+    by the configuration."""
+    for name, sha256 in data["tables"].items():
+        assert isinstance(name, str) and NAME_PATTERN.fullmatch(name), f"table name {name!r:.80}"
+        assert isinstance(sha256, str) and len(sha256) == 64, f"table {name}: its digest"
+    for key, record in data["runs"].items():
+        record["config"] = data["configs"][record["config"]]
+        seed, walls = record["seed"], [record[f"wall_time_{p}"] for p in ("train", "test")]
+        assert isinstance(key, str) and KEY_PATTERN.fullmatch(key), f"run key {key!r:.80}"
+        assert isinstance(seed, int) and key.endswith(f":seed{seed}"), (
+            f"run {key[:16]}: seed {seed!r}"
+        )
+        assert record["name"] in data["tables"], f"run {key[:16]}: no table {record['name']!r}"
+        assert record["runner"] in data["fingerprints"], f"run {key[:16]}: its runner"
+        assert all(np.isfinite(w) and w >= 0 for w in walls), f"run {key[:16]}: {walls}"
+        own = f"whole/{record['name']}/{key[:16]}/seed{seed}.npz"
+        assert record.get("whole") in (None, own), f"run {key[:16]}: not its own file"
+
+
+def _index(config: dict, seed: int) -> str:
+    return f"{json.dumps(config, sort_keys=True)}:seed{seed}"
+
+
+def _seals(runs: dict, tables: dict | None = None, migrations=None) -> dict[str, str]:
+    """``{table: its seal}`` of the run records ``runs`` (``{key: record}``) and the tables'
+    digests ``tables`` (``{table: SHA-256 of its file}``): the SHA-256 of the table's digest
+    and of the :data:`SEALED` fields of its runs, in the order of their keys; with
+    ``migrations`` (the manifest's), their seal under :data:`MIGRATIONS_SEAL`."""
+    rows: dict[str, list] = {}
+    for key in sorted(runs):
+        record = runs[key]
+        fields = [record.get(f) for f in SEALED]
+        fields += [record[f] for f in SEALED_IF_PRESENT if f in record]
+        rows.setdefault(str(record["name"]), []).append([key, *fields])
+    seals = {
+        name: _sha256_json([(tables or {}).get(name), found])
+        for name, found in sorted(rows.items())
+    }
+    for name in set(tables or ()) - set(seals):  # a table of no run
+        seals[name] = _sha256_json([tables[name], []])
+    if migrations:
+        seals[MIGRATIONS_SEAL] = _sha256_json(migrations)
+    return dict(sorted(seals.items()))
+
+
+def seals_of(data: dict) -> dict[str, str]:
+    """The seals of the manifest ``data`` as written (:func:`_seals` of its runs, tables and
+    migrations): what :func:`update` writes, and what a forger recomputes after an edit (a
+    seal refuses an edit, not a forgery)."""
+    return _seals(data["runs"], data["tables"], data.get("migrations", []))
+
+
+def _sha256_json(value) -> str:
+    return hashlib.sha256(json.dumps(value, allow_nan=False, sort_keys=True).encode()).hexdigest()
+
+
+#: Per runner, the modules of the optional dependencies its runs need and the extra of the
+#: package that installs them (pyproject.toml's [project.optional-dependencies]).
+EXTRAS = {"ppo": (("skrl", "jax", "flax", "optax"), "ppo")}
+
+
+def missing_extra(runner_name: str) -> str | None:
+    """If the optional dependencies of ``runner_name``'s runs are not installed, what is
+    missing and the ``pip install`` line that installs them; else None."""
+    import importlib.util
+
+    modules, extra = EXTRAS.get(runner_name, ((), ""))
+    absent = [m for m in modules if importlib.util.find_spec(m) is None]
+    if not absent:
+        return None
+    return (
+        f"the [{extra}] extra is not installed ({', '.join(absent)} missing): "
+        f"pip install 'docking[{extra}]'"
+    )
+
+
+def _check(data: dict, runner: kinds.Runner) -> None:
+    """:class:`StaleLedger` unless ``runner``'s runs were computed by this code (first, if
+    the extra its runs need is not installed, saying so); a warning (once) if by another
+    rendering stack."""
+    missing = missing_extra(runner.name)
+    if missing is not None:
+        raise StaleLedger(
+            f"the ledger in {data['folder']} holds {runner.name} runs, which this package reads "
+            f"only with an optional extra; {missing}"
+        )
+    if data["fingerprints"].get(runner.name) != runner.fingerprint():
+        ours, theirs = runner.module_digests(), data["modules"].get(runner.name, {})
+        changed = sorted(k for k in set(ours) | set(theirs) if ours.get(k) != theirs.get(k))
+        raise StaleLedger(
+            f"the ledger in {data['folder']} holds {runner.name} runs computed by other code "
+            f"(changed: {', '.join(changed) or 'the fingerprint'}); they are not used. If "
+            f"the change computes the same numbers, python -m docking ledger migrate "
+            f"re-keys them after recomputing a sample; else recompute them: {_RECOMPUTE}"
+        )
+    if data["rendering_stack"] != kinds.rendering_stack() and not data.get("warned"):
+        data["warned"] = True
+        warnings.warn(
+            f"the ledger's runs were rendered by {data['rendering_stack']!r}, this machine by "
+            f"{kinds.rendering_stack()!r}; `python -m docking verify` shows whether they agree",
+            RuntimeWarning,
+            stacklevel=3,
+        )
+
+
+def timings(folder: Path | None = None) -> dict | None:
+    """The record of ``tools/time_tiers.py`` in the ledger's folder (None if there is none)."""
+    path = Path(folder or paths.ledger_dir() or ".") / TIMINGS_FILE
+    return json.loads(path.read_text()) if path.is_file() else None
+
+
+def size_bytes(folder: Path | None = None) -> int:
+    """The bytes of every file of the ledger in ``folder`` (default :func:`paths.ledger_dir`)."""
+    return sum(
+        p.stat().st_size for p in Path(folder or paths.ledger_dir()).rglob("*") if p.is_file()
+    )
+
+
+def _find(config, seed: int) -> tuple[dict, str] | None:
+    kinds.runner_for(config)  # TypeError for what is no run's configuration
+    data = _stored_manifest(paths.ledger_dir())
+    key = data["index"].get(_index(config.to_dict(), seed)) if data else None
+    return None if key is None else (data, key)
+
+
+def holds(config, seed: int, check: bool = False) -> bool:
+    """Whether the ledger holds the run of (``config``, ``seed``); with ``check``,
+    :class:`StaleLedger` if it does but its runner's code is not this code."""
+    found = _find(config, seed)
+    if found is not None and check:
+        _check(found[0], kinds.runner_for(config))
+    return found is not None
+
+
+def _verified(path: Path, sha256: str, folder: Path | None = None) -> bytes:
+    """The bytes of the ledger file ``path``: a regular file of at most :data:`FILE_LIMIT`
+    bytes inside the ledger's ``folder`` (default: the folder two levels up, the ledger's for
+    a table), checked against its manifest digest."""
+    folder = path.parent.parent if folder is None else folder
+    try:
+        raw = read_regular(path, FILE_LIMIT, folder)
+    except (OSError, UnsafeFile) as exc:
+        raise CorruptLedger(f"the ledger file {path} cannot be read ({exc}); {_RESTORE}") from None
+    if hashlib.sha256(raw).hexdigest() != sha256:
+        raise CorruptLedger(f"the ledger file {path} does not match its digest; {_RESTORE}")
+    return raw
+
+
+def _rows(table: dict[str, np.ndarray]) -> list[tuple[str, dict]]:
+    """The rows of a results table's columns ``table``, as :func:`_columns` took them: per
+    run, its key and ``{column: its cells}`` (the columns it has none of left out)."""
+    names = [n for n in table if n + ".count" in table]
+    offsets = {
+        n: np.concatenate([[0], np.cumsum(np.maximum(table[n + ".count"], 0))]) for n in names
+    }
+    found = []
+    for row, key in enumerate(table["key"].tolist()):
+        cells = {}
+        for n in names:
+            count = int(table[n + ".count"][row])
+            if count >= 0:
+                start = int(offsets[n][row])
+                cells[n] = table[n][start : start + count]
+        found.append((key, cells))
+    return found
+
+
+def row_digest(cells: dict[str, np.ndarray]) -> str:
+    """The digest of a table row's cells (``{column: its cells}``, :func:`_rows`): what the
+    table serves of a run, by name, dtype, shape and bytes
+    (:func:`docking.study.kinds.content_digest`)."""
+    return kinds.content_digest(cells)
+
+
+def _table_bytes(raw: bytes) -> dict[str, np.ndarray]:
+    """The columns of a results table's (verified) bytes: a zip of ``.npy`` members holding
+    at most :data:`UNPACKED_LIMIT` bytes decompressed (checked before decompressing)."""
+    with zipfile.ZipFile(io.BytesIO(raw)) as archive:
+        unpacked = sum(info.file_size for info in archive.infolist())
+    if unpacked > UNPACKED_LIMIT:
+        raise ValueError(
+            f"its arrays would decompress to {unpacked} bytes, at most {UNPACKED_LIMIT}"
+        )
+    with np.load(io.BytesIO(raw), allow_pickle=False) as found:
+        return {k: found[k] for k in found.files}
+
+
+@functools.lru_cache(maxsize=8)
+def _table(path: Path, sha256: str) -> dict[str, np.ndarray]:
+    """The columns of the results table ``path`` (checked against ``sha256``)."""
+    raw = _verified(path, sha256)
+    if not zipfile.is_zipfile(io.BytesIO(raw)):  # np.load would call it pickled data
+        raise CorruptLedger(f"the ledger table {path} is not an .npz (zip) file; {_RESTORE}")
+    try:
+        table = _table_bytes(raw)
+        keys = table["key"].tolist()
+    except (OSError, ValueError, KeyError, zipfile.BadZipFile) as exc:
+        raise CorruptLedger(
+            f"the ledger table {path} is not readable ({exc}); {_RESTORE}"
+        ) from None
+    if len(set(keys)) != len(keys):
+        raise CorruptLedger(f"the ledger table {path} holds a run twice; {_RESTORE}")
+    return table
+
+
+def table_rows(data: dict, name: str) -> dict[str, dict[str, np.ndarray]]:
+    """``{run key: its row's cells}`` of the results table ``name`` of the ledger whose
+    manifest is ``data`` (the file checked against its digest, each row against its
+    record's row digest: :class:`CorruptLedger` naming the first that differs)."""
+    path = data["folder"] / "tables" / f"{name}.npz"
+    rows = dict(_rows(_table(path, data["tables"][name])))
+    named = {k for k, r in data["runs"].items() if r["name"] == name}
+    if set(rows) != named:
+        raise CorruptLedger(
+            f"the ledger table {path} does not hold the runs the manifest names of it "
+            f"({len(rows)} in the table, {len(named)} named); {_RESTORE}"
+        )
+    for key, cells in rows.items():
+        if row_digest(cells) != data["runs"][key]["row"]:
+            raise CorruptLedger(
+                f"the ledger table {path}: the row of {name!r} seed {data['runs'][key]['seed']} "
+                f"is not the row its record names (row digest); {_RESTORE}"
+            )
+    return rows
+
+
+def _served_row(data: dict, name: str, key: str) -> dict[str, np.ndarray]:
+    """The row of run ``key`` of table ``name``, checked against its record's row digest."""
+    path = data["folder"] / "tables" / f"{name}.npz"
+    table = _table(path, data["tables"][name])
+    keys = table["key"].tolist()
+    if key not in keys:
+        raise CorruptLedger(
+            f"the ledger table {path} does not hold the run of {name!r} seed "
+            f"{data['runs'][key]['seed']} that the manifest names; {_RESTORE}"
+        )
+    row = keys.index(key)
+    got = {n: _cell(table, n, row) for n in table if n + ".count" in table}
+    got = {n: a for n, a in got.items() if a is not None}
+    if row_digest(got) != data["runs"][key]["row"]:
+        raise CorruptLedger(
+            f"the ledger table {path}: the row of {name!r} seed {data['runs'][key]['seed']} "
+            f"is not the row its record names (row digest); {_RESTORE}"
+        )
+    return got
+
+
+def read(config, seed: int):
+    """The run of (``config``, ``seed``) as the ledger holds it (whole, or from its results
+    table, its row checked against its record), or None if it holds none.
+    :class:`StaleLedger` if it holds it but was computed by other code. (The store is asked
+    first, by :func:`docking.study.runs.locate`.)"""
+    found = _find(config, seed)
+    if found is None:
+        return None
+    (data, key), runner = found, kinds.runner_for(config)
+    _check(data, runner)
+    record = data["runs"][key]
+    if key != kinds.run_key(config, seed, render=data["rendering_stack"]):
+        raise StaleLedger(f"the ledger's key of {config.name!r} seed {seed} is not this code's")
+    if record.get("whole"):
+        whole = data["folder"] / record["whole"]
+        raw = _verified(whole, record["sha256"], data["folder"])
+        try:
+            result = kinds.load_result(whole, key, within=data["folder"])
+        except kinds.CorruptResult as exc:
+            raise CorruptLedger(f"the ledger file {record['whole']}: {exc}; {_RESTORE}") from None
+        _check_content(raw, record, whole)
+        return result
+    got = _served_row(data, config.name, key)
+    return _from_row(
+        config, seed, runner, got, (record["wall_time_train"], record["wall_time_test"])
+    )
+
+
+def _from_row(config, seed: int, runner, got: dict, walls) -> object:
+    """The run of (``config``, ``seed``) read from its table row ``got``."""
+    logs = {p: _log(got, p, f"{config.name!r} seed {seed}") for p in PARTS}
+    # a registered learner's (docking.study.learners)
+    from_table = getattr(runner, "from_table", None)
+    if from_table is not None:
+        return from_table(config, seed, got, logs, walls)
+    if runner.name == "ppo":
+        from docking.study import ppo
+
+        train = [got.get(f"train.{f}") for f in ("success", "steps")]
+        return ppo.PPOResult(config, seed, *train, logs["heldout"], *walls)
+    net = config.network
+    return ExperimentResult(
+        config,
+        seed,
+        Network.from_weights(
+            net, got["W"].reshape(net.n_features, -1), got["Q"].reshape(net.n_actions, -1)
+        )
+        if "W" in got
+        else None,
+        logs["train"],
+        logs["test"],
+        *(got[f"curve_{c}"] for c in ("trials", "success", "steps", "rewarded")),
+        *walls,
+        heldout=logs["heldout"],
+    )
+
+
+def _check_content(raw: bytes, record: dict, path: Path) -> None:
+    """:class:`CorruptLedger` unless the arrays of the whole run ``raw`` (a ledger file's
+    bytes) have the content digest its ``record`` says."""
+    with np.load(io.BytesIO(raw), allow_pickle=False) as arrays:
+        digest = kinds.content_digest(arrays)
+    if digest != record["digest"]:
+        raise CorruptLedger(
+            f"the manifest's content digest of {path} is not its arrays' digest; {_RESTORE}"
+        )
+
+
+def check_files(folder: Path | str | None = None) -> dict[str, int] | None:
+    """Check the ledger in ``folder`` (default :func:`paths.ledger_dir`) as a whole: its
+    manifest (format, names, this code, the seals), every results table and whole run
+    against its SHA-256, every table's rows against its runs' records (the runs it names and
+    each row's digest), each whole run's arrays against its content digest, and each run's
+    key against the key of its configuration and seed under this code.
+    :class:`CorruptLedger` (or :class:`StaleLedger`) naming the first that fails; None if
+    there is no manifest; else what was checked: ``{"runs", "tables", "whole"}`` counts."""
+    data = manifest(Path(folder) if folder is not None else paths.ledger_dir())
+    if data is None:
+        return None
+    for name in sorted(data["tables"]):
+        table_rows(data, name)
+    whole = [r for r in data["runs"].values() if r.get("whole")]
+    for record in whole:
+        path = data["folder"] / record["whole"]
+        _check_content(_verified(path, record["sha256"], data["folder"]), record, path)
+    _check_keys(data)
+    return {"runs": len(data["runs"]), "tables": len(data["tables"]), "whole": len(whole)}
+
+
+def _check_keys(data: dict) -> None:
+    """:class:`CorruptLedger` unless every run's key is the key of its record's configuration
+    and seed under this code and the ledger's rendering stack (a record moved to another
+    run's key is caught here, without recomputing)."""
+    keys: dict[str, str] = {}
+    for key, record in data["runs"].items():
+        runner = kinds.runner_named(record["runner"])
+        text = json.dumps(record["config"], sort_keys=True)
+        if text not in keys:
+            keys[text] = kinds.config_key(
+                runner.from_dict(record["config"]), data["rendering_stack"]
+            )
+        if key != f"{keys[text]}:seed{record['seed']}":
+            raise CorruptLedger(
+                f"the ledger's run {key[:16]}... of {record['name']!r} seed {record['seed']}: its "
+                f"key is not the key of its configuration and seed; {_RESTORE}"
+            )
+
+
+def _cell(table: dict, name: str, row: int) -> np.ndarray | None:
+    """Run number ``row``'s rows of column ``name`` (None if it has none)."""
+    counts = table[name + ".count"]
+    start = int(np.sum(np.maximum(counts[:row], 0)))
+    return table[name][start : start + counts[row]] if counts[row] >= 0 else None
+
+
+def _log(got: dict, part: str, what: str) -> TableLog | None:
+    """A run's log of ``part`` from its table columns ``got`` (None if they have none), with
+    the paths of the failed trials where the table keeps them."""
+    if f"{part}.start_far" not in got:
+        return None
+    kept, failed = {}, got.get(f"{part}.path.trial", ())
+    if len(failed):
+        steps = got[f"{part}.steps"][failed]
+        poses = np.split(got[f"{part}.path.poses"], np.cumsum(steps + 1)[:-1])
+        actions = np.split(got[f"{part}.path.actions"], np.cumsum(steps)[:-1])
+        kept = {int(k): path for k, *path in zip(failed, poses, actions, strict=True)}
+    columns = {f: got.get(f"{part}.{f}") for f in ("success", "steps", "start_far", "winners")}
+    return TableLog(
+        **columns,
+        poses=None,
+        actions=None,
+        deltas=None,
+        start_poses=got.get(f"{part}.starts"),
+        ends=got.get(f"{part}.ends"),
+        lengths=got.get(f"{part}.lengths"),
+        paths=kept,
+        what=what,
+    )
+
+
+def _npz(arrays: dict[str, np.ndarray]) -> bytes:
+    """``arrays`` as an ``.npz`` of LZMA-compressed members with fixed timestamps (the same
+    arrays, the same bytes)."""
+    buffer = io.BytesIO()
+    with zipfile.ZipFile(buffer, "w", zipfile.ZIP_LZMA) as archive:
+        for name, array in arrays.items():
+            info = zipfile.ZipInfo(f"{name}.npy", date_time=(1980, 1, 1, 0, 0, 0))
+            info.compress_type = zipfile.ZIP_LZMA
+            with archive.open(info, "w") as f:
+                np.lib.format.write_array(f, np.asanyarray(array), allow_pickle=False)
+    return buffer.getvalue()
+
+
+def _row(arrays: dict, keep: frozenset) -> dict[str, np.ndarray]:
+    """What a table keeps of a run's stored ``arrays`` as ``keep`` asks (module docstring)."""
+    from docking.study.analysis import final_poses, path_lengths
+
+    row, parts = {}, PARTS[1:] if NO_TRAIN in keep else PARTS
+    for name, array in arrays.items():
+        part, _, field = name.rpartition(".")
+        if name == "meta" or (part == "train" and (NO_TRAIN in keep or field == "winners")):
+            continue
+        if field in STEPS and not (field == "winners" and "winners" in keep):
+            continue
+        if name in ("W", "Q") and "networks" not in keep:
+            continue
+        row[name] = np.ravel(array) if name in ("W", "Q") else np.atleast_1d(array)
+    for part in (p for p in parts if f"{p}.poses" in arrays):
+        log = TrialLog(**{f.name: arrays[f"{part}.{f.name}"] for f in dataclasses.fields(TrialLog)})
+        if "starts" in keep:  # a part of no trials has no start pose: an empty column
+            row[f"{part}.starts"] = log.starts if len(log.success) else np.zeros((0, 3))
+        if "ends" in keep and part != "train":
+            row[f"{part}.ends"] = final_poses(log)
+        if "lengths" in keep and part != "train":
+            row[f"{part}.lengths"] = path_lengths(log)
+        if "paths" in keep and part != "train":  # the failed trials' poses and actions
+            failed = row[f"{part}.path.trial"] = np.flatnonzero(~log.success)
+            for f, empty in (("poses", np.zeros((0, 3))), ("actions", np.zeros(0, np.int64))):
+                paths = [getattr(log, f"trial_{f}")(k) for k in failed]
+                row[f"{part}.path.{f}"] = np.concatenate(paths) if paths else empty
+    return row
+
+
+#: Everything a table can keep of a run (``Design.keep``): a recomputed run's row with all
+#: of it holds every column any table row can have (:func:`row_differences`).
+EVERYTHING = frozenset({"starts", "ends", "lengths", "paths", "winners", "networks"})
+
+
+def row_differences(arrays: dict, cells: dict) -> list[str]:
+    """The columns of a table row ``cells`` (:func:`_rows`) that are not what the run's
+    ``arrays`` (as stored, or recomputed) give: each column's cells compared bit for bit, in
+    the table's dtype. A column the arrays cannot give counts as different (a part of no
+    trials gives its derived columns empty, as the tables have always kept them)."""
+    computed = _row(arrays, EVERYTHING)
+    differ = []
+    for name, cell in sorted(cells.items()):
+        mine = computed.get(name)
+        if mine is None or np.shape(mine) != cell.shape:
+            differ.append(name)
+            continue
+        ours = np.ascontiguousarray(np.asarray(mine).astype(cell.dtype, copy=False))
+        if ours.tobytes() != np.ascontiguousarray(cell).tobytes():
+            differ.append(name)
+    return differ
+
+
+def _columns(runs: list[tuple[str, dict]]) -> dict[str, np.ndarray]:
+    """The results table of ``runs`` (``(key, its row)`` each, :func:`_row`)."""
+    table, rows = {"key": np.array([key for key, _ in runs])}, [row for _, row in runs]
+    for name in sorted({n for row in rows for n in row}):
+        found = [row.get(name) for row in rows]
+        table[name] = np.concatenate([a for a in found if a is not None])
+        table[name + ".count"] = np.array([-1 if a is None else len(a) for a in found])
+    return table
+
+
+#: The results tables that several designs' runs share
+#: (:func:`docking.study.design.yardstick_config` names its runs so): :func:`update` with ``only``
+#: adds a design's new runs of them to the ledger's table, keeping its rows, instead of refusing to
+#: replace it whole.
+SHARED_TABLES = frozenset({"yardsticks"})
+
+
+def update(runs, folder: Path | str | None = None, results_dir=None, only=None, rules=None) -> dict:
+    """Write the ledger of ``runs`` (``(config, seed, whole, keep)`` each: keep the stored
+    file whole; what the table keeps) from the results store, replacing the ledger's files;
+    returns the manifest.
+
+    ``only``: the names of the tables ``runs`` replace (or add); every other table of the
+    ledger in ``folder``, its runs, configurations and whole runs, is kept as it is, after
+    checking it against its manifest and this code (:class:`StaleLedger` otherwise). So one
+    design's runs enter the ledger without the results store holding every other's.
+
+    A run of a table outside ``only`` is refused, unless the table is one that designs
+    share (:data:`SHARED_TABLES`) and the ledger holds it: then the run is added to its rows
+    (one the table holds already is left as it is).
+
+    ``rules``: ``{table name: the SHA-256 of its design's rules}``
+    (:func:`docking.study.designs.rules_digest`), recorded (and sealed) with each of its runs
+    computed here, so that the ledger shows which rules each run was judged by."""
+    from docking.study.platform_info import numeric_platform
+
+    folder = Path(folder) if folder is not None else paths.ledger_dir()
+    if folder is None:
+        raise ValueError("no ledger folder: DOCKING_LEDGER is off and no folder was given")
+    records, files, tables, runners, configs, kept = {}, {}, {}, {}, {}, {}
+    if only is not None:
+        kept, tables = _kept_and_shared(folder, only, runs)
+        records, files, configs = kept["runs"], kept["files"], kept["configs"]
+        runners = {name: kinds.runner_named(name) for name in kept["runners"]}
+    for config, seed, whole, keep in runs:
+        if only is not None and config.name not in only and kinds.run_key(config, seed) in records:
+            continue  # a shared table's run the ledger holds already
+        key, arrays, record = _record(config, seed, results_dir)
+        runner = runners.setdefault(kinds.runner_for(config).name, kinds.runner_for(config))
+        configs[record["config"]] = config.to_dict()
+        records[key] = {"runner": runner.name, **record}
+        if rules and rules.get(config.name):
+            records[key]["rules_sha256"] = rules[config.name]
+        if whole:
+            records[key]["whole"] = name = f"whole/{config.name}/{key[:16]}/seed{seed}.npz"
+            files[name] = _npz(arrays)
+            records[key]["sha256"] = hashlib.sha256(files[name]).hexdigest()
+        tables.setdefault(config.name, []).append((key, _row(arrays, frozenset(keep))))
+    for name, found in tables.items():
+        files[f"tables/{name}.npz"] = _npz(_columns(sorted(found, key=lambda r: r[0])))
+        for key, cells in _rows(_table_bytes(files[f"tables/{name}.npz"])):
+            records[key]["row"] = row_digest(cells)  # what the table serves of the run
+    platform = kept["platform"] if only is not None else numeric_platform()
+    migrations = kept["migrations"] if only is not None else _migrations_of(folder)
+    data = _manifest(files, records, runners, configs, platform, migrations)
+    if only is not None:
+        platforms = _table_platforms(kept, only, tables, numeric_platform())
+        if platforms:
+            data["table_platforms"] = platforms
+    _replace_files(folder, files)
+    text = json.dumps(data, indent=1, sort_keys=True) + "\n"
+    atomic_write(folder / "manifest.json", lambda f: f.write(text.encode()))
+    _read_manifest.cache_clear()
+    return manifest(folder)
+
+
+def _kept_and_shared(folder: Path, only, runs) -> tuple[dict, dict]:
+    """What :func:`update` with ``only`` keeps of the ledger in ``folder`` (:func:`_kept`,
+    the shared tables it extends taken out of its files) and the rows of each shared table
+    that ``runs`` add to; ValueError for runs of a table it would replace whole."""
+    kept = _kept(folder, frozenset(only))
+    outside = sorted({c.name for c, *_ in runs} - set(only))
+    if set(outside) - SHARED_TABLES or not {f"tables/{n}.npz" for n in outside} <= set(
+        kept["files"]
+    ):
+        raise ValueError(
+            f"runs of the tables {', '.join(outside)} would replace those tables whole: "
+            f"name them too, or write the whole ledger"
+        )
+    # a table designs share: extended, its rows kept as they are
+    tables = {n: _rows(_table_bytes(kept["files"].pop(f"tables/{n}.npz"))) for n in outside}
+    return kept, tables
+
+
+def _table_platforms(kept: dict, only, tables, here: dict) -> dict:
+    """Where each table's runs were computed, as :func:`update` with ``only`` records it:
+    the kept tables' as they were, the written tables' ``here``, and an extended shared
+    table's every platform its runs came from (a list where there are several)."""
+    platforms = {n: p for n, p in kept["platforms"].items() if n not in only}
+    for n in tables:
+        before = platforms.get(n, kept["platform"]) if n not in only else here
+        before = before if isinstance(before, list) else [before]
+        found = before if here in before else [*before, here]
+        platforms[n] = found[0] if len(found) == 1 else found
+    return dict(sorted(platforms.items()))
+
+
+def _migrations_of(folder: Path) -> list:
+    """The migrations recorded by the ledger in ``folder`` (none if it has no readable
+    manifest): a ledger written anew keeps the history of its runs' keys."""
+    try:
+        data = _stored_manifest(folder)
+    except StaleLedger:
+        return []
+    return list(data.get("migrations", [])) if data else []
+
+
+def _manifest(
+    files: dict,
+    records: dict,
+    runners: dict,
+    configs: dict,
+    platform: dict,
+    migrations: list = (),
+) -> dict:
+    """The manifest of a ledger's ``files`` (its tables among them) and run ``records``, the
+    runs computed by ``runners`` from ``configs`` on ``platform`` (the ledger's), with the
+    ``migrations`` its runs' keys went through."""
+    table_names = {p[len("tables/") : -len(".npz")] for p in files if p.startswith("tables/")}
+    tables = {n: hashlib.sha256(files[f"tables/{n}.npz"]).hexdigest() for n in sorted(table_names)}
+    found = {
+        "format": LEDGER_FORMAT,
+        "store_format": kinds.FORMAT_VERSION,
+        "fingerprints": {name: r.fingerprint() for name, r in runners.items()},
+        "modules": {name: r.module_digests() for name, r in runners.items()},
+        "rendering_stack": kinds.rendering_stack(),
+        "platform": platform,
+        "configs": configs,
+        "tables": tables,
+        "runs": records,
+        "seals": _seals(records, tables, list(migrations)),
+    }
+    if migrations:
+        found["migrations"] = list(migrations)
+    return found
+
+
+def _config_ref(config: dict) -> str:
+    """How a run's record names its configuration (``config``, JSON-ready) in the manifest's
+    ``configs``."""
+    return hashlib.sha256(json.dumps(config, sort_keys=True).encode()).hexdigest()[:16]
+
+
+def _record(config, seed: int, results_dir) -> tuple[str, dict, dict]:
+    """A stored run as the ledger takes it: its key, its arrays (the file checked against the
+    key and its content digest) and its record, but for its runner's name."""
+    key, path = kinds.run_key(config, seed), kinds.result_path(config, seed, results_dir)
+    result = kinds.load_result(path, key)  # checks the file against the key and digest
+    with np.load(path, allow_pickle=False) as stored:
+        arrays = {k: stored[k] for k in stored.files}
+    computed = json.loads(str(arrays["meta"])).get("computed_utc")
+    walls = float(result.wall_time_train), float(result.wall_time_test)
+    record = {
+        "name": config.name,
+        "seed": seed,
+        "config": _config_ref(config.to_dict()),
+        "digest": kinds.content_digest(arrays),
+        "wall_time_train": walls[0],
+        "wall_time_test": walls[1],
+        "wall_seconds": round(sum(walls), 1),
+    }
+    if computed is not None:  # runs stored before the time was recorded have none
+        record["computed_utc"] = computed
+    return key, arrays, record
+
+
+def _kept(folder: Path, replaced: frozenset) -> dict:
+    """What :func:`update` with ``only=replaced`` keeps of the ledger in ``folder``: the
+    records, configurations and files (bytes, checked against the manifest) of every table
+    not in ``replaced``, and the runners that computed them."""
+    data = manifest(folder)  # StaleLedger if another code computed it
+    if data is None:
+        raise ValueError(f"no ledger in {folder} to add to (it has no manifest.json)")
+    runs, files, configs, runners = {}, {}, {}, set()
+    for name, sha256 in data["tables"].items():
+        if name not in replaced:
+            files[f"tables/{name}.npz"] = _verified(
+                folder / "tables" / f"{name}.npz", sha256, folder
+            )
+    refs = {json.dumps(c, sort_keys=True): ref for ref, c in data["configs"].items()}
+    for key, record in data["runs"].items():
+        if record["name"] in replaced:
+            continue
+        kept = {k: v for k, v in record.items()}
+        ref = refs[json.dumps(record["config"], sort_keys=True)]
+        kept["config"], configs[ref] = ref, record["config"]
+        if "whole" in record:
+            files[record["whole"]] = _verified(folder / record["whole"], record["sha256"], folder)
+        runs[key] = kept
+        runners.add(record["runner"])
+    platform, platforms = data["platform"], data.get("table_platforms", {})
+    return dict(
+        migrations=list(data.get("migrations", [])),
+        runs=runs,
+        files=files,
+        configs=configs,
+        runners=runners,
+        platform=platform,
+        platforms={n: p for n, p in platforms.items() if n not in replaced},
+    )
+
+
+def _replace_files(folder: Path, files: dict[str, bytes]) -> None:
+    """Write ``files`` (``{path in folder: bytes}``), each atomically and only if it changed,
+    and delete the tables and whole runs the ledger no longer holds (and emptied folders)."""
+    old = {p for kind in ("tables", "whole") for p in [folder / kind, *folder.glob(f"{kind}/**/*")]}
+    for relative, raw in files.items():
+        old.discard(folder / relative)
+        if not _holds(folder / relative, raw):
+            atomic_write(folder / relative, lambda f, raw=raw: f.write(raw))
+    for stale in sorted(old, reverse=True):  # a folder's files before the folder
+        if stale.is_file():
+            stale.unlink()
+        elif stale.is_dir() and not any(stale.iterdir()):
+            stale.rmdir()
+
+
+def _holds(path: Path, raw: bytes) -> bool:
+    """Whether ``path`` is a regular file holding ``raw`` (anything else is replaced)."""
+    try:
+        return read_regular(path, len(raw), path.parent) == raw
+    except (OSError, UnsafeFile):
+        return False

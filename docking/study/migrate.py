@@ -1,0 +1,369 @@
+"""Migration: a change of code that changes no number moves no run
+(``python -m docking ledger migrate``).
+
+A run's key names the code that computed it (its runner's source fingerprint,
+:mod:`docking.study.store`), so splitting a keyed function, giving a keyed module an input check or
+moving it into a folder re-keys every stored run, though every array stays as it was. A
+migration re-keys them instead of recomputing them, **only after** showing, for this change,
+that the new code computes what the old code did:
+
+1. *Which runs.* The runners whose recorded fingerprint is not this code's (the others are
+   left alone).
+2. *The sample* (:func:`sample`): runs of those runners chosen to cover every results table,
+   every kind of run (the runner, and for the paper's learner the policy, the feature layer
+   and the rule, the action set and the pretraining), and every world of the ledger, the
+   cheapest first (by their recorded wall times).
+3. *The proof.* The sample is recomputed by this code in a temporary store, and each run is
+   compared with what the ledger holds of it, as ``verify`` compares
+   (:func:`docking.study.verify.compare`): its content digest, its table row, column by column.
+   If any run differs, nothing is migrated and the runs that differ are named.
+4. *The move.* Every run of those runners gets the key this code gives its configuration and
+   seed (under the ledger's rendering stack): the records, the tables' ``key`` column, the
+   whole runs' files and their meta records. The manifest records the migration
+   (:data:`MIGRATION_FIELDS`: the fingerprints from and to, the modules that changed, the
+   commit, the runs recomputed with their digests, the runs moved) and seals it with the
+   rest.
+
+A results store (a user's ``results/``) is migrated by the same proof
+(:func:`migrate_store`): a stored run whose key was made with a fingerprint a recorded
+migration moved from is re-keyed, along the chain of migrations, to this code's key; any
+other run is left as it is (recomputed when asked for, as before).
+
+What the proof covers, and what it does not: it shows that the runs it recomputed are the
+same under both codes, on this machine; that the others are is an inference from the sample
+covering every table, kind and world. A change that alters numbers only in a corner no
+sampled run reaches would pass. ``verify`` keeps sampling other runs at every commit.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import hashlib
+import io
+import json
+import tempfile
+from pathlib import Path
+
+import numpy as np
+
+from docking.fileio import atomic_write, read_regular
+from docking.study import kinds, ledger, paths
+
+__all__ = ["Migration", "MIGRATION_FIELDS", "migrate", "migrate_store", "sample"]
+
+#: What a migration record of the manifest holds.
+MIGRATION_FIELDS = (
+    "from",  # {runner: the fingerprint its runs had}
+    "to",  # {runner: this code's}
+    "changed",  # {runner: the modules (and assets, libraries) whose digests differ}
+    "commit",  # the checkout's commit (the code that recomputed the sample)
+    "utc",  # when
+    "recomputed",  # [{name, seed, key (new), digest}] the sample, equal to the ledger
+    "moved",  # {runner: how many runs were re-keyed}
+)
+
+
+@dataclasses.dataclass(frozen=True)
+class Migration:
+    """What :func:`migrate` did: ``record`` (the manifest's new migration record, or None if
+    there was nothing to migrate or a run differed), ``differ`` (the sampled runs that the
+    new code computes otherwise: ``(name, seed, what differs)``), ``store`` (the store's
+    counts, :func:`migrate_store`)."""
+
+    record: dict | None
+    differ: tuple[tuple[str, int, str], ...] = ()
+    store: dict | None = None
+
+
+# ------------------------------------------------------------------------------------------
+# The sample.
+# ------------------------------------------------------------------------------------------
+
+
+def _kind(record: dict) -> str:
+    """The kind of a run, as the sample covers kinds: its runner, and for the paper's learner
+    what decides which code paths it takes."""
+    config = record["config"]
+    if record["runner"] != "learner":
+        return record["runner"]
+    network = config.get("network", {})
+    world = config.get("world", {})
+    parts = (
+        config.get("policy"),
+        network.get("feature_layer"),
+        network.get("rule"),
+        world.get("actions"),
+        bool(config.get("pretrain_trials")),
+        network.get("eps_w") == 0,
+    )
+    return "learner " + json.dumps(parts)
+
+
+def _features(record: dict) -> set[tuple]:
+    """What a run covers: its table, its kind and its world (per runner)."""
+    world = json.dumps(record["config"].get("world"), sort_keys=True)
+    return {
+        ("table", record["name"], record["runner"]),
+        ("kind", _kind(record)),
+        ("world", record["runner"], world),
+    }
+
+
+def sample(data: dict, runners) -> list[str]:
+    """The keys of the runs of ``runners`` that cover every table, kind and world they have
+    in the ledger ``data``: greedy set cover, each step the run with the most features not
+    yet covered per second of its recorded wall time (ties: the key), in key order."""
+    candidates = {k: r for k, r in data["runs"].items() if r["runner"] in runners}
+    features = {k: _features(r) for k, r in candidates.items()}
+    left = set().union(*features.values()) if features else set()
+    chosen = []
+    while left:
+        key = max(
+            sorted(features),
+            key=lambda k: len(features[k] & left) / (candidates[k]["wall_seconds"] + 1.0),
+        )
+        chosen.append(key)
+        left -= features[key]
+    return sorted(chosen)
+
+
+# ------------------------------------------------------------------------------------------
+# The ledger.
+# ------------------------------------------------------------------------------------------
+
+
+def _changed(data: dict) -> dict[str, kinds.Runner]:
+    """The runners of the ledger ``data`` whose recorded fingerprint is not this code's."""
+    found = {}
+    for name, fingerprint in sorted(data["fingerprints"].items()):
+        runner = kinds.runner_named(name)
+        if runner.fingerprint() != fingerprint:
+            found[name] = runner
+    return found
+
+
+def _prove(data: dict, keys: list[str], scheduler, workers, progress) -> list:
+    """Recompute the runs ``keys`` with this code and compare them with the ledger
+    (:func:`docking.study.verify.compare`): the checks."""
+    from docking.study.sweep import Job, run_jobs
+    from docking.study.verify import compare
+
+    jobs = [
+        Job(
+            kinds.runner_named(data["runs"][k]["runner"]).from_dict(data["runs"][k]["config"]),
+            data["runs"][k]["seed"],
+        )
+        for k in keys
+    ]
+    with tempfile.TemporaryDirectory(prefix="docking-migrate-") as scratch:
+        run_jobs(
+            jobs,
+            scratch,
+            scheduler=scheduler,
+            workers=workers,
+            force=True,
+            progress=progress,
+            desc=f"migrate: recomputing {len(jobs)} runs",
+        )
+        return compare(data, keys, jobs, scratch)
+
+
+def _new_keys(data: dict, changed) -> dict[str, str]:
+    """``{key: its key under this code}`` of every run (unchanged for the other runners)."""
+    found, by_config = {}, {}
+    for key, record in data["runs"].items():
+        if record["runner"] not in changed:
+            found[key] = key
+            continue
+        text = json.dumps(record["config"], sort_keys=True)
+        if text not in by_config:
+            config = changed[record["runner"]].from_dict(record["config"])
+            by_config[text] = kinds.config_key(config, data["rendering_stack"])
+        found[key] = f"{by_config[text]}:seed{record['seed']}"
+    if len(set(found.values())) != len(found):
+        raise ValueError("two runs of the ledger would have one key under this code")
+    return found
+
+
+def _whole_file(raw: bytes, key: str) -> bytes:
+    """A whole run's file ``raw`` with its meta record's key replaced by ``key`` (its arrays,
+    and so its content digest, unchanged)."""
+    with np.load(io.BytesIO(raw), allow_pickle=False) as found:
+        arrays = {k: found[k] for k in found.files}
+    meta = json.loads(str(arrays["meta"]))
+    meta["key"] = key
+    arrays["meta"] = np.array(json.dumps(meta))
+    return ledger._npz(arrays)
+
+
+def _rekeyed(data: dict, keys: dict[str, str]) -> tuple[dict, dict]:
+    """``(files, records)`` of the ledger ``data`` with every run under its new key: every
+    table and whole file (the tables' rows and the whole runs' arrays unchanged)."""
+    folder, files, records = data["folder"], {}, {}
+    for name in sorted(data["tables"]):
+        rows = ledger.table_rows(data, name)  # each row checked against its record
+        moved = sorted((keys[k], cells) for k, cells in rows.items())
+        files[f"tables/{name}.npz"] = ledger._npz(ledger._columns(moved))
+    for key, record in data["runs"].items():
+        new = dict(record, config=ledger._config_ref(record["config"]))
+        if record.get("whole"):
+            raw = ledger._verified(folder / record["whole"], record["sha256"], folder)
+            seed = record["seed"]
+            new["whole"] = path = f"whole/{record['name']}/{keys[key][:16]}/seed{seed}.npz"
+            files[path] = _whole_file(raw, keys[key])
+            new["sha256"] = hashlib.sha256(files[path]).hexdigest()
+        records[keys[key]] = new
+    return files, records
+
+
+def migrate(
+    folder: Path | str | None = None,
+    results_dir: Path | str | None = None,
+    scheduler: str | None = None,
+    workers: int | None = None,
+    progress: bool = True,
+    commit: str | None = None,
+) -> Migration:
+    """Migrate the ledger in ``folder`` (default :func:`docking.study.paths.ledger_dir`) to this
+    code, as the module docstring says, then the results store ``results_dir`` (default
+    :func:`docking.study.paths.results_dir`; ``False``: none). Returns what was done; nothing is
+    written if a sampled run differs."""
+    folder = Path(folder) if folder is not None else paths.ledger_dir()
+    if folder is None:
+        raise ValueError("no ledger folder: DOCKING_LEDGER is off and no folder was given")
+    data = ledger._stored_manifest(Path(folder))
+    if data is None:
+        raise FileNotFoundError(f"no ledger in {folder} (it has no manifest.json)")
+    changed = _changed(data)
+    record = None
+    if changed:
+        keys = sample(data, changed)
+        checks = _prove(data, keys, scheduler, workers, progress)
+        differ = tuple((c.name, c.seed, c.differences()) for c in checks if not c.ok)
+        if differ:
+            return Migration(None, differ)
+        record = _write(data, changed, checks, commit)
+    moved = None if results_dir is False else migrate_store(results_dir, folder)
+    return Migration(record, (), moved)
+
+
+def _write(data: dict, changed: dict, checks, commit: str | None) -> dict:
+    """Re-key the ledger ``data`` (its runners ``changed`` proven by ``checks``) and record
+    the migration; the record."""
+    from docking.study.verify import _commit
+
+    keys = _new_keys(data, changed)
+    files, records = _rekeyed(data, keys)
+    configs = {ledger._config_ref(r["config"]): r["config"] for r in data["runs"].values()}
+    runners = {name: kinds.runner_named(name) for name in data["fingerprints"]}
+    migration = {
+        "from": {n: data["fingerprints"][n] for n in changed},
+        "to": {n: r.fingerprint() for n, r in changed.items()},
+        "changed": {n: _modules_changed(data, r) for n, r in changed.items()},
+        "commit": commit or _commit(),
+        "utc": kinds.computed_utc(),
+        "recomputed": [
+            {"name": c.name, "seed": c.seed, "key": keys[c.key], "digest": c.digest} for c in checks
+        ],
+        "moved": {n: sum(r["runner"] == n for r in records.values()) for n in changed},
+    }
+    migrations = [*data.get("migrations", []), migration]
+    manifest = ledger._manifest(files, records, runners, configs, data["platform"], migrations)
+    manifest["rendering_stack"] = data["rendering_stack"]  # the runs' stack, not this machine's
+    if "table_platforms" in data:
+        manifest["table_platforms"] = data["table_platforms"]
+    folder = data["folder"]
+    ledger._replace_files(folder, files)
+    text = json.dumps(manifest, indent=1, sort_keys=True) + "\n"
+    atomic_write(folder / "manifest.json", lambda f: f.write(text.encode()))
+    ledger._read_manifest.cache_clear()
+    ledger._table.cache_clear()
+    ledger.check_files(folder)  # the migrated ledger, every check
+    return migration
+
+
+def _modules_changed(data: dict, runner) -> list[str]:
+    ours, theirs = runner.module_digests(), data["modules"].get(runner.name, {})
+    return sorted(k for k in set(ours) | set(theirs) if ours.get(k) != theirs.get(k))
+
+
+# ------------------------------------------------------------------------------------------
+# A results store.
+# ------------------------------------------------------------------------------------------
+
+
+def _chains(migrations: list) -> dict[str, dict[str, str]]:
+    """``{runner: {a fingerprint migrated from: the one it was migrated to}}``."""
+    found: dict[str, dict[str, str]] = {}
+    for m in migrations:
+        for name, before in m["from"].items():
+            found.setdefault(name, {})[before] = m["to"][name]
+    return found
+
+
+def migrate_store(results_dir=None, folder=None) -> dict[str, int]:
+    """Re-key the runs of the results store ``results_dir`` whose key was made with a
+    fingerprint that the ledger in ``folder`` records a migration from, along the chain of
+    its migrations, when it ends at this code's fingerprint. Returns ``{"moved", "current",
+    "left"}``: runs re-keyed, runs keyed by this code already, runs left as they are (other
+    code, no proven migration, or a file that is not a valid run)."""
+    root = Path(results_dir) if results_dir is not None else paths.results_dir()
+    data = ledger._stored_manifest(Path(folder) if folder is not None else paths.ledger_dir())
+    chains = _chains(data.get("migrations", []) if data else [])
+    counts = {"moved": 0, "current": 0, "left": 0}
+    for path in sorted(root.glob("*/*/seed*.npz")) if root.is_dir() else ():
+        counts[_migrate_file(path, root, chains)] += 1
+    return counts
+
+
+def _migrate_file(path: Path, root: Path, chains: dict) -> str:
+    """Migrate one stored run (:func:`migrate_store`): ``"moved"``, ``"current"`` or
+    ``"left"``."""
+    try:
+        raw = read_regular(path, kinds.RESULT_LIMIT, path.parent)
+        with np.load(io.BytesIO(raw), allow_pickle=False) as found:
+            arrays = {k: found[k] for k in found.files}
+        meta = json.loads(str(arrays["meta"]))
+        runner = kinds.runner_named(meta.get("runner", "learner"))
+        config, seed = runner.from_dict(meta["config"]), int(meta["seed"])
+        if meta["key"] == kinds.run_key(config, seed):
+            return "current"
+        now, chain = runner.fingerprint(), chains.get(runner.name, {})
+        for before in chain:
+            if meta["key"] != kinds.run_key(config, seed, source=before):
+                continue
+            kinds.load_result(path, meta["key"], source=before)  # valid: arrays and digest
+            fingerprint, seen = before, set()
+            while fingerprint in chain and fingerprint not in seen:
+                seen.add(fingerprint)
+                fingerprint = chain[fingerprint]
+            if fingerprint != now:
+                return "left"
+            _move(path, arrays, meta, config, seed, root)
+            return "moved"
+    except (OSError, ValueError, KeyError, TypeError, kinds.CorruptResult):
+        return "left"
+    return "left"
+
+
+def _move(path: Path, arrays: dict, meta: dict, config, seed: int, root: Path) -> None:
+    """Write the stored run ``arrays`` under this code's key and remove the old file (and
+    its folder once it holds no run)."""
+    meta["key"] = kinds.run_key(config, seed)
+    arrays["meta"] = np.array(json.dumps(meta))
+    target = kinds.result_path(config, seed, root)
+    buffer = io.BytesIO()
+    np.savez_compressed(buffer, **arrays)
+    atomic_write(target, lambda f: f.write(buffer.getvalue()))
+    config_json = target.parent / "config.json"
+    if not config_json.exists():
+        text = json.dumps(meta["config"], indent=2, sort_keys=True) + "\n"
+        atomic_write(config_json, lambda f: f.write(text.encode()))
+    kinds.load_result(target, meta["key"])  # the moved file is a valid run of its new key
+    path.unlink()
+    if not any(path.parent.glob("seed*.npz")):
+        for left in path.parent.iterdir():
+            if left.name == "config.json":
+                left.unlink()
+        if not any(path.parent.iterdir()):
+            path.parent.rmdir()

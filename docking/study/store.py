@@ -1,0 +1,130 @@
+"""The results store: a folder of runs (``results/``, or ``DOCKING_RESULTS``), each saved in
+the file its key names (:func:`docking.study.kinds.result_path`).
+
+Three things happen here, and only here: a stored run is *found* (:func:`find`: the file read
+and checked against its key and content digest, :func:`docking.study.kinds.load_result`), a run
+is *computed and stored* (:func:`compute`: by its runner, saved atomically, the folder checked
+for writability and free space first), and both in one for a user who wants a run without the
+ledger (:func:`run_or_load`). Which of the store, the committed ledger
+(:mod:`docking.study.ledger`) or a computation gives a run is decided in one place,
+:func:`docking.study.runs.locate`; the store never reads the ledger, and the ledger never the
+store (both build on :mod:`docking.study.kinds`).
+
+A file that is not a valid run of its key is a warning that names the file and the reason
+(:func:`run_or_load`, :func:`docking.study.runs.locate`); the run is then computed again and
+replaces it. Temporary files of killed writers are cleaned up before the next write.
+"""
+
+from __future__ import annotations
+
+import os
+import shutil
+import tempfile
+import warnings
+from pathlib import Path
+
+from docking.fileio import remove_stale_temporaries
+from docking.study import kinds, paths
+from docking.study.kinds import CorruptResult, ForeignFile, module_digests, source_fingerprint
+
+#: ``source_fingerprint`` and ``module_digests`` (:mod:`docking.study.kinds`): the code the
+#: store's keys name, here too, where a reader of the store looks for them.
+__all__ = [
+    "check_writable",
+    "compute",
+    "find",
+    "module_digests",
+    "run_or_load",
+    "source_fingerprint",
+]
+
+#: Free space the results folder must have before a run starts (a stored run is < 2 MiB).
+_MIN_FREE = 16 << 20
+
+
+def check_writable(results_dir: Path | str | None = None) -> Path:
+    """Make sure the results folder exists and a file can be written there; ``PermissionError``
+    (an ``OSError``) naming the path otherwise. Returns the folder."""
+    root = Path(results_dir) if results_dir is not None else paths.results_dir()
+    try:
+        root.mkdir(parents=True, exist_ok=True)
+        fd, probe = tempfile.mkstemp(prefix=".write-test.", suffix=".tmp", dir=root)
+        os.close(fd)
+        os.unlink(probe)
+        free = shutil.disk_usage(root).free
+        if free < _MIN_FREE:
+            raise OSError(f"only {free // 2**20} MiB free, a run needs up to {_MIN_FREE >> 20}")
+    except OSError as exc:
+        raise PermissionError(
+            f"the results folder {str(root)!r} is not writable ({type(exc).__name__}: {exc}); "
+            "choose another with DOCKING_RESULTS or results_dir="
+        ) from exc
+    return root
+
+
+def find(config, seed: int, path: Path, key: str):
+    """The run of (``config``, ``seed``) stored at ``path`` (its file read and checked against
+    ``key`` and its content digest), or None if the store holds no file there.
+    :class:`~docking.study.kinds.CorruptResult` naming the reason if the file there is not a
+    valid run of ``key``; :class:`~docking.study.kinds.ForeignFile` if it is nothing the store
+    writes (refused, never read, never replaced: remove it to compute the run again)."""
+    del config, seed  # named by ``key`` and ``path``; passed so that a call says which run
+    remove_stale_temporaries(path)  # of writers killed during an earlier save
+    if not path.exists():
+        return None
+    try:
+        return kinds.load_result(path, key)
+    except ForeignFile as exc:
+        raise ForeignFile(f"{exc}; remove it to compute the run again") from None
+
+
+def compute(
+    config, seed: int, path: Path, progress: bool = True, on_trials=None, again: bool = False
+):
+    """Compute the run of (``config``, ``seed``) with its runner and store it at ``path``
+    (replacing whatever is there); the run. ``on_trials(n)``: called as its trials finish.
+
+    Unless ``again``, a valid file of this very run already at ``path`` is read instead: an
+    earlier attempt of the same job stored it (a sweep's job that Dask runs again after its
+    worker was lost once the run was stored, or another sweep's), and a stored run is never
+    computed twice."""
+    if not again and path.exists():
+        try:
+            return kinds.load_result(path, kinds.run_key(config, seed))
+        except CorruptResult:
+            pass  # not this run: computed and replaced below (ForeignFile is raised)
+    check_writable(path.parent)
+    result = kinds.runner_for(config).run(config, seed, progress=progress, on_trials=on_trials)
+    kinds.save_result(result, path)
+    return result
+
+
+def run_or_load(
+    config,
+    seed: int,
+    results_dir: Path | str | None = None,
+    force: bool = False,
+    progress: bool = True,
+    on_trials=None,
+):
+    """The run of (``config``, ``seed``), of any runner, from the store alone: loaded if a
+    valid file with its key is there, otherwise computed by its runner and saved (a bad file is
+    a warning, then replaced). ``on_trials(n)``: called as the computed run's trials finish
+    (its progress). ``force`` recomputes and replaces whatever is stored. The ledger is not
+    consulted: :func:`docking.study.runs.locate` asks the store, then the ledger."""
+    path = kinds.result_path(config, seed, results_dir)
+    if not force:
+        try:
+            found = find(config, seed, path, kinds.run_key(config, seed))
+        except ForeignFile:
+            raise
+        except CorruptResult as exc:
+            warnings.warn(
+                f"ignoring the stored result {path}: {exc}; recomputing it",
+                RuntimeWarning,
+                stacklevel=2,
+            )
+        else:
+            if found is not None:
+                return found
+    return compute(config, seed, path, progress=progress, on_trials=on_trials, again=True)

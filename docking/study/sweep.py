@@ -1,0 +1,893 @@
+"""Sweeps: many (configuration, seed) runs on a Dask cluster, saved in the results store.
+
+A sweep is a list of :class:`Job` s. Each job is located once, before anything computes
+(:func:`docking.study.runs.locate`: a valid file in the results store, else the committed
+ledger's entry, else to compute); the runs found nowhere are computed through
+``dask.distributed``:
+
+* by default on an embedded cluster: the scheduler of a ``LocalCluster`` in this process and
+  one worker *process* per core (or per job, if fewer), ``dask worker`` with one thread
+  each, so every worker renders with its own OpenGL context;
+* or on an existing cluster, ``scheduler="tcp://HOST:PORT"`` (started with ``dask scheduler``
+  and ``dask worker tcp://HOST:PORT``, or by dask-jobqueue on SLURM). The workers must import
+  the same ``docking`` code and see the results folder under the same path (one machine or a
+  shared file system).
+
+Each such job computes its run on a worker, which saves it in the store in the file its key
+names (:func:`docking.study.store.compute`, :func:`docking.study.kinds.result_path`) and
+returns the path (or the run, to a caller that keeps the runs: :func:`sweep`). Stored runs
+are skipped before anything is submitted, so an interrupted sweep resumes where it stopped and
+no finished run is computed twice. A job lost with a worker is rescheduled by Dask on another
+one. A progress bar on the terminal (stderr) counts finished jobs.
+
+The embedded cluster's workers end with the process that started them
+(:func:`_die_with_parent`: ``PR_SET_PDEATHSIG`` on Linux and a ``getppid`` watchdog), and
+they are plain subprocesses rather than ``multiprocessing`` children, so neither ``kill -9``
+nor ``SIGTERM`` of the parent leaves orphans or leaked semaphores.
+"""
+
+from __future__ import annotations
+
+import asyncio
+import contextlib
+import dataclasses
+import itertools
+import json
+import logging
+import math
+import os
+import signal
+import sys
+import threading
+import time
+import uuid
+from collections.abc import Iterable, Mapping, Sequence
+from pathlib import Path
+from typing import TYPE_CHECKING
+
+from docking.experiments import ExperimentConfig
+from docking.study import paths, store
+from docking.study.kinds import result_path, runner_for
+from docking.study.runs import Located, locate
+from docking.validate import (
+    DIGITS,
+    MAX_SEED,
+    check_instance,
+    check_int,
+    parse_int,
+    parse_real,
+)
+
+if TYPE_CHECKING:
+    from docking.study.ppo import PPOConfig
+
+__all__ = [
+    "Job",
+    "apply_override",
+    "grid_configs",
+    "jobs_for",
+    "missing",
+    "parse_seeds",
+    "run_configs",
+    "run_jobs",
+    "sweep",
+]
+
+
+@dataclasses.dataclass(frozen=True)
+class Job:
+    """One run of a sweep: a configuration of a kind of run (:func:`docking.study.kinds.runner_for`:
+    the paper's learner or a yardstick, PPO, or a registered learner) and a seed."""
+
+    config: ExperimentConfig | PPOConfig
+    seed: int
+
+    def __post_init__(self):
+        try:
+            runner_for(self.config)
+        except TypeError:
+            raise TypeError(
+                f"Job.config must be an ExperimentConfig or a PPOConfig, got {self.config!r:.80}"
+            ) from None
+        object.__setattr__(self, "seed", check_int("Job", "seed", self.seed, lo=0))
+
+
+def _trials(config) -> int:
+    return runner_for(config).trials_in_run(config)
+
+
+def jobs_for(configs: Iterable[ExperimentConfig], seeds: Iterable[int]) -> list[Job]:
+    """Every configuration with every seed, configuration-major."""
+    seeds = list(seeds)
+    return [Job(c, s) for c in configs for s in seeds]
+
+
+# ------------------------------------------------------------------------------------------
+# Seeds and parameter grids from the command line.
+# ------------------------------------------------------------------------------------------
+
+
+#: The most seeds one command may name (each seed is a run of minutes).
+MAX_SEEDS = 10_000
+#: The most configurations one grid may name, as for seeds (each is a run of minutes per seed).
+MAX_CONFIGS = 10_000
+#: The most runs (configurations x seeds) one sweep command may name.
+MAX_RUNS = 10_000
+
+
+def parse_seeds(text: str) -> list[int]:
+    """Seeds from ``"0-19"``, ``"0,3,5"``, ``"0 3 5"`` or ``"0-4,10-12"`` (ranges include both
+    ends; commas and/or whitespace separate the items, spaces around a range's ``-`` are
+    allowed), at most :data:`MAX_SEEDS` of them, each at most
+    :data:`docking.validate.MAX_SEED`. Seeds are ASCII digits (:data:`docking.validate.DIGITS`,
+    as every number of the command line): ``int`` would also read ``1_0`` as 10 and other
+    scripts' digits (``١``) as theirs."""
+    import re
+
+    usage = (
+        "seeds must be integers >= 0 or ranges like 0-19, separated by commas or spaces; got "
+        f"{text!r}"
+    )
+    seeds: list[int] = []
+    # "0 - 4" is the range 0-4; "1 2" the seeds 1 and 2 (never 12).
+    for chunk in re.sub(r"\s*-\s*", "-", str(text)).split(","):
+        items = chunk.split()
+        if not items:  # "", "1,,2", "1,"
+            raise ValueError(usage)
+        for part in items:
+            bounds = part.split("-")
+            try:
+                if len(bounds) > 2 or not all(re.fullmatch(DIGITS, b) for b in bounds):
+                    raise ValueError
+                lo, hi = int(bounds[0]), int(bounds[-1])
+                if lo < 0 or hi < lo:
+                    raise ValueError
+            except ValueError:
+                raise ValueError(usage) from None
+            if hi > MAX_SEED:
+                raise ValueError(f"seeds must be at most {MAX_SEED}; got {text!r}")
+            if len(seeds) + hi - lo + 1 > MAX_SEEDS:
+                raise ValueError(f"at most {MAX_SEEDS} seeds in one command; got more in {text!r}")
+            seeds.extend(range(lo, hi + 1))
+    if len(set(seeds)) != len(seeds):
+        raise ValueError(f"seeds must not repeat; got {text!r}")
+    return seeds
+
+
+def _convert(value: str, current, where: str):
+    if isinstance(current, bool):
+        lowered = value.lower()
+        if lowered in ("true", "1", "yes"):
+            return True
+        if lowered in ("false", "0", "no"):
+            return False
+        raise ValueError(f"{where} takes true or false, got {value!r}")
+    if isinstance(current, int):  # ASCII digits, as every number of the command line
+        try:
+            return parse_int(value)
+        except ValueError as exc:
+            raise ValueError(f"{where} takes an integer; {exc}") from None
+    if isinstance(current, float):
+        try:
+            return parse_real(value)
+        except ValueError as exc:
+            raise ValueError(f"{where} takes a number; {exc}") from None
+    if isinstance(current, str):
+        return value
+    raise ValueError(f"{where} ({type(current).__name__}) cannot be set from the command line")
+
+
+def apply_override(config, path: str, value: str):
+    """A copy of the (nested, frozen) dataclass ``config`` with the field at the dotted
+    ``path`` (e.g. ``"network.eps_w"``; dashes may replace underscores) set to ``value``,
+    converted to the field's current type; the dataclasses validate the result."""
+    head, _, rest = path.replace("-", "_").partition(".")
+    names = {f.name for f in dataclasses.fields(config)}
+    where = f"{type(config).__name__}.{head}"
+    if head not in names:
+        raise ValueError(f"{where} is not a field (fields: {', '.join(sorted(names))})")
+    current = getattr(config, head)
+    if rest:
+        if not dataclasses.is_dataclass(current):
+            raise ValueError(f"{where} has no field {rest!r}")
+        new = apply_override(current, rest, value)
+    else:
+        if dataclasses.is_dataclass(current):
+            raise ValueError(f"{where} is a group of fields; name one of them ({where}.FIELD)")
+        new = _convert(value, current, where)
+    return dataclasses.replace(config, **{head: new})
+
+
+def grid_configs(base: ExperimentConfig, grid: Sequence[str]) -> list[ExperimentConfig]:
+    """The configurations of a parameter grid: every combination of the values of each
+    ``"path=v1,v2,..."`` entry (e.g. ``"network.eps_w=0,0.05"``) applied to ``base``. A field
+    named twice, or two values that give the same configuration (``0,0.0``), are refused as
+    repeated seeds are; so is a grid of more than :data:`MAX_CONFIGS` configurations, before
+    any is built."""
+    axes, named = [], {}
+    for entry in grid:
+        path, sep, values = entry.partition("=")
+        if not sep or not path or not values:
+            raise ValueError(
+                f"a grid entry is PATH=V1,V2,... (e.g. network.eps_w=0,0.05); got {entry!r}"
+            )
+        field = path.strip().replace("-", "_")
+        if field in named:
+            raise ValueError(f"the grid names {field} twice ({named[field]!r} and {entry!r})")
+        named[field] = entry
+        axes.append([(path.strip(), v.strip()) for v in values.split(",")])
+    count = math.prod(len(axis) for axis in axes)
+    if count > MAX_CONFIGS:
+        sizes = " x ".join(str(len(axis)) for axis in axes)
+        raise ValueError(
+            f"at most {MAX_CONFIGS} grid configurations in one command; the grid names "
+            f"{count:,} ({sizes})"
+        )
+    configs, seen = [], {}
+    for combination in itertools.product(*axes):
+        config = base
+        for path, value in combination:
+            config = apply_override(config, path, value)
+        text = json.dumps(config.to_dict(), sort_keys=True)
+        point = " ".join(f"{path}={value}" for path, value in combination)
+        if text in seen:
+            raise ValueError(
+                f"the grid's values must differ; {seen[text]} and {point} are the same "
+                f"configuration"
+            )
+        seen[text] = point
+        configs.append(config)
+    return configs
+
+
+# ------------------------------------------------------------------------------------------
+# Workers.
+# ------------------------------------------------------------------------------------------
+
+_PR_SET_PDEATHSIG = 1
+_LOG_VARIABLE = "DASK_LOGGING__DISTRIBUTED"
+#: Set in the environment of the embedded cluster's workers: the PID they must die with.
+_PARENT_VARIABLE = "DOCKING_SWEEP_PARENT"
+#: Set in the environment of the embedded cluster's workers: a file that exists once the
+#: cluster that started them is closing (:meth:`_EmbeddedCluster.close`).
+_CLOSING_VARIABLE = "DOCKING_SWEEP_CLOSING"
+
+
+def _die_with_parent(parent: int) -> None:
+    """End this process when ``parent`` (its parent process) ends: ``PR_SET_PDEATHSIG`` =
+    SIGKILL where Linux offers it, and a watchdog thread that exits once the process is
+    re-parented (``getppid`` changes), which also covers a parent that died before."""
+    if sys.platform.startswith("linux"):
+        try:
+            import ctypes
+
+            libc = ctypes.CDLL(None, use_errno=True)
+            libc.prctl(_PR_SET_PDEATHSIG, signal.SIGKILL, 0, 0, 0)
+        except (OSError, AttributeError):
+            pass
+    if os.getppid() != parent:  # the parent died already
+        os._exit(1)
+
+    def watch() -> None:
+        while os.getppid() == parent:
+            time.sleep(0.5)
+        os._exit(1)
+
+    threading.Thread(target=watch, name="docking-parent-watchdog", daemon=True).start()
+
+
+#: What a worker logs, at ERROR with a traceback, when it closes its connections while a
+#: heartbeat still waits for the scheduler's answer (distributed's ``Worker.heartbeat``).
+_HEARTBEAT_CUT = "Failed to communicate with scheduler during heartbeat."
+
+
+class _QuietFailures(logging.Filter):
+    """Drops what an embedded worker reports of a failed job: "Compute Failed" (the job's
+    exception and its traceback; the client re-raises the exception and the command prints
+    it once, in one line) and the jobs cancelled when the failed sweep closes the cluster;
+    and, once the file ``closing`` exists (the cluster that started the worker is closing
+    it), every record below ERROR and the heartbeat its own close cut (``_HEARTBEAT_CUT``):
+    the races of our own shutdown ("Scheduler was unaware of this worker; shutting down.")
+    are not news. A worker lost while the cluster runs is still reported, and so is any
+    other error while it closes."""
+
+    def __init__(self, closing: str | None = None):
+        super().__init__()
+        self.closing = closing
+
+    def filter(self, record: logging.LogRecord) -> bool:
+        if str(record.msg).startswith("Compute Failed"):
+            return False
+        if record.name.startswith("distributed.worker") and "CancelledError" in record.getMessage():
+            return False
+        if self.closing is None or not os.path.exists(self.closing):
+            return True
+        return record.levelno >= logging.ERROR and record.getMessage() != _HEARTBEAT_CUT
+
+
+def dask_setup(worker=None) -> None:
+    """Dask preload hook (``dask worker --preload docking.study.sweep``): a worker of the embedded
+    cluster ends with the process that started it, and leaves reporting a failed job to the
+    client, and its shutdown to the cluster's close (:class:`_QuietFailures`). Does nothing
+    in other workers."""
+    parent = os.environ.get(_PARENT_VARIABLE)
+    if parent:
+        # on the handlers: it sees the records of every logger
+        quiet = _QuietFailures(os.environ.get(_CLOSING_VARIABLE))
+        for handler in logging.getLogger("distributed").handlers + logging.getLogger().handlers:
+            handler.addFilter(quiet)
+        logging.getLogger("distributed.worker").addFilter(quiet)
+        _die_with_parent(int(parent))
+
+
+#: The Dask event topic on which workers report finished trials (``(job index, trials)``).
+_PROGRESS_TOPIC = "docking-trials"
+
+
+def _run_job(
+    config: ExperimentConfig,
+    seed: int,
+    path: str,
+    force: bool = False,
+    on_trials=None,
+    report: str | None = None,
+    keep: bool = False,
+):
+    """The task a worker runs: compute one run and store it at ``path``
+    (:func:`docking.study.store.compute`: the client located it,
+    :func:`docking.study.runs.locate`, and found it nowhere, or was told to recompute it:
+    ``force``); the run if ``keep``, else the path. A job Dask runs again after its worker was
+    lost reads the run an earlier attempt stored.
+    ``on_trials(n)``: called as trials finish (in this process); ``report``: ``"sweep:k"``
+    to publish them, at most once a second, on the Dask event topic
+    :data:`_PROGRESS_TOPIC` (in a worker)."""
+    if report is not None:
+        on_trials = _Reporter(report)
+    try:
+        result = store.compute(
+            config, seed, Path(path), progress=False, on_trials=on_trials, again=force
+        )
+    finally:
+        if report is not None:
+            on_trials.flush()
+    return result if keep else path
+
+
+class _Reporter:
+    """Counts a worker's finished trials and publishes them on the Dask event topic at most
+    once a second (``flush`` sends the rest)."""
+
+    def __init__(self, tag: str):
+        self.tag, self.count, self.sent_at = tag, 0, time.monotonic()
+
+    def __call__(self, n: int) -> None:
+        self.count += n
+        if time.monotonic() - self.sent_at >= 1.0:
+            self.flush()
+
+    def flush(self) -> None:
+        if self.count:
+            from distributed import get_worker
+
+            get_worker().log_event(_PROGRESS_TOPIC, {"tag": self.tag, "trials": self.count})
+            self.count, self.sent_at = 0, time.monotonic()
+
+
+def missing(jobs: Iterable[Job], results_dir: Path | str | None = None) -> list[Job]:
+    """The jobs whose runs neither the store nor the ledger holds (what a sweep would
+    compute), each located once (:func:`docking.study.runs.locate`)."""
+    root = Path(results_dir) if results_dir is not None else paths.results_dir()
+    return [j for j in jobs if locate(j.config, j.seed, root, warn=False).place == "computed"]
+
+
+class _EmbeddedCluster:
+    """A Dask cluster on this machine: the scheduler in this process (a ``LocalCluster``
+    without in-process workers) and ``n_workers`` worker processes, ``dask worker --no-nanny``
+    with one thread each, that end with this process (:func:`dask_setup`). Workers are plain
+    subprocesses, not ``multiprocessing`` children, so a killed parent leaves neither
+    orphans nor semaphores behind. Why not a stock ``LocalCluster(processes=True)``: its
+    nannies start the workers through ``multiprocessing``, and when its process is ended by
+    SIGKILL or SIGTERM the resource tracker reports leaked semaphores
+    (distributed 2026.8; tests/test_sweep.py's ``test_workers_end_with_their_parent``)."""
+
+    def __init__(self, n_workers: int):
+        import subprocess
+        import tempfile
+
+        import dask
+        from distributed import Client, LocalCluster
+
+        # The cluster's own folder, removed when it closes: the workers' scratch
+        # (--local-directory) and the scheduler's (Dask's temporary-directory while it
+        # starts; by default <the system's temporary folder>/dask-scratch-space, shared by
+        # every cluster and left behind).
+        self._scratch = tempfile.TemporaryDirectory(prefix="docking-dask-")
+        self._closing = os.path.join(self._scratch.name, "closing")  # see close()
+        self._procs: list[subprocess.Popen] = []
+        with dask.config.set({"temporary-directory": self._scratch.name}):
+            self._cluster = LocalCluster(
+                n_workers=0,
+                processes=False,
+                protocol="tcp",  # not inproc: the workers are other processes
+                host="127.0.0.1",
+                scheduler_port=0,
+                dashboard_address="127.0.0.1:0",  # ":0" would listen on every interface
+                silence_logs=logging.ERROR,
+            )
+        package_root = str(Path(__file__).resolve().parents[2])
+        env = {
+            **os.environ,
+            _PARENT_VARIABLE: str(os.getpid()),
+            _CLOSING_VARIABLE: self._closing,
+            # The workers import this very package.
+            "PYTHONPATH": os.pathsep.join(
+                p for p in (package_root, os.environ.get("PYTHONPATH")) if p
+            ),
+        }
+        try:
+            for k in range(n_workers):
+                self._procs.append(
+                    subprocess.Popen(
+                        self._worker_command(k),
+                        env=env,
+                        stdin=subprocess.DEVNULL,
+                        # A session of their own: a terminal's Ctrl-C (SIGINT to its
+                        # foreground group) reaches the command only, which then closes its
+                        # workers in order (close()); reaching them too, it raced that close.
+                        start_new_session=True,
+                    )
+                )
+            self.client = Client(self._cluster)
+            self._wait_for_workers(n_workers)
+        except BaseException:
+            self.close()
+            raise
+
+    def _worker_command(self, k: int) -> list[str]:
+        """The command of worker ``k``: ``dask worker`` without a nanny, one thread, every
+        server on loopback, this module preloaded (:func:`dask_setup`)."""
+        return [
+            sys.executable,
+            "-m",
+            "dask",
+            "worker",
+            self._cluster.scheduler_address,
+            "--no-nanny",
+            "--nthreads",
+            "1",
+            "--host",
+            "127.0.0.1",
+            "--no-dashboard",
+            # The worker's HTTP server (metrics, health) listens here even without a
+            # dashboard: on loopback only.
+            "--dashboard-address",
+            "127.0.0.1:0",
+            "--name",
+            f"docking-{k}",
+            "--local-directory",
+            self._scratch.name,
+            "--preload",
+            "docking.study.sweep",
+        ]
+
+    def _wait_for_workers(self, n: int, timeout: float = 120.0) -> None:
+        deadline = time.monotonic() + timeout
+        while len(self.client.scheduler_info(n_workers=-1)["workers"]) < n:
+            dead = [p.args[-1] for p in self._procs if p.poll() is not None]
+            if dead or time.monotonic() > deadline:
+                raise RuntimeError(
+                    f"Dask workers did not start ({len(dead)} of {n} exited, see above)"
+                )
+            time.sleep(0.1)
+
+    def close(self) -> None:
+        """Close the client, end the workers, close the scheduler. On a busy machine a
+        worker's heartbeat can reach the scheduler after the worker has left, and the
+        scheduler and the worker each log it at WARNING ("Received heartbeat from
+        unregistered worker", "Scheduler was unaware of this worker"); the shutdown is ours,
+        so within it distributed logs errors only, here (:func:`_quiet_shutdown`) and in the
+        workers (the file they watch, :class:`_QuietFailures`)."""
+        with _quiet_shutdown():
+            with contextlib.suppress(OSError):
+                Path(self._closing).touch()
+            client = getattr(self, "client", None)
+            if client is not None:
+                client.close()
+            for proc in self._procs:
+                if proc.poll() is None:
+                    proc.terminate()
+            for proc in self._procs:
+                try:
+                    proc.wait(timeout=10)
+                except Exception:
+                    proc.kill()
+                    proc.wait()
+            self._cluster.close()
+            self._scratch.cleanup()
+
+
+def run_jobs(
+    jobs: Sequence[Job],
+    results_dir: Path | str | None = None,
+    scheduler: str | None = None,
+    workers: int | None = None,
+    force: bool = False,
+    progress: bool = True,
+    desc: str = "runs",
+) -> list[Path]:
+    """Run (or load) every job; the paths of their stored results, in the order of ``jobs``
+    (:func:`sweep`, which says where each run came from and gives the runs).
+
+    Args:
+      jobs: The (configuration, seed) runs.
+      results_dir: The results store (default :func:`docking.study.paths.results_dir`).
+      scheduler: Address of an existing Dask scheduler (``tcp://HOST:PORT``); ``None`` starts
+        an embedded ``LocalCluster`` of ``workers`` processes.
+      workers: Worker processes of the embedded cluster (default: one per core, at most one
+        per job to run). ``1`` runs the jobs one after another in this process, no Dask.
+      force: Recompute and replace stored runs.
+      progress: Show a bar on stderr that counts trials as they finish (the runs' trials
+        of :func:`docking.experiments.trials_in_run`), with the runs done beside it; quiet
+        when stderr is not a terminal.
+      desc: The bar's label.
+    """
+    found = sweep(jobs, results_dir, scheduler, workers, force, progress, desc, keep=False)
+    return [f.path for f in found]
+
+
+def sweep(
+    jobs: Sequence[Job],
+    results_dir: Path | str | None = None,
+    scheduler: str | None = None,
+    workers: int | None = None,
+    force: bool = False,
+    progress: bool = True,
+    desc: str = "runs",
+    keep: bool = True,
+    located: Sequence[Located] | None = None,
+) -> list[Located]:
+    """Run (or load) every job, as :func:`run_jobs` (the same arguments): each job is located
+    once (:func:`docking.study.runs.locate`: the store, else the ledger), the runs found
+    nowhere (every one with ``force``) are computed on the cluster and stored, and each job's
+    :class:`~docking.study.runs.Located` is returned in the order of ``jobs``: where its run
+    was (``"computed"`` for those computed now) and, with ``keep``, the run. ``located``: the
+    jobs located already by the caller (once each), who has read the ledger's runs before
+    anything computes."""
+    jobs = [check_instance("run_jobs", "jobs[]", j, Job) for j in jobs]
+    if workers is not None:
+        workers = check_int("run_jobs", "workers", workers, lo=1)
+    if scheduler is not None:
+        _check_scheduler(scheduler)
+    root = Path(results_dir if results_dir is not None else paths.results_dir()).resolve()
+    if force:
+        located = [_to_compute(j, root) for j in jobs]
+    elif located is None:
+        located = [locate(j.config, j.seed, root) for j in jobs]
+    located = list(located)
+    todo = [k for k, found in enumerate(located) if found.place == "computed"]
+    if todo:  # a read-only store that holds every run can still be read
+        store.check_writable(root)
+
+    trials = [_trials(j.config) for j in jobs]
+    bar = _trial_bar(sum(trials), sum(trials) - sum(trials[k] for k in todo), desc, progress)
+    runs = _RunCount(bar, len(jobs), len(jobs) - len(todo))
+    computed: dict[int, object] = {}
+    try:
+        if todo:
+            n_workers = workers or min(len(todo), os.cpu_count() or 1)
+            if scheduler is None and n_workers <= 1:
+                for k in todo:
+                    job, path = jobs[k], str(located[k].path)
+                    result = _run_job(job.config, job.seed, path, force, bar.update, keep=keep)
+                    if keep:
+                        computed[k] = result
+                    runs.done(1)
+            else:
+                _run_on_dask(
+                    jobs,
+                    located,
+                    todo,
+                    scheduler,
+                    n_workers,
+                    force,
+                    bar,
+                    trials,
+                    runs,
+                    computed,
+                    keep,
+                )
+    finally:
+        bar.close()
+    return [
+        dataclasses.replace(found, run=computed.get(k)) if k in computed and keep else found
+        for k, found in enumerate(located)
+    ]
+
+
+def _to_compute(job: Job, root: Path) -> Located:
+    """A job to compute whatever is stored (``force``), not located."""
+    from docking.study.kinds import run_key
+
+    key = run_key(job.config, job.seed)
+    return Located(job.config, job.seed, key, result_path(job.config, job.seed, root), "computed")
+
+
+def _trial_bar(total: int, stored: int, desc: str, progress: bool):
+    """:func:`run_jobs`'s bar on stderr: ``total`` trials, ``stored`` of them in runs stored
+    already; quiet when stderr is not a terminal, or without ``progress``."""
+    from tqdm.auto import tqdm
+
+    return tqdm(
+        total=total,
+        initial=stored,
+        desc=desc,
+        unit="trial",
+        disable=None if progress else True,  # None: quiet unless stderr is a terminal
+        file=sys.stderr,
+        dynamic_ncols=True,
+        smoothing=0.05,
+    )
+
+
+class _RunCount:
+    """The runs done, shown beside a bar of trials."""
+
+    def __init__(self, bar, total: int, done: int):
+        self.bar, self.total, self.count = bar, total, done
+        self.done(0)
+
+    def done(self, n: int) -> None:
+        self.count += n
+        self.bar.set_postfix_str(f"runs {self.count}/{self.total}", refresh=True)
+
+
+def run_configs(
+    configs: Mapping[str, ExperimentConfig],
+    seeds: Iterable[int],
+    results_dir: Path | str | None = None,
+    scheduler: str | None = None,
+    workers: int | None = None,
+    progress: bool = True,
+    desc: str = "runs",
+    sources: dict | None = None,
+) -> dict:
+    """Run (or load) every configuration of ``configs`` for every seed in one sweep
+    (:func:`sweep`); ``{key: its runs in seed order}`` (``ExperimentResult`` s, or
+    ``docking.study.ppo.PPOResult`` s for PPO configurations). ``sources``: a dict that gets
+    ``{key: where each seed's run came from}`` (:data:`docking.study.runs.PLACES`)."""
+    seeds = tuple(seeds)
+    jobs = jobs_for(configs.values(), seeds)
+    found = iter(
+        sweep(
+            jobs,
+            results_dir,
+            scheduler=scheduler,
+            workers=workers,
+            progress=progress,
+            desc=desc,
+        )
+    )
+    located = {key: [next(found) for _ in seeds] for key in configs}
+    if sources is not None:
+        sources.update({key: [f.place for f in runs] for key, runs in located.items()})
+    return {key: [f.run for f in runs] for key, runs in located.items()}
+
+
+#: How long connecting to a scheduler (TCP, and Dask's handshake) may take, in seconds.
+CONNECT_SECONDS = 10.0
+
+_HOST = r"\[[0-9A-Fa-f:.]+\]|[A-Za-z0-9_.-]+"  # [IPv6], an IPv4 address or a host name
+
+
+def _check_scheduler(scheduler) -> None:
+    """``ValueError`` unless ``scheduler`` is ``tcp://HOST:PORT`` (PORT 1-65535), or
+    ``tls://HOST:PORT`` with a TLS configuration in Dask's config to connect with."""
+    import re
+
+    found = (
+        re.fullmatch(rf"(tcp|tls)://({_HOST}):(\d+)", scheduler)
+        if isinstance(scheduler, str)
+        else None
+    )
+    if found is None:
+        raise ValueError(
+            f"the scheduler address must be tcp://HOST:PORT or tls://HOST:PORT, got "
+            f"{scheduler!r:.120}"
+        )
+    protocol, host, port = found.groups()
+    if len(port) > 5 or not 1 <= int(port) <= 65535:
+        raise ValueError(f"the scheduler's port must be 1-65535, got {port:.30} in {scheduler:.80}")
+    if len(host) > 253 or any(len(label) > 63 for label in host.split(".")):
+        raise ValueError(f"the scheduler's host {host:.80}... is too long to be a host name")
+    if protocol == "tls":
+        from distributed.security import Security
+
+        tls = Security().get_tls_config_for_role("client")
+        if not (tls["ca_file"] and tls["cert"]):
+            raise ValueError(
+                f"tls:// schedulers need a security configuration ({scheduler}): Dask's "
+                "distributed.comm.tls.ca-file and distributed.comm.tls.client.cert (and .key), "
+                "e.g. DASK_DISTRIBUTED__COMM__TLS__CA_FILE=...; or use tcp://HOST:PORT"
+            )
+
+
+def _connect(scheduler: str):
+    """A client of the Dask scheduler at ``scheduler`` (``tcp://HOST:PORT`` or
+    ``tls://HOST:PORT``); ``OSError`` naming it if it does not answer as one within
+    :data:`CONNECT_SECONDS` (a server that accepts and never answers included:
+    :func:`_handshake`)."""
+
+    from distributed import Client
+
+    _check_scheduler(scheduler)
+    _handshake(scheduler, CONNECT_SECONDS)
+    try:
+        return Client(scheduler, timeout=f"{CONNECT_SECONDS}s")
+    except MemoryError:  # e.g. an HTTP server: its reply read as a frame length
+        raise OSError(f"{scheduler} does not answer as a Dask scheduler") from None
+    except (OSError, TimeoutError) as exc:
+        raise OSError(
+            f"cannot reach a Dask scheduler at {scheduler} within {CONNECT_SECONDS:g} s "
+            f"({type(exc).__name__}: {exc})"
+        ) from None
+
+
+def _handshake(scheduler: str, seconds: float) -> None:
+    """Connect to ``scheduler`` and exchange Dask's handshake, within ``seconds``; ``OSError``
+    naming it otherwise. ``Client(address, timeout=...)`` bounds the TCP connection but waits
+    for the scheduler's handshake forever (a server that accepts and never answers hangs it);
+    this attempt runs in a thread of its own, with its own event loop, and is abandoned at
+    the deadline."""
+    from distributed.comm import connect
+    from distributed.security import Security
+
+    args = Security().get_connection_args("client")
+    outcome: dict = {}
+
+    async def attempt() -> None:
+        comm = await asyncio.wait_for(connect(scheduler, timeout=seconds, **args), seconds)
+        await comm.close()
+
+    def run() -> None:
+        try:
+            asyncio.run(attempt())
+        except BaseException as exc:  # reported by the caller's thread
+            outcome["error"] = exc
+        else:
+            outcome["ok"] = True
+
+    thread = threading.Thread(target=run, name="docking-scheduler-handshake", daemon=True)
+    thread.start()
+    thread.join(seconds + 5.0)
+    if outcome.get("ok"):
+        return
+    error = outcome.get("error")
+    if error is None or isinstance(error, (OSError, TimeoutError)):
+        detail = "no answer" if error is None else f"{type(error).__name__}: {error}"
+        if error is not None and not str(error):
+            detail = f"{type(error).__name__}: no handshake"
+        raise OSError(
+            f"cannot reach a Dask scheduler at {scheduler} within {seconds:g} s ({detail})"
+        )
+    raise OSError(
+        f"{scheduler} does not answer as a Dask scheduler ({type(error).__name__}: {error})"
+    )
+
+
+def _run_on_dask(
+    jobs, located, todo, scheduler, n_workers: int, force, bar, trials, runs, computed, keep
+) -> None:
+    with _quiet_distributed():
+        cluster = _EmbeddedCluster(n_workers) if scheduler is None else None
+        try:
+            with cluster.client if cluster is not None else _connect(scheduler) as client:
+                _submit_and_follow(
+                    client, jobs, located, todo, force, bar, trials, runs, computed, keep
+                )
+        finally:
+            if cluster is not None:
+                cluster.close()
+
+
+@contextlib.contextmanager
+def _quiet_shutdown():
+    """Within this, distributed's loggers (every ``distributed.*`` logger, and the ones
+    created within, which inherit from ``distributed``) log errors only: for the close of a
+    cluster this process started, whose warnings are the races of its own shutdown."""
+    loggers = [logging.getLogger("distributed")] + [
+        logger
+        for name, logger in list(logging.Logger.manager.loggerDict.items())
+        if name.startswith("distributed.") and isinstance(logger, logging.Logger)
+    ]
+    levels = [logger.level for logger in loggers]
+    for logger in loggers:
+        logger.setLevel(max(logger.level, logging.ERROR))
+    try:
+        yield
+    finally:
+        for logger, level in zip(loggers, levels, strict=True):
+            logger.setLevel(level)
+
+
+@contextlib.contextmanager
+def _quiet_distributed():
+    """distributed logs at INFO through the root handler that absl (dm-control) installs:
+    within this, it logs warnings only (a lost worker stays visible), and so do the worker
+    processes started within (they read the variable at start)."""
+    logger = logging.getLogger("distributed")
+    level, saved_env = logger.level, os.environ.get(_LOG_VARIABLE)
+    logger.setLevel(max(level, logging.WARNING))
+    os.environ[_LOG_VARIABLE] = "warning"
+    try:
+        yield
+    finally:
+        logger.setLevel(level)
+        if saved_env is None:
+            os.environ.pop(_LOG_VARIABLE, None)
+        else:
+            os.environ[_LOG_VARIABLE] = saved_env
+
+
+def _submit_and_follow(
+    client, jobs, located, todo, force: bool, bar, trials, runs, computed: dict, keep: bool
+) -> None:
+    """Submit the jobs ``todo`` to ``client`` and move ``bar`` with the trials their workers
+    report (:data:`_PROGRESS_TOPIC`) and ``runs`` with the jobs done, until all are done (a
+    job's exception is raised here); with ``keep``, each computed run goes into ``computed``
+    (by its job's index)."""
+    from distributed import wait
+
+    tag = uuid.uuid4().hex[:8]
+    reported = dict.fromkeys(todo, 0)  # trials each job has reported so far
+    news: list = []  # (job, trials) from the event topic's handler thread
+    lock = threading.Lock()
+
+    def heard(event) -> None:
+        _, message = event
+        name, _, k = str(message.get("tag", "")).partition(":")
+        if name == tag and k.isdigit() and int(k) in reported:
+            with lock:
+                news.append((int(k), int(message.get("trials", 0))))
+
+    def apply_news() -> None:
+        with lock:
+            found, news[:] = list(news), []
+        for k, n in found:
+            n = min(n, trials[k] - reported[k])  # never beyond the job's total
+            reported[k] += n
+            bar.update(n)
+
+    client.subscribe_topic(_PROGRESS_TOPIC, heard)
+    index = {
+        client.submit(
+            _run_job,
+            jobs[k].config,
+            jobs[k].seed,
+            str(located[k].path),
+            force,
+            report=f"{tag}:{k}",
+            keep=keep,
+            key=f"docking-{jobs[k].config.name}-seed{jobs[k].seed}-{tag}-{k}",
+            pure=False,
+        ): k
+        for k in todo
+    }
+    pending = set(index)
+    while pending:
+        # Wake every second: trials reported since, and the bar's clock.
+        try:
+            done, pending = wait(pending, timeout=1.0, return_when="FIRST_COMPLETED")
+        except TimeoutError:
+            apply_news()
+            bar.refresh()
+            continue
+        apply_news()
+        for future in done:
+            found = future.result()  # re-raises a job's exception here
+            k = index[future]
+            if keep:
+                computed[k] = found
+            bar.update(trials[k] - reported[k])  # a loaded run, or unreported trials
+            reported[k] = trials[k]
+        runs.done(len(done))
+    client.unsubscribe_topic(_PROGRESS_TOPIC)
