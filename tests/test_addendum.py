@@ -15,6 +15,7 @@ import pytest
 
 from docking.study import provenance
 from docking.study.designs import addendum as ad
+from docking.study.designs import landscape as lsc
 
 #: The SHA-256 of rules_text() when the rules were committed, before any run of the addendum.
 RULES_DIGEST = "7809d4840d852585f603d398a8a24f8c31a1c635af7b71396390d747cd9728b9"
@@ -55,7 +56,11 @@ def test_seeds_are_fresh():
     # the bracketing (docking.study.designs.bracketing) and its continuation
     # (docking.study.designs.bracketing_continued) continue the addendum on its seeds, by its rules
     walks = (ad.NAME, "addendum-bracketing", "addendum-bracketing-continued")
-    used = {r["seed"] for r in runs if r["name"] not in walks}
+    # the fragility landscape (docking.study.designs.landscape) fills the tuning's grid on
+    # the tuning seeds the walks compared settings on, never on a judged seed
+    landscape = {r["seed"] for r in runs if r["name"] == lsc.NAME}
+    assert landscape == set(lsc.SEEDS) and landscape <= set(ad.TUNING_SEEDS)
+    used = {r["seed"] for r in runs if r["name"] not in (*walks, lsc.NAME)}
     assert not used & (set(ad.SEEDS) | set(ad.TUNING_SEEDS))
     assert not set(ad.SEEDS) & set(ad.TUNING_SEEDS)
 
