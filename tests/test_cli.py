@@ -356,12 +356,22 @@ def test_project_readme_has_the_markers():
     text = (REPO / "README.md").read_text()
     for start, end in (
         (README_START, README_END),
-        (readme.EXPERIMENT3_START, readme.EXPERIMENT3_END),
         (readme.TIMINGS_START, readme.TIMINGS_END),
         (readme.SUMMARY_START, readme.SUMMARY_END),
         (readme.GLANCE_START, readme.GLANCE_END),
+        (readme.VERDICTS_START, readme.VERDICTS_END),
     ):
         assert text.count(start) == 1 and text.count(end) == 1
+    # The detail on the site's findings page, one link from the README's summary
+    page = (REPO / readme.FINDINGS_PAGE).read_text()
+    for start, end in (
+        (readme.DETAILS_START, readme.DETAILS_END),
+        (readme.THIRD_EDITION_START, readme.THIRD_EDITION_END),
+        (readme.EXPERIMENT3_START, readme.EXPERIMENT3_END),
+    ):
+        assert page.count(start) == 1 and page.count(end) == 1 and start not in text
+    summary = text[text.index(readme.SUMMARY_START) : text.index(readme.SUMMARY_END)]
+    assert f"]({readme.FINDINGS_PAGE})" in summary
     # The answer first: the first screen's figure and sentences, then the two commands,
     # within the first 30 lines; the detailed summary before how to run anything.
     first = text[: text.index(readme.GLANCE_END)]
@@ -540,13 +550,15 @@ def test_the_readme_is_what_report_writes_from_the_ledger(tmp_path):
     """Every number of the README's blocks (the summary, the results, Experiment 3, the third
     edition, the verdicts, the timings) is what `report --readme` writes from the committed
     ledger: run on a copy, it changes nothing."""
-    from docking.study.readme import VERDICTS_PAGE
+    from docking.study.readme import FINDINGS_PAGE, VERDICTS_PAGE
 
     copy = tmp_path / "README.md"
     copy.write_text((REPO / "README.md").read_text())
     page = tmp_path / VERDICTS_PAGE  # the full verdict table, beside the README
     page.parent.mkdir(parents=True)
     page.write_text((REPO / VERDICTS_PAGE).read_text())
+    details = tmp_path / FINDINGS_PAGE  # what the runs show in detail, beside the README
+    details.write_text((REPO / FINDINGS_PAGE).read_text())
     out = subprocess.run(
         [sys.executable, "-m", "docking", "report", "--readme", str(copy)],
         cwd=tmp_path,
@@ -558,6 +570,7 @@ def test_the_readme_is_what_report_writes_from_the_ledger(tmp_path):
     assert out.returncode == 0, out.stderr[-3000:]
     assert copy.read_text() == (REPO / "README.md").read_text()
     assert page.read_text() == (REPO / VERDICTS_PAGE).read_text()
+    assert details.read_text() == (REPO / FINDINGS_PAGE).read_text()
     assert f"{copy}: already up to date" in out.stdout
 
 

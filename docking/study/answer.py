@@ -6,7 +6,8 @@ The first screen says, in at most :data:`MAX_SENTENCES` sentences of at most
 
 * the paper's learner at its published settings beside the sideboard world's reproduction;
 * what tuning changed (beta_a, eps_W) and each learner's tuning effort, and what it reached;
-* the main finding, worded by the replication's rule (:func:`docking.study.designs.replication.wording`);
+* the main finding, worded by the replication's rule
+  (:func:`docking.study.designs.replication.wording`);
 * relocation as measured: how far the view moved in input rows, the success there;
 * the paper's claims' verdict counts under the committed rule and as one family.
 
@@ -29,6 +30,9 @@ __all__ = [
     "first_screen",
     "replication",
     "replication_text",
+    "relocation_text",
+    "claims_text",
+    "tuning_text",
     "sentences",
     "words",
 ]
@@ -145,26 +149,32 @@ def _pct(x: float) -> str:
 
 
 def replication_text(found: dict[str, Replication]) -> str:
-    """The replication's paragraph of the README: per world, both judgements and what may be
-    said."""
+    """The replication's paragraph of the README: what it ran, a table of both judgements per
+    world (the bracketing continued's first, then the replication's) and what may be said
+    (:func:`docking.study.designs.replication.wording`)."""
     from docking.study.designs import replication as rp
 
-    parts = []
+    n = len(next(iter(found.values())).paper)
+    rows = [
+        "| world | first judgement: linear SARSA's lead | the paper's learner | linear SARSA | "
+        "PPO, matched steps | linear SARSA's lead | a lead (Holm p) | what may be said |",
+        "|---|---|---|---|---|---|---|---|",
+    ]
     for w, r in found.items():
         gap_words, lead_words = r.words
-        parts.append(
-            f"in the {WORLDS[w]}, first (seeds 7000-7009) linear SARSA's lead was "
-            f"{_pp(r.first_gap)}, **{r.first_verdict}**; replicated on {len(r.paper)} fresh "
-            f"seeds ({min(rp.SEEDS)}-{max(rp.SEEDS)}) the paper's learner docks "
-            f"{_pct(r.paper.mean())}, linear SARSA {_pct(r.linear.mean())}, PPO at matched "
-            f"steps {_pct(r.ppo.mean())}, a lead of {_pp(r.gap)}, **{r.verdict}**; the gap: "
-            f"{gap_words}; a lead (Holm over the two worlds, p {r.lead_p:.2g}): {lead_words}"
+        rows.append(
+            f"| {WORLDS[w]} | {_pp(r.first_gap)}, {r.first_verdict}; {r.first_lead} | "
+            f"{_pct(r.paper.mean())} | {_pct(r.linear.mean())} | {_pct(r.ppo.mean())} | "
+            f"{_pp(r.gap)}, **{r.verdict}** | {r.lead} (p {r.lead_p:.2g}) | the gap "
+            f"{gap_words}; {lead_words} |"
         )
     return (
-        "**The main finding, replicated** (notebook 07: both tuned SARSA learners and PPO on "
-        "fresh seeds, the same gap rule, rules committed before the runs): "
-        + "; ".join(parts)
-        + "."
+        f"**The main finding, replicated** (notebook 07). The tuned learners of the bracketing "
+        f"were judged first on seeds 7000-7009, then again, by rules committed before the runs "
+        f"and the same [gap]({GLOSSARY}#gap) rule (closed: linear SARSA's lead below 5 pp), on "
+        f"{n} fresh seeds per world ({min(rp.SEEDS)}-{max(rp.SEEDS)}), with PPO trained for "
+        "as many steps as the paper's learner (held-out success, mean over seeds; leads with "
+        "95% intervals over matched seeds):\n\n" + "\n".join(rows)
     )
 
 
@@ -204,15 +214,103 @@ def first_screen(
         f"{runs} [runs]({g}#tuning-effort) (linear SARSA: {linear_runs}), lifting it to "
         f"{_pct(floor.paper.mean())} and {_pct(nao.paper.mean())}.",
         _finding(floor, nao),
-        f"Shifting the view {relocation['shift']:.1f} of an [input row]({g}#input-row) "
-        f"(landmark {relocation['cm']:.0f} cm higher or lower) moves success from "
-        f"{_pct(relocation['home'])} to {_pct(relocation['higher'])} or "
-        f"{_pct(relocation['lower'])}; along the floor nothing changes, by construction.",
+        f"Relocation moved the camera {relocation['cm']:.0f} cm (view shifted "
+        f"{relocation['shift']:.1f} [input row]({g}#input-row)): success "
+        f"{_moved(relocation['home'], relocation['higher'])} {_pct(relocation['higher'])} "
+        f"(lower camera), {_moved(relocation['home'], relocation['lower'], again=True)} "
+        f"{_pct(relocation['lower'])} (higher); along the floor, unchanged by construction.",
         f"Of the paper's {claims[0]} claims judged on fresh seeds, {claims[1]} hold in some "
         f"world and {claims[2]} are contradicted somewhere (as one family: {claims[3]} and "
         f"{claims[4]}).",
     ]
     return "\n".join(f"{k + 1}. {line}" for k, line in enumerate(lines))
+
+
+def tuning_text(
+    published: dict[str, float],
+    tuned: dict[str, dict],
+    efforts: dict[tuple[str, str], tuple[int, int]],
+    ladder: dict[str, tuple],
+) -> str:
+    """The README's paragraph on the paper's learner's settings: its held-out success at the
+    published settings (``published``: per world), what the bracketed tuning changed
+    (``tuned``: per world, the paper learner's setting; ``ladder``: the values searched per
+    knob, :data:`docking.study.designs.addendum.LADDERS`), whether a chosen value is the
+    ladder's last rung (then it is bracketed on one side only), and each learner's tuning
+    effort (:func:`effort`)."""
+    g = GLOSSARY
+    top = [w for w in WORLDS if tuned[w]["beta_a_train"] == max(ladder["beta_a_train"])]
+    edge = ""
+    if top:
+        edge = (
+            f" In the {_and_worlds(top)}, β_a {tuned[top[0]]['beta_a_train']:g} is the top rung "
+            "of the values searched: the search could not go higher, so that optimum is not "
+            "interior."
+        )
+    beta = ", ".join(f"{tuned[w]['beta_a_train']:g} in the {WORLDS[w]}" for w in WORLDS)
+    widened = {tuned[w]["eps_w"] for w in WORLDS}
+    if len(widened) == 1:
+        eps = f"{widened.pop():g} ({tuned['floor']['eps_w'] / 0.05:g}-fold) in both"
+    else:
+        eps = ", ".join(f"{tuned[w]['eps_w']:g} in the {WORLDS[w]}" for w in WORLDS)
+    spent = "; ".join(
+        f"{WORLDS[w]}: {efforts[w, 'paper'][0]} runs over {efforts[w, 'paper'][1]} settings "
+        f"for the paper's learner, {efforts[w, 'linear'][0]} over {efforts[w, 'linear'][1]} for "
+        "linear SARSA"
+        for w in WORLDS
+    )
+    return (
+        f"**Published settings, and what tuning changed** (notebook 07). At its [published "
+        f"settings]({g}#published-settings) (β_a 2, ε_Q 0.1, ε_W 0.05) the paper's learner docks "
+        f"{_pct(published['floor'])} of held-out trials in the floor world and "
+        f"{_pct(published['nao'])} in the Nao-like world. The bracketed tuning raised its "
+        f"training temperature [β_a]({g}#beta_a) from 2 to {beta}, and [ε_W]({g}#eps_w) from "
+        f"0.05 to {eps}.{edge} The [tuning effort]({g}#tuning-effort) was not equal ({spent}): "
+        "the paper's learner's search was continued under a further budget that linear SARSA "
+        "did not need, as its optimum was bracketed sooner."
+    )
+
+
+def _and_worlds(worlds: list[str]) -> str:
+    names = [WORLDS[w] for w in worlds]
+    return names[0] if len(names) == 1 else ", ".join(names[:-1]) + " and " + names[-1]
+
+
+def relocation_text(relocation: dict) -> str:
+    """The README's paragraph on relocation as measured (``relocation``: as
+    :func:`first_screen` takes it, with ``"linear home"``, ``"linear higher"``,
+    ``"linear lower"``: linear SARSA's held-out success)."""
+    r, g = relocation, GLOSSARY
+    return (
+        f"**Relocation, as measured** (notebook 09). The test moves the robot's camera "
+        f"{r['cm']:.0f} cm lower or higher, so the landmark appears higher or lower: the view "
+        f"shifts by {r['shift']:.1f} of an [input row]({g}#input-row) on average (the coping "
+        "design calls a camera-height change a *sensor* change). The home networks dock "
+        f"{_pct(r['higher'])} with the landmark higher and {_pct(r['lower'])} with it lower, "
+        f"against {_pct(r['home'])} at home; linear SARSA's go from {_pct(r['linear home'])} "
+        f"to {_pct(r['linear higher'])} and {_pct(r['linear lower'])}. The rule committed "
+        "before the runs (within ±5 pp of home) calls the first contradicted and the second "
+        "not supported, as docking more often lies outside the margin too. Moved along the "
+        "floor, the robot sees the same view at every start, so success there is unchanged by "
+        "construction, not by learning."
+    )
+
+
+def claims_text(claims: tuple[int, int, int, int, int]) -> str:
+    """The README's sentence on the paper's claims (``claims``: as :func:`first_screen`)."""
+    return (
+        f"**The paper's claims** (notebook 07). Of the paper's {claims[0]} claims judged on "
+        f"fresh seeds by the rule committed before the runs (Holm within each claim), "
+        f"{claims[1]} hold in at least one world and {claims[2]} are contradicted in at least "
+        f"one; judged as one family of all comparisons, the stricter rule, {claims[3]} hold and "
+        f"{claims[4]} are contradicted."
+    )
+
+
+def _moved(home: float, there: float, again: bool = False) -> str:
+    """How success moved from ``home`` to ``there``, in the first screen's words."""
+    verb = "fell" if there < home else "rose"
+    return f"{verb} to" if again else f"{verb} from {_pct(home)} to"
 
 
 #: How the first screen names a learner's lead.
@@ -230,7 +328,7 @@ def _finding(floor: Replication, nao: Replication) -> str:
     n = len(floor.paper)
     if len(both) == 2:
         head = (
-            f"Replicated on {n} fresh seeds per world, it stays within 5 pp of linear SARSA "
+            f"Replicated on {n} fresh seeds, the paper's learner stays within 5 pp of linear SARSA "
             f"([gap]({g}#gap) {gaps})"
         )
     elif both:
@@ -303,12 +401,10 @@ def glance_data(contest, replicated) -> tuple[list, list, dict, dict]:
 
 #: The caption under the first screen's figure (the README and the site).
 GLANCE_CAPTION = (
-    "**The answer per world:** each dot one network's success on 500 held-out start poses, "
-    "the mean with its 95% interval. Blue circles: the paper's learner at its published "
-    "settings. In the sideboard world every learner had the contest's tuning (15 runs each) "
-    "and PPO was tuned; in the floor and Nao-like worlds the SARSA learners were tuned to "
-    "bracketed optima and judged on the replication's 20 fresh seeds, and PPO trained for as "
-    "many steps as the tuned paper learner (matched steps). Lines: the pose oracle (it reads "
-    "the true pose), the centroid rule (steps towards the landmark's centre in the image), "
+    "**The answer per world:** each dot one network's success on 500 held-out start poses, the "
+    "mean with its 95% interval; blue: the paper's learner at its published settings. Sideboard "
+    "world: the contest's tuning (15 runs per learner). Floor and Nao-like worlds: the SARSA "
+    "learners tuned to bracketed optima, judged on the replication's 20 fresh seeds, PPO at "
+    "matched training steps. Lines: the pose oracle (reads the true pose), the centroid rule, "
     "random actions."
 )

@@ -72,7 +72,9 @@ class Report:
         comparisons, first = None, None
         if self.experiment3:
             comparisons, rates, text = self._experiment3()
-            changed |= self._write(text, readme.EXPERIMENT3_START, readme.EXPERIMENT3_END)
+            changed |= self._write(
+                text, readme.EXPERIMENT3_START, readme.EXPERIMENT3_END, page=readme.FINDINGS_PAGE
+            )
             first = rates[comparisons[0].four_key]
         contest, claims, untested, decisions, added = None, None, [], None, None
         if self.third_edition:
@@ -103,21 +105,27 @@ class Report:
                 )
         if self.third_edition:
             summary += "\n\n" + provenance.candour_text()
-        changed |= self._write(summary, readme.SUMMARY_START, readme.SUMMARY_END)
+        changed |= self._write(
+            summary, readme.DETAILS_START, readme.DETAILS_END, page=readme.FINDINGS_PAGE
+        )
         if contest is not None:
-            changed |= self._glance(results, comparisons, contest, added, decisions)
+            changed |= self._answer(results, comparisons, first, contest, decisions)
         if self.readme is not None:
             changed |= _write_timings(self.readme)
             print(f"{self.readme}: {'updated' if changed else 'already up to date'}")
         return 0
 
-    def _write(self, text: str, *markers: str) -> bool:
+    def _write(self, text: str, *markers: str, page: str | None = None) -> bool:
         """Print ``text`` and write it into the README between ``markers`` (default: the
-        results table's); whether the README changed."""
+        results table's), or into the site's ``page`` beside it (a path relative to the
+        README's folder, written where it exists); whether the file changed."""
         from docking.study.readme import update_readme
 
         print(text)
-        return self.readme is not None and update_readme(self.readme, text, *markers)
+        if self.readme is None:
+            return False
+        target = self.readme if page is None else self.readme.parent / page
+        return target.exists() and update_readme(target, text, *markers)
 
     def _experiment3(self) -> tuple:
         """Experiment 3's four-against-six comparisons, the oracle's rates and its table."""
@@ -145,6 +153,7 @@ class Report:
             third_edition_report.contest_table(contest, third_edition_report.CONTEST_WORLDS),
             readme.THIRD_EDITION_START,
             readme.THIRD_EDITION_END,
+            page=readme.FINDINGS_PAGE,
         )
         changed |= self._verdicts(
             design_verdicts(contest, *untested, notes=third_edition_report.OUTSIDE_COUNTS),
@@ -207,51 +216,64 @@ class Report:
         self._unmerged = added
         return bracketing_report.bracketed_addendum(added, own, walk)
 
-    def _glance(self, results, comparisons, contest, added, decisions) -> bool:
-        """The README's first screen: the figure of every learner's held-out success per
-        world (saved into the figures folder) and at most five sentences under it."""
-        from docking.study import figures, readme, report
-        from docking.study.designs import addendum_report
+    def _answer(self, results, comparisons, oracle, contest, decisions) -> bool:
+        """The README's first screen (:func:`docking.study.answer.first_screen`, under its
+        figure, saved into the figures folder) and its summary, what the runs show in a few
+        paragraphs, each number of the first screen among them; whether the README changed.
+        The replication's, the bracketing continued's and the revisit's runs are read from the
+        store or the ledger; the tuning effort is counted from the ledger's records."""
+        import numpy as np
 
-        fig = figures.fig_glance(*readme.glance_data(contest, added))
-        png = Path(report.save_named(fig, readme.GLANCE_FIGURE))
-        tuned, unbracketed = None, ()
-        if added is not None:
-            from docking.study.designs import addendum
+        from docking.study import answer, figures, ledger, readme, report
+        from docking.study.claims import judge_family, rate_interval
+        from docking.study.designs import addendum, landscape, revisited
+        from docking.study.designs import bracketing_continued as bc
+        from docking.study.designs import replication as rp
+        from docking.study.designs.third_edition_report import claim_groups
 
-            tuned = {
-                w: added.cell(f"{w}/paper-tuned").config.network.beta_a_train
-                for w in addendum.WORLDS
-            }
-            rows = getattr(self, "_bracketing", None) or addendum_report.bracketed_rows(
-                added, addendum
-            )
-            unbracketed = tuple(
-                dict.fromkeys(
-                    knob
-                    for r in rows
-                    if r["learner"] == "paper"
-                    for knob, (_, where) in r["positions"].items()
-                    if where.startswith("at the edge")
+        run = dict(results_dir=self.results_dir, workers=self.processes)
+        second = rp.DESIGN.run(**run)
+        found = answer.replication(bc.DESIGN.run(**run), second)
+        published = {w: rate_interval(contest, f"{w}/paper").estimate for w in answer.WORLDS}
+        sideboard = tuple(float(np.mean([r.test.success.mean() for r in x])) for x in results)
+        tuned = {w: rp.TUNED[w]["paper"] for w in rp.WORLDS}
+        efforts = answer.effort(ledger.manifest())
+        relocation = _relocation(revisited.DESIGN.run(**run), revisited)
+        design = contest.design
+        counts = []
+        for rule in (decisions, judge_family(design.claims, contest, alpha=design.alpha)):
+            groups = claim_groups(design.claims, rule)
+            counts.append(
+                (
+                    len(groups.get("supported wherever judged", []))
+                    + len(groups.get("supported in some worlds only", [])),
+                    len(groups.get("contradicted in at least one world", [])),
                 )
             )
-        text = readme.glance_text(
-            *results,
-            comparisons,
-            contest,
-            added,
-            contest.design.claims,
-            decisions,
-            tuned,
-            unbracketed,
-            getattr(self, "_revisited", None),
+        judged = sum(len(v) for v in claim_groups(design.claims, decisions).values())
+        claims = (judged, *counts[0], *counts[1])
+        fig = figures.fig_glance(*answer.glance_data(contest, second))
+        png = Path(report.save_named(fig, readme.GLANCE_FIGURE))
+        text = answer.first_screen(published, sideboard, tuned, efforts, found, relocation, claims)
+        image = f"![The answer per world](figures/{png.name}) {answer.GLANCE_CAPTION}"
+        changed = self._write(f"\n{image}\n\n{text}\n", readme.GLANCE_START, readme.GLANCE_END)
+        paragraphs = [
+            readme.reproduced_text(*results),
+            answer.tuning_text(published, tuned, efforts, addendum.LADDERS),
+            answer.replication_text(found),
+            "**The fragility landscape** (beyond the paper, notebook 07: the tuning's runs "
+            "drawn over two knobs at a time). " + landscape.shares_sentence(landscape.shares()),
+            answer.relocation_text(relocation),
+            answer.claims_text(claims),
+        ]
+        if comparisons:
+            paragraphs.append(readme.turning_text(comparisons, oracle))
+        paragraphs.append(
+            f"Every number of the study, with its interval, its rule and its notebook: [what "
+            f"the runs show, in detail]({readme.FINDINGS_PAGE})."
         )
-        image = (
-            f"![The answer per world](figures/{png.name}) **The answer per world:** each dot "
-            "one network's success on 500 held-out start poses, the mean with its 95% interval; "
-            "lines: the *pose oracle* (it reads the true pose), a centroid rule, random actions."
-        )
-        return self._write(f"\n{image}\n\n{text}\n", readme.GLANCE_START, readme.GLANCE_END)
+        summary = "\n\n".join(paragraphs)
+        return changed | self._write(summary, readme.SUMMARY_START, readme.SUMMARY_END)
 
     def _untested(self) -> list:
         """The untested claims' rows of the verdict table
@@ -273,6 +295,26 @@ class Report:
                 runs = design.run(results_dir=self.results_dir, workers=self.processes)
                 found.append((runs, keys))
         return found
+
+
+def _relocation(results, rv) -> dict:
+    """Relocation as measured, for the first screen (``results`` of the revisit ``rv``): the
+    mean shift of the start views in input rows over both places
+    (:func:`docking.study.analysis.view_shift`), the height change in cm and each learner's
+    held-out success at home and at each place."""
+    import numpy as np
+
+    from docking.study.analysis import view_shift
+    from docking.study.claims import rate_interval
+
+    places = rv.places()
+    shift = np.mean([np.mean(np.abs(view_shift(rv._HOME, w))) for w in places.values()])
+    found = dict(shift=float(shift), cm=100 * rv.HEIGHT_CHANGE)
+    for learner, prefix in (("paper", ""), ("linear", "linear ")):
+        found[prefix + "home"] = rate_interval(results, f"home/{learner}").estimate
+        for place, name in (("sideboard higher", "higher"), ("sideboard lower", "lower")):
+            found[prefix + name] = rate_interval(results, f"{place}/{learner}").estimate
+    return found
 
 
 def _write_timings(readme: Path) -> bool:
