@@ -74,6 +74,61 @@ from docking.study.stats import rate_ci, t_mean_ci
 pct = lambda ci: ci.format(unit="%")  # noqa: E731
 
 # %% [markdown]
+# ## The current finding (read this first)
+#
+# This notebook keeps the study's history in order: the contest (whose finding, a gap of
+# about 36 pp in the floor and Nao-like worlds, **was too strong**), the addendum that tuned
+# both SARSA learners on the same knobs, the bracketing that continued the search until each
+# optimum was inside what was searched, and a **replication** on fresh seeds. What the
+# evidence allows now is the replication's wording, below; paragraphs further down that say
+# otherwise are labelled *superseded* where they stand.
+#
+# The replication (`docking/study/designs/replication.py`, rules committed in 792adb7 before
+# its first run, pinned by `tests/test_replication.py`) judges the bracketed learners again,
+# and PPO trained for as many steps, on 20 fresh seeds per world by the same gap rule: *closed*
+# if linear SARSA's lead over the paper's learner has its 95% interval below 5 pp, *remains*
+# if above. A learner's **lead** is named only where the interval (Holm over the two worlds)
+# excludes zero in both the first judgement and the replication. Two learners' runs of a seed
+# are matched by seed, not paired: one generator draws both the starts and the step noise, so
+# only a trial's first start is shared.
+
+# %% tags=["hide-input"]
+from docking.study import answer  # noqa: E402
+from docking.study.designs import bracketing_continued as bc  # noqa: E402
+from docking.study.designs import replication as rp  # noqa: E402
+
+replicated = answer.replication(bc.DESIGN.run(progress=False), rp.DESIGN.run(progress=False))
+display(Markdown(answer.replication_text(replicated, glossary=None)))
+for r in replicated.values():  # every judged run on the replication's own seeds
+    assert len(r.paper) == len(r.linear) == len(rp.SEEDS) >= 20
+assert replicated["floor"].verdict == replicated["floor"].first_verdict == "closed"
+assert replicated["nao"].verdict == replicated["nao"].first_verdict == "closed"
+# linear SARSA's floor lead seen twice: replicated; the paper's Nao-like lead seen once
+assert replicated["floor"].first_lead == replicated["floor"].lead == "linear ahead"
+assert replicated["nao"].first_lead == "paper ahead" and replicated["nao"].lead == "no lead shown"
+
+# %% [markdown]
+# **What may be said.** Tuned alike to bracketed optima, the paper's learner docks within
+# 5 pp of linear SARSA (no feature layer) in both worlds, and that replicates. Linear SARSA's
+# small lead in the floor world replicates; the paper's learner's lead in the Nao-like world,
+# seen once at the edge of its interval, does not, so it is not a finding. Once both are
+# tuned, the feature layer neither buys nor costs much success. What differs is the way
+# there: at its published settings the paper's learner docks far less often (the fragility
+# landscape, below), and its search took more runs than linear SARSA's (counted here).
+
+# %% tags=["hide-input"]
+from docking.study import ledger  # noqa: E402
+
+effort = answer.effort(ledger.manifest())
+display(
+    Markdown(
+        "Tuning runs (and settings) on the tuning seeds: "
+        + "; ".join(f"{w}, {who}: {n} ({k})" for (w, who), (n, k) in effort.items())
+    )
+)
+assert all(effort[w, "paper"][0] > 2 * effort[w, "linear"][0] for w in ad.WORLDS)
+
+# %% [markdown]
 # ## The Nao-like world
 #
 # Its values, read from the world's configuration (`docking.presets.NAO_WORLD`), beside the
@@ -169,7 +224,10 @@ fig = figures.fig_contest(
 display(Image(save_named(fig, "third_edition_contest")))
 
 # %% [markdown]
-# ## The finding: does tuning close the gap?
+# ## The contest's finding: does tuning close the gap? (*superseded*)
+#
+# *Superseded* by the addendum, the bracketing and the replication (the current finding, at
+# the top of this notebook): the contest's tuning stopped at the edge of its grids.
 
 # %% tags=["fold-output"]
 # the third edition's gaps: linear SARSA and PPO minus the tuned paper's learner
@@ -207,7 +265,7 @@ display(Markdown(report.md_table(("interval", *header), rows)))
 assert all(0.93 <= v <= 0.97 for v in found.values())  # each within 2 points of 95%
 
 # %% [markdown]
-# ## What the contest shows
+# ## What the contest shows (*superseded* where it speaks of the gap)
 #
 # Each sentence below is computed from the runs; the asserts hold what the sentences say.
 
@@ -230,7 +288,8 @@ for w in te.CONTEST:
 display(Markdown("\n".join(lines)))
 
 # %% [markdown]
-# **The finding.** Given the same tuning as the others, the paper's learner improves where it
+# **The contest's finding (*superseded*: too strong, see the current finding at the top).**
+# Given the same tuning as the others, the paper's learner improves where it
 # was weakest, and in every world the tuned setting has ten times the package's feature
 # learning rate (eps_W = 0.5); but linear SARSA on the same pixels gains as much from the same
 # budget, so tuning does **not** close the gap in the floor world or in the Nao-like world,
@@ -492,6 +551,63 @@ for w in ad.WORLDS:
     )
 display(Markdown("\n".join(lines)))
 
+
+# %% [markdown]
+# ## The fragility landscape (beyond the paper)
+#
+# How narrow is each learner's good region? Each panel draws every setting the tuning ran
+# (and the landscape's own runs on tuning seeds 5900-5901, `docking/study/designs/landscape.py`,
+# rules committed before its runs, where a readable grid needed them), coloured by its mean
+# held-out success over the tuning seeds' runs: the paper's learner over β_a in training × ε_W
+# at its tuned ε_Q, linear SARSA over β_a × ε_Q. The star is the tuned (bracketed) setting,
+# the circle the paper's published one. The sentence under it counts, of the settings each
+# learner's search ran on at least two seeds, those within 5 pp of the best of them.
+
+# %% tags=["hide-input"]
+from docking.study.designs import landscape as lsc  # noqa: E402
+
+scores = lsc.run_scores()
+fig = figures.fig_landscape(*lsc.panels(scores))
+display(Image(filename=str(save_named(fig, "fragility_landscape"))))
+near = lsc.shares()
+display(Markdown(lsc.shares_sentence(near)))
+for (w, learner), (k, n) in near.items():
+    assert 1 <= k <= n and n >= 10, (w, learner, k, n)  # the best is near itself; a real search
+published = {w: contest.score(f"{w}/paper").mean() for w in ad.WORLDS}
+tuned_paper = {w: replicated[w].paper.mean() for w in ad.WORLDS}
+for w in ad.WORLDS:  # the published settings lie far below the tuned optimum in both worlds
+    assert published[w] < tuned_paper[w] - 0.4, (w, published[w], tuned_paper[w])
+print(
+    {
+        w: f"published {100 * published[w]:.1f}%, tuned {100 * tuned_paper[w]:.1f}%"
+        for w in ad.WORLDS
+    }
+)
+
+# %% [markdown]
+# **A lead seen once.** In the Nao-like world, linear SARSA at ε_Q 0.3 (its tuned ε_Q is
+# lower) docked above its tuned setting's replicated rate at several β_a, on the landscape's
+# runs of the tuning seeds. A few runs on two seeds are a lead to test on fresh seeds, not a
+# finding: it is reported here and used nowhere else.
+
+# %% tags=["hide-input"]
+lead_at = {  # linear SARSA, Nao-like world, eps_Q 0.3: each beta_a's runs on the tuning seeds
+    b: runs
+    for b in lsc.BETA_A
+    if (runs := lsc._scores_of(scores, "nao", "linear", lsc.setting("nao", "linear", b, 0.3)))
+}
+above = {b: r for b, r in lead_at.items() if np.mean(r) > replicated["nao"].linear.mean()}
+display(
+    Markdown(
+        f"Linear SARSA in the Nao-like world, replicated at its tuned setting: "
+        f"{100 * replicated['nao'].linear.mean():.1f}%. At ε_Q 0.3: "
+        + "; ".join(
+            f"β_a {b:g}: {100 * np.mean(r):.1f}% ({len(r)} runs)" for b, r in lead_at.items()
+        )
+        + "."
+    )
+)
+assert above and all(len(r) <= 3 for r in above.values())  # above it, on few runs: a lead only
 
 # %% [markdown]
 # ## The paper's claims: the verdicts

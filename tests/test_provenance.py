@@ -120,6 +120,30 @@ def test_every_run_carries_the_digest_of_its_designs_rules(name):
     assert rules_digest(name) != then  # the digest since the move (pinned by its test)
 
 
+#: The designs whose rules' digest the study layer's move left as it was (their modules'
+#: imports are not part of their rules): each run records today's digest of its rules.
+RULES_UNMOVED = ("bracketing-replication", "fragility-landscape")
+
+
+@pytest.mark.parametrize("name", RULES_UNMOVED)
+def test_every_run_carries_its_rules_digest_as_committed_before_the_runs(name):
+    """Every run of the replication and of the landscape records the digest of its design's
+    rules, and the rules read with their modules as at the rules' commit give that digest."""
+    import importlib
+    import sys
+
+    from docking.study.designs import rules_digest
+
+    runs = _manifest_runs(name)
+    assert runs and {r.get("rules_sha256") for r in runs} == {rules_digest(name)}
+    if not pinned.history():
+        pytest.skip("a shallow clone (or no git): the history that pinned the rules is not here")
+    module = importlib.import_module(MODULES[name])
+    designs = [sys.modules[m] for m in set(MODULES.values()) if m in sys.modules]
+    then, _ = pinned.digest_at(module.rules_text, provenance.RULES_COMMITS[name][0], designs)
+    assert then == rules_digest(name)
+
+
 def test_a_run_with_other_rules_breaks_its_tables_seal():
     from docking.study import ledger
 

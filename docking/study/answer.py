@@ -148,12 +148,14 @@ def _pct(x: float) -> str:
     return f"{100 * x:.1f}%"
 
 
-def replication_text(found: dict[str, Replication]) -> str:
+def replication_text(found: dict[str, Replication], glossary: str | None = GLOSSARY) -> str:
     """The replication's paragraph of the README: what it ran, a table of both judgements per
     world (the bracketing continued's first, then the replication's) and what may be said
-    (:func:`docking.study.designs.replication.wording`)."""
+    (:func:`docking.study.designs.replication.wording`); ``glossary``: the glossary's path
+    its terms link to (None: no links, as in a notebook's output)."""
     from docking.study.designs import replication as rp
 
+    gap = f"[gap]({glossary}#gap)" if glossary else "gap"
     n = len(next(iter(found.values())).paper)
     rows = [
         "| world | first judgement: linear SARSA's lead | the paper's learner | linear SARSA | "
@@ -171,7 +173,7 @@ def replication_text(found: dict[str, Replication]) -> str:
     return (
         f"**The main finding, replicated** (notebook 07). The tuned learners of the bracketing "
         f"were judged first on seeds 7000-7009, then again, by rules committed before the runs "
-        f"and the same [gap]({GLOSSARY}#gap) rule (closed: linear SARSA's lead below 5 pp), on "
+        f"and the same {gap} rule (closed: linear SARSA's lead below 5 pp), on "
         f"{n} fresh seeds per world ({min(rp.SEEDS)}-{max(rp.SEEDS)}), with PPO trained for "
         "as many steps as the paper's learner (held-out success, mean over seeds; leads with "
         "95% intervals over matched seeds):\n\n" + "\n".join(rows)

@@ -33,6 +33,14 @@ RULES_COMMITS = {
         "52625147765c7d4dc7461dbebe4ae30eb3ce338f",
         "2026-11-27T00:57:05+00:00",
     ),
+    "bracketing-replication": (
+        "792adb7ac21e904685cd3b2080140ec9c2eb4ca8",
+        "2026-11-28T05:05:02+00:00",
+    ),
+    "fragility-landscape": (
+        "b4ecb82e559aaca53afe92a95b18a033ffc7c840",
+        "2026-11-28T05:38:58+00:00",
+    ),
 }
 
 

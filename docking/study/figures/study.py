@@ -621,7 +621,7 @@ def fig_landscape(
     """
     worlds = list(dict.fromkeys(p["world"] for p in panels))
     learners = list(dict.fromkeys(p["learner"] for p in panels))
-    fig = _new_figure(3.7 * len(learners), 3.0 * len(worlds) + 0.6)
+    fig = _new_figure(3.7 * len(learners), 3.5 * len(worlds) + 0.6)
     axes = fig.subplots(len(worlds), len(learners), squeeze=False)
     image = None
     for p in panels:
@@ -642,9 +642,16 @@ def fig_landscape(
                 label=label,
             )
         if ax.get_legend_handles_labels()[0]:
-            ax.legend(loc="lower right", fontsize=6.5, framealpha=0.85)
+            ax.legend(  # below the panel, covering no cell
+                loc="upper center", bbox_to_anchor=(0.5, -0.2), ncol=2, fontsize=7, frameon=False
+            )
     if image is not None:
         fig.colorbar(image, ax=axes, shrink=0.6, label="held-out success (%)")
+    fig.suptitle(
+        "Each cell: mean held-out success (%) of a setting, above its number of runs "
+        "(tuning seeds); blank: never run",
+        fontsize=9,
+    )
     return fig
 
 
