@@ -188,6 +188,19 @@ def test_no_module_is_over_1000_lines():
     assert not long, long
 
 
+def test_no_function_is_over_60_lines():
+    """Issue 49: no function of the package over 60 lines, its docstring included."""
+    import ast
+
+    long = {}
+    for p in (ROOT / "docking").rglob("*.py"):
+        for node in ast.walk(ast.parse(p.read_text())):
+            if isinstance(node, (ast.FunctionDef, ast.AsyncFunctionDef)):
+                if (n := node.end_lineno - node.lineno + 1) > 60:
+                    long[f"{p.relative_to(ROOT)}:{node.name}"] = n
+    assert not long, long
+
+
 def test_contributings_example_design_is_a_valid_design_in_one_file(tmp_path):
     """The example of "How to add a design" builds as written (issue 18: a new study is a
     design file)."""

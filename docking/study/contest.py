@@ -290,20 +290,7 @@ def contest(
     A learner, grid or label of the wrong kind is a ``TypeError`` or ``ValueError`` naming it,
     raised before anything is read or run.
     """
-    check_instance("contest", "budget", budget, Budget)
-    _check_learner(learner)
-    grid = _settings(grid)
-    if len(grid) != budget.settings:
-        raise ValueError(
-            f"contest: the grid has {len(grid)} settings, the budget {budget.settings} "
-            f"({'the contest' if budget.is_the_contest else 'a smaller budget'})"
-        )
-    make = _maker(learner, budget.heldout_trials)
-    first = make(budget.worlds[0], "", **grid[0])
-    label = check_name("contest", "label", first.name if label is None else label)
-    if label in _RESERVED:
-        raise ValueError(f"contest: the label {label!r} names a published learner or yardstick")
-    _check_distinct(make, budget.worlds[0], grid)
+    grid, make, label = _checked(learner, grid, budget, label)
     tuning, design = _tuning(label, grid, budget, make)
     shown = published(results_dir)  # before any run: a ledger without them fails first
     mine = run_design(
@@ -325,6 +312,26 @@ def contest(
     )
     figure = _figure(both, budget, label)
     return Contest(label, budget, grid, tuned, mine, shown, gaps, table, figure)
+
+
+def _checked(learner, grid, budget: Budget, label: str | None) -> tuple[list, Callable, str]:
+    """The contest's arguments checked before anything is read or run: the settings, the
+    learner's maker and its label (a ``TypeError`` or ``ValueError`` naming what is wrong)."""
+    check_instance("contest", "budget", budget, Budget)
+    _check_learner(learner)
+    grid = _settings(grid)
+    if len(grid) != budget.settings:
+        raise ValueError(
+            f"contest: the grid has {len(grid)} settings, the budget {budget.settings} "
+            f"({'the contest' if budget.is_the_contest else 'a smaller budget'})"
+        )
+    make = _maker(learner, budget.heldout_trials)
+    first = make(budget.worlds[0], "", **grid[0])
+    label = check_name("contest", "label", first.name if label is None else label)
+    if label in _RESERVED:
+        raise ValueError(f"contest: the label {label!r} names a published learner or yardstick")
+    _check_distinct(make, budget.worlds[0], grid)
+    return grid, make, label
 
 
 def _tuning(label: str, grid: list[dict], budget: Budget, make: Callable) -> tuple:

@@ -575,27 +575,11 @@ def sweep(
     try:
         if todo:
             n_workers = workers or min(len(todo), os.cpu_count() or 1)
+            args = (jobs, located, todo, force, bar, trials, runs, computed, keep)
             if scheduler is None and n_workers <= 1:
-                for k in todo:
-                    job, path = jobs[k], str(located[k].path)
-                    result = _run_job(job.config, job.seed, path, force, bar.update, keep=keep)
-                    if keep:
-                        computed[k] = result
-                    runs.done(1)
+                _run_here(*args)
             else:
-                _run_on_dask(
-                    jobs,
-                    located,
-                    todo,
-                    scheduler,
-                    n_workers,
-                    force,
-                    bar,
-                    trials,
-                    runs,
-                    computed,
-                    keep,
-                )
+                _run_on_dask(scheduler, n_workers, *args)
     finally:
         bar.close()
     return [
@@ -774,9 +758,22 @@ def _handshake(scheduler: str, seconds: float) -> None:
     )
 
 
+def _run_here(jobs, located, todo, force, bar, trials, runs, computed, keep) -> None:
+    """Compute the jobs ``todo`` one after another in this process (the bar moving with each
+    trial); with ``keep``, each run goes into ``computed`` by its job's index."""
+    for k in todo:
+        job, path = jobs[k], str(located[k].path)
+        result = _run_job(job.config, job.seed, path, force, bar.update, keep=keep)
+        if keep:
+            computed[k] = result
+        runs.done(1)
+
+
 def _run_on_dask(
-    jobs, located, todo, scheduler, n_workers: int, force, bar, trials, runs, computed, keep
+    scheduler, n_workers: int, jobs, located, todo, force, bar, trials, runs, computed, keep
 ) -> None:
+    """Compute the jobs ``todo`` on ``scheduler``'s cluster (None: an embedded one of
+    ``n_workers`` processes), following their progress (:func:`_submit_and_follow`)."""
     with _quiet_distributed():
         cluster = _EmbeddedCluster(n_workers) if scheduler is None else None
         try:
@@ -828,6 +825,25 @@ def _quiet_distributed():
             os.environ[_LOG_VARIABLE] = saved_env
 
 
+def _submit(client, jobs, located, todo, force: bool, keep: bool, tag: str) -> dict:
+    """Submit the jobs ``todo`` to ``client``, each reporting its trials under ``tag``;
+    ``{future: its job's index}``."""
+    return {
+        client.submit(
+            _run_job,
+            jobs[k].config,
+            jobs[k].seed,
+            str(located[k].path),
+            force,
+            report=f"{tag}:{k}",
+            keep=keep,
+            key=f"docking-{jobs[k].config.name}-seed{jobs[k].seed}-{tag}-{k}",
+            pure=False,
+        ): k
+        for k in todo
+    }
+
+
 def _submit_and_follow(
     client, jobs, located, todo, force: bool, bar, trials, runs, computed: dict, keep: bool
 ) -> None:
@@ -858,20 +874,7 @@ def _submit_and_follow(
             bar.update(n)
 
     client.subscribe_topic(_PROGRESS_TOPIC, heard)
-    index = {
-        client.submit(
-            _run_job,
-            jobs[k].config,
-            jobs[k].seed,
-            str(located[k].path),
-            force,
-            report=f"{tag}:{k}",
-            keep=keep,
-            key=f"docking-{jobs[k].config.name}-seed{jobs[k].seed}-{tag}-{k}",
-            pure=False,
-        ): k
-        for k in todo
-    }
+    index = _submit(client, jobs, located, todo, force, keep, tag)
     pending = set(index)
     while pending:
         # Wake every second: trials reported since, and the bar's clock.

@@ -52,14 +52,10 @@ class Report:
     report refuses to start a computation: Experiment 3 is hours on 2 cores)."""
 
     def execute(self) -> int:
-        from docking.study import provenance, readme
+        from docking.study import readme
         from docking.study.designs import (
-            addendum_report,
-            bracketing_report,
             design,
             paper_report,
-            revisited_report,
-            untested_report,
         )
 
         if not self.compute:
@@ -81,6 +77,29 @@ class Report:
             contest, claims, untested, decisions, changed_here = self._third_edition()
             changed |= changed_here
             added = self._addendum()
+        summary = self._details(results, comparisons, first, contest, claims, added, untested)
+        changed |= self._write(
+            summary, readme.DETAILS_START, readme.DETAILS_END, page=readme.FINDINGS_PAGE
+        )
+        if contest is not None:
+            changed |= self._answer(results, comparisons, first, contest, decisions)
+        if self.readme is not None:
+            changed |= _write_timings(self.readme)
+            print(f"{self.readme}: {'updated' if changed else 'already up to date'}")
+        return 0
+
+    def _details(self, results, comparisons, first, contest, claims, added, untested) -> str:
+        """The findings page's detailed summary: what was reproduced, Experiment 3, the
+        contest and its claims, the addendum and the bracketing, the untested claims and
+        their revisit (kept for the first screen), and the study's provenance."""
+        from docking.study import provenance, readme
+        from docking.study.designs import (
+            addendum_report,
+            bracketing_report,
+            revisited_report,
+            untested_report,
+        )
+
         summary = readme.summary_text(
             *results, comparisons, first, contest, claims, corrected=added is not None
         )
@@ -105,15 +124,7 @@ class Report:
                 )
         if self.third_edition:
             summary += "\n\n" + provenance.candour_text()
-        changed |= self._write(
-            summary, readme.DETAILS_START, readme.DETAILS_END, page=readme.FINDINGS_PAGE
-        )
-        if contest is not None:
-            changed |= self._answer(results, comparisons, first, contest, decisions)
-        if self.readme is not None:
-            changed |= _write_timings(self.readme)
-            print(f"{self.readme}: {'updated' if changed else 'already up to date'}")
-        return 0
+        return summary
 
     def _write(self, text: str, *markers: str, page: str | None = None) -> bool:
         """Print ``text`` and write it into the README between ``markers`` (default: the
