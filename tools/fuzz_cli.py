@@ -141,6 +141,58 @@ def _silent_server() -> int:
     return server.getsockname()[1]
 
 
+#: Run in the package's Python (:func:`_in_package`): Experiment 1's table with one run's
+#: test success set to False, rewritten; prints the table's new SHA-256.
+_FORGE = """
+import hashlib, sys
+from pathlib import Path
+import numpy as np
+from docking.study import ledger
+path, key = Path(sys.argv[1]) / "experiment1.npz", sys.argv[2]
+with np.load(path) as found:
+    table = {k: found[k] for k in found.files}
+row, column = table["key"].tolist().index(key), "test.success"
+start = int(np.sum(np.maximum(table[column + ".count"][:row], 0)))
+table[column][start : start + table[column + ".count"][row]] = False
+path.write_bytes(ledger._npz(table))
+print(hashlib.sha256(path.read_bytes()).hexdigest())
+"""
+#: The seals of the manifest read from stdin, as the package computes them (a forger who can
+#: run the package reseals the manifest after an edit).
+_SEALS = """
+import json, sys
+from docking.study import ledger
+print(json.dumps(ledger.seals_of(json.load(sys.stdin))))
+"""
+#: A stored result of Experiment 1 seed 0 (with the tiny options) made a FIFO in the store
+#: argv[1].
+_FIFO_RESULT = """
+import dataclasses, os, sys
+from docking.presets import EXPERIMENT_1
+from docking.study.kinds import result_path
+config = dataclasses.replace(
+    EXPERIMENT_1, train_trials=4, test_trials=3, eval_every=2, eval_trials=2
+)
+path = result_path(config, 0, sys.argv[1])
+path.parent.mkdir(parents=True)
+os.mkfifo(path)
+"""
+
+
+def _in_package(code: str, *args, stdin: str | None = None) -> str:
+    """Run ``code`` in the package's Python (:data:`PYTHON`) with ``args``; its output."""
+    out = subprocess.run(
+        [PYTHON, "-c", code, *map(str, args)],
+        input=stdin,
+        capture_output=True,
+        text=True,
+        cwd=ROOT,
+        env={**os.environ, "PYTHONPATH": str(ROOT), "MUJOCO_GL": "egl"},
+        check=True,
+    )
+    return out.stdout.strip()
+
+
 def _damaged_ledgers(tmp: Path) -> list[tuple[str, dict]]:
     """``(what, environment)`` cases: copies of the committed ledger, each damaged once."""
     source = ROOT / "ledger"
@@ -187,6 +239,36 @@ def _damaged_ledgers(tmp: Path) -> list[tuple[str, dict]]:
 
     def edit(key, **fields):
         return lambda data, folder: data["runs"][key].update(fields)
+
+    # issue 49: a forged table (Experiment 1 seed 1's test success set to False, the table
+    # rewritten and its SHA-256 put in the manifest), then resealed, records swapped and
+    # resealed, a table named outside the folder, tables that are not regular files
+    def forged_table(data, folder, reseal=False):
+        data["tables"]["experiment1"] = _in_package(_FORGE, folder / "tables", table_run)
+        if reseal:
+            data["seals"] = json.loads(_in_package(_SEALS, stdin=json.dumps(data)))
+
+    def swapped(data, folder):
+        data["runs"][k0], data["runs"][table_run] = data["runs"][table_run], data["runs"][k0]
+        data["seals"] = json.loads(_in_package(_SEALS, stdin=json.dumps(data)))
+
+    def named_outside(data, folder):
+        data["tables"]["../../outside"] = data["tables"].pop("experiment1")
+
+    def table_as(kind):
+        def apply(data, folder):
+            path = folder / "tables" / "experiment1.npz"
+            path.unlink()
+            if kind == "fifo":
+                os.mkfifo(path)
+            elif kind == "zero":
+                path.symlink_to("/dev/zero")
+            else:
+                outside = folder.parent / f"{folder.name}-outside.npz"
+                shutil.copy(source / "tables" / "experiment1.npz", outside)
+                path.symlink_to(outside)
+
+        return apply
 
     def damage(relative, how):
         def apply(data, folder):
@@ -236,6 +318,13 @@ def _damaged_ledgers(tmp: Path) -> list[tuple[str, dict]]:
         "a whole run deleted": damage(r0["whole"], "gone"),
         "another whole run bit-flipped": damage(r1["whole"], "flip"),
         "another whole run truncated": damage(r1["whole"], "cut"),
+        "a table forged, its SHA-256 updated": forged_table,
+        "a table forged, its SHA-256 updated and resealed": lambda d, f: forged_table(d, f, True),
+        "two records swapped, resealed": swapped,
+        "a table named ../../outside": named_outside,
+        "a table that is a FIFO": table_as("fifo"),
+        "a table that is a link to /dev/zero": table_as("zero"),
+        "a table that is a link out of the ledger": table_as("out"),
     }
     return [
         (what, {"DOCKING_LEDGER": str(copy(f"l{i}", edit))})
@@ -446,6 +535,15 @@ def cases(tmp: Path) -> dict[str, list]:
             {**fresh(), "DOCKING_LEDGER": str(tmp)},
             expect=f"note: {tmp} is not a ledger",
         ),
+    ]
+    fifo_store = tmp / "fifo-store"
+    _in_package(_FIFO_RESULT, fifo_store)
+    found["a stored result that is a FIFO"] = [
+        cli(
+            ["run", "experiment1", "--seeds", "0", *TINY],
+            {"DOCKING_RESULTS": str(fifo_store), "DOCKING_LEDGER": "off"},
+            label="run, its stored result a FIFO",
+        )
     ]
     found["damaged ledgers: run"], found["damaged ledgers: ledger show"] = [], []
     for what, env in _damaged_ledgers(tmp):
