@@ -6,7 +6,8 @@ The first screen says, in at most :data:`MAX_SENTENCES` sentences of at most
 
 * the paper's learner at its published settings beside the sideboard world's reproduction;
 * what tuning changed (beta_a, eps_W) and each learner's tuning effort, and what it reached;
-* the main finding, worded by the replication's rule (:func:`docking.study.designs.replication.wording`);
+* the main finding, worded by the replication's rule
+  (:func:`docking.study.designs.replication.wording`);
 * relocation as measured: how far the view moved in input rows, the success there;
 * the paper's claims' verdict counts under the committed rule and as one family.
 
