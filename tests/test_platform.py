@@ -146,7 +146,7 @@ def test_the_recorded_platform_names_the_dispatch_levels_that_are_on(level):
     if level != "this process" and not off:
         pytest.skip(f"not available on this machine: its CPU has none of {NUMPY_LEVELS[level]}")
     code = (
-        "from docking import platform_info as p; import json; "
+        "from docking.study import platform_info as p; import json; "
         "print(json.dumps([p.numeric_platform()['numpy'], p.cpu_features()]))"
     )
     out = subprocess.run(
