@@ -315,12 +315,23 @@ def _equation_numbers(notebook: Path) -> set[str]:
     return set(re.findall(r"\\tag\{(\d+)\}", text))
 
 
+#: A Jupyter widget's output (its view of the notebook's widget state).
+WIDGET = "application/vnd.jupyter.widget-view+json"
+
+
 def _site_notebook(path: Path, captions: dict[str, str]) -> None:
     """Rewrite the site's copy of a notebook (``path``, in build/site-src): equation numbers
     as MathJax tags, import blocks tagged ``hide-input``, each PNG figure a file of its own
     (the same file as the README's when the figure is one of ``figures/``), its caption in the
-    output's metadata."""
+    output's metadata. Jupyter widgets (tqdm's progress bars) are shown by their text: their
+    state would make the page load the widgets' script from unpkg.com, and the site asks for
+    nothing beyond its own files."""
     nb = json.loads(path.read_text())
+    nb["metadata"].pop("widgets", None)
+    for cell in (c for c in nb["cells"] if "outputs" in c):
+        for output in cell["outputs"]:
+            output.get("data", {}).pop(WIDGET, None)
+        cell["outputs"] = [o for o in cell["outputs"] if o.get("data", True)]
     nb["cells"] = [part for cell in nb["cells"] for part in _fold_imports(cell)]
     for cell in nb["cells"]:
         if cell["cell_type"] == "markdown":

@@ -161,7 +161,7 @@ def timings_text(
         return "" if t.get("commit", top) == top else f", on {t['commit'][:7]}"
 
     def took(t: dict) -> str:
-        return f"{t['wall_s']:.0f} s" if t["wall_s"] < 120 else f"{t['wall_s'] / 60:.1f} min"
+        return f"{t['wall_s']:.0f} s" if t["wall_s"] < 60 else f"{t['wall_s'] / 60:.1f} min"
 
     tiers = "; ".join(
         f"`{COMMANDS.get(tier, f'make {tier}')}` {took(t)}{names.get(tier, '')}{where(t)}"
