@@ -364,3 +364,28 @@ def test_derived_arrays_are_kept_and_served_only_to_their_key(tmp_path):
     derived("thing", key, compute, tmp_path)
     assert len(calls) == 4
     assert derived("thing", key, compute, tmp_path)["a"].tolist() == [1.0] * 3 and len(calls) == 4
+
+
+def test_derived_arrays_are_computed_again_when_their_code_changes(tmp_path):
+    """A module named in ``code`` enters the key by its file's digest: edited, the arrays
+    are computed again (a cache that never invalidates would serve the old code's)."""
+    import types
+
+    from docking.study.store import derived
+
+    source = tmp_path / "helper.py"
+    source.write_text("X = 1\n")
+    module = types.ModuleType("helper")
+    module.__file__ = str(source)
+    calls = []
+
+    def compute():
+        calls.append(1)
+        return {"a": np.zeros(2)}
+
+    derived("thing", "k", compute, tmp_path / "store", code=(module,))
+    derived("thing", "k", compute, tmp_path / "store", code=(module,))
+    assert len(calls) == 1
+    source.write_text("X = 2\n")
+    derived("thing", "k", compute, tmp_path / "store", code=(module,))
+    assert len(calls) == 2

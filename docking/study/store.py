@@ -145,15 +145,21 @@ def derived(
     key: str,
     compute: Callable[[], dict[str, np.ndarray]],
     results_dir: Path | str | None = None,
+    code: tuple = (),
 ) -> dict[str, np.ndarray]:
     """Arrays computed from runs (e.g. rendered start views read by a run's network), kept
     in the results store beside the runs, keyed as runs are: ``key`` is the text of
     everything they depend on, which names the run keys (:func:`docking.study.kinds.run_key`:
     configuration, the code's fingerprint, the rendering stack, seed) and the computation's
-    own arguments. The file ``<results>/derived/<name>/<SHA-256 of key>.npz`` holds ``key``
-    too; it is used only if that is this ``key`` (else, or if it is unreadable, the arrays
-    are computed and replace it). A store that cannot be written is not an error: the
-    arrays are returned, not kept."""
+    own arguments; ``code``, the modules that compute them outside the runs' fingerprinted
+    code (e.g. :mod:`docking.study.analysis`), enter it by the SHA-256 of their files, so an
+    edit of theirs computes the arrays again. The file
+    ``<results>/derived/<name>/<SHA-256 of key>.npz`` holds the key too; it is used only if
+    that is this key (else, or if it is unreadable, the arrays are computed and replace it).
+    A store that cannot be written is not an error: the arrays are returned, not kept."""
+    for module in code:
+        source = Path(module.__file__).read_bytes()
+        key += f"\ncode {module.__name__} {hashlib.sha256(source).hexdigest()}"
     root = Path(results_dir) if results_dir is not None else paths.results_dir()
     path = root / "derived" / name / f"{hashlib.sha256(key.encode()).hexdigest()[:32]}.npz"
     try:

@@ -39,7 +39,7 @@ def interpretability(n_seeds: Callable, views: int, min_views: int) -> Measure:
         import json
 
         from docking.experiments import initial_network
-        from docking.study import kinds, store
+        from docking.study import analysis, kinds, store
         from docking.study.analysis import MeanInputs, feature_fidelity, mean_winning_inputs
 
         cell = results.cell(key)
@@ -60,7 +60,8 @@ def interpretability(n_seeds: Callable, views: int, min_views: int) -> Measure:
                 f"\nviews {views}\nseed 0"
                 f"\nworld source {kinds.LEARNER.fingerprint()}"
             )
-            inputs = MeanInputs(**store.derived("mean-winning-inputs", text, inputs_of))
+            found = store.derived("mean-winning-inputs", text, inputs_of, code=(analysis,))
+            inputs = MeanInputs(**found)
             out.append(feature_fidelity(network, inputs, min_views))
         return np.array(out)
 
