@@ -56,13 +56,15 @@ check: setup
 	$(VENV)/bin/lint-imports
 	$(PY) -m pytest tests -q -n 2 -m "not slow and not docs"
 
-# The notebooks run under nbmake with --overwrite: their outputs land in notebooks/*.ipynb,
-# from which `make docs` builds the site, which the docs tests check in Chromium, on the same
-# two processes as the slow tests (so that neither waits for the other's last test).
+# The notebooks run under nbmake with --overwrite (their outputs land in notebooks/*.ipynb,
+# from which `make docs` builds the site) in one session with the slow tests, two processes
+# that steal each other's queued items (so that neither waits while the other executes the
+# longest notebook); then the site is built and the docs tests check it in Chromium.
 test: check notebooks
-	$(PY) -m pytest --nbmake --nbmake-timeout=1800 --overwrite -n 2 -q $(NOTEBOOKS)
+	$(PY) -m pytest --nbmake --nbmake-timeout=1800 --overwrite -n 2 --dist worksteal -q \
+	    -m "notebook or (slow and not docs)" $(NOTEBOOKS) tests
 	$(MAKE) docs
-	$(PY) -m pytest tests -q -n 2 -m "slow or docs"
+	$(PY) -m pytest tests -q -n 2 -m docs
 	$(PY) -m docking verify --sample 3
 
 # The documentation site in build/site (open build/site/index.html): the README, the

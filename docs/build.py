@@ -15,7 +15,8 @@ episode per world (:data:`ANIMATIONS`, docs/guide/worlds.md).
 outputs into ``notebooks/*.ipynb``; this script copies those. A notebook that has no
 ``.ipynb``, one without outputs, or one older than its ``.py`` source is executed here first
 (``jupytext`` then ``jupyter nbconvert --execute``), reading its runs from the results store
-or the committed ledger, so ``make docs`` works in a fresh clone without ``make test``.
+or the committed ledger, so ``make docs`` works in a fresh clone without ``make test``; such
+notebooks are executed side by side, one per core (at most four), as nbmake runs them.
 
     python docs/build.py [--out build/site]
 """
@@ -25,9 +26,11 @@ from __future__ import annotations
 import argparse
 import ast
 import base64
+import concurrent.futures
 import copy
 import hashlib
 import json
+import os
 import re
 import shutil
 import subprocess
@@ -312,12 +315,23 @@ def _equation_numbers(notebook: Path) -> set[str]:
     return set(re.findall(r"\\tag\{(\d+)\}", text))
 
 
+#: A Jupyter widget's output (its view of the notebook's widget state).
+WIDGET = "application/vnd.jupyter.widget-view+json"
+
+
 def _site_notebook(path: Path, captions: dict[str, str]) -> None:
     """Rewrite the site's copy of a notebook (``path``, in build/site-src): equation numbers
     as MathJax tags, import blocks tagged ``hide-input``, each PNG figure a file of its own
     (the same file as the README's when the figure is one of ``figures/``), its caption in the
-    output's metadata."""
+    output's metadata. Jupyter widgets (tqdm's progress bars) are shown by their text: their
+    state would make the page load the widgets' script from unpkg.com, and the site asks for
+    nothing beyond its own files."""
     nb = json.loads(path.read_text())
+    nb["metadata"].pop("widgets", None)
+    for cell in (c for c in nb["cells"] if "outputs" in c):
+        for output in cell["outputs"]:
+            output.get("data", {}).pop(WIDGET, None)
+        cell["outputs"] = [o for o in cell["outputs"] if o.get("data", True)]
     nb["cells"] = [part for cell in nb["cells"] for part in _fold_imports(cell)]
     for cell in nb["cells"]:
         if cell["cell_type"] == "markdown":
@@ -438,10 +452,22 @@ def prepare() -> Path:
     sources = sorted((ROOT / "notebooks").glob("[0-9]*.py"))
     if not sources:
         raise SystemExit("no notebooks/*.py: is this the project's checkout?")
+    stale = [
+        source
+        for source in sources
+        if not (
+            (nb := source.with_suffix(".ipynb")).exists()
+            and _executed(nb)
+            and nb.stat().st_mtime >= source.stat().st_mtime
+        )
+    ]
+    # executed as nbmake does in make test: one notebook per core (each is a kernel of its
+    # own; they read the ledger and write figures of their own)
+    with concurrent.futures.ThreadPoolExecutor(max(1, min(os.cpu_count() or 1, 4))) as pool:
+        for done in [pool.submit(_execute, s, s.with_suffix(".ipynb")) for s in stale]:
+            done.result()
     for source in sources:
         nb = source.with_suffix(".ipynb")
-        if not (nb.exists() and _executed(nb) and nb.stat().st_mtime >= source.stat().st_mtime):
-            _execute(source, nb)
         shutil.copy(nb, SOURCE / "notebooks" / nb.name)
     # The archived notebooks (archive/README.md): executed at an earlier commit, copied as
     # they are.

@@ -195,6 +195,30 @@ def test_every_internal_link_resolves(browser):
     assert not broken, broken[:20]
 
 
+def test_no_page_asks_for_anything_beyond_the_site(browser):
+    """The site works offline (issue 52: Material's theme asked fonts.googleapis.com for
+    web fonts): every request every page makes while it loads, and MathJax typesets, is for
+    a file of the site (or a data: or blob: URL)."""
+    outside = []
+    for html in PAGES:
+        page = browser.new_page()
+        asked: list[str] = []
+        page.on("request", lambda request, asked=asked: asked.append(request.url))
+        try:
+            page.goto(html.as_uri())
+            page.wait_for_load_state("networkidle")
+        finally:
+            page.close()
+        site = [u for u in asked if urlparse(u).scheme == "file"]
+        assert site, f"{html.relative_to(SITE)}: no request recorded (the check saw nothing)"
+        outside += [
+            f"{html.relative_to(SITE)} -> {u}"
+            for u in asked
+            if urlparse(u).scheme not in ("file", "data", "blob", "about")
+        ]
+    assert not outside, outside[:20]
+
+
 def test_the_start_page_shows_the_readmes_figures(browser):
     page = _open(browser, SITE / "index.html")
     try:

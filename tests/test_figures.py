@@ -163,7 +163,7 @@ def test_save_figure_writes_png_and_pdf(tmp_path):
 
 _FIG4_SCRIPT = """
 import dataclasses, sys
-from docking.study import report
+from docking.study.designs import paper_report
 from docking.experiments import Curriculum, run_experiment
 from docking.presets import EXPERIMENT_2
 config = dataclasses.replace(

@@ -4,8 +4,10 @@ to what computes a run, never by a reworded message, docstring or comment."""
 import ast
 import glob
 import json
+import os
 import shutil
 import subprocess
+import time
 from pathlib import Path
 
 import pytest
@@ -195,3 +197,57 @@ def test_adding_a_left_out_definition_leaves_the_key_alone(monkeypatch):
     # the same helper, kept: code
     monkeypatch.setitem(fingerprint.UNKEYED, "m", frozenset({"C.__post_init__", "C._check"}))
     assert fingerprint.code_tokens(after, "m") != fingerprint.code_tokens(before, "m")
+
+
+def _age(package: Path, seconds: float = 100.0) -> None:
+    """Every file and folder of ``package`` last modified ``seconds`` ago (older than the
+    fingerprint cache's racy window, so its answers are cached)."""
+    then = time.time_ns() - int(seconds * 1e9)
+    for path in [package, *package.rglob("*")]:
+        os.utime(path, ns=(then, then))
+
+
+def _counting_walk(monkeypatch) -> list:
+    calls, walk = [], fingerprint.walk
+    monkeypatch.setattr(fingerprint, "walk", lambda *a: calls.append(a) or walk(*a))
+    return calls
+
+
+def test_the_fingerprint_is_cached_until_a_file_it_reads_changes(tmp_path, monkeypatch):
+    package = _copy_package(tmp_path)
+    _age(package)
+    calls = _counting_walk(monkeypatch)
+    before = source_fingerprint(package)
+    assert source_fingerprint(package) == before and len(calls) == 1  # cached
+    # an edit of the same size, dated one second later: the stamp moves, the key too
+    path = package / "network.py"
+    _edit(path, "e *= 1.0 / total", "e *= 2.0 / total")
+    then = path.stat().st_mtime_ns
+    os.utime(path, ns=(then, then - 10**9 * 50))
+    edited = source_fingerprint(package)
+    assert edited != before and len(calls) == 2
+    assert source_fingerprint(package) == edited and len(calls) == 2  # cached again
+    # an edit just now (inside the racy window) is seen, and not cached
+    _edit(path, "e *= 2.0 / total", "e *= 1.0 / total")
+    assert source_fingerprint(package) == before
+    assert source_fingerprint(package) == before and len(calls) == 4
+
+
+def test_the_fingerprint_cache_sees_the_assets_and_new_files(tmp_path, monkeypatch):
+    package = _copy_package(tmp_path)
+    _age(package)
+    calls = _counting_walk(monkeypatch)
+    before = source_fingerprint(package)
+    asset = package / "assets" / "docking.xml"
+    asset.write_bytes(asset.read_bytes() + b"\n")
+    _age(package, 50)
+    moved = source_fingerprint(package)
+    assert moved != before and len(calls) == 2
+    # a file added beside the fingerprinted ones moves its folder's time: read again
+    (package / "unrelated.py").write_text("X = 1\n")
+    _age(package, 40)
+    assert source_fingerprint(package) == moved and len(calls) == 3
+    # a file no fingerprinted module imports, edited: the cached answer stands
+    (package / "study" / "readme.py").write_text("X = 2\n")
+    os.utime(package / "study" / "readme.py", ns=(1, 1))
+    assert source_fingerprint(package) == moved and len(calls) == 3

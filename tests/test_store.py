@@ -334,3 +334,58 @@ def test_presets_and_designs_are_outside_the_fingerprint():
     assert not any(
         name.startswith(("docking.presets", "docking.study.designs")) for name in modules
     )
+
+
+def test_derived_arrays_are_kept_and_served_only_to_their_key(tmp_path):
+    """Arrays computed from runs (issue 52: the rendered start views behind the fidelity
+    measure) are kept in the store under their key's digest, served again only for that very
+    key, and computed again when the file holds another key or cannot be read."""
+    from docking.study.store import derived
+
+    calls = []
+
+    def compute(value=1.0):
+        calls.append(value)
+        return {"a": np.full(3, value)}
+
+    key = "mean_winning_inputs\nrun abc:seed0\nviews 10"
+    first = derived("thing", key, compute, tmp_path)
+    again = derived("thing", key, compute, tmp_path)
+    assert len(calls) == 1 and np.array_equal(first["a"], again["a"])
+    (path,) = (tmp_path / "derived" / "thing").glob("*.npz")
+    # another key (the code's fingerprint moved): its own file, computed
+    derived("thing", key.replace("abc", "abd"), lambda: compute(2.0), tmp_path)
+    assert calls == [1.0, 2.0]
+    # the file of this key holding another key's arrays is refused and replaced
+    np.savez(path, key=np.array("another key"), a=np.full(3, 9.0))
+    assert np.array_equal(derived("thing", key, compute, tmp_path)["a"], np.full(3, 1.0))
+    assert calls == [1.0, 2.0, 1.0]
+    path.write_bytes(b"not a zip")
+    derived("thing", key, compute, tmp_path)
+    assert len(calls) == 4
+    assert derived("thing", key, compute, tmp_path)["a"].tolist() == [1.0] * 3 and len(calls) == 4
+
+
+def test_derived_arrays_are_computed_again_when_their_code_changes(tmp_path):
+    """A module named in ``code`` enters the key by its file's digest: edited, the arrays
+    are computed again (a cache that never invalidates would serve the old code's)."""
+    import types
+
+    from docking.study.store import derived
+
+    source = tmp_path / "helper.py"
+    source.write_text("X = 1\n")
+    module = types.ModuleType("helper")
+    module.__file__ = str(source)
+    calls = []
+
+    def compute():
+        calls.append(1)
+        return {"a": np.zeros(2)}
+
+    derived("thing", "k", compute, tmp_path / "store", code=(module,))
+    derived("thing", "k", compute, tmp_path / "store", code=(module,))
+    assert len(calls) == 1
+    source.write_text("X = 2\n")
+    derived("thing", "k", compute, tmp_path / "store", code=(module,))
+    assert len(calls) == 2

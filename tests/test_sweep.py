@@ -377,8 +377,8 @@ class _RecordingBar:
 
     made: list = []
 
-    def __init__(self, *args, total=0, initial=0, **kwargs):
-        self.total, self.n, self.updates = total, initial, []
+    def __init__(self, *args, total=0, initial=0, unit="it", **kwargs):
+        self.total, self.n, self.updates, self.unit = total, initial, [], unit
         _RecordingBar.made.append(self)
 
     def update(self, n=1):
@@ -404,10 +404,25 @@ def test_the_bar_counts_trials_as_they_finish(workers, tmp_path, monkeypatch):
     slow = dataclasses.replace(TINY, train_trials=40, eval_trials=0, test_trials=20)
     jobs = jobs_for([slow], [0, 1])
     run_jobs(jobs, tmp_path, workers=workers, progress=True)
-    (bar,) = _RecordingBar.made
+    reading, bar = _RecordingBar.made  # the runs looked for, then the trials computed
+    assert reading.unit == "run" and reading.updates == [1] * len(jobs)
+    assert bar.unit == "trial"
     assert bar.total == bar.n == 2 * trials_in_run(slow)
     # trials reported while runs compute: more updates than runs, each below a run's total
     assert len(bar.updates) > len(jobs) and min(bar.updates) < trials_in_run(slow)
+
+
+def test_a_sweep_of_stored_runs_shows_the_reading_and_no_trial_bar(tmp_path, monkeypatch):
+    """Reading stored runs moves a bar run by run; no bar of trials jumps to 100% (issue
+    52: every bar of the report did, while the time went into reading)."""
+    jobs = jobs_for([TINY], [0, 1])
+    run_jobs(jobs, tmp_path, workers=1, progress=False)
+    monkeypatch.setattr("tqdm.auto.tqdm", _RecordingBar)
+    _RecordingBar.made.clear()
+    run_jobs(jobs, tmp_path, workers=1, progress=True)
+    (reading,) = [b for b in _RecordingBar.made if b.unit == "run"]
+    assert reading.updates == [1] * len(jobs) and reading.n == reading.total == len(jobs)
+    assert all(b.updates == [] for b in _RecordingBar.made if b.unit == "trial")
 
 
 class _Collect(logging.Handler):

@@ -3,10 +3,12 @@
 Run it from a fresh clone (``git clone`` of the commit to measure), on a machine doing nothing
 else::
 
-    python3 tools/time_tiers.py                 # make setup, check, test, paper in turn
+    python3 tools/time_tiers.py                 # make setup, check, docs, report, test, paper
     python3 tools/time_tiers.py --tiers check   # some of them
 
-Each tier is timed in wall-clock seconds and in the CPU seconds of its processes (user +
+``report`` is ``python -m docking report`` from the committed ledger (not a Makefile target);
+``docs`` runs before ``test``, so the site is built as from a fresh clone, executing the
+notebooks. Each tier is timed in wall-clock seconds and in the CPU seconds of its processes (user +
 system of the waited-for children). Before the first tier and after the last,
 ``python -m docking benchmark --quick`` gives the CPU time of one environment step (minimum
 and median over its repetitions), so that the times can be scaled to another machine. The
@@ -30,7 +32,13 @@ import sys
 import time
 from pathlib import Path
 
-TIERS = ("setup", "check", "test", "paper")
+#: In the order they run: ``docs`` before ``test``, so that it builds the site as a fresh
+#: clone does (executing the notebooks, which ``make test`` would have executed already).
+TIERS = ("setup", "check", "docs", "report", "test", "paper")
+
+#: The command of a tier that is not a Makefile target (its output is not kept).
+COMMANDS = {"report": [".venv/bin/python", "-m", "docking", "report"]}
+
 ROOT = Path(__file__).resolve().parent.parent
 
 
@@ -39,10 +47,11 @@ def _children_cpu() -> float:
     return usage.ru_utime + usage.ru_stime
 
 
-def timed(command: list[str]) -> dict:
-    """Run ``command`` in the checkout; its wall and CPU seconds (``RuntimeError`` if it fails)."""
+def timed(command: list[str], quiet: bool = False) -> dict:
+    """Run ``command`` in the checkout; its wall and CPU seconds (``RuntimeError`` if it fails).
+    ``quiet``: its standard output is not shown."""
     cpu, wall = _children_cpu(), time.monotonic()
-    done = subprocess.run(command, cwd=ROOT)
+    done = subprocess.run(command, cwd=ROOT, stdout=subprocess.DEVNULL if quiet else None)
     if done.returncode != 0:
         raise RuntimeError(f"{' '.join(command)} failed (exit status {done.returncode})")
     return {"wall_s": round(time.monotonic() - wall, 1), "cpu_s": round(_children_cpu() - cpu, 1)}
@@ -75,10 +84,12 @@ def main(argv=None) -> int:
         ["git", "rev-parse", "HEAD"], cwd=ROOT, check=True, capture_output=True, text=True
     ).stdout.strip()
     tiers, benchmarks = {}, []
-    for tier in args.tiers:
-        print(f"--- make {tier}", flush=True)
-        tiers[tier] = timed(["make", tier])
-        print(f"--- make {tier}: {tiers[tier]}", flush=True)
+    os.environ.update(MUJOCO_GL="egl", PYOPENGL_PLATFORM="egl")
+    for tier in (t for t in TIERS if t in args.tiers):
+        command = COMMANDS.get(tier, ["make", tier])
+        print(f"--- {' '.join(command)}", flush=True)
+        tiers[tier] = timed(command, quiet=tier in COMMANDS)
+        print(f"--- {' '.join(command)}: {tiers[tier]}", flush=True)
         if tier == "setup" or not benchmarks:
             benchmarks.append(step_time())
     benchmarks.append(step_time())

@@ -48,12 +48,12 @@ the arrays. Files are written by :func:`docking.fileio.atomic_write` (:func:`sav
 from __future__ import annotations
 
 import dataclasses
-import functools
 import hashlib
 import importlib.metadata
 import io
 import json
 import os
+import time
 from collections.abc import Callable
 from pathlib import Path
 
@@ -81,6 +81,7 @@ __all__ = [
     "StaleCode",
     "built_in",
     "computed_utc",
+    "config_json",
     "config_key",
     "content_digest",
     "is_valid",
@@ -137,11 +138,9 @@ def source_fingerprint(
     ``package_dir`` is the ``docking`` package folder to read (default: this package's, whose
     files must still be those this process imported, or :class:`StaleCode` is raised);
     ``root`` and ``libraries`` name another computation's code (e.g. :mod:`docking.study.ppo`'s)."""
-    own = Path(__file__).resolve().parents[1]  # the docking package
-    package_dir = (Path(package_dir) if package_dir else own).resolve()
-    fingerprint, _, files = _fingerprint_parts(
-        package_dir, _stamp(package_dir), root, tuple(libraries)
-    )
+    own = _OWN
+    package_dir = Path(package_dir).resolve() if package_dir else own
+    fingerprint, _, files = _fingerprint_parts(package_dir, root, tuple(libraries))
     if package_dir == own:
         import docking
 
@@ -166,25 +165,65 @@ def module_digests(
     computation (the code as the fingerprint reads it), plus ``assets/...`` and
     ``library ...`` entries: what a ledger records, so that a mismatch can name what
     changed."""
-    package_dir = (Path(package_dir) if package_dir else Path(__file__).parents[1]).resolve()
-    parts = _fingerprint_parts(package_dir, _stamp(package_dir), root, tuple(libraries))
+    package_dir = Path(package_dir).resolve() if package_dir else _OWN
+    parts = _fingerprint_parts(package_dir, root, tuple(libraries))
     return dict(parts[1])
 
 
-def _stamp(package_dir: Path) -> tuple:
-    # Cached by the files' sizes and modification times, so an edit is always seen.
-    return tuple(
-        (str(p), st.st_mtime_ns, st.st_size)
-        for p in sorted(package_dir.rglob("*"))
-        if "__pycache__" not in p.parts and p.is_file() and (st := p.stat())
-    )
+#: The ``docking`` package folder this module was loaded from.
+_OWN = Path(__file__).resolve().parents[1]
 
 
-@functools.lru_cache(maxsize=8)
+#: ``{(package folder, root, libraries): (stamp, parts)}``: :func:`_fingerprint_parts`'s
+#: answers in this process, each with the stamp (:func:`_stamp`) of what it read.
+_PARTS: dict[tuple, tuple[tuple, tuple]] = {}
+
+#: A file modified less than this long before its fingerprint was computed (nanoseconds) is
+#: not trusted to its stamp: an edit within one tick of the file system's clock keeps the
+#: modification time, so such an answer is not cached (it is computed again next time).
+_RACY_NS = 2_000_000_000
+
+
+def _stamp(paths: tuple[Path, ...]) -> tuple:
+    """``((path, mtime_ns, size), ...)`` of ``paths`` (``None`` for one that is gone)."""
+    stamp = []
+    for path in paths:
+        try:
+            found = os.stat(path)
+        except OSError:
+            stamp.append((path, None, None))
+        else:
+            stamp.append((path, found.st_mtime_ns, found.st_size))
+    return tuple(stamp)
+
+
 def _fingerprint_parts(
-    package_dir: Path, stamp: tuple, root: str = _ROOT_MODULE, libraries: tuple = _LIBRARIES
+    package_dir: Path, root: str = _ROOT_MODULE, libraries: tuple = _LIBRARIES
 ) -> tuple[str, tuple, dict]:
-    """(fingerprint, ((part, digest), ...), {file: SHA-256 of its bytes})."""
+    """(fingerprint, ((part, digest), ...), {file: SHA-256 of its bytes}), cached in this
+    process by the stamp (modification time and size) of exactly what it read: every
+    fingerprinted file, every file under ``assets/`` and the folders that hold them (a file
+    added to or removed from one moves its folder's time). An edited file moves its stamp,
+    so the fingerprint is computed again (tests/test_fingerprint_cache.py)."""
+    key = (package_dir, root, libraries)
+    cached = _PARTS.get(key)
+    if cached is not None and _stamp(tuple(p for p, _, _ in cached[0])) == cached[0]:
+        return cached[1]
+    started = time.time_ns()
+    parts = _compute_parts(package_dir, root, libraries)
+    files = [package_dir / f for f in parts[2]]
+    assets = package_dir / "assets"
+    read = [*files, *(assets.rglob("*") if assets.is_dir() else ()), assets]
+    read += sorted({p.parent for p in read} - set(read))
+    stamp = _stamp(tuple(sorted(read)))
+    if all(t is not None and t < started - _RACY_NS for _, t, _ in stamp):
+        _PARTS[key] = (stamp, parts)
+    else:
+        _PARTS.pop(key, None)
+    return parts
+
+
+def _compute_parts(package_dir: Path, root: str, libraries: tuple) -> tuple[str, tuple, dict]:
     code, parts, files = fingerprint.walk(package_dir, root)
     digest = hashlib.sha256(f"code {code}\n".encode())
     assets = package_dir / "assets"
@@ -212,8 +251,44 @@ def rendering_stack() -> str:
     return gl_stack()
 
 
+#: ``{id(config): (config, {form: its JSON})}``: :func:`config_json`'s answers for frozen,
+#: hashable configurations (held, so that their ids stay theirs), at most :data:`_JSON_LIMIT`.
+_JSON: dict[int, tuple[object, dict]] = {}
+_JSON_LIMIT = 4096
+
+
+def _frozen(config) -> bool:
+    # A frozen dataclass whose every field hashes (no list or dict inside) cannot change.
+    if not dataclasses.is_dataclass(config) or not config.__dataclass_params__.frozen:
+        return False
+    try:
+        hash(config)
+    except TypeError:
+        return False
+    return True
+
+
+def config_json(config, compact: bool = True) -> str:
+    """``config.to_dict()`` as JSON with sorted keys (``compact``: without spaces, the form a
+    key hashes; else :func:`json.dumps`'s default separators, the ledger index's), cached
+    for the configuration object while it is frozen and hashable (a configuration is
+    immutable; one holding a list or dict is converted each time)."""
+    entry = _JSON.get(id(config))
+    if entry is None or entry[0] is not config:
+        entry = (config, {})
+        if _frozen(config):
+            if len(_JSON) >= _JSON_LIMIT:
+                _JSON.clear()
+            _JSON[id(config)] = entry
+    texts = entry[1]
+    if compact not in texts:
+        d = config.to_dict()
+        texts[compact] = json.dumps(d, sort_keys=True, separators=(",", ":") if compact else None)
+    return texts[compact]
+
+
 def _canonical(config) -> str:
-    return json.dumps(config.to_dict(), sort_keys=True, separators=(",", ":"))
+    return config_json(config)
 
 
 def config_key(config, render: str | None = None, source: str | None = None) -> str:

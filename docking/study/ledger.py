@@ -303,7 +303,11 @@ def size_bytes(folder: Path | None = None) -> int:
 def _find(config, seed: int) -> tuple[dict, str] | None:
     kinds.runner_for(config)  # TypeError for what is no run's configuration
     data = _stored_manifest(paths.ledger_dir())
-    key = data["index"].get(_index(config.to_dict(), seed)) if data else None
+    key = (
+        data["index"].get(f"{kinds.config_json(config, compact=False)}:seed{seed}")
+        if data
+        else None
+    )
     return None if key is None else (data, key)
 
 

@@ -137,6 +137,10 @@ TIMINGS_START = "<!-- timings:start -->"
 TIMINGS_END = "<!-- timings:end -->"
 
 
+#: What ``tools/time_tiers.py`` runs for a tier that is not a Makefile target.
+COMMANDS = {"report": "python -m docking report"}
+
+
 def timings_text(
     measured: dict | None, runs: int, run_seconds: float, ledger_bytes: int | None = None
 ) -> str:
@@ -161,14 +165,21 @@ def timings_text(
     )
     if measured is None:
         return f"The tiers have not been timed on this commit's ledger. {reproduce}"
-    names = {"setup": " (package downloads)"}
+    names = {
+        "setup": " (package downloads)",
+        "docs": " (the site, executing the notebooks: none is executed yet in a fresh clone)",
+        "report": " (from the committed ledger)",
+    }
     top = measured["commit"]
 
     def where(t: dict) -> str:  # a tier kept from an earlier measurement names its commit
         return "" if t.get("commit", top) == top else f", on {t['commit'][:7]}"
 
+    def took(t: dict) -> str:
+        return f"{t['wall_s']:.0f} s" if t["wall_s"] < 60 else f"{t['wall_s'] / 60:.1f} min"
+
     tiers = "; ".join(
-        f"`make {tier}` {t['wall_s'] / 60:.1f} min{names.get(tier, '')}{where(t)}"
+        f"`{COMMANDS.get(tier, f'make {tier}')}` {took(t)}{names.get(tier, '')}{where(t)}"
         for tier, t in measured["tiers"].items()
     )
     step = measured["step"]

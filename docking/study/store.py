@@ -17,13 +17,18 @@ replaces it. Temporary files of killed writers are cleaned up before the next wr
 
 from __future__ import annotations
 
+import hashlib
+import io
 import os
 import shutil
 import tempfile
 import warnings
+from collections.abc import Callable
 from pathlib import Path
 
-from docking.fileio import remove_stale_temporaries
+import numpy as np
+
+from docking.fileio import UnsafeFile, atomic_write, read_regular, remove_stale_temporaries
 from docking.study import kinds, paths
 from docking.study.kinds import CorruptResult, ForeignFile, module_digests, source_fingerprint
 
@@ -32,6 +37,7 @@ from docking.study.kinds import CorruptResult, ForeignFile, module_digests, sour
 __all__ = [
     "check_writable",
     "compute",
+    "derived",
     "find",
     "module_digests",
     "run_or_load",
@@ -128,3 +134,49 @@ def run_or_load(
             if found is not None:
                 return found
     return compute(config, seed, path, progress=progress, on_trials=on_trials, again=True)
+
+
+#: Bytes a file of :func:`derived` arrays may hold.
+_DERIVED_LIMIT = 64 << 20
+
+
+def derived(
+    name: str,
+    key: str,
+    compute: Callable[[], dict[str, np.ndarray]],
+    results_dir: Path | str | None = None,
+    code: tuple = (),
+) -> dict[str, np.ndarray]:
+    """Arrays computed from runs (e.g. rendered start views read by a run's network), kept
+    in the results store beside the runs, keyed as runs are: ``key`` is the text of
+    everything they depend on, which names the run keys (:func:`docking.study.kinds.run_key`:
+    configuration, the code's fingerprint, the rendering stack, seed) and the computation's
+    own arguments; ``code``, the modules that compute them outside the runs' fingerprinted
+    code (e.g. :mod:`docking.study.analysis`), enter it by the SHA-256 of their files, so an
+    edit of theirs computes the arrays again. The file
+    ``<results>/derived/<name>/<SHA-256 of key>.npz`` holds the key too; it is used only if
+    that is this key (else, or if it is unreadable, the arrays are computed and replace it).
+    A store that cannot be written is not an error: the arrays are returned, not kept."""
+    for module in code:
+        source = Path(module.__file__).read_bytes()
+        key += f"\ncode {module.__name__} {hashlib.sha256(source).hexdigest()}"
+    root = Path(results_dir) if results_dir is not None else paths.results_dir()
+    path = root / "derived" / name / f"{hashlib.sha256(key.encode()).hexdigest()[:32]}.npz"
+    try:
+        raw = read_regular(path, _DERIVED_LIMIT, path.parent)
+        with np.load(io.BytesIO(raw), allow_pickle=False) as data:
+            if str(data["key"]) == key:
+                return {k: data[k] for k in data.files if k != "key"}
+    except (OSError, UnsafeFile, ValueError, KeyError):
+        pass  # none, unreadable or another key's: computed below
+    arrays = compute()
+    if "key" in arrays:
+        raise ValueError("derived: 'key' is the name the file keeps its key under")
+    buffer = io.BytesIO()
+    np.savez(buffer, key=np.array(key), **arrays)
+    try:
+        path.parent.mkdir(parents=True, exist_ok=True)
+        atomic_write(path, lambda f: f.write(buffer.getvalue()))
+    except OSError:
+        pass
+    return arrays

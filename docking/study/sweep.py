@@ -562,14 +562,16 @@ def sweep(
     if force:
         located = [_to_compute(j, root) for j in jobs]
     elif located is None:
-        located = [locate(j.config, j.seed, root) for j in jobs]
+        located = _located(jobs, root, desc, progress)
     located = list(located)
     todo = [k for k, found in enumerate(located) if found.place == "computed"]
     if todo:  # a read-only store that holds every run can still be read
         store.check_writable(root)
 
     trials = [_trials(j.config) for j in jobs]
-    bar = _trial_bar(sum(trials), sum(trials) - sum(trials[k] for k in todo), desc, progress)
+    # computing: a bar of trials (none when every run was found: it would say nothing)
+    stored = sum(trials) - sum(trials[k] for k in todo)
+    bar = _trial_bar(sum(trials), stored, desc, progress and bool(todo))
     runs = _RunCount(bar, len(jobs), len(jobs) - len(todo))
     computed: dict[int, object] = {}
     try:
@@ -586,6 +588,31 @@ def sweep(
         dataclasses.replace(found, run=computed.get(k)) if k in computed and keep else found
         for k, found in enumerate(located)
     ]
+
+
+def _located(jobs: list[Job], root: Path, desc: str, progress: bool) -> list[Located]:
+    """Each job located once (:func:`docking.study.runs.locate`), with a bar of the runs
+    read (from the store or the ledger) that moves as each is found; quiet when stderr is not
+    a terminal, or without ``progress``."""
+    from tqdm.auto import tqdm
+
+    bar = tqdm(
+        total=len(jobs),
+        desc=f"{desc}: reading",
+        unit="run",
+        disable=None if progress else True,  # None: quiet unless stderr is a terminal
+        file=sys.stderr,
+        dynamic_ncols=True,
+        leave=False,
+    )
+    located = []
+    try:
+        for job in jobs:
+            located.append(locate(job.config, job.seed, root))
+            bar.update(1)
+    finally:
+        bar.close()
+    return located
 
 
 def _to_compute(job: Job, root: Path) -> Located:

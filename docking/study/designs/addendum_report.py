@@ -138,6 +138,25 @@ class Decomposition:
         return t_paired_ci(self.linear, self.paper)
 
 
+def _oracle_labelled_success(run, views) -> float:
+    """:func:`docking.study.analysis.oracle_labelled_success` (500 held-out trials of the
+    run's W with the oracle-labelled Q), kept in the results store (:func:`store.derived`),
+    keyed by the run's key, the labelled views' digest and the analysis module's code."""
+    from docking.study import kinds, store
+
+    text = (
+        f"oracle_labelled_success\nrun {kinds.run_key(run.config, run.seed)}"
+        f"\nviews {kinds.content_digest(views._asdict())}"
+    )
+    found = store.derived(
+        "oracle-labelled-success",
+        text,
+        lambda: {"success": np.array(analysis.oracle_labelled_success(run, views))},
+        code=(analysis,),
+    )
+    return float(found["success"])
+
+
 def decomposition(results, labelled_views: dict) -> list[Decomposition]:
     """Per world of ``labelled_views`` (``{world: analysis.OracleViews}``):
     :class:`Decomposition` from the addendum's runs (the networks of ``paper-tuned`` and
@@ -151,10 +170,10 @@ def decomposition(results, labelled_views: dict) -> list[Decomposition]:
                 world,
                 results.score(f"{world}/linear-tuned"),
                 results.score(f"{world}/paper-tuned"),
-                np.array([analysis.oracle_labelled_success(r, views) for r in paper]),
+                np.array([_oracle_labelled_success(r, views) for r in paper]),
                 np.array([analysis.partition_purity(r.network, views) for r in paper]),
                 results.score(f"{world}/views-frozen"),
-                np.array([analysis.oracle_labelled_success(r, views) for r in fixed]),
+                np.array([_oracle_labelled_success(r, views) for r in fixed]),
             )
         )
     return found
