@@ -410,7 +410,12 @@ def _unbroken(markdown: str) -> str:
 def _execute(source: Path, nb: Path) -> None:
     """Write ``nb`` from its jupytext ``source`` and execute it in place (its runs come from the
     results store or the committed ledger; a run that neither holds is computed)."""
-    print(f"executing {source.relative_to(ROOT)} (no executed copy, or an older one)", flush=True)
+    # one write, so that the lines of notebooks executed side by side do not run together
+    print(
+        f"executing {source.relative_to(ROOT)} (no executed copy, or an older one)\n",
+        end="",
+        flush=True,
+    )
     bin_dir = Path(sys.executable).parent
     subprocess.run(
         [bin_dir / "jupytext", "--quiet", "--to", "ipynb", "--output", nb, source], check=True
