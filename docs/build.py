@@ -200,7 +200,9 @@ def _fold_imports(cell: dict) -> list[dict]:
     if rest and end < FOLDED_IMPORT_LINES:
         return [cell]
     folded = copy.deepcopy(cell)
-    folded["metadata"].setdefault("tags", []).append("hide-input")
+    tags = folded["metadata"].setdefault("tags", [])
+    if "hide-input" not in tags:  # a cell hidden already keeps one tag (nbformat: unique)
+        tags.append("hide-input")
     folded["source"] = imports
     if not rest:
         return [folded]
