@@ -116,7 +116,8 @@ assert replicated["nao"].first_lead == "paper ahead" and replicated["nao"].lead 
 # there: at its published settings the paper's learner docks far less often (the fragility
 # landscape, below), and its search took more runs than linear SARSA's (counted here).
 
-# %% tags=["hide-input"]
+# %% tags=["hide-input", "fold-output"]
+# the tuning effort, counted from the ledger's records
 from docking.study import ledger  # noqa: E402
 
 effort = answer.effort(ledger.manifest())
@@ -128,7 +129,7 @@ display(
 )
 assert all(effort[w, "paper"][0] > 2 * effort[w, "linear"][0] for w in ad.WORLDS)
 
-# %% [markdown]
+# %% [markdown] tags=["fold"]
 # ## The Nao-like world
 #
 # Its values, read from the world's configuration (`docking.presets.NAO_WORLD`), beside the
@@ -223,7 +224,7 @@ fig = figures.fig_contest(
 )
 display(Image(save_named(fig, "third_edition_contest")))
 
-# %% [markdown]
+# %% [markdown] tags=["fold"]
 # ## The contest's finding: does tuning close the gap? (*superseded*)
 #
 # *Superseded* by the addendum, the bracketing and the replication (the current finding, at
@@ -264,7 +265,7 @@ header = [f"n = {n}, {'bimodal' if b else 'Beta'}" for n, b in columns]
 display(Markdown(report.md_table(("interval", *header), rows)))
 assert all(0.93 <= v <= 0.97 for v in found.values())  # each within 2 points of 95%
 
-# %% [markdown]
+# %% [markdown] tags=["fold"]
 # ## What the contest shows (*superseded* where it speaks of the gap)
 #
 # Each sentence below is computed from the runs; the asserts hold what the sentences say.
@@ -503,8 +504,8 @@ for w in ad.WORLDS:
     paper_steps = by_row[name, variants["paper-tuned"]].mean()
     assert abs(by_row[name, variants["ppo-matched"]][0] / paper_steps - 1) < 0.05  # within 5%
 
-# %% [markdown]
-# ### The gap, tuned to each learner's optimum
+# %% [markdown] tags=["fold"]
+# ### The gap, tuned to each learner's optimum (the first judgement; replicated at the top)
 
 # %% tags=["hide-input"]
 added_gaps = report.contest_gaps(final, ad.WORLDS, ad.GAP_CLOSED)
@@ -528,8 +529,8 @@ rows = [
 ]
 display(Markdown(report.md_table(("", *(names[w] for w in ad.WORLDS)), rows)))
 
-# %% [markdown]
-# ### What the addendum shows
+# %% [markdown] tags=["fold"]
+# ### What the addendum shows (its first judgement; the replication at the top supersedes it)
 #
 # Each sentence is computed from the runs; the asserts hold what they say.
 
@@ -590,7 +591,8 @@ print(
 # runs of the tuning seeds. A few runs on two seeds are a lead to test on fresh seeds, not a
 # finding: it is reported here and used nowhere else.
 
-# %% tags=["hide-input"]
+# %% tags=["hide-input", "fold-output"]
+# the lead: linear SARSA in the Nao-like world at eps_Q 0.3
 lead_at = {  # linear SARSA, Nao-like world, eps_Q 0.3: each beta_a's runs on the tuning seeds
     b: runs
     for b in lsc.BETA_A
