@@ -170,6 +170,11 @@ def timings_text(
         "docs": " (the site, executing the notebooks: none is executed yet in a fresh clone)",
         "report": " (from the committed ledger)",
     }
+    if "docs" in measured["tiers"] and "test" in measured["tiers"]:  # time_tiers: docs first
+        names["test"] = (
+            " (after `make docs` in the same clone, reusing the arrays its notebooks derived; "
+            "`make test` alone also computes notebook 08's decomposition)"
+        )
     top = measured["commit"]
 
     def where(t: dict) -> str:  # a tier kept from an earlier measurement names its commit
