@@ -41,7 +41,6 @@ import dataclasses
 import hashlib
 import io
 import json
-import tempfile
 from pathlib import Path
 
 import numpy as np
@@ -145,27 +144,9 @@ def _changed(data: dict) -> dict[str, kinds.Runner]:
 def _prove(data: dict, keys: list[str], scheduler, workers, progress) -> list:
     """Recompute the runs ``keys`` with this code and compare them with the ledger
     (:func:`docking.study.verify.compare`): the checks."""
-    from docking.study.sweep import Job, run_jobs
-    from docking.study.verify import compare
+    from docking.study.verify import recompute
 
-    jobs = [
-        Job(
-            kinds.runner_named(data["runs"][k]["runner"]).from_dict(data["runs"][k]["config"]),
-            data["runs"][k]["seed"],
-        )
-        for k in keys
-    ]
-    with tempfile.TemporaryDirectory(prefix="docking-migrate-") as scratch:
-        run_jobs(
-            jobs,
-            scratch,
-            scheduler=scheduler,
-            workers=workers,
-            force=True,
-            progress=progress,
-            desc=f"migrate: recomputing {len(jobs)} runs",
-        )
-        return compare(data, keys, jobs, scratch)
+    return recompute(data, keys, scheduler, workers, progress, what="migrate")
 
 
 def _new_keys(data: dict, changed) -> dict[str, str]:

@@ -154,6 +154,33 @@ def compare(data: dict, keys: list[str], jobs: list, scratch) -> list[Check]:
     return checks
 
 
+def recompute(data: dict, keys: list[str], scheduler, workers, progress, what: str) -> list:
+    """Recompute the ledger's runs ``keys`` with this code, in a temporary store (the results
+    store is not touched), and compare each with the ledger (:func:`compare`); ``what`` names
+    the command on the bar and the temporary folder (``verify``, ``migrate``)."""
+    import tempfile
+
+    from docking.study.kinds import runner_named
+    from docking.study.sweep import Job, run_jobs
+
+    records = [data["runs"][k] for k in keys]
+    jobs = [
+        Job(runner_named(record["runner"]).from_dict(record["config"]), record["seed"])
+        for record in records
+    ]
+    with tempfile.TemporaryDirectory(prefix=f"docking-{what}-") as scratch:
+        run_jobs(
+            jobs,
+            scratch,
+            scheduler=scheduler,
+            workers=workers,
+            force=True,
+            progress=progress,
+            desc=f"{what}: recomputing {len(jobs)} runs",
+        )
+        return compare(data, keys, jobs, scratch)
+
+
 def verify(
     sample: int | None = 3,
     scheduler: str | None = None,
@@ -166,29 +193,9 @@ def verify(
     not touched; ``tables``: every run of those tables) and compare each one with the ledger
     (:func:`compare`). Returns the checks; the caller decides what a mismatch means (the CLI
     fails)."""
-    import tempfile
-
-    from docking.study.kinds import runner_named
-    from docking.study.sweep import Job, run_jobs
-
     folder = Path(folder) if folder is not None else paths.ledger_dir()
     data = manifest(folder)
     if data is None:
         raise FileNotFoundError(f"no ledger to verify in {folder}")
     keys = chosen(data, sample, _commit(), tables)  # sample=None (--all): every runner's runs
-    records = [data["runs"][k] for k in keys]
-    jobs = [
-        Job(runner_named(record["runner"]).from_dict(record["config"]), record["seed"])
-        for record in records
-    ]
-    with tempfile.TemporaryDirectory(prefix="docking-verify-") as scratch:
-        run_jobs(
-            jobs,
-            scratch,
-            scheduler=scheduler,
-            workers=workers,
-            force=True,
-            progress=progress,
-            desc=f"verify: {len(jobs)} runs",
-        )
-        return compare(data, keys, jobs, scratch)
+    return recompute(data, keys, scheduler, workers, progress, what="verify")
