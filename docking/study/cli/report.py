@@ -251,18 +251,11 @@ class Report:
         efforts = answer.effort(ledger.manifest())
         relocation = _relocation(revisited.DESIGN.run(**run), revisited)
         design = contest.design
-        counts = []
-        for rule in (decisions, judge_family(design.claims, contest, alpha=design.alpha)):
-            groups = claim_groups(design.claims, rule)
-            counts.append(
-                (
-                    len(groups.get("supported wherever judged", []))
-                    + len(groups.get("supported in some worlds only", [])),
-                    len(groups.get("contradicted in at least one world", [])),
-                )
-            )
-        judged = sum(len(v) for v in claim_groups(design.claims, decisions).values())
-        claims = (judged, *counts[0], *counts[1])
+        per_claim, family = (
+            claim_groups(design.claims, rule)
+            for rule in (decisions, judge_family(design.claims, contest, alpha=design.alpha))
+        )
+        claims = (sum(len(v) for v in per_claim.values()), *_held(per_claim), *_held(family))
         fig = figures.fig_glance(*answer.glance_data(contest, second))
         png = Path(report.save_named(fig, readme.GLANCE_FIGURE))
         text = answer.first_screen(published, sideboard, tuned, efforts, found, relocation, claims)
@@ -306,6 +299,16 @@ class Report:
                 runs = design.run(results_dir=self.results_dir, workers=self.processes)
                 found.append((runs, keys))
         return found
+
+
+def _held(groups: dict) -> tuple[int, int]:
+    """Of the claims grouped by their verdicts (``claim_groups``): how many hold in at least
+    one world, and how many are contradicted in at least one."""
+    held = ("supported wherever judged", "supported in some worlds only")
+    return (
+        sum(len(groups.get(g, [])) for g in held),
+        len(groups.get("contradicted in at least one world", [])),
+    )
 
 
 def _relocation(results, rv) -> dict:
