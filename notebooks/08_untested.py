@@ -695,8 +695,7 @@ assert gap["floor", best][0].estimate < 0.6 * gap["floor", "paper"][0].estimate
 
 # %% tags=["hide-input"]
 added = ad.DESIGN.run(progress=False)
-labelled = {w: analysis.oracle_views(ad.WORLDS[w], 300, seed=0) for w in ad.WORLDS}
-parts = {d.world: d for d in addendum_report.decomposition(added, labelled)}
+parts = {d.world: d for d in addendum_report.decomposition(added, ad.WORLDS, 300, seed=0)}
 columns = [
     "linear SARSA, tuned",
     "paper's W, oracle-labelled Q",

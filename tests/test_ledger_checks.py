@@ -131,7 +131,7 @@ def test_a_format_7_ledger_is_refused_and_the_tool_upgrades_it(copy):
     )
     assert out.returncode == 0, out.stderr
     ledger._read_manifest.cache_clear()
-    assert ledger.check_files(copy) == {"runs": 3, "tables": 2, "whole": 1}
+    assert ledger.check_files(copy) == {"runs": 3, "tables": 2, "whole": 1, "derived": 0}
     assert load_run(TINY, 1, "/nonexistent-store").seed == 1
 
 

@@ -52,7 +52,7 @@ from docking.experiments import ExperimentResult, TrialLog
 from docking.fileio import UnsafeFile, atomic_write, read_regular
 from docking.network import Network
 from docking.study import kinds, paths
-from docking.validate import NAME_PATTERN
+from docking.validate import NAME_PATTERN, check_name
 
 __all__ = ["CorruptLedger", "NotInLedger", "StaleLedger", "TableLog", "holds", "read"]
 
@@ -71,6 +71,9 @@ SEALED = ("digest", "row", "wall_time_train", "wall_time_test", "wall_seconds", 
 SEALED_IF_PRESENT = ("rules_sha256", "sha256")
 #: The seal of the manifest's migrations (not a table's name: table names are plain names).
 MIGRATIONS_SEAL = "(migrations)"
+#: The seal of the manifest's derived tables (``derived``: ``{name: SHA-256 of
+#: derived/<name>.npz}``, arrays computed from runs, :mod:`docking.study.derived`).
+DERIVED_SEAL = "(derived)"
 #: The largest manifest, results table or whole run read (bytes on disk), and the most a
 #: table's arrays may hold decompressed.
 MANIFEST_LIMIT = 64 << 20
@@ -166,7 +169,8 @@ def _read_manifest(path: Path, _mtime: int) -> dict:
         _check_names(data)
         data["index"] = {_index(r["config"], r["seed"]): k for k, r in data["runs"].items()}
         seals = data["seals"]
-        found = _seals(data["runs"], data["tables"], data.get("migrations", []))
+        _check_derived_names(data.get("derived", {}))
+        found = seals_of(data)
     except (ValueError, KeyError, TypeError, AttributeError, AssertionError) as exc:
         raise CorruptLedger(f"{path} is not a ledger manifest ({exc!r:.300}); {_RESTORE}") from None
     broken = sorted(n for n in set(seals) | set(found) if seals.get(n) != found.get(n))
@@ -201,15 +205,24 @@ def _check_names(data: dict) -> None:
         assert record.get("whole") in (None, own), f"run {key[:16]}: not its own file"
 
 
+def _check_derived_names(derived) -> None:
+    """AssertionError unless the manifest's ``derived`` is ``{plain name: SHA-256}``."""
+    assert isinstance(derived, dict), "derived: not a mapping"
+    for name, sha256 in derived.items():
+        assert isinstance(name, str) and NAME_PATTERN.fullmatch(name), f"derived {name!r:.80}"
+        assert isinstance(sha256, str) and len(sha256) == 64, f"derived {name}: its digest"
+
+
 def _index(config: dict, seed: int) -> str:
     return f"{json.dumps(config, sort_keys=True)}:seed{seed}"
 
 
-def _seals(runs: dict, tables: dict | None = None, migrations=None) -> dict[str, str]:
+def _seals(runs: dict, tables: dict | None = None, migrations=None, derived=None) -> dict[str, str]:
     """``{table: its seal}`` of the run records ``runs`` (``{key: record}``) and the tables'
     digests ``tables`` (``{table: SHA-256 of its file}``): the SHA-256 of the table's digest
     and of the :data:`SEALED` fields of its runs, in the order of their keys; with
-    ``migrations`` (the manifest's), their seal under :data:`MIGRATIONS_SEAL`."""
+    ``migrations`` (the manifest's), their seal under :data:`MIGRATIONS_SEAL`; with
+    ``derived`` (``{name: SHA-256 of its file}``), theirs under :data:`DERIVED_SEAL`."""
     rows: dict[str, list] = {}
     for key in sorted(runs):
         record = runs[key]
@@ -224,14 +237,16 @@ def _seals(runs: dict, tables: dict | None = None, migrations=None) -> dict[str,
         seals[name] = _sha256_json([tables[name], []])
     if migrations:
         seals[MIGRATIONS_SEAL] = _sha256_json(migrations)
+    if derived:
+        seals[DERIVED_SEAL] = _sha256_json(derived)
     return dict(sorted(seals.items()))
 
 
 def seals_of(data: dict) -> dict[str, str]:
-    """The seals of the manifest ``data`` as written (:func:`_seals` of its runs, tables and
-    migrations): what :func:`update` writes, and what a forger recomputes after an edit (a
-    seal refuses an edit, not a forgery)."""
-    return _seals(data["runs"], data["tables"], data.get("migrations", []))
+    """The seals of the manifest ``data`` as written (:func:`_seals` of its runs, tables,
+    migrations and derived tables): what :func:`update` writes, and what a forger recomputes
+    after an edit (a seal refuses an edit, not a forgery: ``verify`` recomputes)."""
+    return _seals(data["runs"], data["tables"], data.get("migrations", []), data.get("derived", {}))
 
 
 def _sha256_json(value) -> str:
@@ -391,6 +406,13 @@ def _table(path: Path, sha256: str) -> dict[str, np.ndarray]:
     return table
 
 
+@functools.lru_cache(maxsize=8)
+def _row_index(path: Path, sha256: str) -> dict[str, int]:
+    """``{run key: its row}`` of the results table ``path`` (:func:`_table`, which holds
+    each key once)."""
+    return {key: row for row, key in enumerate(_table(path, sha256)["key"].tolist())}
+
+
 def table_rows(data: dict, name: str) -> dict[str, dict[str, np.ndarray]]:
     """``{run key: its row's cells}`` of the results table ``name`` of the ledger whose
     manifest is ``data`` (the file checked against its digest, each row against its
@@ -416,13 +438,12 @@ def _served_row(data: dict, name: str, key: str) -> dict[str, np.ndarray]:
     """The row of run ``key`` of table ``name``, checked against its record's row digest."""
     path = data["folder"] / "tables" / f"{name}.npz"
     table = _table(path, data["tables"][name])
-    keys = table["key"].tolist()
-    if key not in keys:
+    row = _row_index(path, data["tables"][name]).get(key)
+    if row is None:
         raise CorruptLedger(
             f"the ledger table {path} does not hold the run of {name!r} seed "
             f"{data['runs'][key]['seed']} that the manifest names; {_RESTORE}"
         )
-    row = keys.index(key)
     got = {n: _cell(table, n, row) for n in table if n + ".count" in table}
     got = {n: a for n, a in got.items() if a is not None}
     if row_digest(got) != data["runs"][key]["row"]:
@@ -433,18 +454,21 @@ def _served_row(data: dict, name: str, key: str) -> dict[str, np.ndarray]:
     return got
 
 
-def read(config, seed: int):
+def read(config, seed: int, key: str | None = None):
     """The run of (``config``, ``seed``) as the ledger holds it (whole, or from its results
     table, its row checked against its record), or None if it holds none.
     :class:`StaleLedger` if it holds it but was computed by other code. (The store is asked
-    first, by :func:`docking.study.runs.locate`.)"""
+    first, by :func:`docking.study.runs.locate`, which passes the run's ``key`` under this
+    code and rendering stack, so that it is not computed twice.)"""
     found = _find(config, seed)
     if found is None:
         return None
-    (data, key), runner = found, kinds.runner_for(config)
+    (data, held), runner = found, kinds.runner_for(config)
     _check(data, runner)
-    record = data["runs"][key]
-    if key != kinds.run_key(config, seed, render=data["rendering_stack"]):
+    record = data["runs"][held]
+    if key is None or data["rendering_stack"] != kinds.rendering_stack():
+        key = kinds.run_key(config, seed, render=data["rendering_stack"])
+    if held != key:
         raise StaleLedger(f"the ledger's key of {config.name!r} seed {seed} is not this code's")
     if record.get("whole"):
         whole = data["folder"] / record["whole"]
@@ -508,18 +532,22 @@ def check_files(folder: Path | str | None = None) -> dict[str, int] | None:
     each row's digest), each whole run's arrays against its content digest, and each run's
     key against the key of its configuration and seed under this code.
     :class:`CorruptLedger` (or :class:`StaleLedger`) naming the first that fails; None if
-    there is no manifest; else what was checked: ``{"runs", "tables", "whole"}`` counts."""
+    there is no manifest; else what was checked: ``{"runs", "tables", "whole", "derived"}``
+    counts (``derived``: the derived tables, each against its sealed SHA-256)."""
     data = manifest(Path(folder) if folder is not None else paths.ledger_dir())
     if data is None:
         return None
     for name in sorted(data["tables"]):
         table_rows(data, name)
+    for name in sorted(data.get("derived", {})):
+        derived_table(data, name)
     whole = [r for r in data["runs"].values() if r.get("whole")]
     for record in whole:
         path = data["folder"] / record["whole"]
         _check_content(_verified(path, record["sha256"], data["folder"]), record, path)
     _check_keys(data)
-    return {"runs": len(data["runs"]), "tables": len(data["tables"]), "whole": len(whole)}
+    counts = {"runs": len(data["runs"]), "tables": len(data["tables"]), "whole": len(whole)}
+    return {**counts, "derived": len(data.get("derived", {}))}
 
 
 def _check_keys(data: dict) -> None:
@@ -703,7 +731,7 @@ def update(runs, folder: Path | str | None = None, results_dir=None, only=None, 
             records[key]["row"] = row_digest(cells)  # what the table serves of the run
     platform = kept["platform"] if only is not None else numeric_platform()
     migrations = kept["migrations"] if only is not None else _migrations_of(folder)
-    data = _manifest(files, records, runners, configs, platform, migrations)
+    data = _manifest(files, records, runners, configs, platform, migrations, _derived_of(folder))
     if only is not None:
         platforms = _table_platforms(kept, only, tables, numeric_platform())
         if platforms:
@@ -746,6 +774,62 @@ def _table_platforms(kept: dict, only, tables, here: dict) -> dict:
     return dict(sorted(platforms.items()))
 
 
+def _derived_of(folder: Path) -> dict:
+    """The derived tables of the ledger in ``folder`` (``{name: SHA-256}``), each file checked
+    against its digest; none if it has no readable manifest."""
+    try:
+        data = _stored_manifest(folder)
+    except StaleLedger:
+        return {}
+    derived = dict(data.get("derived", {})) if data else {}
+    for name, sha256 in derived.items():
+        _verified(folder / "derived" / f"{name}.npz", sha256, folder)
+    return derived
+
+
+def derived_table(data: dict, name: str) -> tuple[dict[str, int], dict[str, np.ndarray]] | None:
+    """The derived table ``name`` of the ledger whose manifest is ``data`` (its file checked
+    against its sealed digest): ``({whole key: row}, {array name: its rows stacked})``, or
+    None if the ledger has none of that name."""
+    sha256 = data.get("derived", {}).get(name)
+    if sha256 is None:
+        return None
+    path = data["folder"] / "derived" / f"{name}.npz"
+    table = _table(path, sha256)
+    if "key" not in table:
+        raise CorruptLedger(f"the derived table {path} holds no keys; {_RESTORE}")
+    return _row_index(path, sha256), table
+
+
+def write_derived(folder: Path | str, name: str, entries: dict[str, dict]) -> dict:
+    """Write the derived table ``name`` (``entries``: ``{whole key: arrays}``, every entry the
+    same array names and shapes) into the ledger in ``folder``, replacing one of that name,
+    and seal it in the manifest (written atomically); returns the manifest."""
+    folder = Path(folder)
+    check_name("write_derived", "name", name)
+    data = manifest(folder)
+    if data is None:
+        raise ValueError(f"no ledger in {folder} to add to (it has no manifest.json)")
+    keys = sorted(entries)
+    if not keys:
+        raise ValueError(f"derived {name!r}: no entries to write")
+    fields = sorted(entries[keys[0]])
+    for key in keys:
+        if sorted(entries[key]) != fields or "key" in fields:
+            raise ValueError(f"derived {name!r}: entries differ in their arrays ({fields})")
+    columns = {"key": np.array(keys)}
+    columns.update({f: np.stack([np.asarray(entries[k][f]) for k in keys]) for f in fields})
+    raw = _npz(columns)
+    atomic_write(folder / "derived" / f"{name}.npz", lambda f: f.write(raw))
+    text = json.loads((folder / "manifest.json").read_text())
+    text["derived"] = {**text.get("derived", {}), name: hashlib.sha256(raw).hexdigest()}
+    text["seals"] = seals_of(text)
+    out = json.dumps(text, indent=1, sort_keys=True) + "\n"
+    atomic_write(folder / "manifest.json", lambda f: f.write(out.encode()))
+    _read_manifest.cache_clear()
+    return manifest(folder)
+
+
 def _migrations_of(folder: Path) -> list:
     """The migrations recorded by the ledger in ``folder`` (none if it has no readable
     manifest): a ledger written anew keeps the history of its runs' keys."""
@@ -763,10 +847,12 @@ def _manifest(
     configs: dict,
     platform: dict,
     migrations: list = (),
+    derived: dict | None = None,
 ) -> dict:
     """The manifest of a ledger's ``files`` (its tables among them) and run ``records``, the
     runs computed by ``runners`` from ``configs`` on ``platform`` (the ledger's), with the
-    ``migrations`` its runs' keys went through."""
+    ``migrations`` its runs' keys went through and its ``derived`` tables (kept as they are:
+    an entry whose key names no run of the ledger is never asked for)."""
     table_names = {p[len("tables/") : -len(".npz")] for p in files if p.startswith("tables/")}
     tables = {n: hashlib.sha256(files[f"tables/{n}.npz"]).hexdigest() for n in sorted(table_names)}
     found = {
@@ -779,10 +865,12 @@ def _manifest(
         "configs": configs,
         "tables": tables,
         "runs": records,
-        "seals": _seals(records, tables, list(migrations)),
+        "seals": _seals(records, tables, list(migrations), derived),
     }
     if migrations:
         found["migrations"] = list(migrations)
+    if derived:
+        found["derived"] = dict(derived)
     return found
 
 

@@ -38,6 +38,8 @@ __all__ = [
     "check_writable",
     "compute",
     "derived",
+    "code_line",
+    "derived_key",
     "find",
     "module_digests",
     "run_or_load",
@@ -136,6 +138,27 @@ def run_or_load(
     return compute(config, seed, path, progress=progress, on_trials=on_trials, again=True)
 
 
+def derived_key(key: str, code: tuple = ()) -> str:
+    """The whole key of :func:`derived` arrays: ``key`` and, per item of ``code``, a line
+    ``code <name> <SHA-256>`` (:func:`code_line`)."""
+    for item in code:
+        key += "\n" + code_line(item)
+    return key
+
+
+def code_line(item) -> str:
+    """``code <name> <SHA-256>`` of ``item``: a module by its file (any edit of it changes the
+    line), a function by its source (``inspect.getsource``: an edit elsewhere in its module
+    does not)."""
+    import inspect
+
+    if inspect.ismodule(item):
+        source = Path(item.__file__).read_bytes()
+        return f"code {item.__name__} {hashlib.sha256(source).hexdigest()}"
+    source = inspect.getsource(item).encode()
+    return f"code {item.__module__}.{item.__qualname__} {hashlib.sha256(source).hexdigest()}"
+
+
 #: Bytes a file of :func:`derived` arrays may hold.
 _DERIVED_LIMIT = 64 << 20
 
@@ -146,20 +169,23 @@ def derived(
     compute: Callable[[], dict[str, np.ndarray]],
     results_dir: Path | str | None = None,
     code: tuple = (),
+    elsewhere: Callable[[str], dict[str, np.ndarray] | None] | None = None,
 ) -> dict[str, np.ndarray]:
     """Arrays computed from runs (e.g. rendered start views read by a run's network), kept
     in the results store beside the runs, keyed as runs are: ``key`` is the text of
     everything they depend on, which names the run keys (:func:`docking.study.kinds.run_key`:
     configuration, the code's fingerprint, the rendering stack, seed) and the computation's
-    own arguments; ``code``, the modules that compute them outside the runs' fingerprinted
-    code (e.g. :mod:`docking.study.analysis`), enter it by the SHA-256 of their files, so an
-    edit of theirs computes the arrays again. The file
+    own arguments; ``code``, the modules or functions that compute them outside the runs'
+    fingerprinted code (e.g. :mod:`docking.study.analysis`), enter it by the SHA-256 of their
+    files or sources (:func:`code_line`), so an edit of theirs computes the arrays again. The
+    file
     ``<results>/derived/<name>/<SHA-256 of key>.npz`` holds the key too; it is used only if
     that is this key (else, or if it is unreadable, the arrays are computed and replace it).
-    A store that cannot be written is not an error: the arrays are returned, not kept."""
-    for module in code:
-        source = Path(module.__file__).read_bytes()
-        key += f"\ncode {module.__name__} {hashlib.sha256(source).hexdigest()}"
+    A store that cannot be written is not an error: the arrays are returned, not kept.
+    ``elsewhere(key)``: asked (with the whole key, the code's lines in it) when the store holds
+    no file of this key, before computing: its arrays, if it returns any, are returned (the
+    committed ledger's, :mod:`docking.study.derived`; the store never reads the ledger)."""
+    key = derived_key(key, code)
     root = Path(results_dir) if results_dir is not None else paths.results_dir()
     path = root / "derived" / name / f"{hashlib.sha256(key.encode()).hexdigest()[:32]}.npz"
     try:
@@ -169,6 +195,9 @@ def derived(
                 return {k: data[k] for k in data.files if k != "key"}
     except (OSError, UnsafeFile, ValueError, KeyError):
         pass  # none, unreadable or another key's: computed below
+    found = elsewhere(key) if elsewhere is not None else None
+    if found is not None:
+        return found
     arrays = compute()
     if "key" in arrays:
         raise ValueError("derived: 'key' is the name the file keeps its key under")
@@ -180,3 +209,21 @@ def derived(
     except OSError:
         pass
     return arrays
+
+
+def derived_entries(name: str, results_dir: Path | str | None = None) -> dict[str, dict]:
+    """``{whole key: arrays}`` of every readable :func:`derived` file of ``name`` in the
+    results store (one that cannot be read, or whose name is not its key's, is left out)."""
+    root = Path(results_dir) if results_dir is not None else paths.results_dir()
+    found = {}
+    for path in sorted((root / "derived" / name).glob("*.npz")):
+        try:
+            raw = read_regular(path, _DERIVED_LIMIT, path.parent)
+            with np.load(io.BytesIO(raw), allow_pickle=False) as data:
+                arrays = {k: data[k] for k in data.files}
+        except (OSError, UnsafeFile, ValueError):
+            continue
+        key = str(arrays.pop("key", ""))
+        if path.stem == hashlib.sha256(key.encode()).hexdigest()[:32]:
+            found[key] = arrays
+    return found

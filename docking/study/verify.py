@@ -199,3 +199,17 @@ def verify(
         raise FileNotFoundError(f"no ledger to verify in {folder}")
     keys = chosen(data, sample, _commit(), tables)  # sample=None (--all): every runner's runs
     return recompute(data, keys, scheduler, workers, progress, what="verify")
+
+
+def verify_derived(sample: int | None = 1, folder: Path | str | None = None) -> list:
+    """Recompute ``sample`` entries (None: every one) of each derived table the ledger keeps,
+    of those this code is served (:func:`docking.study.derived.chosen`, drawn from the
+    current commit), each from its key alone, and compare them with the ledger bit for bit
+    (:class:`docking.study.derived.Recheck` each)."""
+    from docking.study import derived
+
+    folder = Path(folder) if folder is not None else paths.ledger_dir()
+    data = manifest(folder)
+    if data is None:
+        raise FileNotFoundError(f"no ledger to verify in {folder}")
+    return derived.recheck(data, derived.chosen(data, sample, _commit()))

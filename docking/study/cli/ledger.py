@@ -25,11 +25,13 @@ class Ledger:
     design (python -m docking design list), as results tables and the few runs the designs
     keep whole; show what the ledger holds; or migrate its runs to this code."""
 
-    action: tyro.conf.Positional[Literal["update", "show", "migrate"]]
+    action: tyro.conf.Positional[Literal["update", "show", "migrate", "derive"]]
     """update: write the ledger from the results store; show: its runs, size, fingerprint,
     every file checked; migrate: after a change of code that changes no number, recompute a
     sample covering every table, kind of run and world, and only if every recomputed run
-    equals the ledger, re-key the ledger's runs (and the results store's) to this code."""
+    equals the ledger, re-key the ledger's runs (and the results store's) to this code;
+    derive: add the results store's derived arrays that the ledger keeps (notebook 08's
+    oracle-labelled success), those of runs the ledger holds, computed by this code."""
     results_dir: _ResultsDir = None
     """The results store (update, and migrate: its runs are re-keyed too)."""
     under_way: Annotated[tuple[str, ...], _shown("NAME ...", "none: every design complete")] = ()
@@ -48,6 +50,15 @@ class Ledger:
             raise ValueError(_no_ledger())
         if self.action == "migrate":
             return _migrate(folder, self.results_dir)
+        if self.action == "derive":
+            from docking.study import derived
+
+            written = derived.commit(folder, self.results_dir)
+            for name, count in written.items():
+                print(f"{folder}: derived table {name}: {count} entries")
+            if not written:
+                print(f"{folder}: the results store holds no derived arrays the ledger keeps")
+            return 0
         if self.action == "update":
             from docking.study.design import ledger_runs
             from docking.study.designs import design, names
@@ -120,6 +131,27 @@ def _migrate(folder: Path, results_dir) -> int:
 LEDGER_WIDTH = 100
 
 
+def _checked_text(checked: dict) -> str:
+    """What ``ledger show`` says it checked (``checked``: the counts of
+    :func:`docking.study.ledger.check_files`)."""
+    derived = checked.get("derived", 0)
+    files = (
+        f"the {checked['tables']} tables, {checked['whole']} whole runs and {derived} derived "
+        f"{'table' if derived == 1 else 'tables'}"
+        if derived
+        else f"the {checked['tables']} tables and {checked['whole']} whole runs"
+    )
+    return (
+        f"checked: the manifest against this code's fingerprints and its seals (each "
+        f"table's SHA-256 with its runs' digests and wall times); {files} against their "
+        f"SHA-256; every row of every table against its record's row digest; the whole runs' "
+        f"arrays against their digests; the {checked['runs']} runs' keys against their "
+        "configurations and seeds. Digests catch an edit, not a forgery resealed by someone "
+        "who can run this code: that a run's arrays are its own is shown only by recomputing "
+        "it (python -m docking verify)."
+    )
+
+
 def _ledger_table(data: dict, folder: Path, checked: dict, size: int) -> str:
     """What ``ledger show`` prints of the manifest ``data`` of the ledger in ``folder``
     (``size`` bytes; ``checked``: :func:`docking.study.ledger.check_files`'s counts): a line of
@@ -166,18 +198,7 @@ def _ledger_table(data: dict, folder: Path, checked: dict, size: int) -> str:
     lines.append(row("all", list(runs), size / 2**20))
     sources = ", ".join(f"{k} {v[:16]}" for k, v in sorted(data["fingerprints"].items()))
     lines.append(fill(f"code: {sources}; rendered by {data['rendering_stack']}"))
-    lines.append(
-        fill(
-            f"checked: the manifest against this code's fingerprints and its seals (each "
-            f"table's SHA-256 with its runs' digests and wall times); the {checked['tables']} "
-            f"tables and {checked['whole']} whole runs against their SHA-256; every row of "
-            f"every table against its record's row digest; the whole runs' arrays against "
-            f"their digests; the {checked['runs']} runs' keys against their configurations "
-            "and seeds. Digests catch an edit, not a forgery resealed by someone who can run "
-            "this code: that a run's arrays are its own is shown only by recomputing it "
-            "(python -m docking verify)."
-        )
-    )
+    lines.append(fill(_checked_text(checked)))
     return "\n".join(lines)
 
 
@@ -199,12 +220,18 @@ class Verify:
     """Address of an existing Dask scheduler (tcp://HOST:PORT)."""
     processes: _Processes = None
     """Worker processes of the embedded cluster."""
+    derived: int = 1
+    """How many entries of each derived table the ledger keeps (arrays computed from runs,
+    such as notebook 08's oracle-labelled success) to recompute from their keys (0 or more;
+    --all: every one; --table: none)."""
 
     def execute(self) -> int:
         from docking.study import verify
 
         if self.sample < 0:
             raise ValueError(f"--sample must be 0 or more, got {self.sample}")
+        if self.derived < 0:
+            raise ValueError(f"--derived must be 0 or more, got {self.derived}")
         if self.table and self.all:
             raise ValueError("--table and --all: give one of them")
         print(
@@ -224,9 +251,28 @@ class Verify:
                 f"{'ok' if c.ok else 'MISMATCH':8s} {c.name} seed {c.seed} ({c.key[:16]}){differs}"
             )
         print(f"{len(checks) - len(bad)} of {len(checks)} recomputed runs equal the ledger")
+        if not self.table:
+            bad += _verify_derived(None if self.all else self.derived)
         for line in verify.platform_lines(bool(bad)):
             print(line)
         return 1 if bad else 0
+
+
+def _verify_derived(sample: int | None) -> list:
+    """``verify``'s derived entries recomputed and printed a line each; those that differ."""
+    from docking.study import verify
+
+    rechecks = verify.verify_derived(sample)
+    for r in rechecks:
+        state = "ok" if r.equal else "MISMATCH"
+        print(f"{state:8s} derived {r.name} of {r.run} seed {r.seed}")
+    bad = [r for r in rechecks if not r.equal]
+    if rechecks:
+        print(
+            f"{len(rechecks) - len(bad)} of {len(rechecks)} recomputed derived entries equal "
+            "the ledger"
+        )
+    return bad
 
 
 def _verify_plan(

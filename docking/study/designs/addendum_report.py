@@ -138,42 +138,35 @@ class Decomposition:
         return t_paired_ci(self.linear, self.paper)
 
 
-def _oracle_labelled_success(run, views) -> float:
-    """:func:`docking.study.analysis.oracle_labelled_success` (500 held-out trials of the
-    run's W with the oracle-labelled Q), kept in the results store (:func:`store.derived`),
-    keyed by the run's key, the labelled views' digest and the analysis module's code."""
-    from docking.study import kinds, store
+def decomposition(results, worlds, n_trials: int = 300, seed: int = 0) -> list[Decomposition]:
+    """Per world of ``worlds`` (names of the addendum's worlds): :class:`Decomposition` from
+    the addendum's runs (the networks of ``paper-tuned`` and ``views-frozen``, which its
+    ledger table keeps), on the views the pose oracle labels on ``n_trials`` trials of the
+    runs' world from its stream ``seed`` (:func:`docking.study.analysis.oracle_views`); the
+    oracle-labelled success of each run is kept in the store and the committed ledger
+    (:func:`docking.study.derived.oracle_labelled_success`)."""
+    from docking.study.derived import oracle_labelled_success
 
-    text = (
-        f"oracle_labelled_success\nrun {kinds.run_key(run.config, run.seed)}"
-        f"\nviews {kinds.content_digest(views._asdict())}"
-    )
-    found = store.derived(
-        "oracle-labelled-success",
-        text,
-        lambda: {"success": np.array(analysis.oracle_labelled_success(run, views))},
-        code=(analysis,),
-    )
-    return float(found["success"])
-
-
-def decomposition(results, labelled_views: dict) -> list[Decomposition]:
-    """Per world of ``labelled_views`` (``{world: analysis.OracleViews}``):
-    :class:`Decomposition` from the addendum's runs (the networks of ``paper-tuned`` and
-    ``views-frozen``, which its ledger table keeps)."""
     found = []
-    for world in labelled_views:
-        views = labelled_views[world]
+    for world in worlds:
         paper, fixed = results.runs[f"{world}/paper-tuned"], results.runs[f"{world}/views-frozen"]
+        places = {r.config.world for r in (*paper, *fixed)}
+        if len(places) != 1:
+            raise ValueError(f"decomposition: the runs of {world!r} were trained in several worlds")
+        views = analysis.oracle_views(places.pop(), n_trials, seed)
+
+        def labelled(runs, views=views):
+            return np.array([oracle_labelled_success(r, n_trials, seed, views) for r in runs])
+
         found.append(
             Decomposition(
                 world,
                 results.score(f"{world}/linear-tuned"),
                 results.score(f"{world}/paper-tuned"),
-                np.array([_oracle_labelled_success(r, views) for r in paper]),
+                labelled(paper),
                 np.array([analysis.partition_purity(r.network, views) for r in paper]),
                 results.score(f"{world}/views-frozen"),
-                np.array([_oracle_labelled_success(r, views) for r in fixed]),
+                labelled(fixed),
             )
         )
     return found
