@@ -40,6 +40,7 @@ reproduce: setup notebooks experiments
 	    --execute --inplace --ExecutePreprocessor.timeout=-1 $(NOTEBOOKS)
 	DOCKING_LEDGER=off $(PY) -m docking report --readme README.md
 	$(PY) -m docking ledger update
+	$(PY) -m docking ledger derive
 
 # The experiments through the CLI, so their progress bars reach the terminal; computed, not
 # read from the ledger.
@@ -118,11 +119,15 @@ $(LAB_SERVER_CONFIG): jupyterlab/jupyter_server_config.json $(STAMP)
 # The .ipynb files are generated from the jupytext percent-format sources, never edited by hand.
 # They carry the language_info this environment's kernel reports (jupytext writes none), which
 # JupyterLab would otherwise write into a notebook as its kernel starts, marking it modified.
-notebooks: $(NOTEBOOKS)
-
-notebooks/%.ipynb: notebooks/%.py $(STAMP)
-	$(VENV)/bin/jupytext --quiet --to ipynb --output $@ \
-	    --update-metadata "$$($(PY) jupyterlab/kernel_metadata.py)" $<
+# One jupytext call converts every notebook whose .ipynb is missing or older than its source
+# or the environment (the kernel's metadata asked once): a call per notebook took 16 s.
+notebooks: $(STAMP)
+	@stale=""; for py in $(NOTEBOOK_SOURCES); do nb="$${py%.py}.ipynb"; \
+	    if [ ! -e "$$nb" ] || [ "$$py" -nt "$$nb" ] || [ $(STAMP) -nt "$$nb" ]; then \
+	        stale="$$stale $$py"; fi; done; \
+	if [ -n "$$stale" ]; then echo "jupytext --to ipynb$$stale"; \
+	    $(VENV)/bin/jupytext --quiet --to ipynb \
+	        --update-metadata "$$($(PY) jupyterlab/kernel_metadata.py)" $$stale; fi
 
 clean:
 	rm -rf $(VENV) notebooks/*.ipynb results build

@@ -311,12 +311,19 @@ def run_key(config, seed: int, render: str | None = None, source: str | None = N
     return f"{config_key(config, render, source)}:seed{seed}"
 
 
-def result_path(config, seed: int, results_dir: Path | str | None = None) -> Path:
-    """Where the run of (``config``, ``seed``) is stored (see the module docstring)."""
+def result_path(
+    config, seed: int, results_dir: Path | str | None = None, key: str | None = None
+) -> Path:
+    """Where the run of (``config``, ``seed``) is stored (see the module docstring); ``key``,
+    its :func:`run_key` if the caller has it (else it is computed)."""
     seed = check_int("result_path", "seed", seed, lo=0, hi=MAX_SEED)
     name = check_name(type(config).__name__, "name", config.name)  # a folder of the store
     root = Path(results_dir) if results_dir is not None else paths.results_dir()
-    return root / name / config_key(config)[:16] / f"seed{seed}.npz"
+    if key is None:
+        key = run_key(config, seed)
+    elif not key.endswith(f":seed{seed}"):
+        raise ValueError(f"result_path: the key {key[:16]}... is not of seed {seed}")
+    return root / name / key[:16] / f"seed{seed}.npz"
 
 
 # ------------------------------------------------------------------------------------------

@@ -141,6 +141,26 @@ TIMINGS_END = "<!-- timings:end -->"
 COMMANDS = {"report": "python -m docking report"}
 
 
+#: The order the README lists the tiers in (tools/time_tiers.py's, quickest first).
+_TIER_ORDER = {
+    name: k for k, name in enumerate(("setup", "check", "report", "test", "docs", "paper"))
+}
+
+
+def _tier_notes(measured: dict) -> dict[str, str]:
+    """What the README says beside each tier's time of ``measured`` (time_tiers' record)."""
+    names = {
+        "setup": " (package downloads)",
+        "docs": " (the site, executing the notebooks: none is executed yet in a fresh clone)",
+        "report": " (from the committed ledger)",
+    }
+    if measured.get("fresh"):  # time_tiers --fresh: each tier from the clone as checked out
+        names["test"] = " (no notebook executed before it)"
+    elif "docs" in measured["tiers"] and "test" in measured["tiers"]:
+        names["test"] = " (after `make docs` in the same clone)"
+    return names
+
+
 def timings_text(
     measured: dict | None, runs: int, run_seconds: float, ledger_bytes: int | None = None
 ) -> str:
@@ -165,16 +185,7 @@ def timings_text(
     )
     if measured is None:
         return f"The tiers have not been timed on this commit's ledger. {reproduce}"
-    names = {
-        "setup": " (package downloads)",
-        "docs": " (the site, executing the notebooks: none is executed yet in a fresh clone)",
-        "report": " (from the committed ledger)",
-    }
-    if "docs" in measured["tiers"] and "test" in measured["tiers"]:  # time_tiers: docs first
-        names["test"] = (
-            " (after `make docs` in the same clone, reusing the arrays its notebooks derived; "
-            "`make test` alone also computes notebook 08's decomposition)"
-        )
+    names = _tier_notes(measured)
     top = measured["commit"]
 
     def where(t: dict) -> str:  # a tier kept from an earlier measurement names its commit
@@ -185,12 +196,19 @@ def timings_text(
 
     tiers = "; ".join(
         f"`{COMMANDS.get(tier, f'make {tier}')}` {took(t)}{names.get(tier, '')}{where(t)}"
-        for tier, t in measured["tiers"].items()
+        for tier, t in sorted(
+            measured["tiers"].items(), key=lambda item: _TIER_ORDER.get(item[0], 9)
+        )
     )
     step = measured["step"]
+    fresh = (
+        ", each tier from the clone as checked out (its environment kept)"
+        if measured.get("fresh")
+        else ""
+    )
     return (
         f"Measured by `tools/time_tiers.py` on {measured['date']} from a fresh clone (commit "
-        f"{measured['commit'][:7]}) on a {measured['cores']}-core CPU-only machine, Python "
+        f"{measured['commit'][:7]}){fresh} on a {measured['cores']}-core CPU-only machine, Python "
         f"{measured['python']}, where `python -m docking benchmark --quick` gives "
         f"{step['min_ms']:.2f} / {step['median_ms']:.2f} ms of CPU per environment step "
         f"(min / median; on a machine where it is twice that, expect twice the times): "

@@ -74,7 +74,7 @@ def locate(config, seed: int, results_dir: Path | str | None = None, warn: bool 
     :class:`~docking.study.ledger.StaleLedger` if the ledger holds the run but was computed by
     other code."""
     key = kinds.run_key(config, seed)
-    path = kinds.result_path(config, seed, results_dir)
+    path = kinds.result_path(config, seed, results_dir, key=key)
     if path.exists():
         try:
             found = store.find(config, seed, path, key)
@@ -90,7 +90,7 @@ def locate(config, seed: int, results_dir: Path | str | None = None, warn: bool 
             return Located(config, seed, key, path, "computed", problem=str(exc))
         if found is not None:
             return Located(config, seed, key, path, "store", found)
-    found = ledger.read(config, seed)
+    found = ledger.read(config, seed, key=key)
     if found is not None:
         return Located(config, seed, key, path, "ledger", found)
     return Located(config, seed, key, path, "computed")

@@ -901,7 +901,10 @@ def _submit_and_follow(
             bar.update(n)
 
     client.subscribe_topic(_PROGRESS_TOPIC, heard)
-    index = _submit(client, jobs, located, todo, force, keep, tag)
+    # The longest first (by their trials; Dask runs what was submitted first first), so that
+    # no worker is left with a long job while the others wait at the end.
+    longest = sorted(todo, key=lambda k: -trials[k])
+    index = _submit(client, jobs, located, longest, force, keep, tag)
     pending = set(index)
     while pending:
         # Wake every second: trials reported since, and the bar's clock.
