@@ -20,6 +20,8 @@ from docking.study.store import run_or_load
 
 #: The labelled views of the tiny runs: two oracle trials (the notebook labels 300).
 N_TRIALS = 2
+#: The start views a tiny run's feature fidelity reads (the third edition reads 1500).
+VIEWS = 30
 
 
 @pytest.fixture(scope="module")
@@ -34,8 +36,11 @@ def built(tmp_path_factory):
         runs = [run_or_load(TINY, s, results, progress=False) for s in SEEDS]
         ledger.update([(TINY, s, False, frozenset({"networks"})) for s in SEEDS], folder, results)
         values = [derived.oracle_labelled_success(r, N_TRIALS) for r in runs]
+        for r in runs:
+            derived.feature_fidelity(r, TINY.world, VIEWS, 1)
         ledger._read_manifest.cache_clear()
-        assert derived.commit(folder, results) == {"oracle-labelled-success": 2}
+        written = derived.commit(folder, results)
+        assert written == {"oracle-labelled-success": 2, "feature-fidelity": 2}
     return folder, values
 
 
@@ -113,15 +118,28 @@ def test_an_edit_elsewhere_in_analysis_leaves_the_entries_served(copy, monkeypat
 def test_verify_recomputes_the_entries_from_their_keys_and_finds_them_equal(copy):
     folder, _ = copy
     checks = verify.verify_derived(None, folder)
-    assert [(c.name, c.run, c.seed, c.equal) for c in checks] == [
-        ("oracle-labelled-success", "tiny", s, True) for s in sorted(SEEDS, key=_drawn(folder))
+    assert sorted((c.name, c.run, c.seed, c.equal) for c in checks) == [
+        (name, "tiny", s, True)
+        for name in ("feature-fidelity", "oracle-labelled-success")
+        for s in SEEDS
     ]
+    assert len(verify.verify_derived(1, folder)) == 2  # one of each table
 
 
-def _drawn(folder):
-    order = [k for _, k in derived.chosen(ledger.manifest(folder), None, verify._commit())]
-    seeds = [ledger.manifest(folder)["runs"][derived._lines(k)["run"]]["seed"] for k in order]
-    return seeds.index
+def test_the_feature_fidelity_is_served_without_rendering(copy, monkeypatch):
+    """The third edition's measure reads the ledger's feature fidelity; rendering a start
+    view (what computing it takes) fails the test."""
+    import docking.world
+
+    held = np.load(copy[0] / "derived" / "feature-fidelity.npz")["fidelity"]
+
+    def refuse(*args, **kwargs):
+        raise AssertionError("rendered, not read from the ledger")
+
+    monkeypatch.setattr(docking.world, "DockingEnv", refuse)
+    analysis.start_views.cache_clear()
+    served = [derived.feature_fidelity(r, TINY.world, VIEWS, 1) for r in _runs()]
+    assert sorted(served) == sorted(held.tolist()) and all(np.isfinite(served))
 
 
 def _forge(folder: Path, change) -> None:
@@ -160,7 +178,8 @@ def test_a_forged_entry_is_refused_until_resealed_then_verify_names_it(copy, cap
     served = [derived.oracle_labelled_success(r, N_TRIALS) for r in _runs()]
     assert served == [1.0 - v for v in values]  # what a reader would be served
     checks = verify.verify_derived(None, folder)
-    assert len(checks) == 2 and not any(c.equal for c in checks)
+    bad = sorted((c.name, c.seed) for c in checks if not c.equal)
+    assert len(checks) == 4 and bad == [("oracle-labelled-success", s) for s in SEEDS]
 
 
 def test_the_verify_command_fails_on_a_forged_entry(copy, capsys):
@@ -172,7 +191,7 @@ def test_the_verify_command_fails_on_a_forged_entry(copy, capsys):
     assert main(["verify", "--sample", "0", "--derived", "2", "--processes", "1"]) == 1
     out = capsys.readouterr().out
     assert "MISMATCH derived oracle-labelled-success of tiny seed" in out
-    assert "0 of 2 recomputed derived entries equal the ledger" in out
+    assert "2 of 4 recomputed derived entries equal the ledger" in out  # fidelity: not forged
 
 
 def test_a_derived_table_that_is_not_a_regular_file_is_one_line(copy, capsys):
@@ -195,7 +214,7 @@ def test_a_ledger_update_keeps_the_derived_tables(copy, tmp_path, monkeypatch):
     data = ledger.update(
         [(TINY, s, False, frozenset({"networks"})) for s in SEEDS], folder, results
     )
-    assert set(data["derived"]) == {"oracle-labelled-success"}
+    assert set(data["derived"]) == {"oracle-labelled-success", "feature-fidelity"}
     assert ledger.check_files(folder)
     _refuse_to_compute(monkeypatch)
     assert [derived.oracle_labelled_success(r, N_TRIALS) for r in _runs()] == values
@@ -210,4 +229,4 @@ def test_commit_takes_only_entries_of_runs_the_ledger_holds(copy, tmp_path, monk
     run = run_or_load(TINY, 9, results, progress=False)
     derived.oracle_labelled_success(run, N_TRIALS)
     monkeypatch.setenv("DOCKING_LEDGER", str(folder))
-    assert derived.commit(folder, results) == {"oracle-labelled-success": 2}
+    assert derived.commit(folder, results) == {"oracle-labelled-success": 2, "feature-fidelity": 2}

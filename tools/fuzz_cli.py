@@ -270,6 +270,21 @@ def _damaged_ledgers(tmp: Path) -> list[tuple[str, dict]]:
 
         return apply
 
+    # issue 52: the derived table (notebook 08's oracle-labelled success) damaged, forged with
+    # its SHA-256 updated (not resealed), or a link to /dev/zero
+    derived_path = "derived/oracle-labelled-success.npz"
+
+    def derived_forged(data, folder):
+        path = folder / derived_path
+        raw = path.read_bytes()
+        path.write_bytes(raw[:-1] + bytes([raw[-1] ^ 1]))
+        data["derived"]["oracle-labelled-success"] = hashlib.sha256(path.read_bytes()).hexdigest()
+
+    def derived_as_zero(data, folder):
+        path = folder / derived_path
+        path.unlink()
+        path.symlink_to("/dev/zero")
+
     def damage(relative, how):
         def apply(data, folder):
             path = folder / relative
@@ -325,6 +340,10 @@ def _damaged_ledgers(tmp: Path) -> list[tuple[str, dict]]:
         "a table that is a FIFO": table_as("fifo"),
         "a table that is a link to /dev/zero": table_as("zero"),
         "a table that is a link out of the ledger": table_as("out"),
+        "a derived table bit-flipped": damage(derived_path, "flip"),
+        "a derived table deleted": damage(derived_path, "gone"),
+        "a derived table forged, its SHA-256 updated": derived_forged,
+        "a derived table that is a link to /dev/zero": derived_as_zero,
     }
     return [
         (what, {"DOCKING_LEDGER": str(copy(f"l{i}", edit))})

@@ -35,35 +35,13 @@ def interpretability(n_seeds: Callable, views: int, min_views: int) -> Measure:
     once per results (it renders)."""
 
     def compute(results, key: str) -> np.ndarray:
-        import dataclasses
-        import json
-
-        from docking.experiments import initial_network
-        from docking.study import analysis, kinds, store
-        from docking.study.analysis import MeanInputs, feature_fidelity, mean_winning_inputs
+        from docking.study.derived import feature_fidelity
 
         cell = results.cell(key)
-        out = []
-        for run in results.runs[key][: n_seeds(cell)]:
-            frozen = run.config.network.eps_w == 0
-            network = initial_network(run.config, run.seed) if frozen else run.network
-
-            def inputs_of(network=network):
-                return mean_winning_inputs(network, cell.world, n=views, seed=0)._asdict()
-
-            # the mean inputs render the world's start views: kept in the store, keyed by
-            # the run's key (its configuration, code, rendering stack and seed) and the views
-            text = (
-                f"mean_winning_inputs\nrun {kinds.run_key(run.config, run.seed)}"
-                f"\nnetwork {'initial' if frozen else 'trained'}"
-                f"\nworld {json.dumps(dataclasses.asdict(cell.world), sort_keys=True)}"
-                f"\nviews {views}\nseed 0"
-                f"\nworld source {kinds.LEARNER.fingerprint()}"
-            )
-            found = store.derived("mean-winning-inputs", text, inputs_of, code=(analysis,))
-            inputs = MeanInputs(**found)
-            out.append(feature_fidelity(network, inputs, min_views))
-        return np.array(out)
+        runs = results.runs[key][: n_seeds(cell)]
+        # each renders the world's start views: kept in the store and the committed ledger,
+        # keyed by the run's key (its configuration, code, rendering stack and seed) and views
+        return np.array([feature_fidelity(run, cell.world, views, min_views) for run in runs])
 
     def fidelity(results, key: str) -> np.ndarray:
         return results.measured(compute, key)
