@@ -537,6 +537,29 @@ def test_a_terminals_ctrl_c_reaches_the_command_not_its_workers():
     assert all(proc.poll() is not None for proc in cluster._procs)
 
 
+@pytest.mark.slow
+@pytest.mark.skipif(not Path("/proc/self/autogroup").exists(), reason="no autogroups")
+def test_a_niced_commands_workers_yield_the_cpu_as_it_does():
+    """Its workers' sessions are scheduling groups of their own (Linux autogroups), which a
+    process's nice value does not reach: ``nice -n 7`` on the command gives each worker's
+    group nice 7 (make test runs verify niced beside the tests)."""
+    code = (
+        "from docking.study.sweep import _EmbeddedCluster\n"
+        "c = _EmbeddedCluster(1)\n"
+        "print(open(f'/proc/{c._procs[0].pid}/autogroup').read().split()[-1])\n"
+        "c.close()\n"
+    )
+    done = subprocess.run(
+        ["nice", "-n", "7", sys.executable, "-c", code],
+        capture_output=True,
+        text=True,
+        timeout=120,
+        env={**os.environ, "PYTHONPATH": str(Path(__file__).resolve().parent.parent)},
+    )
+    assert done.returncode == 0, done.stderr[-2000:]
+    assert done.stdout.split()[-1] == "7"
+
+
 def test_an_embedded_worker_is_quiet_below_error_once_its_cluster_closes(tmp_path):
     from docking.study.sweep import _QuietFailures
 

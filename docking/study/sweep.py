@@ -318,6 +318,21 @@ def dask_setup(worker=None) -> None:
             handler.addFilter(quiet)
         logging.getLogger("distributed.worker").addFilter(quiet)
         _die_with_parent(int(parent))
+        _nice_as_a_group()
+
+
+def _nice_as_a_group() -> None:
+    """Give this process's scheduling group its nice value. A worker of the embedded cluster
+    runs in a session of its own, and Linux schedules each session as a group (autogroup),
+    which shares the CPU equally with the others whatever its processes' nice values: so
+    ``nice python -m docking ...`` (``make test`` runs ``verify`` so, beside the tests) would
+    not yield to other work. The group's own nice value (``/proc/self/autogroup``) is what
+    the scheduler weighs; it takes the process's, which the worker inherited. Nothing where
+    the kernel has no autogroups, or the process is not niced."""
+    niceness = os.nice(0)
+    if niceness > 0:
+        with contextlib.suppress(OSError):
+            Path("/proc/self/autogroup").write_text(f"{niceness}\n")
 
 
 #: The Dask event topic on which workers report finished trials (``(job index, trials)``).
