@@ -20,6 +20,7 @@ from __future__ import annotations
 
 import dataclasses
 import functools
+import math
 import warnings
 from typing import TYPE_CHECKING, NamedTuple
 
@@ -376,8 +377,10 @@ def feature_fidelity(net: Network, inputs: MeanInputs, min_views: int = 20) -> f
         w, x = net.W[j], inputs.unit_mean[j].reshape(-1)
         if np.ptp(w) == 0 or np.ptp(x) == 0:
             continue
-        rs.append(float(np.corrcoef(w, x)[0, 1]))
-    return float(np.mean(rs)) if rs else float("nan")
+        # Pearson's r, the same bits on every CPU (np.corrcoef's OpenBLAS products are not)
+        a, b = w - math.fsum(w) / len(w), x - math.fsum(x) / len(x)
+        rs.append(arith.dot(a, b) / math.sqrt(arith.dot(a, a) * arith.dot(b, b)))
+    return math.fsum(rs) / len(rs) if rs else float("nan")
 
 
 def final_poses(log: TrialLog) -> np.ndarray:
