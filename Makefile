@@ -2,9 +2,9 @@
 #   make check       ruff, the layers contract + the unit tests (no notebooks, no slow
 #                    tests): a few minutes
 #   make test        check + every notebook under nbmake, reading the committed ledger + the
-#                    slow tests and the docs site's, with `verify --sample` niced beside them
-#                    (recomputes Experiments 1 and 2, a few ledger runs and derived entries,
-#                    fails unless they equal the ledger's) (what CI runs)
+#                    slow tests and the docs site's + `verify --sample` (recomputes Experiments
+#                    1 and 2, a few ledger runs and derived entries, fails unless they equal
+#                    the ledger's) (what CI runs)
 #   make paper       Experiments 1 and 2 from scratch, Figs. 2-5 and the results table
 #   make reproduce   recompute every run (resumable), execute every notebook, write the
 #                    ledger, every figure and the README tables
@@ -30,7 +30,7 @@ NOTEBOOKS := $(NOTEBOOK_SOURCES:.py=.ipynb)
 export MUJOCO_GL ?= egl
 export PYOPENGL_PLATFORM ?= egl
 
-.PHONY: reproduce experiments check test test-suite paper setup system-deps notebooks lab benchmark docs clean
+.PHONY: reproduce experiments check test paper setup system-deps notebooks lab benchmark docs clean
 
 # Everything from the runs up: computed into results/ (never from the ledger), the notebooks
 # and the README report executed on them, then the ledger written from the results store
@@ -57,28 +57,18 @@ check: setup
 	$(VENV)/bin/lint-imports
 	$(PY) -m pytest tests -q -n 2 -m "not slow and not docs"
 
-# `verify --sample 3` starts first, niced, in the background: it recomputes runs in the CPU
-# time the tests leave idle (while a test waits for a server, a browser, a timeout, or one
-# process builds the site), and its output is printed once the tests are done; make test
-# fails if it or the tests fail (a failing test stops it). The tests: `make check`, then the
-# notebooks under nbmake with --overwrite (their outputs land in notebooks/*.ipynb, from
-# which `make docs` builds the site) in one session with the slow tests, two processes that
-# steal each other's queued items; then the site is built and the docs tests check it in
-# Chromium.
-test: setup
-	@log=$$(mktemp); \
-	nice -n 19 $(PY) -m docking verify --sample 3 > $$log 2>&1 & verify=$$!; \
-	$(MAKE) --no-print-directory test-suite; suite=$$?; \
-	if [ $$suite -ne 0 ]; then kill $$verify 2>/dev/null; fi; \
-	wait $$verify; checked=$$?; \
-	echo "$(PY) -m docking verify --sample 3 (niced, since make test began):"; cat $$log; rm -f $$log; \
-	[ $$suite -eq 0 ] && [ $$checked -eq 0 ]
-
-test-suite: check notebooks
+# The notebooks run under nbmake with --overwrite (their outputs land in notebooks/*.ipynb,
+# from which `make docs` builds the site) in one session with the slow tests, two processes
+# that steal each other's queued items (so that neither waits while the other executes the
+# longest notebook); then the site is built and the docs tests check it in Chromium; then
+# verify recomputes runs and derived entries. (verify run niced beside the tests took 647 s
+# in all against 609 s after them: the tests leave the two cores little idle time.)
+test: check notebooks
 	$(PY) -m pytest --nbmake --nbmake-timeout=1800 --overwrite -n 2 --dist worksteal -q \
 	    -m "notebook or (slow and not docs)" $(NOTEBOOKS) tests
 	$(MAKE) docs
 	$(PY) -m pytest tests -q -n 2 -m docs
+	$(PY) -m docking verify --sample 3
 
 # The documentation site in build/site (open build/site/index.html): the README, the
 # executed notebooks (make test writes their outputs; docs/build.py executes, from the ledger,
