@@ -31,7 +31,8 @@ class Ledger:
     sample covering every table, kind of run and world, and only if every recomputed run
     equals the ledger, re-key the ledger's runs (and the results store's) to this code;
     derive: add the results store's derived arrays that the ledger keeps (notebook 08's
-    oracle-labelled success), those of runs the ledger holds, computed by this code."""
+    oracle-labelled success, the third edition's feature fidelity), those of runs the ledger
+    holds, computed by this code."""
     results_dir: _ResultsDir = None
     """The results store (update, and migrate: its runs are re-keyed too)."""
     under_way: Annotated[tuple[str, ...], _shown("NAME ...", "none: every design complete")] = ()
@@ -221,9 +222,9 @@ class Verify:
     processes: _Processes = None
     """Worker processes of the embedded cluster."""
     derived: int = 1
-    """How many entries of each derived table the ledger keeps (arrays computed from runs,
-    such as notebook 08's oracle-labelled success) to recompute from their keys (0 or more;
-    --all: every one; --table: none)."""
+    """How many entries of each derived table the ledger keeps (arrays computed from runs:
+    notebook 08's oracle-labelled success, the third edition's feature fidelity) to recompute
+    from their keys (0 or more; --all: every one; --table: none)."""
 
     def execute(self) -> int:
         from docking.study import verify
