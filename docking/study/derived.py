@@ -109,14 +109,20 @@ def oracle_labelled_success(
     ``analysis.oracle_views(run.config.world, n_trials, seed)`` (``views``: those, if the
     caller has them), from the store or the ledger, else computed (:func:`derived`)."""
 
-    def compute():
-        labelled = (
-            views if views is not None else analysis.oracle_views(run.config.world, n_trials, seed)
-        )
-        return {"success": np.array(analysis.oracle_labelled_success(run, labelled))}
-
     key = _oracle_key(run, n_trials, seed)
-    return float(derived("oracle-labelled-success", key, compute, code=_oracle_code())["success"])
+    found = derived(
+        "oracle-labelled-success",
+        key,
+        lambda: _oracle(run, n_trials, seed, views),
+        code=_oracle_code(),
+    )
+    return float(found["success"])
+
+
+def _oracle(run, n_trials: int, seed: int, views=None) -> dict[str, np.ndarray]:
+    if views is None:
+        views = analysis.oracle_views(run.config.world, n_trials, seed)
+    return {"success": np.array(analysis.oracle_labelled_success(run, views))}
 
 
 def _oracle_recipe(lines: dict[str, str], data: dict, results_dir=None) -> tuple[str, Callable]:
@@ -124,12 +130,8 @@ def _oracle_recipe(lines: dict[str, str], data: dict, results_dir=None) -> tuple
 
     run = load_run(*_run_of(lines["run"], data), results_dir)
     n_trials, seed = int(lines["n_trials"]), int(lines["seed"])
-
-    def compute():
-        labelled = analysis.oracle_views(run.config.world, n_trials, seed)
-        return {"success": np.array(analysis.oracle_labelled_success(run, labelled))}
-
-    return store.derived_key(_oracle_key(run, n_trials, seed), _oracle_code()), compute
+    key = store.derived_key(_oracle_key(run, n_trials, seed), _oracle_code())
+    return key, lambda: _oracle(run, n_trials, seed)
 
 
 def _fidelity_code() -> tuple:
@@ -197,13 +199,14 @@ RECIPES: dict[str, Callable[..., tuple[str, Callable[[], dict[str, np.ndarray]]]
 }
 
 
-def _rebuilt(name: str, key: str, data: dict, results_dir=None) -> tuple[str, Callable] | None:
-    """:data:`RECIPES`' key and computation of the entry ``key`` of ``name`` (None where its
-    runs are not in the ledger or its lines are not a key of that recipe)."""
+def _current(name: str, key: str, data: dict, results_dir=None) -> bool:
+    """Whether ``key`` is the key :data:`RECIPES` rebuild for the entry of ``name`` it
+    describes (not where its runs are not in the ledger, its lines are not a key of that
+    recipe, or its code is not this code): an entry this code is served."""
     try:
-        return RECIPES[name](_lines(key), data, results_dir)
+        return RECIPES[name](_lines(key), data, results_dir)[0] == key
     except (KeyError, ValueError, TypeError, json.JSONDecodeError):
-        return None
+        return False
 
 
 def _lines(key: str) -> dict[str, str]:
@@ -244,8 +247,7 @@ def commit(folder: Path | str | None = None, results_dir=None) -> dict[str, int]
                 for k in served(data, name, results_dir)
             }
         for key, arrays in store.derived_entries(name, results_dir).items():
-            rebuilt = _rebuilt(name, key, data, results_dir)
-            if rebuilt is not None and rebuilt[0] == key:
+            if _current(name, key, data, results_dir):
                 entries[key] = arrays
         if entries:
             data = ledger.write_derived(folder, name, entries)
@@ -269,12 +271,7 @@ def served(data: dict, name: str, results_dir=None) -> list[str]:
     that this code is served: each the key its recipe rebuilds from the entry's lines (its
     runs in the ledger, its code this code; any other entry is never asked for)."""
     index, _ = ledger.derived_table(data, name)
-    found = []
-    for key in sorted(index):
-        rebuilt = _rebuilt(name, key, data, results_dir) if name in RECIPES else None
-        if rebuilt is not None and rebuilt[0] == key:
-            found.append(key)
-    return found
+    return [key for key in sorted(index) if _current(name, key, data, results_dir)]
 
 
 def chosen(data: dict, sample: int | None, commit_id: str) -> list[tuple[str, str]]:
