@@ -230,3 +230,20 @@ def test_commit_takes_only_entries_of_runs_the_ledger_holds(copy, tmp_path, monk
     derived.oracle_labelled_success(run, N_TRIALS)
     monkeypatch.setenv("DOCKING_LEDGER", str(folder))
     assert derived.commit(folder, results) == {"oracle-labelled-success": 2, "feature-fidelity": 2}
+
+
+def test_a_derived_table_named_outside_the_ledger_is_refused(copy, capsys):
+    """A manifest that names a derived table ``../../outside`` (its seal recomputed) is not
+    a ledger manifest: one line, before any file is read (the reader would refuse a path out
+    of the folder too)."""
+    folder, _ = copy
+    manifest = folder / "manifest.json"
+    data = json.loads(manifest.read_text())
+    data["derived"]["../../outside"] = data["derived"].pop("oracle-labelled-success")
+    data["seals"] = ledger.seals_of(data)
+    manifest.write_text(json.dumps(data, indent=1, sort_keys=True) + "\n")
+    ledger._read_manifest.cache_clear()
+    assert main(["ledger", "show"]) == 1
+    err = capsys.readouterr().err.strip()
+    assert len(err.splitlines()) == 1 and "is not a ledger manifest" in err, err
+    assert "outside" in err
