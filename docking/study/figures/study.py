@@ -380,7 +380,8 @@ def fig_decomposition(
             means.append(float(values.mean()))
             ax.bar(k, means[-1], color=colors[k % len(colors)], alpha=0.85)
             ax.plot(k + np.linspace(-0.25, 0.25, len(values)), values, ".", color="k", ms=3)
-            ax.text(k, means[-1] + 1.5, f"{means[-1]:.0f}%", ha="center", fontsize=8)
+            # the mean at the bar's foot, where no seed's dot (or the bar's top) hides it
+            ax.text(k, 2, f"{means[-1]:.0f}%", ha="center", va="bottom", fontsize=8)
         ax.set_title(world, fontsize=10)
         ax.set_xticks(np.arange(len(columns)), columns, rotation=35, ha="right", fontsize=8)
         ax.grid(axis="y", alpha=0.3, lw=0.5)
