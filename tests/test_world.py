@@ -515,7 +515,14 @@ def test_no_hidden_geom_can_occlude_the_landmark(world):
     cam = config.camera
     x0, y0, x1, y1 = cam.crop
     tilt = np.radians(cam.tilt_deg)
-    geomid = np.zeros(1, dtype=np.int32)
+    yaws = np.radians(np.arange(0, 360, 10))
+    cos_yaw, sin_yaw = np.cos(yaws), np.sin(yaws)
+    heights = np.full(len(yaws), height)
+    ahead = np.stack(
+        [cos_yaw * np.cos(tilt), sin_yaw * np.cos(tilt), np.full(len(yaws), -np.sin(tilt))], 1
+    )
+    right = np.stack([sin_yaw, -cos_yaw, np.zeros(len(yaws))], axis=1)
+    up = np.cross(right, ahead)
     stands, rays = 0, 0
     # The grid covers the room's floor, wherever WorldConfig.room_shift put the room.
     dx, dy, turn = config.room_shift
@@ -526,22 +533,37 @@ def test_no_hidden_geom_can_occlude_the_landmark(world):
             if any(np.all(np.abs([x, y] - c) < h + facts.robot_radius) for c, h in blocked):
                 continue
             stands += 1
-            for yaw in np.radians(np.arange(0, 360, 10)):
-                c, s = np.cos(yaw), np.sin(yaw)
-                camera = np.array([x + forward * c, y + forward * s, height])
-                ahead = np.array([c * np.cos(tilt), s * np.cos(tilt), -np.sin(tilt)])
-                right = np.array([s, -c, 0.0])
-                up = np.cross(right, ahead)
-                vecs = points - camera
-                depth = vecs @ ahead
-                with np.errstate(divide="ignore", invalid="ignore"):
-                    u = cam.width / 2 + cam.focal_px * (vecs @ right) / depth
-                    v = cam.height / 2 - cam.focal_px * (vecs @ up) / depth
-                in_crop = (depth > 0) & (u >= x0) & (u <= x1) & (v >= y0) & (v <= y1)
-                for vec in vecs[in_crop]:
-                    rays += 1
-                    hit = mujoco.mj_ray(model, data, camera, vec, hidden, 1, robot, geomid)
-                    assert hit < 0 or hit > 1 - 1e-9, (x, y, yaw, model.geom(geomid[0]).name)
+            # the camera facing every 10 deg at once: its position, and where each point
+            # falls in its image (the camera's axes for each heading are computed once, below)
+            cameras = np.stack([x + forward * cos_yaw, y + forward * sin_yaw, heights], axis=1)
+            vecs = points[None] - cameras[:, None]
+            depth = np.einsum("ypk,yk->yp", vecs, ahead)
+            with np.errstate(divide="ignore", invalid="ignore"):
+                u = cam.width / 2 + cam.focal_px * np.einsum("ypk,yk->yp", vecs, right) / depth
+                v = cam.height / 2 - cam.focal_px * np.einsum("ypk,yk->yp", vecs, up) / depth
+            in_crop = (depth > 0) & (u >= x0) & (u <= x1) & (v >= y0) & (v <= y1)
+            for k in np.flatnonzero(in_crop.any(axis=1)):
+                n = int(in_crop[k].sum())
+                rays += n
+                # mj_ray's distances, bit for bit, for all the rays from this camera at once
+                hit, geomid = np.empty(n), np.empty(n, dtype=np.int32)
+                seen = np.ascontiguousarray(vecs[k][in_crop[k]]).ravel()
+                mujoco.mj_multiRay(
+                    model,
+                    data,
+                    cameras[k],
+                    seen,
+                    hidden,
+                    1,
+                    robot,
+                    geomid,
+                    hit,
+                    None,
+                    n,
+                    mujoco.mjMAXVAL,
+                )
+                first = (hit >= 0) & (hit <= 1 - 1e-9)  # a geom before the red point
+                assert not first.any(), (x, y, yaws[k], model.geom(geomid[first][0]).name)
     assert stands > 500 and rays > 100_000
 
 
