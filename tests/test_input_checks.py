@@ -5,6 +5,7 @@ robot starts or docks, repeated grid values, held-out worlds of the wrong type, 
 
 from __future__ import annotations
 
+import contextlib
 import dataclasses
 import os
 import re
@@ -209,13 +210,29 @@ def test_ctrl_c_while_a_command_runs_is_one_line_and_130(monkeypatch, capsys):
     assert capsys.readouterr().err == "python -m docking: interrupted\n"
 
 
+def _until_workers_compute(pid: int, workers: int, cpu_s: float, timeout: float = 120) -> None:
+    """Wait until ``workers`` processes below ``pid`` have each spent ``cpu_s`` seconds of CPU:
+    its sweep's workers past importing the package (about 2 s of CPU here) and training."""
+    deadline = time.monotonic() + timeout
+    while time.monotonic() < deadline:
+        spent = []
+        for child in psutil.Process(pid).children(recursive=True):
+            with contextlib.suppress(psutil.Error):
+                spent.append(sum(child.cpu_times()[:2]))
+        if sum(s >= cpu_s for s in spent) >= workers:
+            return
+        time.sleep(0.2)
+    raise AssertionError(f"no {workers} processes spent {cpu_s} s of CPU within {timeout} s")
+
+
 @pytest.mark.slow
 @pytest.mark.parametrize(
     "args, after",
     [
         (["run", "experiment1", "--seeds", "0", "--processes", "1"], 1.0),  # still importing
         (["run", "experiment1", "--seeds", "0", "--processes", "1"], 8.0),
-        (["sweep", "experiment1", "--seeds", "0,1", "--processes", "2"], 15.0),
+        # once both workers train (5 s of CPU each; a fixed 15 s cost 30 s of their CPU)
+        (["sweep", "experiment1", "--seeds", "0,1", "--processes", "2"], (2, 5.0)),
     ],
     ids=["run-importing", "run", "sweep"],
 )
@@ -238,11 +255,17 @@ def test_ctrl_c_prints_one_line_exits_130_and_leaves_no_process(args, after, tmp
         start_new_session=True,  # its own process group, as a terminal's foreground job
         preexec_fn=_foreground_job,
     )
-    time.sleep(after)
+    if isinstance(after, tuple):
+        _until_workers_compute(proc.pid, *after)
+    else:
+        time.sleep(after)
     family = [psutil.Process(proc.pid), *psutil.Process(proc.pid).children(recursive=True)]
     os.killpg(proc.pid, signal.SIGINT)  # Ctrl-C: the terminal signals the whole group
+    interrupted = time.monotonic()
     _, err = proc.communicate(timeout=120)
     assert proc.returncode == 130, err
+    # promptly: a sweep waited 10 s for each busy worker to end on SIGTERM (20 s for two)
+    assert time.monotonic() - interrupted < 10, time.monotonic() - interrupted
     assert _one_error_line(err) == "python -m docking: interrupted"
     _, alive = psutil.wait_procs(family, timeout=20)
     assert not alive, alive

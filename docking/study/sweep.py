@@ -495,8 +495,12 @@ class _EmbeddedCluster:
                 )
             time.sleep(0.1)
 
-    def close(self) -> None:
-        """Close the client, end the workers, close the scheduler. On a busy machine a
+    def close(self, grace: float = 10.0) -> None:
+        """Close the client, end the workers, close the scheduler. Each worker is sent
+        SIGTERM, and those still there ``grace`` seconds later (one deadline for them all)
+        SIGKILL: a worker still computing a job does not end on SIGTERM (its thread runs on),
+        so after an interrupt or a failed job, with jobs still running, a short grace is all
+        that is worth waiting (:func:`_run_on_dask`). On a busy machine a
         worker's heartbeat can reach the scheduler after the worker has left, and the
         scheduler and the worker each log it at WARNING ("Received heartbeat from
         unregistered worker", "Scheduler was unaware of this worker"); the shutdown is ours,
@@ -511,9 +515,10 @@ class _EmbeddedCluster:
             for proc in self._procs:
                 if proc.poll() is None:
                     proc.terminate()
+            deadline = time.monotonic() + grace
             for proc in self._procs:
                 try:
-                    proc.wait(timeout=10)
+                    proc.wait(timeout=max(0.0, deadline - time.monotonic()))
                 except Exception:
                     proc.kill()
                     proc.wait()
@@ -818,14 +823,19 @@ def _run_on_dask(
     ``n_workers`` processes), following their progress (:func:`_submit_and_follow`)."""
     with _quiet_distributed():
         cluster = _EmbeddedCluster(n_workers) if scheduler is None else None
+        finished = False
         try:
             with cluster.client if cluster is not None else _connect(scheduler) as client:
                 _submit_and_follow(
                     client, jobs, located, todo, force, bar, trials, runs, computed, keep
                 )
+            finished = True
         finally:
             if cluster is not None:
-                cluster.close()
+                # Interrupted or failed, workers may still be computing: SIGTERM does not
+                # end those, so SIGKILL follows after 1 s instead of 10 (a Ctrl-C took 20 s
+                # to return with two workers busy). A job's file is written atomically.
+                cluster.close(grace=10.0 if finished else 1.0)
 
 
 @contextlib.contextmanager
