@@ -62,10 +62,12 @@ check: setup
 # that steal each other's queued items (so that neither waits while the other executes the
 # longest notebook). Then two jobs side by side (make -j2): the site is built and the docs
 # tests check it in Chromium (test-site), while verify recomputes runs and derived entries,
-# niced (test-verify). The docs tests wait on page loads more than they compute (76 s of CPU
-# in 122 s), so verify takes the idle CPU; it writes its lines to build/verify.log, printed
+# niced (test-verify). The docs tests wait on page loads more than they compute (46 s of CPU
+# in 62 s), so verify takes the idle CPU; it writes its lines to build/verify.log, printed
 # when it ends, so that they do not break into pytest's. (Beside the CPU-bound notebook
-# session, a niced verify made make test slower: 647 s against 609 s.)
+# session, a niced verify made make test slower: 647 s against 609 s.) The docs tests run
+# under --dist loadscope: the tests of test_docs.py's class TestEveryPageAsLoaded, which
+# share one visit of every page, in one process.
 test: check notebooks
 	$(PY) -m pytest --nbmake --nbmake-timeout=1800 --overwrite -n 2 --dist worksteal -q \
 	    -m "notebook or (slow and not docs)" $(NOTEBOOKS) tests
