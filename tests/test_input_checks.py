@@ -32,17 +32,25 @@ from docking.study.sweep import grid_configs, parse_seeds
 REPO = Path(__file__).resolve().parent.parent
 
 
-def _foreground_job():
-    """Run in a child before it starts: SIGINT at its default, as a terminal's foreground job
-    has it, even where the tests run with SIGINT ignored (a script's background job), which
-    the child would inherit and python -m docking, as Python, would keep."""
-    signal.signal(signal.SIGINT, signal.SIG_DFL)
+def _with_sigint(disposition: str, command: list[str]) -> list[str]:
+    """``command`` (a Python command line, its interpreter first) started with SIGINT at
+    ``disposition`` (``"SIG_DFL"``: as a terminal's foreground job has it, even where the
+    tests run with SIGINT ignored, a script's background job, which the child would inherit
+    and python -m docking, as Python, would keep; ``"SIG_IGN"``: as a background job has it).
+    A small Python sets it and execs the command, which keeps it. Not ``preexec_fn``: Python
+    code run in a forked child can deadlock once the tests' process has threads (JAX, imported
+    by the PPO tests, warns of it at every fork)."""
+    code = (
+        f"import os, signal, sys; signal.signal(signal.SIGINT, signal.{disposition}); "
+        "os.execv(sys.argv[1], sys.argv[1:])"
+    )
+    return [sys.executable, "-c", code, *command]
 
 
-def _cli(args, tmp_path, timeout=120, preexec_fn=None, **env):
+def _cli(args, tmp_path, timeout=120, foreground=False, **env):
+    command = [sys.executable, "-m", "docking", *args]
     return subprocess.run(
-        [sys.executable, "-m", "docking", *args],
-        preexec_fn=preexec_fn,
+        _with_sigint("SIG_DFL", command) if foreground else command,
         cwd=tmp_path,
         env={
             **os.environ,
@@ -246,14 +254,13 @@ def test_ctrl_c_prints_one_line_exits_130_and_leaves_no_process(args, after, tmp
     proc = subprocess.Popen(
         # Training long enough that every command is still running when it is interrupted,
         # on a machine ten times faster (2 seeds of 300 trials could end inside 15 s).
-        [sys.executable, "-m", "docking", *args, "--train-trials", "5000"],
+        _with_sigint("SIG_DFL", [sys.executable, "-m", "docking", *args, "--train-trials", "5000"]),
         cwd=tmp_path,
         env=env,
         stdout=subprocess.PIPE,
         stderr=subprocess.PIPE,
         text=True,
         start_new_session=True,  # its own process group, as a terminal's foreground job
-        preexec_fn=_foreground_job,
     )
     if isinstance(after, tuple):
         _until_workers_compute(proc.pid, *after)
@@ -298,7 +305,7 @@ def _ctrl_c_at_import(tmp_path, module, when="True", before="pass"):
     return _cli(
         ["run", "experiment1", "--seeds", "0", "--train-trials", "2", "--test-trials", "1"],
         tmp_path,
-        preexec_fn=_foreground_job,
+        foreground=True,
         PYTHONPATH=os.pathsep.join([str(site), str(REPO), os.environ.get("PYTHONPATH", "")]),
     )
 
@@ -337,13 +344,12 @@ def test_a_command_started_with_ctrl_c_ignored_keeps_it_ignored(tmp_path):
     """A shell starts a background job (``cmd &``) with SIGINT ignored; Python leaves it so,
     and so does python -m docking: a Ctrl-C meant for the foreground does not end it."""
     proc = subprocess.Popen(
-        [sys.executable, "-m", "docking", "run", "--help"],
+        _with_sigint("SIG_IGN", [sys.executable, "-m", "docking", "run", "--help"]),
         cwd=tmp_path,
         env={**os.environ, "PYTHONPATH": str(REPO), "COLUMNS": "100"},
         stdout=subprocess.PIPE,
         stderr=subprocess.PIPE,
         text=True,
-        preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_IGN),
     )
     time.sleep(0.5)  # the package's imports, or later: either way the interrupt is ignored
     proc.send_signal(signal.SIGINT)
@@ -356,11 +362,10 @@ def test_import_docking_leaves_ctrl_c_alone():
     package keeps Python's KeyboardInterrupt."""
     code = "import signal, docking; print(signal.getsignal(2) is signal.default_int_handler)"
     out = subprocess.run(
-        [sys.executable, "-c", code],
+        _with_sigint("SIG_DFL", [sys.executable, "-c", code]),
         capture_output=True,
         text=True,
         timeout=60,
-        preexec_fn=_foreground_job,
     )
     assert out.stdout.strip() == "True", out.stderr
 
