@@ -255,9 +255,9 @@ def _damaged_ledgers(tmp: Path) -> list[tuple[str, dict]]:
     def named_outside(data, folder):
         data["tables"]["../../outside"] = data["tables"].pop("experiment1")
 
-    def table_as(kind):
+    def table_as(kind, relative="tables/experiment1.npz"):
         def apply(data, folder):
-            path = folder / "tables" / "experiment1.npz"
+            path = folder / relative
             path.unlink()
             if kind == "fifo":
                 os.mkfifo(path)
@@ -265,7 +265,7 @@ def _damaged_ledgers(tmp: Path) -> list[tuple[str, dict]]:
                 path.symlink_to("/dev/zero")
             else:
                 outside = folder.parent / f"{folder.name}-outside.npz"
-                shutil.copy(source / "tables" / "experiment1.npz", outside)
+                shutil.copy(source / relative, outside)
                 path.symlink_to(outside)
 
         return apply
@@ -279,11 +279,6 @@ def _damaged_ledgers(tmp: Path) -> list[tuple[str, dict]]:
         raw = path.read_bytes()
         path.write_bytes(raw[:-1] + bytes([raw[-1] ^ 1]))
         data["derived"]["oracle-labelled-success"] = hashlib.sha256(path.read_bytes()).hexdigest()
-
-    def derived_as_zero(data, folder):
-        path = folder / derived_path
-        path.unlink()
-        path.symlink_to("/dev/zero")
 
     def damage(relative, how):
         def apply(data, folder):
@@ -343,7 +338,7 @@ def _damaged_ledgers(tmp: Path) -> list[tuple[str, dict]]:
         "a derived table bit-flipped": damage(derived_path, "flip"),
         "a derived table deleted": damage(derived_path, "gone"),
         "a derived table forged, its SHA-256 updated": derived_forged,
-        "a derived table that is a link to /dev/zero": derived_as_zero,
+        "a derived table that is a link to /dev/zero": table_as("zero", derived_path),
     }
     return [
         (what, {"DOCKING_LEDGER": str(copy(f"l{i}", edit))})

@@ -205,7 +205,7 @@ def _current(name: str, key: str, data: dict, results_dir=None) -> bool:
     recipe, or its code is not this code): an entry this code is served."""
     try:
         return RECIPES[name](_lines(key), data, results_dir)[0] == key
-    except (KeyError, ValueError, TypeError, json.JSONDecodeError):
+    except (KeyError, ValueError, TypeError):  # json.JSONDecodeError is a ValueError
         return False
 
 
