@@ -30,7 +30,7 @@ NOTEBOOKS := $(NOTEBOOK_SOURCES:.py=.ipynb)
 export MUJOCO_GL ?= egl
 export PYOPENGL_PLATFORM ?= egl
 
-.PHONY: reproduce experiments check test test-site test-verify paper setup system-deps notebooks lab benchmark docs clean
+.PHONY: reproduce experiments lint check test test-site test-verify paper setup system-deps notebooks lab benchmark docs clean
 
 # Everything from the runs up: computed into results/ (never from the ledger), the notebooks
 # and the README report executed on them, then the ledger written from the results store
@@ -51,26 +51,31 @@ experiments: setup
 	DOCKING_LEDGER=off $(PY) -m docking design run experiment3 experiment3-oracle
 	DOCKING_LEDGER=off $(PY) -m docking design run third-edition untested
 
-check: setup
+# ruff and the layers contract (import-linter): what check and test both run first.
+lint: setup
 	$(VENV)/bin/ruff format --check .
 	$(VENV)/bin/ruff check .
 	$(VENV)/bin/lint-imports
+
+check: lint
 	$(PY) -m pytest tests -q -n 2 -m "not slow and not docs"
 
-# The notebooks run under nbmake with --overwrite (their outputs land in notebooks/*.ipynb,
-# from which `make docs` builds the site) in one session with the slow tests, two processes
-# that steal each other's queued items (so that neither waits while the other executes the
-# longest notebook). Then two jobs side by side (make -j2): the site is built and the docs
-# tests check it in Chromium (test-site), while verify recomputes runs and derived entries,
-# niced (test-verify). The docs tests wait on page loads more than they compute (46 s of CPU
-# in 62 s), so verify takes the idle CPU; it writes its lines to build/verify.log, printed
-# when it ends, so that they do not break into pytest's. (Beside the CPU-bound notebook
-# session, a niced verify made make test slower: 647 s against 609 s.) The docs tests run
-# under --dist loadscope: the tests of test_docs.py's class TestEveryPageAsLoaded, which
-# share one visit of every page, in one process.
-test: check notebooks
+# make test runs what check does and more, in one pytest session: every notebook under nbmake
+# with --overwrite (their outputs land in notebooks/*.ipynb, from which `make docs` builds the
+# site), the unit tests and the slow tests, on two processes that steal each other's queued
+# items, so that neither waits while the other executes the longest notebook, and the many
+# short unit tests fill the time the slow tests spend waiting (on a scheduler that never
+# answers, a server starting). Then two jobs side by side (make -j2): the site is built and
+# the docs tests check it in Chromium (test-site), while verify recomputes runs and derived
+# entries, niced (test-verify). The docs tests wait on page loads more than they compute, so
+# verify takes the idle CPU; it writes its lines to build/verify.log, printed when it ends,
+# so that they do not break into pytest's. (Beside the CPU-bound notebook session, a niced
+# verify made make test slower: 647 s against 609 s.) The docs tests run under --dist
+# loadscope: the tests of test_docs.py's class TestEveryPageAsLoaded, which share one visit
+# of every page, in one process.
+test: lint notebooks
 	$(PY) -m pytest --nbmake --nbmake-timeout=1800 --overwrite -n 2 --dist worksteal -q \
-	    -m "notebook or (slow and not docs)" $(NOTEBOOKS) tests
+	    -m "not docs" $(NOTEBOOKS) tests
 	$(MAKE) --no-print-directory -j2 test-site test-verify
 
 test-site: setup

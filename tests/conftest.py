@@ -12,9 +12,10 @@ def _no_committed_ledger(monkeypatch):
 
 @pytest.hookimpl(tryfirst=True)
 def pytest_collection_modifyitems(items):
-    """Mark the notebooks nbmake collects ``notebook``, before ``-m`` selects: make test runs
-    them in one session with the slow tests (``-m "notebook or (slow and not docs)"``), so that
-    neither of its two processes waits while the other executes the longest notebook."""
+    """Mark the notebooks nbmake collects ``notebook``, before ``-m`` selects (``-m notebook``
+    runs them alone). make test runs them in one session with the unit and slow tests
+    (``-m "not docs"``), so that neither of its two processes waits while the other executes
+    the longest notebook."""
     for item in items:
         if type(item).__module__.startswith("nbmake"):
             item.add_marker(pytest.mark.notebook)
