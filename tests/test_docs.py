@@ -143,38 +143,6 @@ def _rendered_at(browser, path: Path) -> dict:
         page.close()
 
 
-def test_a_broken_equation_is_caught(browser):
-    """The check below fails on a page with a deliberately broken equation (an unbalanced
-    brace put into notebook 01's Eq. 1)."""
-    good = SITE / "notebooks" / "01_gradient.html"
-    broken = good.with_name("broken_equation.html")
-    html = good.read_text()
-    assert "h_j = \\sum_n W_{jn} I_n" in html
-    broken.write_text(html.replace("h_j = \\sum_n W_{jn} I_n", "h_j = \\sum_n W_{jn I_n", 1))
-    try:
-        assert _rendered_at(browser, broken)["errors"] >= 1
-        assert _rendered_at(browser, good)["errors"] == 0
-    finally:
-        broken.unlink()
-
-
-def test_a_request_beyond_the_site_is_caught(browser):
-    """The visit records a request the page makes beyond the site (a web font, put into a copy
-    of the start page, as Material's theme asked for one), for the test of
-    :class:`TestEveryPageAsLoaded` that refuses it."""
-    good = SITE / "index.html"
-    asking = good.with_name("asking_beyond.html")
-    font = "https://fonts.googleapis.com/css?family=Roboto"
-    html = good.read_text()
-    assert "</head>" in html
-    asking.write_text(html.replace("</head>", f'<link rel="stylesheet" href="{font}"></head>', 1))
-    try:
-        assert font in _visit(browser, asking)["requests"]
-        assert not [u for u in _visit(browser, good)["requests"] if u.startswith("https:")]
-    finally:
-        asking.unlink()
-
-
 def test_the_start_page_shows_the_readmes_figures(browser):
     page = _open(browser, SITE / "index.html")
     try:
@@ -234,8 +202,11 @@ def _visit(browser, html: Path) -> dict:
     - at :data:`VIEWPORT`: every request it made (``requests``), its links, its tables
       (``_CLIPPED_TABLES``), its images (``_IMAGES``), the links to equations and the
       equations' anchors, and on a notebook page what :func:`_rendered` reads;
-    - then at :data:`SCREEN`: its length in screens, and with every fold open its images as
-      shown (``_SHOWN``; a folded figure is read at the same width once opened)."""
+    - on a notebook page (:data:`NOTEBOOK_PAGES`), its folds as loaded (:func:`_folds`);
+    - then at :data:`SCREEN`: its length in screens; on a notebook page the first fold as
+      a click on its summary opens it (:func:`_open_first_fold`); and with every fold open,
+      its images as shown (``_SHOWN``; a folded figure is read at the same width once
+      opened)."""
     page = browser.new_page(viewport=VIEWPORT)
     asked: list[str] = []
     page.on("request", lambda request: asked.append(request.url))
@@ -254,8 +225,13 @@ def _visit(browser, html: Path) -> dict:
         }
         if html.parent == SITE / "notebooks":
             seen["rendered"] = _rendered(page)
+        notebook = html.relative_to(SITE).as_posix() in NOTEBOOK_PAGES
+        if notebook:
+            seen["folds"] = _folds(page)
         page.set_viewport_size(SCREEN)
         seen["screens"] = page.evaluate("document.body.scrollHeight / window.innerHeight")
+        if notebook and seen["folds"]["count"]:  # a reader's click on the first fold
+            seen["folds"]["opened"] = _open_first_fold(page)
         page.evaluate("document.querySelectorAll('details').forEach(d => { d.open = true; })")
         seen["shown"] = page.evaluate(_SHOWN)
     finally:
@@ -330,36 +306,31 @@ NOTEBOOK_PAGES = [f"notebooks/{n}" for n in NOTEBOOKS] + (
 )
 
 
-@pytest.mark.parametrize("name", NOTEBOOK_PAGES)
-def test_a_notebooks_imports_are_folded(browser, name):
-    """The notebook's import block is on the page, but folded: inside a closed <details>
-    whose summary names the modules, no import line visible until the reader opens it."""
-    imports = _folded_imports(name)
-    assert imports, f"{name}: no import block in the notebook"
-    page = browser.new_page(viewport=VIEWPORT)
-    try:
-        page.goto((SITE / name).as_uri())
-        page.wait_for_load_state("load")
-        visible = page.evaluate(
+def _folds(page) -> dict:
+    """The folds of a notebook page as it loaded: the text of every code block shown
+    (``visible``), how many folded cells it has (``count``) and, for the first, whether it is
+    closed and its summary's text."""
+    folds = page.locator("article details.docking-hidden-input")
+    found = {
+        "visible": page.evaluate(
             "Array.from(document.querySelectorAll('article pre'))"
             ".filter(p => p.checkVisibility()).map(p => p.innerText).join('\\n')"
-        )
-        folds = page.locator("article details.docking-hidden-input")
-        n_folds = folds.count()
-        if n_folds:
-            fold = folds.first
-            closed = fold.evaluate("d => !d.open")
-            summary = fold.locator("summary").inner_text()
-            fold.locator("summary").click()
-            opened = fold.locator("pre").evaluate("p => [p.checkVisibility(), p.innerText]")
-    finally:
-        page.close()
-    shown = [line for line in imports if any(line == v.strip() for v in visible.splitlines())]
-    assert not shown, f"{name}: import lines shown unfolded: {shown}"
-    assert n_folds, f"{name}: no folded cell"
-    assert closed and summary.startswith("imports: "), (closed, summary)
-    assert opened[0], f"{name}: the folded code does not open"
-    assert all(line in opened[1] for line in imports), (imports, opened[1])
+        ),
+        "count": folds.count(),
+    }
+    if found["count"]:
+        fold = folds.first
+        found["closed"] = fold.evaluate("d => !d.open")
+        found["summary"] = fold.locator("summary").inner_text()
+    return found
+
+
+def _open_first_fold(page) -> list:
+    """Click the summary of the page's first folded cell, as a reader does: whether its code
+    is then visible, and its text."""
+    fold = page.locator("article details.docking-hidden-input").first
+    fold.locator("summary").click()
+    return fold.locator("pre").evaluate("p => [p.checkVisibility(), p.innerText]")
 
 
 _MATHJAX_DONE = (
@@ -487,6 +458,55 @@ class TestEveryPageAsLoaded:
     visit per page (the ``visits`` fixture). The tests of this class share that fixture: ``make
     test`` runs them in one process (``pytest -n 2 --dist loadscope`` keeps a class on one
     worker), while the other process runs the tests that click (the module's functions)."""
+
+    def test_a_broken_equation_is_caught(self, browser, visits):
+        """The check of notebook pages fails on a page with a deliberately broken equation (an
+        unbalanced brace put into notebook 01's Eq. 1), and passes on the page as built."""
+        good = SITE / "notebooks" / "01_gradient.html"
+        broken = good.with_name("broken_equation.html")
+        html = good.read_text()
+        assert "h_j = \\sum_n W_{jn} I_n" in html
+        broken.write_text(html.replace("h_j = \\sum_n W_{jn} I_n", "h_j = \\sum_n W_{jn I_n", 1))
+        try:
+            assert _rendered_at(browser, broken)["errors"] >= 1
+        finally:
+            broken.unlink()
+        assert visits["notebooks/01_gradient.html"]["rendered"]["errors"] == 0
+
+    def test_a_request_beyond_the_site_is_caught(self, browser, visits):
+        """The visit records a request the page makes beyond the site (a web font, put into a
+        copy of the start page, as Material's theme asked for one), for the test of this class
+        that refuses it; the start page as built makes none."""
+        good = SITE / "index.html"
+        asking = good.with_name("asking_beyond.html")
+        font = "https://fonts.googleapis.com/css?family=Roboto"
+        html = good.read_text()
+        assert "</head>" in html
+        asking.write_text(
+            html.replace("</head>", f'<link rel="stylesheet" href="{font}"></head>', 1)
+        )
+        try:
+            assert font in _visit(browser, asking)["requests"]
+        finally:
+            asking.unlink()
+        assert not [u for u in visits["index.html"]["requests"] if u.startswith("https:")]
+
+    @pytest.mark.parametrize("name", NOTEBOOK_PAGES)
+    def test_a_notebooks_imports_are_folded(self, visits, name):
+        """The notebook's import block is on the page, but folded: inside a closed <details>
+        whose summary names the modules, no import line visible until the reader opens it
+        (with a click on its summary)."""
+        imports = _folded_imports(name)
+        assert imports, f"{name}: no import block in the notebook"
+        folds = visits[name]["folds"]
+        visible = folds["visible"].splitlines()
+        shown = [line for line in imports if any(line == v.strip() for v in visible)]
+        assert not shown, f"{name}: import lines shown unfolded: {shown}"
+        assert folds["count"], f"{name}: no folded cell"
+        assert folds["closed"] and folds["summary"].startswith("imports: "), folds
+        visible_now, text = folds["opened"]
+        assert visible_now, f"{name}: the folded code does not open"
+        assert all(line in text for line in imports), (imports, text)
 
     @pytest.mark.parametrize("name", NOTEBOOKS)
     def test_a_notebook_page_shows_its_figures_and_renders_its_equations(self, visits, name):
