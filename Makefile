@@ -67,9 +67,9 @@ check: lint
 # short unit tests fill the time the slow tests spend waiting (on a scheduler that never
 # answers, a server starting). Then two jobs side by side (make -j2): the site is built and
 # the docs tests check it in Chromium (test-site), while verify recomputes runs and derived
-# entries, niced (test-verify). The docs tests wait on page loads more than they compute, so
-# verify takes the idle CPU; it writes its lines to build/verify.log, printed when it ends,
-# so that they do not break into pytest's. (Beside the CPU-bound notebook session, a niced
+# entries, niced (test-verify). The docs tests leave part of the CPU idle while pages load
+# (97 s of CPU machine-wide, Chromium's included, in 63 s), and verify takes it; it writes its
+# lines to build/verify.log, printed when it ends, so that they do not break into pytest's. (Beside the CPU-bound notebook session, a niced
 # verify made make test slower: 647 s against 609 s.) The docs tests run under --dist
 # loadscope: the tests of test_docs.py's class TestEveryPageAsLoaded, which share one visit
 # of every page, in one process.
