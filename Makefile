@@ -69,10 +69,10 @@ check: lint
 # the docs tests check it in Chromium (test-site), while verify recomputes runs and derived
 # entries, niced (test-verify). The docs tests leave part of the CPU idle while pages load
 # (97 s of CPU machine-wide, Chromium's included, in 63 s), and verify takes it; it writes its
-# lines to build/verify.log, printed when it ends, so that they do not break into pytest's. (Beside the CPU-bound notebook session, a niced
-# verify made make test slower: 647 s against 609 s.) The docs tests run under --dist
-# loadscope: the tests of test_docs.py's class TestEveryPageAsLoaded, which share one visit
-# of every page, in one process.
+# lines to build/verify.log, printed when it ends, so that they do not break into pytest's.
+# (Beside the CPU-bound notebook session, a niced verify made make test slower: 647 s against
+# 609 s.) The docs tests run under --dist loadscope: the tests of test_docs.py's class
+# TestEveryPageAsLoaded, which share one visit of every page, in one process.
 test: lint notebooks
 	$(PY) -m pytest --nbmake --nbmake-timeout=1800 --overwrite -n 2 --dist worksteal -q \
 	    -m "not docs" $(NOTEBOOKS) tests
