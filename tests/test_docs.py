@@ -455,9 +455,11 @@ def test_the_api_reference_is_split_by_layer():
 
 class TestEveryPageAsLoaded:
     """What a reader sees of every page once it has loaded and MathJax is done, read from one
-    visit per page (the ``visits`` fixture). The tests of this class share that fixture: ``make
-    test`` runs them in one process (``pytest -n 2 --dist loadscope`` keeps a class on one
-    worker), while the other process runs the tests that click (the module's functions)."""
+    visit per page (the ``visits`` fixture; a notebook page's first fold clicked open in it),
+    and the two forged pages that show the checks of those visits can fail. The tests of this
+    class share that fixture: ``make test`` runs them in one process (``pytest -n 2 --dist
+    loadscope`` keeps a class on one worker), while the other process runs the tests that open
+    pages of their own to click through them (the module's functions)."""
 
     def test_a_broken_equation_is_caught(self, browser, visits):
         """The check of notebook pages fails on a page with a deliberately broken equation (an
