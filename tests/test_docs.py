@@ -77,8 +77,10 @@ def _equations(name: str) -> Counter:
     return Counter(tex.strip() for tex in found)
 
 
-def _open(browser, page_path: Path):
-    page = browser.new_page()
+def _open(browser, page_path: Path, viewport: dict | None = None):
+    """A new page of ``browser`` at ``viewport`` (default: the browser's), ``page_path``
+    loaded in it."""
+    page = browser.new_page(viewport=viewport)
     page.goto(page_path.as_uri())
     page.wait_for_load_state("load")
     return page
@@ -132,15 +134,6 @@ def _rendered(page) -> dict:
             " + document.querySelectorAll('.merror, .MathJax_Error, .noError').length"
         ),
     }
-
-
-def _rendered_at(browser, path: Path) -> dict:
-    """:func:`_rendered` of the page at ``path``, opened for it alone."""
-    page = _open(browser, path)
-    try:
-        return _rendered(page)
-    finally:
-        page.close()
 
 
 def test_the_start_page_shows_the_readmes_figures(browser):
@@ -258,10 +251,8 @@ def site_images(visits) -> dict[str, list[dict]]:
 def test_a_figure_opens_full_size_in_the_lightbox(browser, page_path):
     """A click on the widest figure of the page opens it at its full resolution (the PNG's
     own width, more than the page shows), its caption beneath."""
-    page = browser.new_page(viewport=VIEWPORT)
+    page = _open(browser, SITE / page_path, VIEWPORT)
     try:
-        page.goto((SITE / page_path).as_uri())
-        page.wait_for_load_state("load")
         images = page.evaluate(_IMAGES)
         widest = max(range(len(images)), key=lambda i: images[i]["width"])
         shown = page.locator("article img").nth(widest)
@@ -392,10 +383,8 @@ def test_a_too_wide_figure_is_caught(browser):
         data += chunk(b"IDAT", zlib.compress(raw)) + chunk(b"IEND", b"")
         return "data:image/png;base64," + base64.b64encode(data).decode()
 
-    page = browser.new_page(viewport=SCREEN)
+    page = _open(browser, SITE / "notebooks" / "04_experiment2.html", SCREEN)
     try:
-        page.goto((SITE / "notebooks" / "04_experiment2.html").as_uri())
-        page.wait_for_load_state("load")
         src = png(3 * 1125, 300)
         page.evaluate(
             "src => { const i = document.querySelector('article .jp-OutputArea img');"
@@ -412,10 +401,8 @@ def test_a_folded_output_opens(browser):
     """Notebook 08's verdict table (tagged ``fold-output``) is folded: a closed <details>
     whose summary says what it holds (the cell's comment), its table hidden until a click
     shows it; the figure after it stays on the page."""
-    page = browser.new_page(viewport=SCREEN)
+    page = _open(browser, SITE / "notebooks" / "08_untested.html", SCREEN)
     try:
-        page.goto((SITE / "notebooks" / "08_untested.html").as_uri())
-        page.wait_for_load_state("load")
         folds = page.locator("article details.docking-folded-output")
         n = folds.count()
         fold = folds.filter(has_text="the verdict table").first
@@ -462,15 +449,16 @@ class TestEveryPageAsLoaded:
     pages of their own to click through them (the module's functions)."""
 
     def test_a_broken_equation_is_caught(self, browser, visits):
-        """The check of notebook pages fails on a page with a deliberately broken equation (an
-        unbalanced brace put into notebook 01's Eq. 1), and passes on the page as built."""
+        """The visit that the check of notebook pages reads finds the error on a page with a
+        deliberately broken equation (an unbalanced brace put into notebook 01's Eq. 1), and
+        none on the page as built."""
         good = SITE / "notebooks" / "01_gradient.html"
         broken = good.with_name("broken_equation.html")
         html = good.read_text()
         assert "h_j = \\sum_n W_{jn} I_n" in html
         broken.write_text(html.replace("h_j = \\sum_n W_{jn} I_n", "h_j = \\sum_n W_{jn I_n", 1))
         try:
-            assert _rendered_at(browser, broken)["errors"] >= 1
+            assert _visit(browser, broken)["rendered"]["errors"] >= 1
         finally:
             broken.unlink()
         assert visits["notebooks/01_gradient.html"]["rendered"]["errors"] == 0
