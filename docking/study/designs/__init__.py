@@ -24,6 +24,7 @@ MODULES = {
     "untested-revisited": "docking.study.designs.revisited",
     "bracketing-replication": "docking.study.designs.replication",
     "fragility-landscape": "docking.study.designs.landscape",
+    "equal-contest": "docking.study.designs.equal_contest",
 }
 
 

@@ -1,0 +1,197 @@
+"""The equal contest (docking.study.designs.equal_contest): its rules, pinned before its runs;
+its seeds, fresh; the ledger runs it reads, the ones it names; its procedure and its verdicts,
+rules that can fail."""
+
+from __future__ import annotations
+
+import hashlib
+import json
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from docking.study.designs import equal_contest as ec
+
+REPO = Path(__file__).resolve().parents[1]
+#: The SHA-256 of rules_text() when the rules were committed, before any of its runs.
+RULES_DIGEST = "b1de72d16f0eeccc43a727f11c3de0f02b8503dfc2de6d5cbfad4cecae00f145"
+
+
+def _runs():
+    return json.loads((REPO / "ledger" / "manifest.json").read_text())["runs"]
+
+
+def test_rules_are_the_committed_ones():
+    assert hashlib.sha256(ec.rules_text().encode()).hexdigest() == RULES_DIGEST
+
+
+def test_its_judged_and_selection_seeds_are_used_by_no_other_run_or_design():
+    from docking.study import designs
+
+    used = {r["seed"] for r in _runs().values() if r["name"] != ec.NAME}
+    assert used and not used & (set(ec.SEEDS) | set(ec.SELECTION_SEEDS))
+    for name in designs.names():
+        if name == ec.NAME:
+            continue
+        design = designs.design(name)
+        seeds = set(design.seeds) | {s for c in design.cells for s in (c.seeds or ())}
+        assert not seeds & set(ec.SEEDS), name
+    assert len(ec.SEEDS) >= 20 and len(set(ec.SEEDS)) == len(ec.SEEDS)
+
+
+def test_the_ledger_runs_it_reads_are_the_ones_it_names():
+    """Every grid point of READ_FROM is held by its table on both grid seeds, with the
+    configuration the design builds; no other grid point of the floor and Nao-like SARSA
+    learners is held on both seeds by an earlier table (so nothing the ledger holds is
+    computed again, and nothing is read that is not named)."""
+    runs = _runs()
+    manifest = json.loads((REPO / "ledger" / "manifest.json").read_text())
+    held = {}
+    for r in runs.values():
+        if r["name"] == ec.NAME:
+            continue
+        config = dict(manifest["configs"][r["config"]])
+        name = config.pop("name")
+        held.setdefault((json.dumps(config, sort_keys=True), r["seed"]), set()).add(name)
+    for c in ec.DESIGN.cells:
+        config = c.config.to_dict()
+        name = config.pop("name")
+        found = [held.get((json.dumps(config, sort_keys=True), s), set()) for s in ec.GRID_SEEDS]
+        if name != ec.NAME:
+            assert all(name in f for f in found), c.key
+        elif c["learner"] != "ppo" and c["world"] != "sideboard":
+            assert not all(found), (c.key, found)
+    assert sum(c.config.name != ec.NAME for c in ec.DESIGN.cells) == 137
+
+
+def test_the_grid_is_the_same_shape_for_every_learner():
+    cells = ec.DESIGN.cells
+    for world in ec.WORLDS:
+        for learner in ec.LEARNERS:
+            mine = [c for c in cells if c["world"] == world and c["learner"] == learner]
+            assert len(mine) == ec.GRID_ROWS * ec.GRID_COLS
+            assert {(c["row"], c["col"]) for c in mine} == {
+                (r, k) for r in range(ec.GRID_ROWS) for k in range(ec.GRID_COLS)
+            }
+            assert all(c.seeds == ec.GRID_SEEDS for c in mine)
+    paper = {c["beta_a_train"] for c in cells if c["learner"] == "paper"}
+    assert paper == {1.0, 2.0, 5.0, 10.0, 20.0, 50.0, 100.0, 200.0, 500.0}
+    assert {c["eps_w"] for c in cells if c["learner"] == "paper"} == {0.05, 0.15, 0.5, 1.5, 5.0}
+    assert {c["eps_q"] for c in cells if c["learner"] == "linear"} == {0.01, 0.03, 0.1, 0.3, 1.0}
+    assert {c["rollouts"] for c in cells if c["learner"] == "ppo"} == {8, 16, 32, 64, 128}
+    assert all(c.config.steps == 50_000 for c in cells if c["learner"] == "ppo")
+
+
+class _Fake:
+    """Results of the procedure's stages with chosen scores (what the stage functions read)."""
+
+    def __init__(self, scores):
+        self.cells, self._scores = [], {}
+        for (world, learner, point, stage), values in scores.items():
+            seeds = ec.SELECTION_SEEDS if stage == "selection" else ec.GRID_SEEDS
+            c = ec._cell(world, learner, point, stage, seeds)
+            self.cells.append(c)
+            self._scores[c.key] = np.asarray(values, float)
+
+    def score(self, key):
+        return self._scores[key]
+
+
+def _grid(world, learner, best, value=0.9):
+    """A grid whose scores fall with the distance from ``best``."""
+    return {
+        (world, learner, (r, c), "grid"): [value - 0.01 * (abs(r - best[0]) + abs(c - best[1]))] * 2
+        for r in range(ec.GRID_ROWS)
+        for c in range(ec.GRID_COLS)
+    }
+
+
+def test_an_edge_best_gets_the_rungs_beyond_it_first_and_every_learner_as_many():
+    scores = {}
+    for world in ec.WORLDS:
+        scores |= _grid(world, "paper", (8, 2))  # on the top row: beta_a 500
+        scores |= _grid(world, "linear", (4, 2))  # interior
+        scores |= _grid(world, "ppo", (0, 4))  # a corner
+    new = ec.extension(1)(_Fake(scores))
+    for world in ec.WORLDS:
+        for learner in ec.LEARNERS:
+            mine = [c for c in new if c["world"] == world and c["learner"] == learner]
+            assert len(mine) == ec.EXTENSION_POINTS
+    floor = [(c["row"], c["col"]) for c in new if c["world"] == "floor"]
+    assert floor[0] == (9, 2)  # beta_a 1000, above the paper's best
+    ppo = [(c["row"], c["col"]) for c in new if c["world"] == "floor" and c["learner"] == "ppo"]
+    assert ppo[:2] == [(-1, 4), (0, 5)]  # below the lowest learning rate, beyond 128 rollouts
+    assert all(c["stage"] == "extension-1" and c.seeds == ec.GRID_SEEDS for c in new)
+
+
+def test_only_bracketed_points_are_candidates():
+    scores = _grid("floor", "paper", (8, 2))
+    fake = _Fake(scores)
+    points = ec.searched(fake, "floor", "paper")
+    assert not ec.bracketed(points, "floor", "paper", (8, 2))
+    found = ec.candidates(fake, "floor", "paper")
+    assert (8, 2) not in found and found[0] == (7, 2) and len(found) == ec.TOP_K
+    scores[("floor", "paper", (9, 2), "extension-1")] = [0.95, 0.95]
+    scores[("floor", "paper", (9, 1), "extension-2")] = [0.5, 0.5]
+    scores[("floor", "paper", (9, 3), "extension-2")] = [0.5, 0.5]
+    scores[("floor", "paper", (10, 2), "extension-3")] = [0.5, 0.5]
+    assert ec.candidates(_Fake(scores), "floor", "paper")[0] == (9, 2)
+
+
+def test_a_rung_beyond_a_limit_is_never_searched():
+    assert not ec.valid("floor", "ppo", (0, 6))  # 512 rollouts
+    assert not ec.valid("floor", "ppo", (0, -4))  # half a rollout
+    assert not ec.valid("floor", "ppo", (18, 0))  # a learning rate of 5
+    assert ec.valid("floor", "linear", (0, 5))  # eps_Q 3
+    assert ec.COL_LADDERS["linear"].value(1) == 0.03 and ec.COL_LADDERS["paper"].value(3) == 1.5
+
+
+def test_the_chosen_setting_is_the_best_on_the_selection_seeds():
+    scores = {
+        ("floor", "paper", (4, 2), "selection"): [0.90] * 4,
+        ("floor", "paper", (5, 2), "selection"): [0.93] * 4,
+        ("floor", "paper", (4, 1), "selection"): [0.93] * 4,
+    }
+    assert ec.chosen(_Fake(scores), "floor", "paper") == (5, 2)
+
+
+def _pairs(shift, spread=0.01, n=20, seed=0):
+    rng = np.random.default_rng(seed)
+    paper = rng.uniform(0.88, 0.96, n)
+    return paper + shift + rng.normal(0, spread, n), paper
+
+
+def test_the_verdicts_say_each_outcome():
+    found = ec.judgement(
+        {
+            "same": _pairs(0.0),
+            "ahead": _pairs(0.03),
+            "far": _pairs(0.10),
+            "noisy": _pairs(0.02, spread=0.15),
+        }
+    )
+    assert found["same"]["lead_verdict"] == "no lead shown"
+    assert found["same"]["noninferiority"] == "non-inferior"
+    assert found["same"]["equivalence"] == "equivalent"
+    assert found["ahead"]["lead_verdict"] == "linear SARSA ahead"
+    assert found["ahead"]["noninferiority"] == "non-inferior"
+    assert found["far"]["noninferiority"] == "inferior by more than the margin"
+    assert found["far"]["equivalence"] == "equivalence not shown"
+    assert found["noisy"]["noninferiority"] == "undecided"
+    assert found["noisy"]["equivalence"] == "equivalence not shown"
+    behind = ec.judgement({"w": _pairs(-0.03), "v": _pairs(0.0, seed=1)})
+    assert behind["w"]["lead_verdict"] == "the paper's learner ahead"
+    low, high = found["ahead"]["low"], found["ahead"]["high"]
+    assert low < found["ahead"]["lead"] < high
+    assert found["far"]["failure_ratio"] > 1
+
+
+def test_the_verdicts_are_holm_adjusted_over_the_worlds():
+    import scipy.stats as sps
+
+    pairs = {"a": _pairs(0.01, seed=2), "b": _pairs(0.005, seed=3), "c": _pairs(0.0, seed=4)}
+    found = ec.judgement(pairs)
+    raw = [sps.ttest_1samp(pairs[w][0] - pairs[w][1], 0).pvalue for w in pairs]
+    assert min(found[w]["p_lead"] for w in pairs) == pytest.approx(3 * min(raw))
+    assert all(found[w]["p_lead"] >= r for w, r in zip(pairs, raw, strict=True))
