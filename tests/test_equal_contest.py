@@ -6,24 +6,64 @@ from __future__ import annotations
 
 import hashlib
 import json
+import re
+import subprocess
 from pathlib import Path
 
 import numpy as np
 import pytest
 
+from docking.study import records
 from docking.study.designs import equal_contest as ec
 
 REPO = Path(__file__).resolve().parents[1]
-#: The SHA-256 of rules_text() when the rules were committed, before any of its runs.
+#: The SHA-256 of the rules text when the rules were committed, before any of its runs.
 RULES_DIGEST = "b1de72d16f0eeccc43a727f11c3de0f02b8503dfc2de6d5cbfad4cecae00f145"
+#: The commit that added the rules (and the procedure the record copies).
+RULES_COMMIT = "319cc64"
 
 
 def _runs():
     return json.loads((REPO / "ledger" / "manifest.json").read_text())["runs"]
 
 
-def test_rules_are_the_committed_ones():
-    assert hashlib.sha256(ec.rules_text().encode()).hexdigest() == RULES_DIGEST
+def test_the_record_is_the_committed_rules():
+    """The record's text is the one whose digest was pinned before the runs; its procedure's
+    verbatim copy is the one the text's digest names, and the source the rules' commit held."""
+    assert records.digest(ec.NAME) == RULES_DIGEST
+    recorded = records.data(ec.NAME)
+    source = records.procedure(ec.NAME)
+    assert hashlib.sha256(source.encode()).hexdigest() == recorded["constants"]["procedure"]
+    committed = subprocess.run(
+        ["git", "show", f"{RULES_COMMIT}:docking/study/designs/equal_contest.py"],
+        cwd=REPO,
+        capture_output=True,
+        text=True,
+        check=True,
+    ).stdout
+    blocks = re.split(r"\n(?=def |@)", source)
+    assert len(blocks) == 14 and all(block in committed for block in blocks)
+    assert "def judgement(pairs: dict) -> dict:" in source and "class Ladder:" in source
+
+
+def test_the_live_design_is_the_record():
+    """Its constants, ladders and cells (keys, configurations, seeds) equal the record's."""
+    recorded, live = records.data(ec.NAME), ec.rules_data()
+    recorded["constants"].pop("procedure")
+    assert live == recorded
+
+
+def test_a_changed_constant_or_cell_is_not_the_record(monkeypatch):
+    recorded = records.data(ec.NAME)
+    recorded["constants"].pop("procedure")
+    monkeypatch.setattr(ec, "TOP_K", 2)
+    assert ec.rules_data() != recorded
+    monkeypatch.undo()
+    changed = dict(ec.READ_FROM["floor"]["paper"])
+    changed["fragility-landscape"] = changed["fragility-landscape"][1:]
+    monkeypatch.setitem(ec.READ_FROM["floor"], "paper", changed)
+    monkeypatch.setattr(ec, "DESIGN", ec.dataclasses.replace(ec.DESIGN, cells=ec.DESIGN.cells[:-1]))
+    assert ec.rules_data() != recorded
 
 
 def test_its_judged_and_selection_seeds_are_used_by_no_other_run_or_design():
@@ -90,7 +130,7 @@ class _Fake:
         self.cells, self._scores = [], {}
         for (world, learner, point, stage), values in scores.items():
             seeds = ec.SELECTION_SEEDS if stage == "selection" else ec.GRID_SEEDS
-            c = ec._cell(world, learner, point, stage, seeds)
+            c = ec.SEARCH.cell(world, learner, point, stage, seeds)
             self.cells.append(c)
             self._scores[c.key] = np.asarray(values, float)
 
@@ -113,7 +153,7 @@ def test_an_edge_best_gets_the_rungs_beyond_it_first_and_every_learner_as_many()
         scores |= _grid(world, "paper", (8, 2))  # on the top row: beta_a 500
         scores |= _grid(world, "linear", (4, 2))  # interior
         scores |= _grid(world, "ppo", (0, 4))  # a corner
-    new = ec.extension(1)(_Fake(scores))
+    new = ec.SEARCH.extension(1)(_Fake(scores))
     for world in ec.WORLDS:
         for learner in ec.LEARNERS:
             mine = [c for c in new if c["world"] == world and c["learner"] == learner]
@@ -128,22 +168,22 @@ def test_an_edge_best_gets_the_rungs_beyond_it_first_and_every_learner_as_many()
 def test_only_bracketed_points_are_candidates():
     scores = _grid("floor", "paper", (8, 2))
     fake = _Fake(scores)
-    points = ec.searched(fake, "floor", "paper")
-    assert not ec.bracketed(points, "floor", "paper", (8, 2))
-    found = ec.candidates(fake, "floor", "paper")
+    points = ec.SEARCH.searched(fake, "floor", "paper")
+    assert not ec.SEARCH.bracketed(points, "floor", "paper", (8, 2))
+    found = ec.SEARCH.candidates(fake, "floor", "paper")
     assert (8, 2) not in found and found[0] == (7, 2) and len(found) == ec.TOP_K
     scores[("floor", "paper", (9, 2), "extension-1")] = [0.95, 0.95]
     scores[("floor", "paper", (9, 1), "extension-2")] = [0.5, 0.5]
     scores[("floor", "paper", (9, 3), "extension-2")] = [0.5, 0.5]
     scores[("floor", "paper", (10, 2), "extension-3")] = [0.5, 0.5]
-    assert ec.candidates(_Fake(scores), "floor", "paper")[0] == (9, 2)
+    assert ec.SEARCH.candidates(_Fake(scores), "floor", "paper")[0] == (9, 2)
 
 
 def test_a_rung_beyond_a_limit_is_never_searched():
-    assert not ec.valid("floor", "ppo", (0, 6))  # 512 rollouts
-    assert not ec.valid("floor", "ppo", (0, -4))  # half a rollout
-    assert not ec.valid("floor", "ppo", (18, 0))  # a learning rate of 5
-    assert ec.valid("floor", "linear", (0, 5))  # eps_Q 3
+    assert not ec.SEARCH.valid("floor", "ppo", (0, 6))  # 512 rollouts
+    assert not ec.SEARCH.valid("floor", "ppo", (0, -4))  # half a rollout
+    assert not ec.SEARCH.valid("floor", "ppo", (18, 0))  # a learning rate of 5
+    assert ec.SEARCH.valid("floor", "linear", (0, 5))  # eps_Q 3
     assert ec.COL_LADDERS["linear"].value(1) == 0.03 and ec.COL_LADDERS["paper"].value(3) == 1.5
 
 
@@ -153,7 +193,7 @@ def test_the_chosen_setting_is_the_best_on_the_selection_seeds():
         ("floor", "paper", (5, 2), "selection"): [0.93] * 4,
         ("floor", "paper", (4, 1), "selection"): [0.93] * 4,
     }
-    assert ec.chosen(_Fake(scores), "floor", "paper") == (5, 2)
+    assert ec.SEARCH.chosen(_Fake(scores), "floor", "paper") == (5, 2)
 
 
 def _pairs(shift, spread=0.01, n=20, seed=0):

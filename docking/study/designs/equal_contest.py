@@ -82,19 +82,15 @@ runs: about 8 h. Nothing cut.
 from __future__ import annotations
 
 import dataclasses
-import hashlib
-import inspect
+import functools
 import json
 
-import numpy as np
-from scipy import stats as sps
-
-from docking.study.design import Cell, Design
 from docking.study.design import rules_text as design_rules_text
-from docking.study.designs import addendum as ad
+from docking.study.designs import search
 from docking.study.designs import third_edition as te
 from docking.study.designs.builders import HELDOUT_TRIALS, experiment2_in, linear_sarsa, net
 from docking.study.designs.builders import variant as named_variant
+from docking.study.designs.search import Entrant, Knob, Ladder, Search
 from docking.study.ppo import PPOConfig
 
 NAME = "equal-contest"
@@ -123,29 +119,6 @@ KNOBS = {
     "linear": ("beta_a_train", "eps_q"),
     "ppo": ("learning_rate", "rollouts"),
 }
-
-
-@dataclasses.dataclass(frozen=True)
-class Ladder:
-    """A knob's log-spaced values: rung ``k`` is ``mantissas[k % n] * base ** (exponent + k //
-    n)`` (``n`` mantissas), exact as a decimal literal for base 10; ``integer``: the knob takes
-    whole numbers; ``upper``: the largest value allowed. A rung beyond a limit (not a whole
-    number, above ``upper``) is None."""
-
-    mantissas: tuple
-    exponent: int
-    base: int = 10
-    integer: bool = False
-    upper: float | None = None
-
-    def value(self, k: int):
-        m, e = self.mantissas[k % len(self.mantissas)], self.exponent + k // len(self.mantissas)
-        v = float(f"{m}e{e}") if self.base == 10 else float(m * self.base**e)
-        if self.upper is not None and v > self.upper:
-            return None
-        if self.integer:
-            return int(v) if v.is_integer() and v >= 1 else None
-        return v
 
 
 #: Rows: rungs 0-8 are the grid. beta_a 1, 2, 5, ..., 500; PPO's learning rate 1e-5 ... 5e-3.
@@ -286,17 +259,7 @@ READ_FROM = {
 }
 
 
-def setting(world: str, learner: str, point: tuple[int, int]) -> dict | None:
-    """The knob values of lattice point ``point`` (row rung, column rung) of ``learner`` in
-    ``world``, or None where a rung is beyond its ladder's limit."""
-    row, col = ROW_LADDERS[learner].value(point[0]), COL_LADDERS[learner].value(point[1])
-    if row is None or col is None:
-        return None
-    found = dict(zip(KNOBS[learner], (row, col), strict=True))
-    return {"eps_q": PAPER_EPS_Q[world], **found} if learner == "paper" else found
-
-
-def learner_config(world: str, learner: str, knobs: dict, name: str = NAME):
+def learner_config(world: str, learner: str, name: str = NAME, **knobs):
     """``learner`` of ``world`` with ``knobs``, stored under ``name``."""
     w = te.WORLDS[world][1]
     if learner == "ppo":
@@ -313,233 +276,46 @@ def learner_config(world: str, learner: str, knobs: dict, name: str = NAME):
     return named_variant(base, name, network=make(base, **knobs))
 
 
-def valid(world: str, learner: str, point: tuple[int, int]) -> bool:
-    """Whether ``point`` is a configuration (every rung within its ladder's limits)."""
-    knobs = setting(world, learner, point)
-    if knobs is None:
-        return False
-    try:
-        learner_config(world, learner, knobs)
-    except ValueError:
-        return False
-    return True
-
-
-def _stored_under(world: str, learner: str, point: tuple[int, int]) -> str:
-    for table, points in READ_FROM.get(world, {}).get(learner, {}).items():
-        if tuple(point) in points:
-            return table
-    return NAME
-
-
-def _cell(world, learner, point, stage, seeds, name=NAME) -> Cell:
-    knobs = setting(world, learner, point)
-    tag = ad.tag(knobs)
-    suffix = "" if stage in ("grid", "judged") else f"/{stage}"
-    key = f"{world}/{learner}/judged" if stage == "judged" else f"{world}/{learner}/{tag}{suffix}"
-    return Cell(
-        key,
-        learner_config(world, learner, knobs, name),
-        {
-            "world": world,
-            "learner": learner,
-            "stage": stage,
-            "row": int(point[0]),
-            "col": int(point[1]),
-            **knobs,
-        },
-        f"{learner} {tag} ({stage})",
-        seeds=seeds,
+def _entrant(learner: str) -> Entrant:
+    row, col = KNOBS[learner]
+    return Entrant(
+        functools.partial(_make, learner),
+        Knob(row, ROW_LADDERS[learner]),
+        Knob(col, COL_LADDERS[learner]),
+        {w: {"eps_q": q} for w, q in PAPER_EPS_Q.items()} if learner == "paper" else {},
     )
 
 
-def grid_cells() -> list[Cell]:
-    """The common grid: every learner's 9 x 5 points in every world, on :data:`GRID_SEEDS`."""
-    return [
-        _cell(w, learner, (r, c), "grid", GRID_SEEDS, _stored_under(w, learner, (r, c)))
-        for w in WORLDS
-        for learner in LEARNERS
-        for r in range(GRID_ROWS)
-        for c in range(GRID_COLS)
-    ]
+def _make(learner: str, world: str, name: str, **knobs):
+    return learner_config(world, learner, name, **knobs)
 
 
-# ------------------------------------------------------------------------------------------
-# The procedure (its source is part of the rules).
-# ------------------------------------------------------------------------------------------
-
-
-def searched(results, world: str, learner: str) -> dict[tuple[int, int], float]:
-    """Every point of ``learner`` in ``world`` searched on the grid seeds (the grid, then the
-    extensions in order), with its mean held-out success over them."""
-    return {
-        (c["row"], c["col"]): float(np.mean(results.score(c.key)))
-        for c in results.cells
-        if c["world"] == world
-        and c["learner"] == learner
-        and (c["stage"] == "grid" or c["stage"].startswith("extension"))
-    }
-
-
-def ranked(points: dict[tuple[int, int], float]) -> list[tuple[int, int]]:
-    """The points best first (ties: the earlier searched)."""
-    order = {p: i for i, p in enumerate(points)}
-    return sorted(points, key=lambda p: (-points[p], order[p]))
-
-
-def neighbours(point: tuple[int, int]) -> list[tuple[int, int]]:
-    """A point's lattice neighbours: row up, row down, column up, column down."""
-    r, c = point
-    return [(r + 1, c), (r - 1, c), (r, c + 1), (r, c - 1)]
-
-
-def extension(stage: int):
-    """Extension stage ``stage`` (1, 2, ...): per world and learner, :data:`EXTENSION_POINTS`
-    new points, the unsearched valid neighbours of the points in ranked order."""
-
-    def cells(results) -> list[Cell]:
-        found = []
-        for world in WORLDS:
-            for learner in LEARNERS:
-                points = searched(results, world, learner)
-                new = []
-                for p in ranked(points):
-                    for n in neighbours(p):
-                        if len(new) < EXTENSION_POINTS and n not in points and n not in new:
-                            if valid(world, learner, n):
-                                new.append(n)
-                found += [_cell(world, learner, n, f"extension-{stage}", GRID_SEEDS) for n in new]
-        return found
-
-    cells.__name__ = f"extension_{stage}"
-    return cells
-
-
-def bracketed(points: dict, world: str, learner: str, point: tuple[int, int]) -> bool:
-    """Whether every lattice neighbour of ``point`` was searched or is beyond a limit."""
-    return all(n in points or not valid(world, learner, n) for n in neighbours(point))
-
-
-def candidates(results, world: str, learner: str) -> list[tuple[int, int]]:
-    """The :data:`TOP_K` best bracketed points of ``learner`` in ``world``, best first."""
-    points = searched(results, world, learner)
-    return [p for p in ranked(points) if bracketed(points, world, learner, p)][:TOP_K]
-
-
-def selection(results) -> list[Cell]:
-    """The candidates of every learner and world, on :data:`SELECTION_SEEDS`."""
-    return [
-        _cell(world, learner, p, "selection", SELECTION_SEEDS)
-        for world in WORLDS
-        for learner in LEARNERS
-        for p in candidates(results, world, learner)
-    ]
-
-
-def chosen(results, world: str, learner: str) -> tuple[int, int]:
-    """The chosen point: the candidate with the best mean on the selection seeds (ties: the
-    better ranked on the grid)."""
-    found = [
-        c
-        for c in results.cells
-        if c["world"] == world and c["learner"] == learner and c["stage"] == "selection"
-    ]
-    best = sorted(
-        range(len(found)), key=lambda i: (-float(np.mean(results.score(found[i].key))), i)
-    )[0]
-    return found[best]["row"], found[best]["col"]
-
-
-def judged(results) -> list[Cell]:
-    """Every learner's chosen setting in every world, on :data:`SEEDS`."""
-    return [
-        _cell(world, learner, chosen(results, world, learner), "judged", SEEDS)
-        for world in WORLDS
-        for learner in LEARNERS
-    ]
-
-
-STAGES = (*(extension(s) for s in range(1, EXTENSION_STAGES + 1)), selection, judged)
-
-DESIGN = Design(
+#: The procedure (:class:`docking.study.designs.search.Search`) with this design's constants.
+SEARCH = Search(
     name=NAME,
-    title="the equal contest: every learner searched alike on a common grid, judged afresh",
-    cells=tuple(grid_cells()),
-    seeds=SEEDS,
-    measure="heldout",
-    stages=STAGES,
-    alpha=ALPHA,
+    worlds=WORLDS,
+    entrants={learner: _entrant(learner) for learner in LEARNERS},
+    grid_seeds=GRID_SEEDS,
+    selection_seeds=SELECTION_SEEDS,
+    judged_seeds=SEEDS,
+    rows=GRID_ROWS,
+    cols=GRID_COLS,
+    extension_stages=EXTENSION_STAGES,
+    extension_points=EXTENSION_POINTS,
+    top_k=TOP_K,
+    stored_under=READ_FROM,
 )
 
-
-# ------------------------------------------------------------------------------------------
-# The verdicts (their source is part of the rules).
-# ------------------------------------------------------------------------------------------
-
-
-def holm(p) -> np.ndarray:
-    """Holm's step-down adjusted p-values of a family, in the given order."""
-    p = np.asarray(p, dtype=np.float64)
-    order, adjusted, running = np.argsort(p, kind="stable"), np.empty(len(p)), 0.0
-    for rank, k in enumerate(order):
-        running = max(running, min(1.0, (len(p) - rank) * p[k]))
-        adjusted[k] = running
-    return adjusted
+DESIGN = SEARCH.design(
+    "the equal contest: every learner searched alike on a common grid, judged afresh", ALPHA
+)
 
 
 def judgement(pairs: dict) -> dict:
     """The verdicts of every world (``pairs``: ``{world: (linear, paper)}``, per-seed held-out
-    success on the matched judged seeds): ``{world: {...}}`` with the lead (``lead``, ``low``,
-    ``high``: mean and 95% interval of linear minus paper; ``p_lead``, ``lead_verdict``), the
-    non-inferiority test (``p_noninferior``, ``p_inferior``, ``noninferiority``), the
-    equivalence test (``p_tost``, ``equivalence``), ``failure_ratio`` and the means."""
-    worlds = list(pairs)
-    diffs = [np.asarray(pairs[w][0], float) - np.asarray(pairs[w][1], float) for w in worlds]
-    for d in diffs:
-        if d.ndim != 1 or len(d) < 2:
-            raise ValueError(f"judgement needs matched series of 2 or more seeds, got {d!r}")
-    lead = holm([sps.ttest_1samp(d, 0.0).pvalue for d in diffs])
-    below = holm([sps.ttest_1samp(d, MARGIN, alternative="less").pvalue for d in diffs])
-    above = holm([sps.ttest_1samp(d, MARGIN, alternative="greater").pvalue for d in diffs])
-    tost = holm(
-        [
-            max(
-                sps.ttest_1samp(d, -MARGIN, alternative="greater").pvalue,
-                sps.ttest_1samp(d, MARGIN, alternative="less").pvalue,
-            )
-            for d in diffs
-        ]
-    )
-    found = {}
-    for i, (w, d) in enumerate(zip(worlds, diffs, strict=True)):
-        linear, paper = (np.asarray(x, float) for x in pairs[w])
-        ci = sps.ttest_1samp(d, 0.0).confidence_interval(1 - ALPHA)
-        side = "the paper's learner ahead" if d.mean() < 0 else "linear SARSA ahead"
-        if below[i] < ALPHA / 2:
-            noninferiority = "non-inferior"
-        elif above[i] < ALPHA / 2:
-            noninferiority = "inferior by more than the margin"
-        else:
-            noninferiority = "undecided"
-        found[w] = dict(
-            linear=float(linear.mean()),
-            paper=float(paper.mean()),
-            lead=float(d.mean()),
-            low=float(ci.low),
-            high=float(ci.high),
-            p_lead=float(lead[i]),
-            lead_verdict=side if lead[i] < ALPHA else "no lead shown",
-            p_noninferior=float(below[i]),
-            p_inferior=float(above[i]),
-            noninferiority=noninferiority,
-            p_tost=float(tost[i]),
-            equivalence="equivalent" if tost[i] < ALPHA else "equivalence not shown",
-            failure_ratio=float((1 - paper.mean()) / (1 - linear.mean()))
-            if linear.mean() < 1
-            else float("inf"),
-            seeds=len(d),
-        )
-    return found
+    success on the matched judged seeds), by :func:`docking.study.designs.search.judgement` at
+    :data:`MARGIN` and :data:`ALPHA`, Holm over the worlds."""
+    return search.judgement(pairs, MARGIN, ALPHA, ("linear SARSA", "the paper's learner"))
 
 
 #: The constants that are rules (in :func:`rules_text`).
@@ -547,28 +323,13 @@ RULES = (
     "WORLDS LEARNERS GRID_SEEDS SELECTION_SEEDS SEEDS GRID_ROWS GRID_COLS EXTENSION_STAGES "
     "EXTENSION_POINTS TOP_K ALPHA MARGIN PPO_STEPS PPO_ENVS PAPER_EPS_Q KNOBS READ_FROM"
 ).split()
-#: The functions and classes whose source is part of the rules: the procedure and the verdicts.
-PROCEDURE = (
-    Ladder,
-    setting,
-    valid,
-    searched,
-    ranked,
-    neighbours,
-    extension,
-    bracketed,
-    candidates,
-    selection,
-    chosen,
-    judged,
-    holm,
-    judgement,
-)
 
 
-def rules_text() -> str:
-    """Every rule of the equal contest as canonical text: its constants, its ladders, its grid
-    cells and the source of its procedure and verdicts."""
+def rules_data() -> dict:
+    """The rules of the equal contest as data: its constants, its ladders and its grid cells
+    (:func:`docking.study.design.rules_text`'s form, parsed). Its procedure is
+    :mod:`docking.study.designs.search`'s, checked against the record's verbatim copy by
+    replaying both on the ledger's runs (tests/test_equal_contest.py)."""
     constants = {n: globals()[n] for n in RULES}
     constants["ladders"] = {
         learner: [
@@ -577,6 +338,4 @@ def rules_text() -> str:
         ]
         for learner in LEARNERS
     }
-    source = "".join(inspect.getsource(f) for f in PROCEDURE)
-    constants["procedure"] = hashlib.sha256(source.encode()).hexdigest()
-    return design_rules_text(DESIGN, json.loads(json.dumps(constants, default=list)))
+    return json.loads(design_rules_text(DESIGN, json.loads(json.dumps(constants, default=list))))
