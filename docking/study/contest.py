@@ -1,43 +1,37 @@
-"""The contest as a function: any learner through the third edition's contest, its row beside
-the published rows (docs/guide/bring_your_own_learner.md).
+"""The contest as a function: any learner through the equal contest's procedure, judged seed by
+seed against the current published rows (docs/guide/bring_your_own_learner.md).
 
 :func:`contest` runs a learner (a registered one, :mod:`docking.study.learners`, or the package's
-own) as the third edition (:mod:`docking.study.designs.third_edition`) ran the paper's learner,
-linear SARSA and PPO:
+own) exactly as the equal contest (:mod:`docking.study.designs.equal_contest`) selected the
+paper's learner, linear SARSA and PPO:
 
-* **the same tuning budget** in each world: a successive halving over the learner's grid of
-  9 settings (its default first), :class:`docking.study.designs.builders.Tuning` itself: round 1
-  trains every setting on the first tuning seed, the best 3 train again on the two other
-  tuning seeds, the best mean over the tuning seeds' held-out trials is the tuned setting
-  (ties: grid order); 15 training runs per world;
-* **fresh tuning seeds** (:data:`TUNING_SEEDS`), used by no published design, so that tuning
-  never reads the streams the published rows were judged or tuned on;
-* **matched seeds**: the tuned setting is judged on the published judged seeds
-  (3000-3019), each run on its own seed's held-out stream
-  (:func:`docking.protocol.heldout_log`), 500 trials each, so its success is compared seed
-  by seed with the published rows' (the seeds are matched; the trials are not paired: each
-  run's first start pose is the same, its later ones and its step noise follow its own path);
-* **the gap rule**: per world, each published tuned learner's lead over the new learner,
-  over the seeds both have (the per-seed differences' Student-t interval), is *closed* if its
-  interval lies below 5 pp
-  (:data:`docking.study.designs.third_edition.GAP_CLOSED`), *remains* if above, else
-  *undecided*: the rule the edition judged linear SARSA's lead over the paper's learner by
-  (:func:`docking.study.report.contest_gaps`).
+* **the same search** (:class:`docking.study.designs.search.Search`), in each world: a 9 x 5
+  grid over the learner's two knobs (each a :class:`~docking.study.designs.search.Knob`: a
+  field and its log-spaced ladder), every point on the grid seeds 5900-5901; 3 extension
+  stages of 5 lattice neighbours of the best points; the 3 best bracketed points again on
+  selection seeds 6500-6503; the best there judged: 132 selection runs per world, as every
+  published learner had;
+* **the same seeds**: the published learners' grid, selection and judged seeds (7200-7219), so
+  that each judged run is compared with theirs seed by seed (matched seeds; each run draws its
+  own held-out trials from its seed's stream, :func:`docking.protocol.heldout_log`);
+* **the same verdicts** (:func:`docking.study.designs.search.judgement`): per world and published
+  learner, its lead over yours with the Student-t 95% interval (within +-100 pp: a difference
+  of rates), the two-sided test of a lead, non-inferiority of yours at a 5 pp margin and
+  equivalence within +-5 pp (TOST), each Holm-adjusted over the family of worlds and published
+  learners, and the failure ratio.
 
 The published rows are read from the committed ledger, never computed (:func:`published`:
-``LookupError`` if the ledger lacks one): the contest's own (the third edition's, judged on
-the same seeds, so the gap rule compares them seed by seed) and, where they exist, the
-current ones (:data:`BRACKETED`: the floor and Nao-like worlds' learners tuned alike to
-bracketed optima and judged on other fresh seeds, :func:`bracketed`), shown beside them and
-compared by Welch's interval, their seeds being others. The table says where the learner's
-runs are stored and how many were computed and how many read. The learner's own runs are a
-design (:class:`docking.study.design.Design`) run by :func:`docking.study.design.run_design`: a
-sweep on the embedded Dask cluster or on an existing scheduler (``scheduler=``), with progress bars,
-stored in the results store and re-used (a second call computes nothing).
+``LookupError`` if the ledger lacks one; PPO's rows need no optional extra to be read). The
+rows the equal contest superseded (the third edition's, tuned with 15 runs per learner and
+judged on seeds 3000-3019) are shown only when asked for (``superseded=True``), labelled, with
+no verdict. The learner's own runs are a design (:class:`docking.study.design.Design`) run by
+:func:`docking.study.design.run_design`: a sweep on the embedded Dask cluster or on an existing
+scheduler (``scheduler=``), with progress, stored in the results store and re-used (a second
+call computes nothing).
 
-A smaller budget (:func:`small_budget`: fewer worlds, settings, seeds or held-out trials)
-runs in seconds, for examples and tests; its table and figure say that it is not the
-contest.
+A smaller budget (:func:`small_budget`: fewer worlds, a smaller grid, fewer seeds or held-out
+trials) runs in seconds, for examples and tests; its table and figure say that it is not the
+contest, and nothing it finds is a verdict on the contest.
 """
 
 from __future__ import annotations
@@ -47,87 +41,72 @@ import dataclasses
 import functools
 import inspect
 import json
-from collections.abc import Callable, Mapping, Sequence
+from collections.abc import Callable
 
 import numpy as np
 
-from docking.presets import EXPERIMENT_2
 from docking.scene import WorldConfig
 from docking.study import kinds, paths
-from docking.study.design import Cell, Design, Results, run_design
-from docking.study.designs import third_edition as published_contest
-from docking.study.designs.builders import HELDOUT_TRIALS, YARDSTICK_LABELS, Tuning
+from docking.study.design import Results, run_design
+from docking.study.designs import equal_contest as ec
+from docking.study.designs import search as sr
+from docking.study.designs import third_edition as te
+from docking.study.designs.builders import YARDSTICK_LABELS
 from docking.validate import MAX_COUNT, check_instance, check_int, check_name
 
 __all__ = [
     "CONTEST_BUDGET",
-    "TUNING_SEEDS",
     "WORLDS",
     "Budget",
     "Contest",
+    "Knob",
+    "Ladder",
     "contest",
     "published",
     "small_budget",
 ]
 
+Knob, Ladder = sr.Knob, sr.Ladder
+
 #: The contest's worlds, ``{key: WorldConfig}``: the sideboard, floor and Nao-like worlds.
-WORLDS: dict[str, WorldConfig] = {
-    key: published_contest.WORLDS[key][1] for key in published_contest.CONTEST
+WORLDS: dict[str, WorldConfig] = {key: te.WORLDS[key][1] for key in ec.WORLDS}
+
+#: The published learners and what tables call them.
+PUBLISHED = {
+    "paper": "the paper's learner",
+    "linear": "linear SARSA",
+    "ppo": "PPO",
 }
+#: The yardsticks drawn beside them (the third edition's runs: fixed policies, no tuning).
+YARDSTICKS = {k: v for k, v in YARDSTICK_LABELS.items() if k != "forward"}
 
-#: The tuning seeds of every contest run here: fresh, used by no published design (which use
-#: 0-9, 3000-3019, 3900-3902, 4000-4019, 5000-5009 and 5900-5929).
-TUNING_SEEDS = (3910, 3911, 3912)
-
-#: The published tuned learners (cell variants) and what tables call them.
-TUNED = {
-    "linear-tuned": "linear SARSA, tuned",
-    "paper-tuned": "the paper's learner, tuned",
-    "ppo-tuned": "PPO, tuned",
-}
-
-#: The published rows of the table, in order: the tuned and untuned learners, the yardsticks.
-ROWS = {
-    "oracle": "pose oracle",
-    **TUNED,
-    "paper": "the paper's learner, untuned",
-    "linear": "linear SARSA, untuned",
-    **{k: v for k, v in YARDSTICK_LABELS.items() if k != "oracle"},
-}
-
-#: The current published rows where they exist (the bracketing continued's judged cells,
-#: tuned alike to bracketed optima, judged on seeds 7000-7009): ``{variant: label}``.
-BRACKETED = {
-    "paper-bracketed": "the paper's learner, bracketed",
-    "linear-bracketed": "linear SARSA, bracketed",
-    "ppo-matched": "PPO at the paper learner's training steps",
-}
-
-#: Names a learner's label may not take: they name the published cells' variants.
-_RESERVED = frozenset({*published_contest.LEARNERS, *YARDSTICK_LABELS})
+#: Names a learner's label may not take: they name the published learners and yardsticks.
+_RESERVED = frozenset({*PUBLISHED, *YARDSTICK_LABELS, *te.LEARNERS})
 
 
 @dataclasses.dataclass(frozen=True)
 class Budget:
-    """What :func:`contest` spends: the published contest's budget by default
-    (:data:`CONTEST_BUDGET`).
+    """What :func:`contest` spends: the equal contest's by default (:data:`CONTEST_BUDGET`).
 
     Attributes:
-      worlds: The contest's worlds it runs in (keys of :data:`WORLDS`).
-      settings: The settings of the learner's grid (9).
-      keep: Settings trained again in round 2 (3).
-      tuning_seeds: The tuning seeds (round 1 trains on the first; 3, fresh).
-      judged: The tuned setting is judged on the first this many of the published judged
-        seeds (20: 3000-3019).
-      heldout_trials: Held-out trials per run, in tuning and judged runs (500).
+      worlds: The worlds it runs in (keys of :data:`WORLDS`).
+      rows, cols: The grid's rungs of the first and second knob (9 x 5).
+      extension_stages, extension_points: The extension (3 stages of 5 points).
+      top_k: Bracketed points trained again on the selection seeds (3).
+      selection: Selection seeds, the first of the published ones (4: 6500-6503).
+      judged: Judged seeds, the first of the published ones (20: 7200-7219).
+      heldout_trials: Held-out trials per run (500).
     """
 
-    worlds: tuple[str, ...] = published_contest.CONTEST
-    settings: int = published_contest.GRID_SIZE
-    keep: int = published_contest.ROUND_2
-    tuning_seeds: tuple[int, ...] = TUNING_SEEDS
-    judged: int = len(published_contest.SEEDS)
-    heldout_trials: int = HELDOUT_TRIALS
+    worlds: tuple[str, ...] = ec.WORLDS
+    rows: int = ec.GRID_ROWS
+    cols: int = ec.GRID_COLS
+    extension_stages: int = ec.EXTENSION_STAGES
+    extension_points: int = ec.EXTENSION_POINTS
+    top_k: int = ec.TOP_K
+    selection: int = len(ec.SELECTION_SEEDS)
+    judged: int = len(ec.SEEDS)
+    heldout_trials: int = 500
 
     def __post_init__(self):
         owner = "Budget"
@@ -136,89 +115,102 @@ class Budget:
             raise ValueError(
                 f"Budget.worlds must be distinct worlds of {tuple(WORLDS)}, got {self.worlds!r}"
             )
-        settings = check_int(owner, "settings", self.settings, lo=1, hi=100)
-        seeds = tuple(check_int(owner, "tuning_seeds[]", s, lo=0) for s in self.tuning_seeds)
-        if len(seeds) < 2 or len(set(seeds)) != len(seeds):
-            raise ValueError(
-                f"Budget.tuning_seeds must be two or more distinct seeds (round 1 trains on the "
-                f"first, round 2 on the others), got {seeds!r}"
-            )
-        if set(seeds) & set(published_contest.SEEDS):
-            raise ValueError(
-                f"Budget.tuning_seeds must not be judged seeds ({published_contest.SEEDS[0]}-"
-                f"{published_contest.SEEDS[-1]}): tuning would read the streams it is judged on"
-            )
         object.__setattr__(self, "worlds", worlds)
-        object.__setattr__(self, "tuning_seeds", seeds)
-        check_int(owner, "keep", self.keep, lo=1, hi=settings)
-        check_int(owner, "judged", self.judged, lo=2, hi=len(published_contest.SEEDS))
+        check_int(owner, "rows", self.rows, lo=1, hi=50)
+        check_int(owner, "cols", self.cols, lo=1, hi=50)
+        check_int(owner, "extension_stages", self.extension_stages, lo=0, hi=20)
+        check_int(owner, "extension_points", self.extension_points, lo=1, hi=100)
+        check_int(owner, "top_k", self.top_k, lo=1, hi=self.rows * self.cols)
+        check_int(owner, "selection", self.selection, lo=1, hi=len(ec.SELECTION_SEEDS))
+        check_int(owner, "judged", self.judged, lo=2, hi=len(ec.SEEDS))
         check_int(owner, "heldout_trials", self.heldout_trials, lo=1, hi=MAX_COUNT)
 
     @property
-    def judged_seeds(self) -> tuple[int, ...]:
-        """The seeds the tuned setting is judged on: the first :attr:`judged` published ones."""
-        return published_contest.SEEDS[: self.judged]
-
-    @property
     def runs(self) -> int:
-        """Training runs per world: the tuning's and the judged ones."""
-        return self.settings + self.keep * (len(self.tuning_seeds) - 1) + self.judged
+        """Runs per world: the selection's (grid, extension, selection) and the judged ones."""
+        return self.search("x", {}).runs_per_learner() + self.judged
+
+    def search(self, name: str, entrants: dict) -> sr.Search:
+        """The search this budget runs (the published seeds, its sizes)."""
+        return sr.Search(
+            name=name,
+            worlds=self.worlds,
+            entrants=entrants,
+            grid_seeds=ec.GRID_SEEDS,
+            selection_seeds=ec.SELECTION_SEEDS[: self.selection],
+            judged_seeds=ec.SEEDS[: self.judged],
+            rows=self.rows,
+            cols=self.cols,
+            extension_stages=self.extension_stages,
+            extension_points=self.extension_points,
+            top_k=self.top_k,
+        )
 
     @property
     def is_the_contest(self) -> bool:
-        """Whether this is the published contest's budget (:data:`CONTEST_BUDGET`)."""
+        """Whether this is the equal contest's budget (:data:`CONTEST_BUDGET`)."""
         return self == CONTEST_BUDGET
-
-    def describe(self) -> str:
-        """One paragraph (Markdown): what this budget runs, and whether it is the contest's."""
-        seeds = self.tuning_seeds
-        judged = self.judged_seeds
-        text = (
-            f"per world ({', '.join(self.worlds)}): {self.settings} settings on tuning seed "
-            f"{seeds[0]}, the best {self.keep} again on "
-            f"{len(seeds) - 1} more tuning seed{'s' if len(seeds) != 2 else ''}, the tuned "
-            f"setting judged on seeds {judged[0]}-{judged[-1]} ({self.heldout_trials} held-out "
-            f"trials each, the published rows' held-out streams): {self.runs} runs per world."
-        )
-        if self.is_the_contest:
-            return f"**The published contest's budget**: {text}"
-        return (
-            f"**Not the contest: {'a smaller' if self.smaller else 'another'} budget** "
-            f"({text}) The published rows beside it had the contest's ({CONTEST_BUDGET.runs} "
-            f"runs per world, {CONTEST_BUDGET.heldout_trials} held-out trials per seed, tuning "
-            f"seeds {', '.join(map(str, CONTEST_BUDGET.tuning_seeds))}); compare with care."
-        )
 
     @property
     def smaller(self) -> bool:
         """Whether this budget spends less than the contest's in any respect."""
-        contest = CONTEST_BUDGET
+        c = CONTEST_BUDGET
+        return len(self.worlds) < len(c.worlds) or any(
+            getattr(self, f) < getattr(c, f)
+            for f in ("rows", "cols", "extension_stages", "extension_points", "top_k")
+            + ("selection", "judged", "heldout_trials")
+        )
+
+    def describe(self) -> str:
+        """One paragraph (Markdown): what this budget runs, and whether it is the contest's."""
+        s = self.search("x", {})
+        text = (
+            f"per world ({', '.join(self.worlds)}): a {self.rows} x {self.cols} grid on seeds "
+            f"{', '.join(map(str, s.grid_seeds))}, {self.extension_stages} extension stages of "
+            f"{self.extension_points} points, the {self.top_k} best bracketed points on "
+            f"{self.selection} selection seeds, the chosen setting judged on seeds "
+            f"{s.judged_seeds[0]}-{s.judged_seeds[-1]} ({self.heldout_trials} held-out trials "
+            f"each): {self.runs} runs per world."
+        )
+        if self.is_the_contest:
+            return f"**The equal contest's budget**, as every published learner had: {text}"
         return (
-            len(self.worlds) < len(contest.worlds)
-            or self.settings < contest.settings
-            or self.keep < contest.keep
-            or len(self.tuning_seeds) < len(contest.tuning_seeds)
-            or self.judged < contest.judged
-            or self.heldout_trials < contest.heldout_trials
+            f"**Not the contest: {'a smaller' if self.smaller else 'another'} budget** "
+            f"({text}) The published rows beside it had the contest's ({CONTEST_BUDGET.runs} "
+            f"runs per world, {CONTEST_BUDGET.heldout_trials} held-out trials per seed): what "
+            "it finds is no verdict on the contest."
         )
 
 
-#: The published contest's budget.
+#: The equal contest's budget.
 CONTEST_BUDGET = Budget()
 
 
 def small_budget(
-    worlds: Sequence[str] = ("sideboard",),
-    settings: int = 2,
-    keep: int = 1,
-    tuning_seeds: Sequence[int] = TUNING_SEEDS[:2],
+    worlds=("sideboard",),
+    rows: int = 2,
+    cols: int = 1,
+    extension_stages: int = 0,
+    extension_points: int = 1,
+    top_k: int = 1,
+    selection: int = 1,
     judged: int = 3,
     heldout_trials: int = 20,
 ) -> Budget:
     """A budget for examples and tests (seconds, not hours), labelled as not the contest in
-    every table and figure: by default the sideboard world, 2 settings, the best one again
-    on a second tuning seed, judged on 3 seeds of 20 held-out trials."""
-    return Budget(tuple(worlds), settings, keep, tuple(tuning_seeds), judged, heldout_trials)
+    every table and figure: by default the sideboard world, a 2 x 1 grid, no extension, the
+    best bracketed point on one selection seed, judged on 3 seeds of 20 held-out trials."""
+    return Budget(
+        tuple(worlds),
+        rows,
+        cols,
+        extension_stages,
+        extension_points,
+        top_k,
+        selection,
+        judged,
+        heldout_trials,
+    )
 
 
 @dataclasses.dataclass
@@ -226,27 +218,27 @@ class Contest:
     """What :func:`contest` returns.
 
     Attributes:
-      label: The learner's name in the tables (its cells: ``{world}/{label}-tuned``).
+      label: The learner's name in the tables (its cells: ``{world}/{label}/...``).
       budget: The budget spent.
-      grid: The settings tried.
-      tuned: ``{world: the tuned setting}``.
-      results: The learner's runs, tuning and judged (:class:`docking.study.design.Results`).
-      published: The published contest's results, read from the ledger (:func:`published`).
-      gaps: Per world and published tuned learner, its lead over the new learner and the
-        gap rule's verdict (:class:`docking.study.report.ContestGap`).
-      table: The Markdown: the budget, the success table (the learner's row first, then the
-        published rows), the gaps, the tuned settings and training steps.
+      search: The search run (:class:`docking.study.designs.search.Search`).
+      chosen: ``{world: the chosen setting}``.
+      results: The learner's runs, every step (:class:`docking.study.design.Results`).
+      published: The current published rows, read from the ledger (:func:`published`).
+      verdicts: ``{(world, published learner): verdicts}``
+        (:func:`docking.study.designs.search.judgement`, the published learner first).
+      table: The Markdown: the budget, where the runs are, the success table (yours first),
+        the verdicts, the chosen settings and the runs spent; the superseded rows if asked.
       figure: The learners' held-out success per world (each seed a dot, the mean with its
-        interval) beside the published tuned learners, the yardsticks as lines.
+        interval) beside the published learners, the yardsticks as lines.
     """
 
     label: str
     budget: Budget
-    grid: list[dict]
-    tuned: dict[str, dict]
+    search: sr.Search
+    chosen: dict[str, dict]
     results: Results
     published: Results
-    gaps: list
+    verdicts: dict
     table: str
     figure: object
 
@@ -259,98 +251,80 @@ class Contest:
 
 def contest(
     learner,
-    grid: Sequence[Mapping],
+    rows: sr.Knob,
+    cols: sr.Knob,
     budget: Budget = CONTEST_BUDGET,
     *,
+    superseded: bool = False,
     label: str | None = None,
     results_dir=None,
     scheduler: str | None = None,
     workers: int | None = None,
     progress: bool = True,
 ) -> Contest:
-    """Run ``learner`` through the contest (see the module docstring) and place its row
-    beside the published rows.
+    """Run ``learner`` through the equal contest (see the module docstring) and judge it
+    against the current published rows.
 
     Args:
-      learner: A learner's configuration (each world, each setting and the budget's
-        held-out trials replace its fields: ``dataclasses.replace(learner, world=...,
+      learner: A learner's configuration (each world, each setting and the budget's held-out
+        trials replace its fields: ``dataclasses.replace(learner, world=...,
         heldout_trials=..., **setting)``), or ``make(world, **setting)`` returning one (its
         held-out trials are set to the budget's).
-      grid: The settings tried (``{field: value}`` each), ``budget.settings`` of them (9 in
-        the contest), the default first (ties go to the earlier setting), no two giving the
-        same configuration.
+      rows, cols: The two knobs searched (:class:`Knob`: a field and its :class:`Ladder`);
+        the grid is rungs ``0 .. budget.rows - 1`` of the first and ``0 .. budget.cols - 1``
+        of the second, the extension walks beyond them.
       budget: :data:`CONTEST_BUDGET`, or a smaller one (:func:`small_budget`).
+      superseded: Also show the third edition's rows (superseded; no verdicts).
       label: The learner's name in tables (default: its configuration's ``name``); not one
-        of the published variants' (paper, linear, ppo, oracle, ...).
+        of the published learners' or yardsticks' (paper, linear, ppo, oracle, ...).
       results_dir: The results store (default :func:`docking.study.paths.results_dir`).
       scheduler: An existing Dask scheduler (``tcp://HOST:PORT``); None: the embedded
         cluster of ``workers`` processes (default: one per core; 1: in this process).
-      progress: Show the sweeps' progress bars.
+      progress: Show the sweeps' progress.
 
-    A learner, grid or label of the wrong kind is a ``TypeError`` or ``ValueError`` naming it,
+    A learner, knob or label of the wrong kind is a ``TypeError`` or ``ValueError`` naming it,
     raised before anything is read or run.
     """
-    grid, make, label = _checked(learner, grid, budget, label)
-    tuning, design = _tuning(label, grid, budget, make)
+    search, label = _checked(learner, rows, cols, budget, label)
     shown = published(results_dir)  # before any run: a ledger without them fails first
+    design = search.design(f"{label} through the equal contest")
     mine = run_design(
         design, results_dir=results_dir, scheduler=scheduler, workers=workers, progress=progress
     )
-    tuned = {w: grid[tuning.tuned_setting(mine, w, label)] for w in budget.worlds}
-    current = bracketed(results_dir)
-    both = _merged(shown if current is None else _merged(shown, current), mine)
-    gaps = _gaps(both, budget.worlds, label)
-    table = "\n\n".join(
-        [
-            budget.describe(),
-            _stored_line(mine, results_dir),
-            _success_table(both, budget, label),
-            _gaps_table(gaps, label),
-            _bracketed_table(both, budget, label),
-            _tuned_lines(mine, budget, label, tuned),
-        ]
-    )
-    figure = _figure(both, budget, label)
-    return Contest(label, budget, grid, tuned, mine, shown, gaps, table, figure)
+    chosen = {w: search.setting(w, label, search.chosen(mine, w, label)) for w in budget.worlds}
+    verdicts = _verdicts(shown, mine, budget, label)
+    parts = [
+        budget.describe(),
+        _stored_line(mine, results_dir),
+        _success_table(shown, mine, budget, label),
+        _verdicts_table(verdicts, label),
+        _chosen_lines(search, mine, budget, label, chosen),
+    ]
+    if superseded:
+        parts.append(_superseded_table(budget, results_dir))
+    figure = _figure(shown, mine, budget, label)
+    return Contest(label, budget, search, chosen, mine, shown, verdicts, "\n\n".join(parts), figure)
 
 
-def _checked(learner, grid, budget: Budget, label: str | None) -> tuple[list, Callable, str]:
-    """The contest's arguments checked before anything is read or run: the settings, the
-    learner's maker and its label (a ``TypeError`` or ``ValueError`` naming what is wrong)."""
+def _checked(learner, rows, cols, budget: Budget, label: str | None) -> tuple[sr.Search, str]:
+    """The contest's arguments checked before anything is read or run: the learner, its knobs
+    and its label (a ``TypeError`` or ``ValueError`` naming what is wrong); its search."""
     check_instance("contest", "budget", budget, Budget)
     _check_learner(learner)
-    grid = _settings(grid)
-    if len(grid) != budget.settings:
-        raise ValueError(
-            f"contest: the grid has {len(grid)} settings, the budget {budget.settings} "
-            f"({'the contest' if budget.is_the_contest else 'a smaller budget'})"
-        )
+    for name, knob in (("rows", rows), ("cols", cols)):
+        check_instance("contest", name, knob, sr.Knob)
+        check_instance(f"contest: {name}", "ladder", knob.ladder, sr.Ladder)
+    if rows.field == cols.field:
+        raise ValueError(f"contest: rows and cols both name the field {rows.field!r}")
     make = _maker(learner, budget.heldout_trials)
-    first = make(budget.worlds[0], "", **grid[0])
+    first = make(budget.worlds[0], "", **{rows.field: rows.ladder.value(0)})
+    _check_fields(first, {rows.field: None, cols.field: None})
     label = check_name("contest", "label", first.name if label is None else label)
     if label in _RESERVED:
         raise ValueError(f"contest: the label {label!r} names a published learner or yardstick")
-    _check_distinct(make, budget.worlds[0], grid)
-    return grid, make, label
-
-
-def _tuning(label: str, grid: list[dict], budget: Budget, make: Callable) -> tuple:
-    """``(tuning, design)``: the learner's :class:`Tuning` under ``budget``, and the design
-    that runs it (the first round's cells in every world, the later rounds as its stages,
-    the tuned settings judged on the budget's fresh seeds)."""
-    tuning = Tuning(
-        budget.worlds, {label: grid}, budget.tuning_seeds, budget.keep, make=make, cell=_cell
-    )
-    round1 = [c for world in budget.worlds for c in tuning.round1(world, label)]
-    design = Design(
-        name=f"contest-{label}",
-        title=f"{label} through the contest",
-        cells=tuple(round1),
-        seeds=budget.judged_seeds,
-        measure="heldout",
-        stages=tuning.stages(),
-    )
-    return tuning, design
+    search = budget.search(f"contest-{label}", {label: sr.Entrant(make, rows, cols)})
+    _check_distinct(search, budget.worlds[0], label)
+    return search, label
 
 
 def _is_config(learner) -> bool:
@@ -372,44 +346,33 @@ def _check_learner(learner) -> None:
     )
 
 
-def _settings(grid) -> list[dict]:
-    """``grid`` as a list of settings (``{field: value}``); ``TypeError`` naming it unless
-    it is a sequence (not a text) of mappings with field names for keys."""
-    if isinstance(grid, str | bytes) or not isinstance(grid, Sequence):
-        raise TypeError(
-            "contest: grid must be a list of settings, each a mapping of field names to "
-            f"values (e.g. [{{}}, {{'alpha': 0.1}}]), got {grid!r:.80} ({type(grid).__name__})"
-        )
-    for k, setting in enumerate(grid):
-        if not isinstance(setting, Mapping) or not all(isinstance(n, str) for n in setting):
-            raise TypeError(
-                f"contest: grid[{k}] must be a mapping of field names to values, got "
-                f"{setting!r:.80} ({type(setting).__name__})"
-            )
-    return [dict(s) for s in grid]
-
-
-def _check_distinct(make: Callable, world: str, grid: list[dict]) -> None:
-    """``ValueError`` naming the grid if two of its settings give one configuration in
-    ``world`` (as a sweep's ``--grid`` refuses them: the tuning would run it twice)."""
-    seen: dict[str, int] = {}
-    for k, setting in enumerate(grid):
-        text = json.dumps(make(world, "", **setting).to_dict(), sort_keys=True)
-        if text in seen:
-            j = seen[text]
-            raise ValueError(
-                f"contest: grid[{j}] ({grid[j]!r:.60}) and grid[{k}] ({grid[k]!r:.60}) give "
-                "the same configuration; each setting of the grid must differ"
-            )
-        seen[text] = k
+def _check_distinct(search: sr.Search, world: str, label: str) -> None:
+    """``ValueError`` naming the grid if two of its points give one configuration (the
+    search would run it twice: a knob the learner ignores, or a ladder that repeats)."""
+    seen: dict[str, tuple] = {}
+    for r in range(search.rows):
+        for c in range(search.cols):
+            if not search.valid(world, label, (r, c)):
+                raise ValueError(
+                    f"contest: the grid point {search.setting(world, label, (r, c))} (rungs "
+                    f"{r}, {c}) is not a valid configuration; choose ladders whose grid is"
+                )
+            text = json.dumps(search.config(world, label, (r, c)).to_dict(), sort_keys=True)
+            if text in seen:
+                raise ValueError(
+                    f"contest: the grid points {search.setting(world, label, seen[text])} and "
+                    f"{search.setting(world, label, (r, c))} give the same configuration; each "
+                    "point of the grid must differ"
+                )
+            seen[text] = (r, c)
 
 
 def _maker(learner, heldout_trials: int) -> Callable:
-    """``make(world key, learner label, **setting)``: the learner's configuration in the
-    world with the setting and ``heldout_trials`` held-out trials (what :class:`Tuning`
-    calls)."""
+    """``make(world key, name, **setting)``: the learner's configuration in the world with the
+    setting and ``heldout_trials`` held-out trials (what the search calls; the learner keeps
+    its own name)."""
 
-    def make(world: str, _label: str, **setting):
+    def make(world: str, _name: str, **setting):
         where = WORLDS[world]
         if callable(learner) and not hasattr(learner, "world"):
             config = _made(learner, where, setting)
@@ -451,75 +414,59 @@ def _made(learner: Callable, world: WorldConfig, setting: dict):
 
 
 def _check_fields(config, setting: dict) -> None:
-    """``ValueError`` naming the grid's setting if it names a field ``config`` has not."""
+    """``ValueError`` naming the setting if it names a field ``config`` has not."""
     fields = {f.name for f in dataclasses.fields(config)}
     unknown = sorted(set(setting) - fields)
     if unknown:
         raise ValueError(
-            f"contest: the grid's setting {setting!r:.80} names {', '.join(unknown)}, not "
-            f"fields of {type(config).__name__} ({', '.join(sorted(fields))})"
+            f"contest: the knob {', '.join(unknown)} is not a field of "
+            f"{type(config).__name__} ({', '.join(sorted(fields))})"
         )
 
 
-def _cell(world: str, variant: str, config, label: str, seeds=None) -> Cell:
-    return Cell(
-        f"{world}/{variant}", config, {"world": world, "variant": variant}, label, seeds=seeds
-    )
+# ------------------------------------------------------------------------------------------
+# The published rows.
+# ------------------------------------------------------------------------------------------
 
 
 @functools.lru_cache(maxsize=2)
 def _published(ledger: str, results_dir: str | None) -> Results:
     from docking.study import design
 
-    part = published_contest.part("contest")
-
     def runs_of(new, _before):  # the store, then the ledger; never computed
-        return design._loaded(part, new, results_dir)
+        return design._loaded(ec.DESIGN, new, results_dir)
 
     try:
-        return design._walk(part, part.select(False), runs_of, results_dir)[1]
+        own = design._walk(ec.DESIGN, ec.DESIGN.select(False), runs_of, results_dir)[1]
+        yard = te.part("contest")
+        wanted = [c for c in yard.select(False) if c.coords.get("variant") in YARDSTICKS]
+        sticks = design.judge(yard, wanted, design._loaded(yard, wanted, results_dir))
     except LookupError as exc:
         raise LookupError(
             f"the published contest's rows are read from the committed ledger ({ledger}), "
             f"which lacks some: {exc}"
         ) from None
+    keys = [f"{w}/{learner}/judged" for w in ec.WORLDS for learner in ec.LEARNERS]
+    return Results(
+        own.design,
+        [own.cell(k) for k in keys] + wanted,
+        {**{k: own.runs[k] for k in keys}, **sticks.runs},
+        {**{k: own.logs[k] for k in keys}, **sticks.logs},
+    )
 
 
 def published(results_dir=None) -> Results:
-    """The published contest's results (the third edition's contest part, its tuning stages
-    walked), every run read from the results store or the committed ledger, never computed
-    (``LookupError`` if neither holds one)."""
+    """The current published rows: the equal contest's judged runs of every learner and world
+    (cells ``{world}/{learner}/judged``) and the yardsticks (cells ``{world}/{yardstick}``, the
+    third edition's), every run read from the results store or the committed ledger, never
+    computed (``LookupError`` if neither holds one)."""
     ledger = paths.ledger_dir()
     return _published(str(ledger), None if results_dir is None else str(results_dir))
 
 
-@functools.lru_cache(maxsize=2)
-def _bracketed(ledger: str, results_dir: str | None) -> Results | None:
-    from docking.study import design
-    from docking.study.designs import bracketing_continued as bc
-
-    def runs_of(new, _before):  # the store, then the ledger; never computed
-        return design._loaded(bc.DESIGN, new, results_dir)
-
-    try:
-        own = design._walk(bc.DESIGN, bc.DESIGN.select(False), runs_of, results_dir)[1]
-    except LookupError:
-        return None
-    keys = [f"{w}/{v}" for w in ("floor", "nao") for v in BRACKETED if f"{w}/{v}" in own.runs]
-    return Results(
-        own.design,
-        [own.cell(k) for k in keys],
-        {k: own.runs[k] for k in keys},
-        {k: own.logs[k] for k in keys},
-    )
-
-
-def bracketed(results_dir=None) -> Results | None:
-    """The current published rows where they exist (:data:`BRACKETED`, the floor and
-    Nao-like worlds), read from the results store or the committed ledger, never computed;
-    None if neither holds them."""
-    ledger = paths.ledger_dir()
-    return _bracketed(str(ledger), None if results_dir is None else str(results_dir))
+# ------------------------------------------------------------------------------------------
+# The table and the figure.
+# ------------------------------------------------------------------------------------------
 
 
 def _stored_line(mine: Results, results_dir) -> str:
@@ -535,134 +482,168 @@ def _stored_line(mine: Results, results_dir) -> str:
     )
 
 
-def _merged(shown: Results, mine: Results) -> Results:
-    """One :class:`Results` of the published cells and the learner's."""
-    return Results(
-        mine.design,
-        [*shown.cells, *mine.cells],
-        {**shown.runs, **mine.runs},
-        {**shown.logs, **mine.logs},
+def _verdicts(shown: Results, mine: Results, budget: Budget, label: str) -> dict:
+    """Per world and published learner, the verdicts of its lead over yours over the matched
+    judged seeds, Holm over the whole family (:func:`docking.study.designs.search.judgement`)."""
+    pairs = {}
+    for world in budget.worlds:
+        yours = mine.score(f"{world}/{label}/judged")
+        for learner in PUBLISHED:
+            theirs = shown.score(f"{world}/{learner}/judged")[: len(yours)]
+            pairs[world, learner] = (theirs, yours)
+    spread = {k: float(np.std(a - b)) > 0 for k, (a, b) in pairs.items()}
+    tested = {k: v for k, v in pairs.items() if spread[k]}
+    found = sr.judgement(tested, ec.MARGIN, ec.ALPHA, ("it", "yours")) if len(tested) else {}
+    for k, (a, b) in pairs.items():
+        if k not in found:  # every seed gave the same difference: no interval, no test
+            found[k] = dict(
+                first=float(a.mean()),
+                second=float(b.mean()),
+                lead=float(a.mean() - b.mean()),
+                seeds=len(a),
+                spread=False,
+            )
+    return {k: found[k] for k in pairs}
+
+
+def _pp(x: float) -> str:
+    return f"{100 * x:+.1f}"
+
+
+def _lead_text(v: dict) -> str:
+    """A lead with its interval, clipped to +-100 pp (a difference of rates), or why none."""
+    if v.get("spread") is False:
+        return f"{_pp(v['lead'])} pp (the same on every seed: no interval, no test)"
+    low, high = max(v["low"], -1.0), min(v["high"], 1.0)
+    clipped = " (clipped)" if (low, high) != (v["low"], v["high"]) else ""
+    return f"{_pp(v['lead'])} pp [{_pp(low)}, {_pp(high)}]{clipped}"
+
+
+def _verdicts_table(verdicts: dict, label: str) -> str:
+    from docking.study.report import md_table
+
+    rows = []
+    for (world, learner), v in verdicts.items():
+        if v.get("spread") is False:
+            rows.append(
+                (world, PUBLISHED[learner], _lead_text(v), "no test", "no test", "no test", "-")
+            )
+            continue
+        lead = v["lead_verdict"].replace("it ahead", f"{PUBLISHED[learner]} ahead")
+        rows.append(
+            (
+                world,
+                PUBLISHED[learner],
+                f"{_lead_text(v)} (n = {v['seeds']})",
+                f"{lead} (Holm p {v['p_lead']:.2g})",
+                v["noninferiority"],
+                v["equivalence"],
+                f"{v['failure_ratio']:.2f}",
+            )
+        )
+    header = (
+        "world",
+        "published learner",
+        f"its lead over {label}, 95% interval (matched seeds)",
+        "a lead",
+        f"{label} non-inferior at {100 * ec.MARGIN:g} pp",
+        f"equivalent within ±{100 * ec.MARGIN:g} pp (TOST)",
+        f"{label}'s failures / its",
     )
+    note = (
+        "Each test Holm-adjusted over this table's comparisons (the equal contest's rules): a "
+        f"lead where the two-sided test rejects at {ec.ALPHA:g}; non-inferior where the "
+        f"one-sided test of a lead of {100 * ec.MARGIN:g} pp or more rejects at "
+        f"{ec.ALPHA / 2:g}; equivalent where both one-sided tests of TOST reject at {ec.ALPHA:g}."
+    )
+    return md_table(header, rows) + "\n\n" + note
 
 
-def _gaps(both: Results, worlds, label: str) -> list:
-    """Per world and published tuned learner: its lead over ``label``'s tuned learner,
-    paired over the seeds both have, and the gap rule's verdict."""
-    from docking.study.report import ContestGap, paired_over_shared_seeds
-
-    bound, found = published_contest.GAP_CLOSED, []
-    for world in worlds:
-        for other in TUNED:
-            ci = paired_over_shared_seeds(both, f"{world}/{other}", f"{world}/{label}-tuned")
-            verdict = "closed" if ci.high < bound else "remains" if ci.low > bound else "undecided"
-            found.append(ContestGap(world, other, ci, verdict))
-    return found
-
-
-def _success_table(both: Results, budget: Budget, label: str) -> str:
+def _success_table(shown: Results, mine: Results, budget: Budget, label: str) -> str:
     from docking.study.claims import rate_interval
     from docking.study.designs.third_edition_report import CONTEST_WORLDS
     from docking.study.report import md_table
 
-    def row(name: str, variant: str) -> tuple:
-        keys = [f"{w}/{variant}" for w in budget.worlds]
-        seeds = sorted({len(both.score(k)) for k in keys})
-        trials = sorted({len(log) for k in keys for log in both.logs[k]})
-        values = [rate_interval(both, k).format(unit="%") for k in keys]
+    def row(name: str, source: Results, keys: list[str]) -> tuple:
+        seeds = sorted({len(source.score(k)) for k in keys})
+        trials = sorted({len(log) for k in keys for log in source.logs[k]})
+        values = [rate_interval(source, k).format(unit="%") for k in keys]
         return (name, ", ".join(map(str, seeds)), ", ".join(map(str, trials)), *values)
 
-    rows = [row(f"**{label}, tuned (yours)**", f"{label}-tuned")]
-    rows += [row(name, variant) for variant, name in ROWS.items()]
-    header = ("held-out success (95% interval)", "seeds", "trials per seed")
-    return md_table((*header, *(CONTEST_WORLDS[w] for w in budget.worlds)), rows)
-
-
-def _gaps_table(gaps: list, label: str) -> str:
-    from docking.study.report import md_table
-
-    bound = 100 * published_contest.GAP_CLOSED
-    rows = [
-        (
-            g.world,
-            TUNED[g.other],
-            f"{g.interval.format(unit=' pp')} (n = {len(g.interval.values)})",
-            g.verdict,
-        )
-        for g in gaps
+    worlds = budget.worlds
+    rows = [row(f"**{label}, chosen (yours)**", mine, [f"{w}/{label}/judged" for w in worlds])]
+    rows += [
+        row(f"{name}, chosen", shown, [f"{w}/{learner}/judged" for w in worlds])
+        for learner, name in PUBLISHED.items()
     ]
-    header = ("world", "published learner", f"its lead over {label} (matched by seed)")
-    note = (
-        f"The gap rule (the third edition's): a gap is closed if the interval of the published "
-        f"learner's lead lies below {bound:g} pp, remains if above, else undecided."
-    )
-    return md_table((*header, "gap"), rows) + "\n\n" + note
+    rows += [row(name, shown, [f"{w}/{v}" for w in worlds]) for v, name in YARDSTICKS.items()]
+    header = ("held-out success (95% interval)", "seeds", "trials per seed")
+    return md_table((*header, *(CONTEST_WORLDS[w] for w in worlds)), rows)
 
 
-def _bracketed_table(both: Results, budget: Budget, label: str) -> str:
-    """The current published rows (:data:`BRACKETED`) beside the learner, where they exist:
-    their success and the learner's lead over each by Welch's interval (their seeds are
-    others, so the seeds are not matched)."""
-    from docking.study.claims import rate_interval
-    from docking.study.report import md_table
-    from docking.study.stats import t_difference_ci
-
-    rows = []
-    for world in budget.worlds:
-        for variant, name in BRACKETED.items():
-            key = f"{world}/{variant}"
-            if key not in both.runs:
-                continue
-            lead = t_difference_ci(both.score(key), both.score(f"{world}/{label}-tuned"))
-            rows.append(
-                (world, name, rate_interval(both, key).format(unit="%"), lead.format(unit=" pp"))
-            )
-    if not rows:
-        return "No current published rows (bracketed) in these worlds."
-    header = ("world", "current published row", "held-out success", f"its lead over {label}")
-    return (
-        "The current published rows, tuned alike to bracketed optima (their tuning took about "
-        "200 runs per learner and world, this contest's 15), judged on seeds 7000-7009; their "
-        "lead over yours is Welch's interval (other seeds, not matched):\n\n"
-        + md_table(header, rows)
-    )
-
-
-def _tuned_lines(mine: Results, budget: Budget, label: str, tuned: dict) -> str:
+def _chosen_lines(search, mine: Results, budget: Budget, label: str, chosen: dict) -> str:
     from docking.study.learners import training_steps
 
     lines = []
     for world in budget.worlds:
-        steps = [training_steps(r) for r in mine.runs[f"{world}/{label}-tuned"]]
+        steps = [training_steps(r) for r in mine.runs[f"{world}/{label}/judged"]]
         known = [s for s in steps if s is not None]
         shown = f"{np.mean(known):,.0f}" if known else "not recorded"
-        setting = ", ".join(f"{k} = {v!r}" for k, v in tuned[world].items()) or "the default"
-        lines.append(f"- {world}: tuned setting {setting}; training steps per judged run {shown}")
+        spent = search.spent(mine, world, label)
+        setting = ", ".join(f"{k} = {v!r}" for k, v in chosen[world].items())
+        lines.append(
+            f"- {world}: chosen {setting}; selection runs {spent['grid']} grid + "
+            f"{spent['extension']} extension + {spent['selection']} selection; training steps "
+            f"per judged run {shown}"
+        )
     return (
-        "Tuned settings (by the budget's successive halving) and training steps (the published "
-        f"learners trained for {EXPERIMENT_2.train_trials:,} trials of at most "
-        f"{EXPERIMENT_2.world.max_steps} actions, PPO for {published_contest.PPO_STEPS:,} "
-        "steps):\n\n" + "\n".join(lines)
+        f"Chosen settings (each published learner had {ec.SEARCH.runs_per_learner()} selection "
+        "runs per world):\n\n" + "\n".join(lines)
     )
 
 
-def _figure(both: Results, budget: Budget, label: str):
+def _superseded_table(budget: Budget, results_dir) -> str:
+    """The third edition's tuned rows (superseded by the equal contest), labelled, no verdict."""
+    from docking.study import design
+    from docking.study.claims import rate_interval
+    from docking.study.report import md_table
+
+    part = te.part("contest")
+    runs = design._walk(
+        part, part.select(False), lambda new, _: design._loaded(part, new, results_dir), results_dir
+    )[1]
+    rows = [
+        (
+            f"{PUBLISHED[learner]}, tuned (third edition)",
+            *(rate_interval(runs, f"{w}/{learner}-tuned").format(unit="%") for w in budget.worlds),
+        )
+        for learner in PUBLISHED
+    ]
+    return (
+        "**Superseded rows** (the third edition: 15 tuning runs per learner, judged on seeds "
+        "3000-3019; superseded by the equal contest, shown for the record, no verdict):\n\n"
+        + md_table(("held-out success (95% interval)", *budget.worlds), rows)
+    )
+
+
+def _figure(shown: Results, mine: Results, budget: Budget, label: str):
     from docking.study.designs.third_edition_report import CONTEST_NAMES
     from docking.study.figures import fig_glance
 
     names = {w: CONTEST_NAMES[w] for w in budget.worlds}
-    learners = {f"{label}-tuned": f"{label}, tuned (yours)", **TUNED}
-    seeds = {
-        (names[w], name): both.score(f"{w}/{variant}")
-        for w in budget.worlds
-        for variant, name in learners.items()
-    }
+    learners = {label: f"{label}, chosen (yours)", **PUBLISHED}
+    seeds = {}
+    for w in budget.worlds:
+        seeds[names[w], learners[label]] = mine.score(f"{w}/{label}/judged")
+        for learner, name in PUBLISHED.items():
+            seeds[names[w], name] = shown.score(f"{w}/{learner}/judged")
     yardsticks = {
-        (names[w], name): float(np.mean(both.score(f"{w}/{variant}")))
+        (names[w], name): float(np.mean(shown.score(f"{w}/{v}")))
         for w in budget.worlds
-        for variant, name in YARDSTICK_LABELS.items()
+        for v, name in YARDSTICKS.items()
     }
     fig = fig_glance(list(names.values()), list(learners.values()), seeds, yardsticks)
-    title = "the contest" if budget.is_the_contest else "NOT the contest: another budget"
+    title = "the equal contest" if budget.is_the_contest else "NOT the contest: another budget"
     if budget.smaller:
         title = "NOT the contest: a smaller budget"
     fig.suptitle(f"{label} beside the published learners ({title})", fontsize=10)

@@ -75,7 +75,9 @@ __all__ = [
     "CorruptResult",
     "FORMAT_VERSION",
     "ForeignFile",
+    "EXTRAS",
     "LEARNER",
+    "MissingExtra",
     "RUNNERS",
     "Runner",
     "StaleCode",
@@ -86,8 +88,10 @@ __all__ = [
     "content_digest",
     "is_valid",
     "load_result",
+    "missing_extra",
     "module_digests",
     "register",
+    "require_extra",
     "rendering_stack",
     "result_arrays",
     "result_path",
@@ -111,6 +115,44 @@ _LIBRARIES = ("mujoco", "dm-control", "numpy", "opencv-python-headless")
 
 class CorruptResult(ValueError):
     """A saved result that cannot be used: unreadable, incomplete or inconsistent."""
+
+
+class MissingExtra(ModuleNotFoundError):
+    """A run must be computed by a kind of run whose optional dependencies are not installed:
+    the message names the package's extra that installs them."""
+
+
+#: Per kind of run, the modules of the optional dependencies its runs need to be computed and
+#: the extra of the package that installs them (pyproject.toml's
+#: [project.optional-dependencies]); reading its stored or published runs needs none of them.
+EXTRAS = {"ppo": (("skrl", "jax", "flax", "optax"), "ppo")}
+
+
+def missing_extra(runner_name: str) -> str | None:
+    """If the optional dependencies of ``runner_name``'s runs are not installed, what is
+    missing and the ``pip install`` line that installs them; else None."""
+    import importlib.util
+
+    modules, extra = EXTRAS.get(runner_name, ((), ""))
+    absent = [m for m in modules if importlib.util.find_spec(m) is None]
+    if not absent:
+        return None
+    return (
+        f"the [{extra}] extra is not installed ({', '.join(absent)} missing): "
+        f"pip install 'docking[{extra}]'"
+    )
+
+
+def require_extra(config) -> None:
+    """:class:`MissingExtra` naming the extra if the runs of ``config``'s kind cannot be
+    computed here (its optional dependencies are not installed)."""
+    name = runner_for(config).name
+    missing = missing_extra(name)
+    if missing is not None:
+        raise MissingExtra(
+            f"a {name} run of {config.name!r} is neither stored nor in the ledger and must be "
+            f"computed here: {missing}"
+        )
 
 
 class ForeignFile(CorruptResult):

@@ -253,36 +253,34 @@ def _sha256_json(value) -> str:
     return hashlib.sha256(json.dumps(value, allow_nan=False, sort_keys=True).encode()).hexdigest()
 
 
-#: Per runner, the modules of the optional dependencies its runs need and the extra of the
-#: package that installs them (pyproject.toml's [project.optional-dependencies]).
-EXTRAS = {"ppo": (("skrl", "jax", "flax", "optax"), "ppo")}
+#: The optional dependencies of each kind of run (:data:`docking.study.kinds.EXTRAS`).
+EXTRAS = kinds.EXTRAS
+missing_extra = kinds.missing_extra
 
 
-def missing_extra(runner_name: str) -> str | None:
-    """If the optional dependencies of ``runner_name``'s runs are not installed, what is
-    missing and the ``pip install`` line that installs them; else None."""
-    import importlib.util
+def _only_libraries_absent(data: dict, runner: kinds.Runner) -> bool:
+    """Whether ``runner``'s code is the code that computed the ledger's runs and only
+    libraries that are not installed here (its extra's) differ from the ledger's record."""
+    ours, theirs = runner.module_digests(), data["modules"].get(runner.name, {})
+    differ = {k for k in set(ours) | set(theirs) if ours.get(k) != theirs.get(k)}
+    return all(k.startswith("library ") and ours.get(k) == "absent" for k in differ)
 
-    modules, extra = EXTRAS.get(runner_name, ((), ""))
-    absent = [m for m in modules if importlib.util.find_spec(m) is None]
-    if not absent:
-        return None
-    return (
-        f"the [{extra}] extra is not installed ({', '.join(absent)} missing): "
-        f"pip install 'docking[{extra}]'"
-    )
+
+def _served_source(data: dict, runner: kinds.Runner) -> str | None:
+    """The fingerprint to key ``runner``'s runs by when reading the ledger: None (this
+    process's) normally; the ledger's own where the runner's extra is not installed and only
+    its absent libraries differ (the runs are read as published, never computed here)."""
+    if kinds.missing_extra(runner.name) is not None and _only_libraries_absent(data, runner):
+        return data["fingerprints"][runner.name]
+    return None
 
 
 def _check(data: dict, runner: kinds.Runner) -> None:
     """:class:`StaleLedger` unless ``runner``'s runs were computed by this code (first, if
     the extra its runs need is not installed, saying so); a warning (once) if by another
     rendering stack."""
-    missing = missing_extra(runner.name)
-    if missing is not None:
-        raise StaleLedger(
-            f"the ledger in {data['folder']} holds {runner.name} runs, which this package reads "
-            f"only with an optional extra; {missing}"
-        )
+    if _served_source(data, runner) is not None:
+        return  # read as published; computing one needs the extra (kinds.MissingExtra)
     if data["fingerprints"].get(runner.name) != runner.fingerprint():
         ours, theirs = runner.module_digests(), data["modules"].get(runner.name, {})
         changed = sorted(k for k in set(ours) | set(theirs) if ours.get(k) != theirs.get(k))
@@ -466,8 +464,9 @@ def read(config, seed: int, key: str | None = None):
     (data, held), runner = found, kinds.runner_for(config)
     _check(data, runner)
     record = data["runs"][held]
-    if key is None or data["rendering_stack"] != kinds.rendering_stack():
-        key = kinds.run_key(config, seed, render=data["rendering_stack"])
+    source = _served_source(data, runner)
+    if key is None or data["rendering_stack"] != kinds.rendering_stack() or source is not None:
+        key = kinds.run_key(config, seed, render=data["rendering_stack"], source=source)
     if held != key:
         raise StaleLedger(f"the ledger's key of {config.name!r} seed {seed} is not this code's")
     if record.get("whole"):
@@ -560,7 +559,9 @@ def _check_keys(data: dict) -> None:
         text = json.dumps(record["config"], sort_keys=True)
         if text not in keys:
             keys[text] = kinds.config_key(
-                runner.from_dict(record["config"]), data["rendering_stack"]
+                runner.from_dict(record["config"]),
+                data["rendering_stack"],
+                source=_served_source(data, runner),
             )
         if key != f"{keys[text]}:seed{record['seed']}":
             raise CorruptLedger(

@@ -93,6 +93,7 @@ def locate(config, seed: int, results_dir: Path | str | None = None, warn: bool 
     found = ledger.read(config, seed, key=key)
     if found is not None:
         return Located(config, seed, key, path, "ledger", found)
+    kinds.require_extra(config)  # a clear error now, not an ImportError on a worker
     return Located(config, seed, key, path, "computed")
 
 
