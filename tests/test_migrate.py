@@ -146,6 +146,22 @@ def built(tmp_path_factory):
     return base
 
 
+def _migrate(src: Path, folder: Path, results: Path, old: Path):
+    """``ledger migrate`` by the package in ``src``, the battery's old code the one in ``old``."""
+    return _python(
+        src,
+        "-m",
+        "docking",
+        "ledger",
+        "migrate",
+        "--results-dir",
+        str(results),
+        "--old",
+        str(old),
+        ledger_dir=folder,
+    )
+
+
 def _fresh(built: Path, tmp_path: Path) -> tuple[Path, Path, Path]:
     """A copy of the built package, ledger and store, to change."""
     for name in ("src", "ledger", "results"):
@@ -162,9 +178,7 @@ def test_a_refactor_migrates_the_ledger_and_the_store_after_a_sample_equal_to_it
     # the refactored code refuses the ledger, naming the command that migrates it
     refused = _python(src, "-m", "docking", "ledger", "show", ledger_dir=folder)
     assert refused.returncode == 1 and "ledger migrate" in refused.stderr, refused.stderr
-    out = _python(
-        src, "-m", "docking", "ledger", "migrate", "--results-dir", str(results), ledger_dir=folder
-    )
+    out = _migrate(src, folder, results, built / "src")
     assert out.returncode == 0, out.stderr[-3000:]
     after = json.loads((folder / "manifest.json").read_text())
     (migration,) = after["migrations"]
@@ -196,10 +210,10 @@ def test_a_refactor_migrates_the_ledger_and_the_store_after_a_sample_equal_to_it
         "checked": {"runs": 4, "tables": 3, "whole": 1, "derived": 0},
         "stored": [True] * 5,
     }
+    assert migration["covered"]["covered"]["learner"]["cases"] >= 4  # the battery ran
+    assert migration["covered"]["sample"]["seeds"] == 2  # every seed of the ledger: 0 and 1
     # nothing left to migrate: the command says so and changes nothing
-    again = _python(
-        src, "-m", "docking", "ledger", "migrate", "--results-dir", str(results), ledger_dir=folder
-    )
+    again = _migrate(src, folder, results, built / "src")
     assert again.returncode == 0 and "nothing to migrate" in again.stdout
     assert json.loads((folder / "manifest.json").read_text()) == after
 
@@ -211,14 +225,107 @@ def test_a_change_that_alters_a_number_migrates_nothing_and_names_the_runs(built
     stored = sorted(p.relative_to(results) for p in results.rglob("*.npz"))
     _split_exp(src)
     _changed_number(src)
-    out = _python(
-        src, "-m", "docking", "ledger", "migrate", "--results-dir", str(results), ledger_dir=folder
-    )
+    out = _migrate(src, folder, results, built / "src")
     assert out.returncode == 1
-    assert "nothing migrated" in out.stderr and "tiny seed" in out.stderr, out.stderr
-    assert "its record's content digest" in out.stderr
+    assert "nothing migrated: the battery's short runs differ" in out.stderr, out.stderr
     assert (folder / "manifest.json").read_bytes() == manifest
     assert sorted(p.relative_to(results) for p in results.rglob("*.npz")) == stored
+
+
+#: A tiny ledger whose runs differ where the forged changes below aim: beta_a 2 and 10, seeds
+#: below and at or above 7100, the sideboard and the floor world.
+BUILD_WIDE = """
+import dataclasses, sys
+from pathlib import Path
+
+from docking.study import ledger, store
+from docking.study.designs.builders import experiment2_in
+from docking.presets import EXPERIMENT_1, FLOOR_WORLD
+
+results, folder = Path(sys.argv[1]), Path(sys.argv[2])
+small = dict(train_trials=4, test_trials=0, eval_every=4, eval_trials=0, heldout_trials=4)
+tiny = dataclasses.replace(EXPERIMENT_1, name="tiny", **small)
+hot = dataclasses.replace(
+    tiny, name="hot", network=dataclasses.replace(tiny.network, beta_a_train=10.0)
+)
+floor = dataclasses.replace(experiment2_in(FLOOR_WORLD, "tiny-floor"), **small)
+runs = [(c, s, False, frozenset()) for c, s in ((tiny, 0), (tiny, 7105), (hot, 1), (floor, 2))]
+for config, seed, *_ in runs:
+    store.run_or_load(config, seed, results, progress=False)
+ledger.update(runs, folder, results)
+"""
+
+
+@pytest.fixture(scope="module")
+def built_wide(tmp_path_factory):
+    base = tmp_path_factory.mktemp("migrate-wide")
+    src = _copy(base)
+    out = _python(src, "-c", BUILD_WIDE, str(base / "results"), str(base / "ledger"))
+    assert out.returncode == 0, out.stderr[-3000:]
+    return base
+
+
+def _edit(src: Path, module: str, old: str, new: str) -> None:
+    path = src / "docking" / module
+    text = path.read_text()
+    assert text.count(old) == 1, old
+    path.write_text(text.replace(old, new))
+
+
+#: Forged changes that alter some runs only, each refused with what it alters named:
+#: ``(module, the line, the line with the change, what the refusal names)``.
+FORGERIES = {
+    # the issue's laundering commit: only runs trained with beta_a in [5, 20)
+    "beta_a": (
+        "trial.py",
+        '    beta_a = check_real("run_trial", "beta_a", beta_a, lo=0)\n',
+        '    beta_a = check_real("run_trial", "beta_a", beta_a, lo=0)\n'
+        "    if learn and 5 <= beta_a < 20:\n        beta_a = beta_a * 1.5\n",
+        "network.beta_a_train = 10.0",
+    ),
+    "seeds": (
+        "experiments.py",
+        "    rngs = _streams(seed)\n    if config.before is None:",
+        "    rngs = _streams(seed)\n    if seed >= 7100:\n        rngs = _streams(seed + 1)\n"
+        "    if config.before is None:",
+        "seed = 7105",
+    ),
+    "world": (
+        "experiments.py",
+        "    rngs = _streams(seed)\n    if config.before is None:",
+        "    rngs = _streams(seed)\n    if config.world.scene == 'floor':\n"
+        "        rngs = _streams(seed + 1)\n    if config.before is None:",
+        'world.scene = "floor"',
+    ),
+}
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("forgery", sorted(FORGERIES))
+def test_a_change_that_alters_only_some_runs_is_refused_naming_them(built_wide, tmp_path, forgery):
+    """The battery runs every value of every field and every seed the ledger holds: a change
+    aimed at one value, one seed range or one world is refused, naming it; nothing moves."""
+    src, folder, results = _fresh(built_wide, tmp_path)
+    manifest = (folder / "manifest.json").read_bytes()
+    module, old, new, named = FORGERIES[forgery]
+    _edit(src, module, old, new)
+    out = _migrate(src, folder, results, built_wide / "src")
+    assert out.returncode == 1, out.stdout + out.stderr
+    says = " ".join(out.stderr.split())
+    assert "nothing migrated: the battery's short runs differ" in says, says
+    assert named in says, says
+    assert (folder / "manifest.json").read_bytes() == manifest
+
+
+@pytest.mark.slow
+def test_a_split_function_still_migrates_the_wide_ledger(built_wide, tmp_path):
+    src, folder, results = _fresh(built_wide, tmp_path)
+    _split_exp(src)
+    out = _migrate(src, folder, results, built_wide / "src")
+    assert out.returncode == 0, out.stderr[-3000:]
+    (migration,) = json.loads((folder / "manifest.json").read_text())["migrations"]
+    assert migration["covered"]["sample"]["seeds"] == 4  # 0, 1, 2 and 7105
+    assert migration["moved"] == {"learner": 4}
 
 
 def test_the_sample_covers_every_table_kind_and_world_cheapest_first():

@@ -9,30 +9,38 @@ that the new code computes what the old code did:
 
 1. *Which runs.* The runners whose recorded fingerprint is not this code's (the others are
    left alone).
-2. *The sample* (:func:`sample`): runs of those runners chosen to cover every results table,
+2. *The battery* (:mod:`docking.study.battery`): short runs of every value of every
+   configuration field the ledger holds, every seed, and the learning rules' knobs as the
+   ledger combines them, computed by the old code (the commit whose package has the ledger's
+   fingerprints) and by this code, compared bit for bit. If any differs, nothing is migrated
+   and the field values that every differing case holds (and no equal one) are named.
+3. *The sample* (:func:`sample`): runs of those runners chosen to cover every results table,
    every kind of run (the runner, and for the paper's learner the policy, the feature layer
-   and the rule, the action set and the pretraining), and every world of the ledger, the
-   cheapest first (by their recorded wall times).
-3. *The proof.* The sample is recomputed by this code in a temporary store, and each run is
+   and the rule, the action set and the pretraining), every world, every value of every
+   configuration field and every seed of the ledger, the cheapest first (by their recorded
+   wall times).
+4. *The proof.* The sample is recomputed by this code in a temporary store, and each run is
    compared with what the ledger holds of it, as ``verify`` compares
    (:func:`docking.study.verify.compare`): its content digest, its table row, column by column.
    If any run differs, nothing is migrated and the runs that differ are named.
-4. *The move.* Every run of those runners gets the key this code gives its configuration and
+5. *The move.* Every run of those runners gets the key this code gives its configuration and
    seed (under the ledger's rendering stack): the records, the tables' ``key`` column, the
    whole runs' files and their meta records. The manifest records the migration
    (:data:`MIGRATION_FIELDS`: the fingerprints from and to, the modules that changed, the
-   commit, the runs recomputed with their digests, the runs moved) and seals it with the
-   rest.
+   commit, the runs recomputed with their digests, the runs moved, what the proof covered)
+   and seals it with the rest.
 
 A results store (a user's ``results/``) is migrated by the same proof
 (:func:`migrate_store`): a stored run whose key was made with a fingerprint a recorded
 migration moved from is re-keyed, along the chain of migrations, to this code's key; any
 other run is left as it is (recomputed when asked for, as before).
 
-What the proof covers, and what it does not: it shows that the runs it recomputed are the
-same under both codes, on this machine; that the others are is an inference from the sample
-covering every table, kind and world. A change that alters numbers only in a corner no
-sampled run reaches would pass. ``verify`` keeps sampling other runs at every commit.
+What the proof covers, and what it does not: it shows that the runs it recomputed and the
+battery's short runs are the same under both codes, on this machine; that the others are is an
+inference from them covering every value of every field, every seed, and the knobs'
+combinations the ledger holds. A change that alters numbers only in a combination of values
+that neither reaches, or only after more trials than a short run has, would pass. ``verify``
+keeps sampling other runs at every commit.
 """
 
 from __future__ import annotations
@@ -59,6 +67,7 @@ MIGRATION_FIELDS = (
     "utc",  # when
     "recomputed",  # [{name, seed, key (new), digest}] the sample, equal to the ledger
     "moved",  # {runner: how many runs were re-keyed}
+    "covered",  # what the proof covered: the battery's cases, fields and seeds, the sample's
 )
 
 
@@ -67,11 +76,13 @@ class Migration:
     """What :func:`migrate` did: ``record`` (the manifest's new migration record, or None if
     there was nothing to migrate or a run differed), ``differ`` (the sampled runs that the
     new code computes otherwise: ``(name, seed, what differs)``), ``store`` (the store's
-    counts, :func:`migrate_store`)."""
+    counts, :func:`migrate_store`), ``refused`` (the battery's lines where its short runs
+    differ: the field values that differ)."""
 
     record: dict | None
     differ: tuple[tuple[str, int, str], ...] = ()
     store: dict | None = None
+    refused: tuple[str, ...] = ()
 
 
 # ------------------------------------------------------------------------------------------
@@ -99,19 +110,26 @@ def _kind(record: dict) -> str:
 
 
 def _features(record: dict) -> set[tuple]:
-    """What a run covers: its table, its kind and its world (per runner)."""
+    """What a run covers: its table, its kind, its world (per runner), the value of each of
+    its configuration's fields (per runner) and its seed."""
+    from docking.study.battery import flat
+
     world = json.dumps(record["config"].get("world"), sort_keys=True)
+    fields = flat(record["config"]).items()
     return {
         ("table", record["name"], record["runner"]),
         ("kind", _kind(record)),
         ("world", record["runner"], world),
+        ("seed", record["seed"]),
+        *(("field", record["runner"], path, value) for path, value in fields),
     }
 
 
 def sample(data: dict, runners) -> list[str]:
-    """The keys of the runs of ``runners`` that cover every table, kind and world they have
-    in the ledger ``data``: greedy set cover, each step the run with the most features not
-    yet covered per second of its recorded wall time (ties: the key), in key order."""
+    """The keys of the runs of ``runners`` that cover every table, kind, world, field value
+    and seed they have in the ledger ``data`` (:func:`_features`): greedy set cover, each step
+    the run with the most features not yet covered per second of its recorded wall time
+    (ties: the key), in key order."""
     candidates = {k: r for k, r in data["runs"].items() if r["runner"] in runners}
     features = {k: _features(r) for k, r in candidates.items()}
     left = set().union(*features.values()) if features else set()
@@ -204,11 +222,14 @@ def migrate(
     workers: int | None = None,
     progress: bool = True,
     commit: str | None = None,
+    old: str | None = None,
 ) -> Migration:
     """Migrate the ledger in ``folder`` (default :func:`docking.study.paths.ledger_dir`) to this
     code, as the module docstring says, then the results store ``results_dir`` (default
-    :func:`docking.study.paths.results_dir`; ``False``: none). Returns what was done; nothing is
-    written if a sampled run differs."""
+    :func:`docking.study.paths.results_dir`; ``False``: none). ``old``: the commit (or a folder
+    holding the ``docking`` package) of the code that computed the ledger, for the battery
+    (default: found in the checkout's history). Returns what was done; nothing is written if a
+    battery case or a sampled run differs."""
     folder = Path(folder) if folder is not None else paths.ledger_dir()
     if folder is None:
         raise ValueError("no ledger folder: DOCKING_LEDGER is off and no folder was given")
@@ -218,17 +239,39 @@ def migrate(
     changed = _changed(data)
     record = None
     if changed:
+        from docking.study import battery
+
+        refused, covered = battery.prove(data, changed, old, progress)
+        if refused:
+            return Migration(None, refused=tuple(refused))
         keys = sample(data, changed)
         checks = _prove(data, keys, scheduler, workers, progress)
         differ = tuple((c.name, c.seed, c.differences()) for c in checks if not c.ok)
         if differ:
             return Migration(None, differ)
-        record = _write(data, changed, checks, commit)
+        covered["sample"] = _sample_coverage(data, keys)
+        record = _write(data, changed, checks, commit, covered)
     moved = None if results_dir is False else migrate_store(results_dir, folder)
     return Migration(record, (), moved)
 
 
-def _write(data: dict, changed: dict, checks, commit: str | None) -> dict:
+def _sample_coverage(data: dict, keys: list[str]) -> dict:
+    """What the sample covered: its runs, and per kind of run the fields and seeds."""
+    features = set().union(*(_features(data["runs"][k]) for k in keys)) if keys else set()
+    fields: dict[str, dict[str, int]] = {}
+    for f in features:
+        if f[0] == "field":
+            counts = fields.setdefault(f[1], {})
+            counts[f[2]] = counts.get(f[2], 0) + 1
+    return {
+        "runs": len(keys),
+        "tables": len({f[1] for f in features if f[0] == "table"}),
+        "seeds": len({f[1] for f in features if f[0] == "seed"}),
+        "fields": {r: dict(sorted(v.items())) for r, v in sorted(fields.items())},
+    }
+
+
+def _write(data: dict, changed: dict, checks, commit: str | None, covered: dict) -> dict:
     """Re-key the ledger ``data`` (its runners ``changed`` proven by ``checks``) and record
     the migration; the record."""
     from docking.study.verify import _commit
@@ -247,6 +290,7 @@ def _write(data: dict, changed: dict, checks, commit: str | None) -> dict:
             {"name": c.name, "seed": c.seed, "key": keys[c.key], "digest": c.digest} for c in checks
         ],
         "moved": {n: sum(r["runner"] == n for r in records.values()) for n in changed},
+        "covered": covered,
     }
     migrations = [*data.get("migrations", []), migration]
     manifest = ledger._manifest(files, records, runners, configs, data["platform"], migrations)

@@ -42,6 +42,9 @@ class Ledger:
     """Write only these designs' results tables, keeping every other table of the ledger as
     it is (checked against its digests and this code): the results store need not hold the
     other designs' runs (update only)."""
+    old: Annotated[str | None, _shown("COMMIT", "the newest commit with the ledger's code")] = None
+    """The commit (or a folder holding the docking package) of the code that computed the
+    ledger, whose short runs the battery compares with this code's (migrate only)."""
 
     def execute(self) -> int:
         from docking.study import ledger
@@ -50,7 +53,7 @@ class Ledger:
         if folder is None:
             raise ValueError(_no_ledger())
         if self.action == "migrate":
-            return _migrate(folder, self.results_dir)
+            return _migrate(folder, self.results_dir, self.old)
         if self.action == "derive":
             from docking.study import derived
 
@@ -94,12 +97,17 @@ class Ledger:
         return 0
 
 
-def _migrate(folder: Path, results_dir) -> int:
+def _migrate(folder: Path, results_dir, old: str | None = None) -> int:
     """``ledger migrate``: what :func:`docking.study.migrate.migrate` did, in a few lines; 1 if a
-    recomputed run differs (nothing migrated)."""
+    battery case or a recomputed run differs (nothing migrated)."""
     from docking.study import migrate
 
-    done = migrate.migrate(folder, results_dir)
+    done = migrate.migrate(folder, results_dir, old=old)
+    if done.refused:
+        print(f"{PROG}: nothing migrated: the battery's short runs differ", file=sys.stderr)
+        for line in done.refused:
+            print(f"  {line}", file=sys.stderr)
+        return 1
     if done.differ:
         print(f"{PROG}: nothing migrated: this code computes other arrays for", file=sys.stderr)
         for name, seed, what in done.differ:
@@ -115,9 +123,13 @@ def _migrate(folder: Path, results_dir) -> int:
                 f"{record['from'][name][:16]} to {record['to'][name][:16]} "
                 f"(changed: {', '.join(record['changed'][name])[:200]})"
             )
+        covered = record.get("covered", {})
+        cases = sum(v["cases"] for v in covered.get("covered", {}).values())
         print(
-            f"proof: {len(record['recomputed'])} runs recomputed, covering every table, "
-            "kind of run and world, each equal to the ledger (digest and table row)"
+            f"proof: {cases} short runs of the battery equal under the old code "
+            f"({str(covered.get('old', '?'))[:12]}) and this code; {len(record['recomputed'])} "
+            "runs recomputed, covering every table, kind of run, world, field value and seed, "
+            "each equal to the ledger (digest and table row)"
         )
     if done.store is not None:
         moved = done.store
