@@ -153,7 +153,7 @@ def test_the_key_follows_the_learners_own_code_in_a_module(tmp_path, registry, m
     first = module("edited_1", LEARNER_SOURCE)
     key = kinds.config_key(first.Edited())
     assert first.RUNNER.code.where == (str(tmp_path / "edited_1.py"),)
-    assert first.RUNNER.roots == ("docking.protocol", "docking.scene")
+    assert first.RUNNER.roots == ("docking.protocol", "docking.study.learner_run", "docking.scene")
     assert "own code" in first.RUNNER.module_digests()
     assert kinds.config_key(first.Edited(alpha=0.25)) != key  # its configuration
     assert kinds.run_key(first.Edited(), 1) != kinds.run_key(first.Edited(), 2)  # the seed
@@ -169,7 +169,12 @@ def test_the_key_follows_the_learners_own_code_in_a_module(tmp_path, registry, m
         "import dataclasses\n", "import dataclasses\nimport docking.presets\n"
     )
     other = module("edited_4", more)
-    assert other.RUNNER.roots == ("docking.protocol", "docking.presets", "docking.scene")
+    assert other.RUNNER.roots == (
+        "docking.protocol",
+        "docking.study.learner_run",
+        "docking.presets",
+        "docking.scene",
+    )
     assert kinds.config_key(other.Edited()) != key
     # the learner's registry and the contest are not followed
     unfollowed = LEARNER_SOURCE.replace(
