@@ -64,7 +64,7 @@ def _exit_on_sigterm(signum, frame):
 
 
 #: The folder options whose empty value tyro would read as the current folder.
-_FOLDER_OPTIONS = ("--results-dir", "--results_dir", "--folder")
+_FOLDER_OPTIONS = ("--results-dir", "--results_dir", "--folder", "--figures-dir", "--figures_dir")
 
 
 def _empty_folder_option(argv: list[str]) -> str | None:
