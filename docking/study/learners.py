@@ -76,7 +76,7 @@ from docking.protocol import (
 )
 from docking.scene import WorldConfig
 from docking.study import fingerprint, kinds
-from docking.validate import MAX_SEED, check_int, check_name
+from docking.validate import MAX_COUNT, MAX_SEED, check_int, check_name
 
 __all__ = [
     "Learner",
@@ -212,12 +212,14 @@ def register(
         dm-control's, NumPy's and OpenCV's (e.g. ``("scipy",)``).
       trials: ``trials(config)``: the trials a run reports to ``on_trials`` (default: its
         ``train_trials`` field, if any, plus ``heldout_trials``), what progress bars count.
-    """
+
+    Every argument is checked here, not in a run (:func:`_check_installed`,
+    :func:`_check_defaults`: the default configuration's counts, ``trials`` of it)."""
     _check_config_type(config_type)
-    if not isinstance(run, types.FunctionType):
-        raise TypeError(f"register: run must be a function (def run(...)), got {run!r:.80}")
+    _check_functions(run, trials)
     name = check_name("register", "name", config_type.__name__ if name is None else name)
     libraries = tuple(dict.fromkeys((*kinds._LIBRARIES, *_strings("libraries", libraries))))
+    _check_installed(libraries)
     own = [hasattr(config_type, m) for m in ("to_dict", "from_dict")]
     if own == [False, False]:
         config_type.to_dict = _to_dict
@@ -227,7 +229,7 @@ def register(
             f"register: {config_type.__name__} must define both to_dict and "
             "from_dict, or neither (then both are derived)"
         )
-    _check_defaults(config_type)
+    _check_defaults(config_type, trials)
     code = own_code(config_type, run)
     roots = (PROTOCOL_MODULE, *sorted(m for m in code.imports if m != PROTOCOL_MODULE))
     runner = LearnerRunner(
@@ -300,20 +302,71 @@ def _check_config_type(config_type) -> None:
             raise ValueError(f"register: {config_type.__name__} is a built-in kind of run")
 
 
-def _check_defaults(config_type) -> None:
-    """If every field has a default: the default configuration round-trips through
-    ``to_dict``/``from_dict`` as JSON."""
+def _check_functions(run, trials) -> None:
+    """``TypeError`` unless ``run`` is a function and ``trials`` one or None."""
+    if not isinstance(run, types.FunctionType):
+        raise TypeError(f"register: run must be a function (def run(...)), got {run!r:.80}")
+    if trials is not None and not callable(trials):
+        raise TypeError(
+            f"register: trials must be a function trials(config) -> the trials a run "
+            f"reports, or None, got {trials!r:.80}"
+        )
+
+
+def _check_installed(libraries: tuple[str, ...]) -> None:
+    """``ValueError`` naming the first of ``libraries`` that is no installed distribution
+    (:func:`importlib.metadata.version` finds none: its version would be keyed as "absent",
+    never its own), with the distribution of a module of that name where there is one
+    (``sklearn``: ``scikit-learn``)."""
+    import importlib.metadata
+
+    for library in libraries:
+        try:
+            importlib.metadata.version(library)
+        except (importlib.metadata.PackageNotFoundError, ValueError):
+            found = importlib.metadata.packages_distributions().get(library)
+            hint = (
+                f"; the module {library} is distributed as {', '.join(sorted(set(found)))}"
+                if found
+                else ""
+            )
+            raise ValueError(
+                f"register: libraries names {library!r}, which is no installed distribution "
+                f"(importlib.metadata finds none){hint}: name distributions as pip does "
+                "(e.g. 'scipy'), installed, so that their versions enter the runs' keys"
+            ) from None
+
+
+#: The count fields of a learner's configuration: the protocol's and the default trials'.
+COUNTS = ("heldout_trials", "train_trials")
+
+
+def _check_defaults(config_type, trials=None) -> None:
+    """If every field has a default: the default configuration's counts (:data:`COUNTS`)
+    are integers >= 0 (``ValueError``/``TypeError`` naming ``Class.field``), ``trials`` of
+    it is one, and it round-trips through ``to_dict``/``from_dict`` as JSON."""
     try:
         config = config_type()
     except TypeError:  # a field without a default: checked when a run is keyed
         return
     check_name(config_type.__name__, "name", config.name)  # a folder of the results store
+    _check_counts(config)
+    if trials is not None:
+        check_int("register", "trials(config)", trials(config), lo=0)
     d = config.to_dict()
     if config_type.from_dict(json.loads(json.dumps(d))) != config:
         raise ValueError(
             f"register: {config_type.__name__}'s default configuration does not round-trip "
             "through to_dict and from_dict"
         )
+
+
+def _check_counts(config) -> None:
+    """``ValueError``/``TypeError`` naming ``Class.field`` unless each count field
+    (:data:`COUNTS`) of ``config`` is an integer in ``[0, MAX_COUNT]``."""
+    for field in COUNTS:
+        if hasattr(config, field):
+            check_int(type(config).__name__, field, getattr(config, field), lo=0, hi=MAX_COUNT)
 
 
 def _to_dict(self) -> dict:
@@ -345,6 +398,7 @@ def _tuples(value):
 
 
 def _default_trials(config) -> int:
+    _check_counts(config)  # the user's field named, before a sweep submits the run
     return int(getattr(config, "train_trials", 0)) + int(config.heldout_trials)
 
 
@@ -363,6 +417,7 @@ def _run(run: Callable, config, seed: int, progress: bool = True, on_trials=None
     if files:
         _restore_files([run, type(config), *run.__globals__.values()], dict(files))
     seed = check_int(type(config).__name__, "seed", seed, lo=0, hi=MAX_SEED)
+    _check_counts(config)
     t0 = time.perf_counter()
     result = run(config, seed, progress=progress, on_trials=on_trials)
     elapsed = time.perf_counter() - t0
