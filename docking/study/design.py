@@ -367,12 +367,13 @@ def tested_in(run: ExperimentResult, world: WorldConfig, results_dir=None) -> Ex
     ``run`` itself comes from the ledger."""
     from docking.study.kinds import load_result, result_path, run_key, save_result
     from docking.study.runs import load_run
+    from docking.study.store import check_inside
 
     config = dataclasses.replace(run.config, heldout_world=world)
-    found = load_run(config, run.seed, results_dir)
+    found = load_run(config, run.seed, results_dir)  # its folder checked: written below
     if found is not None:
         return found
-    source = result_path(run.config, run.seed, results_dir)
+    source = check_inside(result_path(run.config, run.seed, results_dir))
     stored = source.exists()
     base = load_result(source, run_key(run.config, run.seed)) if stored else run
     t0 = time.perf_counter()
