@@ -127,8 +127,10 @@ def test_register_checks_trials_and_the_default_counts_at_registration(registry)
     default configuration of -1 held-out trials failed later naming an internal field."""
     with pytest.raises(TypeError, match="register: trials must be a function trials"):
         learners.register(outside.RandomFeatures, outside.run, trials=5)
-    with pytest.raises(ValueError, match=re.escape("register.trials(config) must be in")):
+    with pytest.raises(ValueError, match=re.escape("register: trials(config) must be 0 or more")):
         learners.register(outside.RandomFeatures, outside.run, trials=lambda config: -1)
+    with pytest.raises(TypeError, match=re.escape("register: trials(config) must be an integer")):
+        learners.register(outside.RandomFeatures, outside.run, trials=lambda config: "5")
     for field, value, says in (
         ("heldout_trials", -1, "Negative.heldout_trials must be in [0, 1000000], got -1"),
         ("train_trials", 2.5, "Negative.train_trials must be an integer, got 2.5"),

@@ -352,7 +352,17 @@ def _check_defaults(config_type, trials=None) -> None:
     check_name(config_type.__name__, "name", config.name)  # a folder of the results store
     _check_counts(config)
     if trials is not None:
-        check_int("register", "trials(config)", trials(config), lo=0)
+        count = trials(config)
+        if isinstance(count, bool | np.bool_) or not isinstance(count, int | np.integer):
+            raise TypeError(
+                f"register: trials(config) must be an integer, got {count!r:.80} for "
+                f"{config_type.__name__}'s default configuration"
+            )
+        if count < 0:
+            raise ValueError(
+                f"register: trials(config) must be 0 or more, got {count} for "
+                f"{config_type.__name__}'s default configuration"
+            )
     d = config.to_dict()
     if config_type.from_dict(json.loads(json.dumps(d))) != config:
         raise ValueError(
