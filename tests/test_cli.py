@@ -549,6 +549,67 @@ def test_named_values_are_shown_and_checked_as_choices(tmp_path):
     assert not (tmp_path / "results").exists()
 
 
+def _tracked_files(checkout: Path) -> dict[str, tuple]:
+    """``{path: (inode, modification time, SHA-256)}`` of every file git tracks in
+    ``checkout``, and git's status (a file rewritten with the same bytes moves its time, a
+    file replaced atomically its inode; a new file shows in the status)."""
+    import hashlib
+
+    def git(*args) -> str:
+        return subprocess.run(
+            ["git", *args], cwd=checkout, capture_output=True, text=True, check=True
+        ).stdout
+
+    found = {}
+    for name in filter(None, git("ls-files", "-z").split("\0")):
+        path = checkout / name
+        stat = path.stat()
+        found[name] = (stat.st_ino, stat.st_mtime_ns, hashlib.sha256(path.read_bytes()).hexdigest())
+    found["(git status)"] = git("status", "--porcelain", "--untracked-files=all")
+    return found
+
+
+@pytest.mark.slow
+def test_report_without_readme_or_figures_writes_no_file_of_the_checkout(tmp_path):
+    """Issue 60: `python -m docking report` (no --readme) rewrote figures/glance.png and .pdf
+    (and the claims at a glance) from the ledger. Run from a checkout of its own (the
+    package, its figures and README committed to a fresh git repository; this checkout's
+    notebooks rewrite figures/ while make test runs), reading the committed ledger: it
+    writes no file of the checkout; asked to (--figures-dir), it writes its figures there,
+    and still none of the checkout's."""
+    import shutil
+
+    checkout = tmp_path / "checkout"
+    shutil.copytree(REPO / "docking", checkout / "docking", ignore=shutil.ignore_patterns("*.pyc"))
+    shutil.copytree(REPO / "figures", checkout / "figures")
+    for name in ("pyproject.toml", "README.md", ".gitignore"):
+        shutil.copy(REPO / name, checkout / name)
+    git = ["git", "-c", "user.name=t", "-c", "user.email=t@t", "-C", str(checkout)]
+    for args in (["init", "-q"], ["add", "-A"], ["commit", "-q", "-m", "checkout"]):
+        subprocess.run([*git, *args], check=True, capture_output=True)
+    env = {**_env(tmp_path), "DOCKING_LEDGER": str(REPO / "ledger"), "PYTHONPATH": str(checkout)}
+    del env["DOCKING_FIGURES"], env["DOCKING_RESULTS"]  # the checkout's figures/ and results/
+    before = _tracked_files(checkout)
+    assert "figures/glance.png" in before and not before["(git status)"]
+    for args in (["report"], ["report", "--figures-dir", str(tmp_path / "asked")]):
+        out = subprocess.run(
+            [sys.executable, "-m", "docking", *args],
+            cwd=tmp_path,
+            env=env,
+            capture_output=True,
+            text=True,
+            timeout=1200,
+        )
+        assert out.returncode == 0, out.stderr[-3000:]
+        assert "](figures/glance.png)" in out.stdout  # the README's block still links it
+        after = _tracked_files(checkout)
+        changed = sorted(k for k in set(before) | set(after) if before.get(k) != after.get(k))
+        assert not changed, f"{' '.join(args)} changed {changed[:10]}: {after['(git status)']}"
+    written = sorted(p.name for p in (tmp_path / "asked").iterdir())
+    for name in ("glance", "verdicts_glance", "fig3_experiment1"):
+        assert f"{name}.png" in written and f"{name}.pdf" in written, written
+
+
 @pytest.mark.slow
 def test_the_readme_is_what_report_writes_from_the_ledger(tmp_path):
     """Every number of the README's blocks (the summary, the results, Experiment 3, the third

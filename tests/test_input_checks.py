@@ -571,3 +571,47 @@ def test_a_bad_action_while_judging_is_the_policys(world, action):
 
     with pytest.raises(ValueError, match=rf"^your policy returned {re.escape(repr(action))}: "):
         heldout_log(world, 0, 1, lambda observation, env: action)
+
+
+@pytest.mark.parametrize(
+    "args, says",
+    [
+        (["run", "experiment1", "--seeds", "0", "--seeds", "1"], "--seeds is given twice"),
+        (["run", "experiment1", "--seeds=0", "--seeds", "1"], "--seeds is given twice"),
+        (
+            ["run", "experiment1", "--train_trials", "3", "--train-trials", "4"],
+            "--train_trials and --train-trials are both given",
+        ),
+        (
+            ["run", "experiment1", "--network.eps-w", "0", "--network.eps_w=1"],
+            "--network.eps-w and --network.eps_w are both given",
+        ),
+        (["report", "--no-experiment3", "--experiment3"], "--no-experiment3 and --experiment3"),
+        (["sweep", "experiment1", "--grid", "a=1", "--grid", "b=2"], "--grid is given twice"),
+        (["verify", "--design", "paper", "--design", "experiment3"], "--design is given twice"),
+    ],
+)
+def test_an_option_given_twice_is_refused_in_one_line(args, says, tmp_path, monkeypatch, capsys):
+    """Issue 60: argparse kept the last of `--seeds 0 --seeds 1` without a word."""
+    monkeypatch.setenv("DOCKING_RESULTS", str(tmp_path / "results"))
+    handler = signal.getsignal(signal.SIGTERM)
+    try:
+        assert main(args) == 2
+    finally:
+        signal.signal(signal.SIGTERM, handler)
+    err = capsys.readouterr().err.strip()
+    assert err.startswith(f"python -m docking: error: {says}"), err
+    assert len(err.splitlines()) == 1 and "give it once" in err
+    assert not (tmp_path / "results").exists()
+
+
+def test_options_given_once_are_not_taken_for_repeated():
+    from docking.study.cli import _repeated_option, parse
+
+    once = ["sweep", "experiment1", "--seeds", "0-1", "--network.eps-w", "0", "--world.eps-w"]
+    once += ["1", "--grid", "network.eps_w=0,1", "train_trials=3,4", "--no-force"]
+    assert _repeated_option(once) is None
+    assert _repeated_option(["run", "experiment1", "--", "--seeds", "--seeds"]) is None
+    assert _repeated_option(["run", "--help", "--help"]) is None
+    found = parse(["verify", "--design", "paper", "--cells", "experiment1", "--seeds", "0"])
+    assert (found.design, found.cells, found.seeds) == ("paper", ("experiment1",), "0")

@@ -6,6 +6,7 @@ the guide's example."""
 from __future__ import annotations
 
 import dataclasses
+import importlib.metadata
 import importlib.util
 import inspect
 import linecache
@@ -103,6 +104,57 @@ def test_register_refuses_what_is_no_learner(registry):
         learners.register(ExperimentConfig, outside.run)
     with pytest.raises(ValueError, match="built-in"):
         learners.register(outside.RandomFeatures, outside.run, name="ppo")
+
+
+def test_register_refuses_a_library_that_is_no_installed_distribution(registry, monkeypatch):
+    """Issue 60: a misspelt library was keyed as "absent", never as its version."""
+    # the class carries the runner it was last registered with: put outside's back after
+    monkeypatch.setattr(outside.RandomFeatures, kinds.RUNNER_ATTRIBUTE, outside.RUNNER)
+    for library, says in (
+        ("nosuchlib", "libraries names 'nosuchlib', which is no installed distribution"),
+        ("scipyy", "libraries names 'scipyy', which is no installed distribution"),
+        ("yaml", "the module yaml is distributed as PyYAML"),
+    ):
+        with pytest.raises(ValueError, match=re.escape(says)):
+            learners.register(outside.RandomFeatures, outside.run, libraries=(library,))
+    assert "random-features" in learners.registered()  # the earlier registration kept
+    runner = learners.register(outside.RandomFeatures, outside.run, libraries=("scipy",))
+    assert runner.module_digests()["library scipy"] == importlib.metadata.version("scipy")
+
+
+def test_register_checks_trials_and_the_default_counts_at_registration(registry):
+    """Issue 60: ``trials=5`` failed inside a run ('int' object is not callable), and a
+    default configuration of -1 held-out trials failed later naming an internal field."""
+    with pytest.raises(TypeError, match="register: trials must be a function trials"):
+        learners.register(outside.RandomFeatures, outside.run, trials=5)
+    with pytest.raises(ValueError, match=re.escape("register: trials(config) must be 0 or more")):
+        learners.register(outside.RandomFeatures, outside.run, trials=lambda config: -1)
+    with pytest.raises(TypeError, match=re.escape("register: trials(config) must be an integer")):
+        learners.register(outside.RandomFeatures, outside.run, trials=lambda config: "5")
+    for field, value, says in (
+        ("heldout_trials", -1, "Negative.heldout_trials must be in [0, 1000000], got -1"),
+        ("train_trials", 2.5, "Negative.train_trials must be an integer, got 2.5"),
+    ):
+        kind = dataclasses.make_dataclass(
+            "Negative",
+            [(field, type(value), value)],
+            bases=(outside.RandomFeatures,),
+            frozen=True,
+        )
+        with pytest.raises((ValueError, TypeError), match=re.escape(says)):
+            learners.register(kind, outside.run)
+
+
+def test_a_runs_counts_are_the_users_fields_before_it_runs(registry, monkeypatch):
+    """A configuration registered with valid defaults, asked for -1 held-out trials: its
+    trial count (what a sweep asks before submitting) names the user's field."""
+    monkeypatch.setattr(outside.RandomFeatures, kinds.RUNNER_ATTRIBUTE, outside.RUNNER)
+    runner = learners.register(outside.RandomFeatures, outside.run, name="counted")
+    bad = dataclasses.replace(CONFIG, heldout_trials=-1)
+    with pytest.raises(ValueError, match=re.escape("RandomFeatures.heldout_trials must be in")):
+        runner.trials_in_run(bad)
+    with pytest.raises(ValueError, match=re.escape("RandomFeatures.heldout_trials must be in")):
+        runner.run(bad, 0, progress=False)
 
 
 # ------------------------------------------------------------------------------------------

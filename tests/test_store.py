@@ -389,3 +389,114 @@ def test_derived_arrays_are_computed_again_when_their_code_changes(tmp_path):
     source.write_text("X = 2\n")
     derived("thing", "k", compute, tmp_path / "store", code=(module,))
     assert len(calls) == 2
+
+
+# A folder of the store that is a link out of it (issue 60) ------------------------------------
+
+
+def _linked_out(store, outside, depth: int):
+    """Move the folder ``depth`` levels below ``store`` on the path of (TINY, SEED)'s file
+    (1: its configuration's name, 2: its key) to ``outside`` and leave a symbolic link to it
+    in its place; the link."""
+    path = result_path(TINY, SEED, store)
+    folder = store.joinpath(*path.relative_to(store).parts[:depth])
+    outside.parent.mkdir(parents=True, exist_ok=True)
+    shutil.move(folder, outside)
+    folder.symlink_to(outside, target_is_directory=True)
+    return folder
+
+
+@pytest.mark.parametrize("depth", [1, 2], ids=["name", "key"])
+@pytest.mark.parametrize("held", [True, False], ids=["a run there", "empty"])
+def test_a_store_folder_linked_out_of_the_store_is_refused_naming_it(
+    stored, tmp_path, depth, held, monkeypatch
+):
+    """A folder of the store that is a link leading out of it was read (its run served) and
+    written through: refused before anything there is read, removed or written, with one line
+    naming the link, whether it holds the run or nothing yet."""
+    from docking.study.runs import load_run, locate
+    from docking.study.store import compute
+
+    monkeypatch.setenv("DOCKING_LEDGER", "off")
+    store, path = stored
+    if not held:
+        path.unlink()
+    outside = tmp_path.parent / f"{tmp_path.name}-outside" / "folder"
+    link = _linked_out(store, outside, depth)
+    there = sorted(p.name for p in outside.rglob("*"))
+    says = f"{link} is a link to {outside.resolve()}, outside the results store"
+    for call in (
+        lambda: locate(TINY, SEED, store),
+        lambda: load_run(TINY, SEED, store),
+        lambda: run_or_load(TINY, SEED, store, progress=False),
+        lambda: compute(TINY, SEED, result_path(TINY, SEED, store), progress=False),
+    ):
+        with pytest.raises(kinds.ForeignFile) as refused:
+            call()
+        assert str(refused.value).startswith(says) and "\n" not in str(refused.value)
+    assert sorted(p.name for p in outside.rglob("*")) == there  # nothing written there
+
+
+def test_links_inside_the_store_and_a_linked_store_are_read(stored, tmp_path, reference):
+    """What the refusal must not catch: the store's own folder a link (DOCKING_RESULTS naming
+    a link to it), and a folder of the store linked to another folder inside it."""
+    store, _ = stored
+    linked = tmp_path.parent / f"{tmp_path.name}-store-link"
+    linked.symlink_to(store, target_is_directory=True)
+    _assert_same_run(run_or_load(TINY, SEED, linked, progress=False), reference)
+    _linked_out(store, store / "elsewhere" / "tiny", 1)
+    _assert_same_run(run_or_load(TINY, SEED, store, progress=False), reference)
+
+
+def test_the_command_line_refuses_a_store_folder_linked_out_in_one_line(
+    tmp_path, monkeypatch, capsys
+):
+    """run, its store's folder of experiment1 a link out of the store (holding nothing yet):
+    one line naming the link, exit 2, nothing computed or written there."""
+    from docking.study.cli import main
+
+    monkeypatch.setenv("DOCKING_LEDGER", "off")
+    store, outside = tmp_path / "store", tmp_path / "outside"
+    store.mkdir()
+    outside.mkdir()
+    (store / "experiment1").symlink_to(outside, target_is_directory=True)
+    handler = signal.getsignal(signal.SIGTERM)
+    try:
+        status = main(
+            ["run", "experiment1", "--seeds", str(SEED), "--train-trials", "3", "--test-trials"]
+            + ["2", "--eval-every", "3", "--eval-trials", "1", "--processes", "1"]
+            + ["--results-dir", str(store)]
+        )
+    finally:
+        signal.signal(signal.SIGTERM, handler)
+    err = capsys.readouterr().err.strip()
+    assert status == 2 and len(err.splitlines()) == 1, err
+    assert f"{store / 'experiment1'} is a link to {outside.resolve()}" in err
+    assert not list(outside.iterdir())
+
+
+def test_derived_arrays_in_a_folder_linked_out_of_the_store_are_refused(tmp_path):
+    from docking.study.store import derived, derived_entries
+
+    store, outside = tmp_path / "store", tmp_path / "outside"
+    (store / "derived").mkdir(parents=True)
+    outside.mkdir()
+    (store / "derived" / "thing").symlink_to(outside, target_is_directory=True)
+    for call in (
+        lambda: derived("thing", "k", lambda: {"x": np.zeros(2)}, store),
+        lambda: derived_entries("thing", store),
+    ):
+        with pytest.raises(kinds.ForeignFile, match="is a link to .* outside the results store"):
+            call()
+    assert not list(outside.iterdir())
+
+
+def test_migrating_a_store_leaves_a_folder_linked_out_of_it_unread(stored, tmp_path):
+    """ledger migrate's pass over a results store neither reads nor moves the runs of a folder
+    that is a link out of the store (counted left)."""
+    from docking.study.migrate import migrate_store
+
+    store, _ = stored
+    assert migrate_store(store, tmp_path / "no-ledger") == {"moved": 0, "current": 1, "left": 0}
+    _linked_out(store, tmp_path.parent / f"{tmp_path.name}-outside" / "tiny", 1)
+    assert migrate_store(store, tmp_path / "no-ledger") == {"moved": 0, "current": 0, "left": 1}

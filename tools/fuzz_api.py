@@ -125,9 +125,93 @@ def _refused_then_usable(**bad):
     return "accepted"
 
 
+@dataclasses.dataclass(frozen=True)
+class FuzzedLearner:
+    """A learner's configuration, for the registration cases (never run)."""
+
+    name: str = "fuzzed"
+    world: WorldConfig = WorldConfig()
+    heldout_trials: int = 3
+    train_trials: int = 2
+
+
+def _learner_run(config, seed, progress=True, on_trials=None):
+    raise RuntimeError("the registration cases never run a learner")
+
+
+def _register(config_type=FuzzedLearner, **options):
+    from docking.study import learners
+
+    return learners.register(config_type, _learner_run, **options)
+
+
+def _with(field: str, value) -> type:
+    """:class:`FuzzedLearner` with ``field``'s default ``value``."""
+    return dataclasses.make_dataclass(
+        "FuzzedLearner", [(field, type(value), value)], bases=(FuzzedLearner,), frozen=True
+    )
+
+
+def _registration_cases() -> list:
+    """Issue 60: register's arguments checked at registration; the command beside a number
+    (verify_command) and the cells it names (cell_runs)."""
+    from docking.study.design import cell_runs
+    from docking.study.designs import replication
+    from docking.study.report import verify_command
+
+    return [
+        (
+            "register(libraries=('nosuchlib',))",
+            lambda: _register(libraries=("nosuchlib",)),
+            "nosuchlib",
+        ),
+        (
+            "register(libraries=('yaml',)) (a module)",
+            lambda: _register(libraries=("yaml",)),
+            "PyYAML",
+        ),
+        ("register(libraries='scipy')", lambda: _register(libraries="scipy"), "libraries"),
+        ("register(trials=5)", lambda: _register(trials=5), "trials"),
+        ("register(trials=lambda c: -1)", lambda: _register(trials=lambda c: -1), "trials"),
+        (
+            "register(heldout_trials=-1 default)",
+            lambda: _register(_with("heldout_trials", -1)),
+            "heldout_trials",
+        ),
+        (
+            "register(train_trials=2.5 default)",
+            lambda: _register(_with("train_trials", 2.5)),
+            "train_trials",
+        ),
+        ("register(libraries=('scipy',))", lambda: _register(libraries=("scipy",)), None),
+        ("verify_command('../x')", lambda: verify_command("../x"), "design"),
+        ("verify_command(cells=[''])", lambda: verify_command("paper", [""]), "cells"),
+        ("verify_command(seeds=[])", lambda: verify_command("paper", seeds=[]), "seeds"),
+        ("verify_command(seeds='7100')", lambda: verify_command("paper", seeds="7100"), "seeds"),
+        ("verify_command(seeds=[-1])", lambda: verify_command("paper", seeds=[-1]), "seeds"),
+        (
+            "verify_command('paper', 'experiment1', range(5))",
+            lambda: verify_command("paper", "experiment1", range(5)),
+            None,
+        ),
+        (
+            "cell_runs(replication, 'floor/papr')",
+            lambda: cell_runs(replication.DESIGN, "floor/papr"),
+            "floor/papr",
+        ),
+        (
+            "cell_runs(replication, 'floor/paper', [7000])",
+            lambda: cell_runs(replication.DESIGN, "floor/paper", [7000]),
+            "7000",
+        ),
+        ("cell_runs('paper')", lambda: cell_runs("paper"), "design"),
+    ]
+
+
 def cases() -> dict[str, list]:
     """``{class: [(label, call, names)]}``: ``names`` None for valid input."""
     found: dict[str, list] = {}
+    found["registering a learner, the runs behind a number"] = _registration_cases()
     bad_vectors = {
         "strings": ["0.5", "0.5"],
         "bools": np.ones(2, bool),

@@ -80,6 +80,18 @@ CASES = [
     ["run", "experiment1", "--seeds", "9999", "--scheduler", "tcp://127.0.0.1:" + "9" * 30],
     ["run", "experiment1", "--seeds", "1 x"],
     ["run", "experiment1", "--seeds", "0", "--results-dir", ""],
+    # issue 60: an option given twice (argparse kept the last without a word); the runs of a
+    # design's cells that the design does not have
+    ["run", "experiment1", "--seeds", "9999", "--seeds", "9998"],
+    ["run", "experiment1", "--seeds=9999", "--seeds", "9998"],
+    ["run", "experiment1", "--seeds", "9999", "--train_trials", "3", "--train-trials", "4"],
+    ["report", "--no-experiment3", "--experiment3"],
+    ["report", "--figures-dir", ""],
+    ["verify", "--design", "nope"],
+    ["verify", "--design", "bracketing-replication", "--cells", "floor/papr"],
+    ["verify", "--design", "bracketing-replication", "--cells", "floor/paper", "--seeds", "7000"],
+    ["verify", "--cells", "floor/paper"],
+    ["verify", "--design", "paper", "--table", "experiment1"],
 ]
 
 #: Seeds and grids (issue 41): other digits, underscores, repeated grid values.
@@ -176,6 +188,18 @@ config = dataclasses.replace(
 path = result_path(config, 0, sys.argv[1])
 path.parent.mkdir(parents=True)
 os.mkfifo(path)
+"""
+
+
+#: The results store argv[1] whose folder of Experiment 1's runs is a link to the folder
+#: argv[2], outside the store (issue 60: it was read and written through).
+_LINKED_OUT = """
+import os, sys
+from pathlib import Path
+store, outside = Path(sys.argv[1]), Path(sys.argv[2])
+store.mkdir(parents=True)
+outside.mkdir(parents=True)
+os.symlink(outside, store / "experiment1")
 """
 
 
@@ -559,6 +583,15 @@ def cases(tmp: Path) -> dict[str, list]:
             label="run, its stored result a FIFO",
         )
     ]
+    linked_store = tmp / "linked-store"
+    _in_package(_LINKED_OUT, linked_store, tmp / "outside-the-store")
+    found["a store folder linked out of the store"] = [
+        cli(
+            ["run", "experiment1", "--seeds", "0", *TINY],
+            {"DOCKING_RESULTS": str(linked_store), "DOCKING_LEDGER": "off"},
+            label="run, its store's experiment1 folder a link out of the store",
+        )
+    ]
     found["damaged ledgers: run"], found["damaged ledgers: ledger show"] = [], []
     for what, env in _damaged_ledgers(tmp):
         found["damaged ledgers: run"].append(
@@ -624,6 +657,23 @@ def cases(tmp: Path) -> dict[str, list]:
             "verify --all --processes 2",
             first_line,
             (["verify", "--all", "--processes", "2"], "every run of the ledger", None),
+        ),
+        (  # issue 60: the runs behind one number, their cost said first
+            "verify --design bracketing-replication --cells floor/paper --seeds 7100-7104",
+            first_line,
+            (
+                [
+                    "verify",
+                    "--design",
+                    "bracketing-replication",
+                    "--cells",
+                    "floor/paper",
+                    "--seeds",
+                    "7100-7104",
+                ],
+                "the 5 runs behind cell floor/paper, seeds 7100-7104",
+                None,
+            ),
         ),
         cli(["run", "--help"], {"COLUMNS": "5"}, expect="--seeds"),
         cli(["sweep", "--help"], {"COLUMNS": "1"}, expect="--grid"),

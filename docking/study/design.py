@@ -367,12 +367,13 @@ def tested_in(run: ExperimentResult, world: WorldConfig, results_dir=None) -> Ex
     ``run`` itself comes from the ledger."""
     from docking.study.kinds import load_result, result_path, run_key, save_result
     from docking.study.runs import load_run
+    from docking.study.store import check_inside
 
     config = dataclasses.replace(run.config, heldout_world=world)
-    found = load_run(config, run.seed, results_dir)
+    found = load_run(config, run.seed, results_dir)  # its folder checked: written below
     if found is not None:
         return found
-    source = result_path(run.config, run.seed, results_dir)
+    source = check_inside(result_path(run.config, run.seed, results_dir))
     stored = source.exists()
     base = load_result(source, run_key(run.config, run.seed)) if stored else run
     t0 = time.perf_counter()
@@ -407,6 +408,21 @@ def ledger_runs(
     function asked on the runs before it). ``stored_only``: only the cells whose runs the
     results store holds (a design whose runs are under way), and a stage only if the cells
     it reads and its own are all there."""
+    cells = _ledger_cells(design, full, stored_only, results_dir)
+    found = []
+    for c in cells:
+        for config, seed in _entries(design, cells, c):
+            keep = design.keep | design.keep_cells.get(c.key, frozenset())
+            if seed in design.networks.get(c.key, ()):
+                keep |= {"networks"}
+            keep -= {what for what, seeds in design.kept_seeds.items() if seed not in seeds}
+            found.append((config, seed, seed in design.whole.get(c.key, ()), keep))
+    return found
+
+
+def _ledger_cells(design: Design, full: bool, stored_only: bool, results_dir) -> list[Cell]:
+    """The cells whose runs :func:`ledger_runs` gives: the selected ones (``stored_only``:
+    those stored), then the stages' (each asked on the runs before it)."""
     cells = design.select(full)
     if stored_only:
         cells = [c for c in cells if _stored(design, cells, c, results_dir)]
@@ -417,15 +433,93 @@ def ledger_runs(
             cells = _with_stages(design, cells, stored_only, results_dir)
         except KeyError:  # a stage asked for a cell not stored yet: none of its cells
             pass
+    return cells
+
+
+def cell_runs(
+    design: Design,
+    patterns: Sequence[str] = (),
+    seeds: Sequence[int] | None = None,
+    results_dir=None,
+) -> list[tuple[str, object, int]]:
+    """``(cell key, config, seed)`` of each run the committed ledger keeps of ``design``'s
+    cells (:func:`ledger_runs`: its core cells, a stage's cells, each test-only cell's derived
+    runs) whose keys match one of the shell-style ``patterns`` (``"floor/paper"``,
+    ``"floor/*"``; none: every cell), for their seeds or, of them, those of ``seeds``: the runs
+    behind a number, which ``python -m docking verify --design`` recomputes. A stage's cells
+    are asked of the runs before them (read from the store, else the ledger), as far as they
+    are held (a design under way: the stages whose runs before them are all there).
+    ``ValueError`` naming the cells for a pattern that matches none of them (and saying so of
+    a cell outside the design's default run, whose runs the ledger does not keep), and naming
+    the cells' seeds for a seed none of the chosen cells runs."""
+    from fnmatch import fnmatchcase
+
+    check_instance("cell_runs", "design", design, Design)
+    patterns = (patterns,) if isinstance(patterns, str) else tuple(patterns)
+    cells = _held_cells(design, results_dir)
+    for pattern in patterns:
+        _check_pattern(design, cells, pattern)
+    chosen = [c for c in cells if not patterns or any(fnmatchcase(c.key, p) for p in patterns)]
+    asked = None if seeds is None else [int(s) for s in seeds]
+    if asked is not None:
+        _check_seeds(design, chosen, asked)
     found = []
-    for c in cells:
+    for c in chosen:
         for config, seed in _entries(design, cells, c):
-            keep = design.keep | design.keep_cells.get(c.key, frozenset())
-            if seed in design.networks.get(c.key, ()):
-                keep |= {"networks"}
-            keep -= {what for what, seeds in design.kept_seeds.items() if seed not in seeds}
-            found.append((config, seed, seed in design.whole.get(c.key, ()), keep))
+            if asked is None or seed in asked:
+                found.append((c.key, config, seed))
     return found
+
+
+def _held_cells(design: Design, results_dir) -> list[Cell]:
+    """``design``'s core cells and its stages' cells, each stage asked of the runs before
+    it while the store or the ledger holds them all (:func:`cell_runs`)."""
+    cells = design.select(False)
+    if not design.stages:
+        return cells
+
+    def runs_of(new, before):
+        try:
+            return _loaded(design, new, results_dir)
+        except LookupError:  # not held (yet): the walk stops before this stage
+            return None
+
+    return _walk(design, cells, runs_of, results_dir)[0] or cells
+
+
+def _check_pattern(design: Design, cells: list[Cell], pattern) -> None:
+    """``ValueError`` unless ``pattern`` matches a key of ``cells`` (:func:`cell_runs`)."""
+    from fnmatch import fnmatchcase
+
+    if not isinstance(pattern, str) or not pattern:
+        raise ValueError(f"cell_runs: a cell pattern must be a non-empty string, got {pattern!r}")
+    keys = [c.key for c in cells]
+    if any(fnmatchcase(k, pattern) for k in keys):
+        return
+    others = [c.key for c in design.cells if fnmatchcase(c.key, pattern)]
+    if others:
+        raise ValueError(
+            f"design {design.name!r}: {', '.join(others)[:200]} (matching {pattern!r}) "
+            "is outside its default run (design run --full): the ledger keeps no run of it"
+        )
+    raise ValueError(
+        f"design {design.name!r} has no cell matching {pattern!r}; its cells: "
+        f"{', '.join(keys)[:600]}"
+    )
+
+
+def _check_seeds(design: Design, chosen: list[Cell], asked: list[int]) -> None:
+    """``ValueError`` unless some cell of ``chosen`` runs each seed of ``asked``."""
+    from docking.study.sweep import seeds_text
+
+    runs_seeds = {s for c in chosen for s in (c.seeds or design.seeds)}
+    absent = [s for s in asked if s not in runs_seeds]
+    if asked and not absent:
+        return
+    what = f"no cell chosen runs seed {', '.join(map(str, absent))[:200]}" if asked else "no seed"
+    raise ValueError(
+        f"design {design.name!r}: {what}; the chosen cells' seeds: {seeds_text(sorted(runs_seeds))}"
+    )
 
 
 def _entries(design: Design, cells, c: Cell) -> list[tuple]:

@@ -15,7 +15,18 @@ from collections.abc import Callable
 import numpy as np
 
 from docking.protocol import LearnerResult, heldout_env
-from docking.validate import MAX_SEED, check_int
+from docking.validate import MAX_COUNT, MAX_SEED, check_int
+
+#: The count fields of a learner's configuration: the protocol's and the default trials'.
+COUNTS = ("heldout_trials", "train_trials")
+
+
+def _check_counts(config) -> None:
+    """``ValueError``/``TypeError`` naming ``Class.field`` unless each count field
+    (:data:`COUNTS`) of ``config`` is an integer in ``[0, MAX_COUNT]``."""
+    for field in COUNTS:
+        if hasattr(config, field):
+            check_int(type(config).__name__, field, getattr(config, field), lo=0, hi=MAX_COUNT)
 
 
 def _run(run: Callable, config, seed: int, progress: bool = True, on_trials=None, files=None):
@@ -28,6 +39,7 @@ def _run(run: Callable, config, seed: int, progress: bool = True, on_trials=None
     if files:
         _restore_files([run, type(config), *run.__globals__.values()], dict(files))
     seed = check_int(type(config).__name__, "seed", seed, lo=0, hi=MAX_SEED)
+    _check_counts(config)
     t0 = time.perf_counter()
     result = run(config, seed, progress=progress, on_trials=on_trials)
     elapsed = time.perf_counter() - t0

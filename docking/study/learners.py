@@ -75,7 +75,7 @@ from docking.protocol import (
 )
 from docking.scene import WorldConfig
 from docking.study import fingerprint, kinds
-from docking.study.learner_run import _functions, _run
+from docking.study.learner_run import _check_counts, _functions, _run
 from docking.validate import check_name
 
 __all__ = [
@@ -215,12 +215,14 @@ def register(
         dm-control's, NumPy's and OpenCV's (e.g. ``("scipy",)``).
       trials: ``trials(config)``: the trials a run reports to ``on_trials`` (default: its
         ``train_trials`` field, if any, plus ``heldout_trials``), what progress bars count.
-    """
+
+    Every argument is checked here, not in a run (:func:`_check_installed`,
+    :func:`_check_defaults`: the default configuration's counts, ``trials`` of it)."""
     _check_config_type(config_type)
-    if not isinstance(run, types.FunctionType):
-        raise TypeError(f"register: run must be a function (def run(...)), got {run!r:.80}")
+    _check_functions(run, trials)
     name = check_name("register", "name", config_type.__name__ if name is None else name)
     libraries = tuple(dict.fromkeys((*kinds._LIBRARIES, *_strings("libraries", libraries))))
+    _check_installed(libraries)
     own = [hasattr(config_type, m) for m in ("to_dict", "from_dict")]
     if own == [False, False]:
         config_type.to_dict = _to_dict
@@ -230,7 +232,7 @@ def register(
             f"register: {config_type.__name__} must define both to_dict and "
             "from_dict, or neither (then both are derived)"
         )
-    _check_defaults(config_type)
+    _check_defaults(config_type, trials)
     code = own_code(config_type, run)
     mine = sorted(m for m in code.imports if m not in (PROTOCOL_MODULE, RUN_MODULE))
     roots = (PROTOCOL_MODULE, RUN_MODULE, *mine)
@@ -304,14 +306,63 @@ def _check_config_type(config_type) -> None:
             raise ValueError(f"register: {config_type.__name__} is a built-in kind of run")
 
 
-def _check_defaults(config_type) -> None:
-    """If every field has a default: the default configuration round-trips through
-    ``to_dict``/``from_dict`` as JSON."""
+def _check_functions(run, trials) -> None:
+    """``TypeError`` unless ``run`` is a function and ``trials`` one or None."""
+    if not isinstance(run, types.FunctionType):
+        raise TypeError(f"register: run must be a function (def run(...)), got {run!r:.80}")
+    if trials is not None and not callable(trials):
+        raise TypeError(
+            f"register: trials must be a function trials(config) -> the trials a run "
+            f"reports, or None, got {trials!r:.80}"
+        )
+
+
+def _check_installed(libraries: tuple[str, ...]) -> None:
+    """``ValueError`` naming the first of ``libraries`` that is no installed distribution
+    (:func:`importlib.metadata.version` finds none: its version would be keyed as "absent",
+    never its own), with the distribution of a module of that name where there is one
+    (``sklearn``: ``scikit-learn``)."""
+    import importlib.metadata
+
+    for library in libraries:
+        try:
+            importlib.metadata.version(library)
+        except (importlib.metadata.PackageNotFoundError, ValueError):
+            found = importlib.metadata.packages_distributions().get(library)
+            hint = (
+                f"; the module {library} is distributed as {', '.join(sorted(set(found)))}"
+                if found
+                else ""
+            )
+            raise ValueError(
+                f"register: libraries names {library!r}, which is no installed distribution "
+                f"(importlib.metadata finds none){hint}: name distributions as pip does "
+                "(e.g. 'scipy'), installed, so that their versions enter the runs' keys"
+            ) from None
+
+
+def _check_defaults(config_type, trials=None) -> None:
+    """If every field has a default: the default configuration's counts (:data:`COUNTS`)
+    are integers >= 0 (``ValueError``/``TypeError`` naming ``Class.field``), ``trials`` of
+    it is one, and it round-trips through ``to_dict``/``from_dict`` as JSON."""
     try:
         config = config_type()
     except TypeError:  # a field without a default: checked when a run is keyed
         return
     check_name(config_type.__name__, "name", config.name)  # a folder of the results store
+    _check_counts(config)
+    if trials is not None:
+        count = trials(config)
+        if isinstance(count, bool | np.bool_) or not isinstance(count, int | np.integer):
+            raise TypeError(
+                f"register: trials(config) must be an integer, got {count!r:.80} for "
+                f"{config_type.__name__}'s default configuration"
+            )
+        if count < 0:
+            raise ValueError(
+                f"register: trials(config) must be 0 or more, got {count} for "
+                f"{config_type.__name__}'s default configuration"
+            )
     d = config.to_dict()
     if config_type.from_dict(json.loads(json.dumps(d))) != config:
         raise ValueError(
@@ -349,6 +400,7 @@ def _tuples(value):
 
 
 def _default_trials(config) -> int:
+    _check_counts(config)  # the user's field named, before a sweep submits the run
     return int(getattr(config, "train_trials", 0)) + int(config.heldout_trials)
 
 

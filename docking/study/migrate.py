@@ -54,7 +54,7 @@ from pathlib import Path
 import numpy as np
 
 from docking.fileio import atomic_write, read_regular
-from docking.study import kinds, ledger, paths
+from docking.study import kinds, ledger, paths, store
 
 __all__ = ["Migration", "MIGRATION_FIELDS", "migrate", "migrate_store", "sample"]
 
@@ -337,6 +337,11 @@ def migrate_store(results_dir=None, folder=None) -> dict[str, int]:
     chains = _chains(data.get("migrations", []) if data else [])
     counts = {"moved": 0, "current": 0, "left": 0}
     for path in sorted(root.glob("*/*/seed*.npz")) if root.is_dir() else ():
+        try:
+            store.check_inside(path, root)
+        except kinds.ForeignFile:  # a folder linked out of the store: neither read nor moved
+            counts["left"] += 1
+            continue
         counts[_migrate_file(path, root, chains)] += 1
     return counts
 

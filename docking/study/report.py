@@ -1,7 +1,8 @@
 """What every report shares: Markdown tables (:func:`md_table`), a configuration as a table
 (:func:`configuration_table`), saving a figure under a name (:func:`save_named`), the gap rule
 several designs judge by (:func:`contest_gaps`, :func:`paired_over_shared_seeds`, the table
-:func:`gaps_table`) and the time of a record (:func:`utc`).
+:func:`gaps_table`), the time of a record (:func:`utc`) and the command that recomputes the
+runs behind a number (:func:`verify_command`).
 
 Each design reports itself: its tables, its figures' data and its sentences are in the module
 beside its design file, ``docking/study/designs/<design>_report.py`` (the paper's,
@@ -16,6 +17,7 @@ between its markers.
 from __future__ import annotations
 
 import dataclasses
+from collections.abc import Sequence
 from pathlib import Path
 
 from matplotlib.figure import Figure
@@ -205,3 +207,46 @@ def utc(text: str):
     import datetime
 
     return datetime.datetime.fromisoformat(text).astimezone(datetime.UTC)
+
+
+#: How the README names the command line (``python -m docking``).
+VERIFY = "python -m docking verify"
+
+
+def verify_command(design: str, cells: str | Sequence[str] = (), seeds=None) -> str:
+    """The command line that recomputes the runs behind a number and compares each with the
+    ledger: ``python -m docking verify --design DESIGN [--cells KEY ...] [--seeds SEEDS]``
+    (the runs the ledger keeps of ``design``'s cells ``cells``, a key or shell-style pattern
+    each, none: every cell; of their seeds, those of ``seeds``, None: every one;
+    :func:`docking.study.design.cell_runs`). E.g. ``verify_command("bracketing-replication",
+    "floor/paper", range(7100, 7105))`` is ``python -m docking verify --design
+    bracketing-replication --cells floor/paper --seeds 7100-7104``. Its first line says how
+    many runs and about how long (the ledger's wall times). Each word is quoted for a POSIX
+    shell where it needs it (a pattern's ``*``). Whether the design has those cells and seeds
+    is checked when the command runs: ``ValueError`` here only for what no command could
+    name (an empty name, a seed that is no integer >= 0, no seeds)."""
+    import shlex
+
+    from docking.study.sweep import seeds_text
+    from docking.validate import MAX_SEED, check_int, check_name
+
+    check_name("verify_command", "design", design)
+    cells = (cells,) if isinstance(cells, str) else tuple(cells)
+    for k, cell in enumerate(cells):
+        if not isinstance(cell, str) or not cell.strip() or not cell.isprintable():
+            raise ValueError(
+                f"verify_command.cells[{k}] must be a cell's key or pattern, got {cell!r}"
+            )
+    words = [*VERIFY.split(), "--design", design]
+    if cells:
+        words += ["--cells", *cells]
+    if seeds is not None:
+        if isinstance(seeds, str | bytes):
+            raise TypeError(f"verify_command.seeds must be integers, got {seeds!r}")
+        found = sorted(
+            {check_int("verify_command", "seeds[]", s, lo=0, hi=MAX_SEED) for s in seeds}
+        )
+        if not found:
+            raise ValueError("verify_command.seeds is empty: give None for every seed")
+        words += ["--seeds", seeds_text(found).replace(" ", "")]
+    return " ".join(shlex.quote(w) for w in words)

@@ -70,11 +70,13 @@ def locate(config, seed: int, results_dir: Path | str | None = None, warn: bool 
     (``"computed"``: to compute). A file in the store that is not a valid run of its key is a
     warning naming it and the reason (``warn``), and the run is to be computed (it replaces the
     file; :attr:`Located.problem` says why);
-    :class:`~docking.study.kinds.ForeignFile` if the file is nothing the store writes;
+    :class:`~docking.study.kinds.ForeignFile` if the file is nothing the store writes, or
+    its folder a link out of the store (:func:`docking.study.store.check_inside`: refused
+    even where no file is there yet, so that the run is never written through it);
     :class:`~docking.study.ledger.StaleLedger` if the ledger holds the run but was computed by
     other code."""
     key = kinds.run_key(config, seed)
-    path = kinds.result_path(config, seed, results_dir, key=key)
+    path = store.check_inside(kinds.result_path(config, seed, results_dir, key=key))
     if path.exists():
         try:
             found = store.find(config, seed, path, key)

@@ -35,6 +35,7 @@ from docking.study.kinds import CorruptResult, ForeignFile, module_digests, sour
 #: ``source_fingerprint`` and ``module_digests`` (:mod:`docking.study.kinds`): the code the
 #: store's keys name, here too, where a reader of the store looks for them.
 __all__ = [
+    "check_inside",
     "check_writable",
     "compute",
     "derived",
@@ -70,13 +71,44 @@ def check_writable(results_dir: Path | str | None = None) -> Path:
     return root
 
 
+def check_inside(path: Path | str, root: Path | str | None = None) -> Path:
+    """``path``, a file of the results store ``root`` (default: the folder three levels up,
+    as :func:`docking.study.kinds.result_path` and :func:`derived` name files:
+    ``<root>/<name>/<key>/seed<k>.npz``), if the folder that holds it lies inside ``root``
+    with every link resolved (``root`` itself may be a link). A folder of the store that is a
+    symbolic link leading out of it is :class:`~docking.study.kinds.ForeignFile` naming the
+    link, before anything there is read, removed or written."""
+    path = Path(path)
+    root = path.parents[2] if root is None else Path(root)
+    inside = root.resolve()
+    if path.parent.resolve().is_relative_to(inside):
+        return path
+    link = next(
+        (f for f in (root / p for p in _prefixes(path.parent.relative_to(root))) if f.is_symlink()),
+        path.parent,
+    )
+    raise ForeignFile(
+        f"{link} is a link to {link.resolve()}, outside the results store {inside}: nothing "
+        "there is read or written; remove the link, or name that folder as the store "
+        "(DOCKING_RESULTS, --results-dir)"
+    )
+
+
+def _prefixes(relative: Path) -> list[Path]:
+    """``a``, ``a/b``, ``a/b/c`` of ``a/b/c``."""
+    parts = relative.parts
+    return [Path(*parts[: k + 1]) for k in range(len(parts))]
+
+
 def find(config, seed: int, path: Path, key: str):
     """The run of (``config``, ``seed``) stored at ``path`` (its file read and checked against
     ``key`` and its content digest), or None if the store holds no file there.
     :class:`~docking.study.kinds.CorruptResult` naming the reason if the file there is not a
     valid run of ``key``; :class:`~docking.study.kinds.ForeignFile` if it is nothing the store
-    writes (refused, never read, never replaced: remove it to compute the run again)."""
+    writes (refused, never read, never replaced: remove it to compute the run again), or if
+    its folder is a link out of the store (:func:`check_inside`)."""
     del config, seed  # named by ``key`` and ``path``; passed so that a call says which run
+    check_inside(path)
     remove_stale_temporaries(path)  # of writers killed during an earlier save
     if not path.exists():
         return None
@@ -96,6 +128,7 @@ def compute(
     earlier attempt of the same job stored it (a sweep's job that Dask runs again after its
     worker was lost once the run was stored, or another sweep's), and a stored run is never
     computed twice."""
+    check_inside(path)  # never written through a link out of the store
     if not again and path.exists():
         try:
             return kinds.load_result(path, kinds.run_key(config, seed))
@@ -188,6 +221,7 @@ def derived(
     key = derived_key(key, code)
     root = Path(results_dir) if results_dir is not None else paths.results_dir()
     path = root / "derived" / name / f"{hashlib.sha256(key.encode()).hexdigest()[:32]}.npz"
+    check_inside(path, root)
     try:
         raw = read_regular(path, _DERIVED_LIMIT, path.parent)
         with np.load(io.BytesIO(raw), allow_pickle=False) as data:
@@ -216,6 +250,7 @@ def derived_entries(name: str, results_dir: Path | str | None = None) -> dict[st
     results store (one that cannot be read, or whose name is not its key's, is left out)."""
     root = Path(results_dir) if results_dir is not None else paths.results_dir()
     found = {}
+    check_inside(root / "derived" / name / "-", root)
     for path in sorted((root / "derived" / name).glob("*.npz")):
         try:
             raw = read_regular(path, _DERIVED_LIMIT, path.parent)

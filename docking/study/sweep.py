@@ -154,6 +154,19 @@ def parse_seeds(text: str) -> list[int]:
     return seeds
 
 
+def seeds_text(seeds) -> str:
+    """``0-4, 7`` for ``[0, 1, 2, 3, 4, 7]``: the seeds as ranges (in the order given; what
+    :func:`parse_seeds` reads back, with the spaces dropped)."""
+    seeds, parts, start = list(seeds), [], None
+    for i, s in enumerate(seeds):
+        if start is None:
+            start = s
+        if i + 1 == len(seeds) or seeds[i + 1] != s + 1:
+            parts.append(str(start) if start == s else f"{start}-{s}")
+            start = None
+    return ", ".join(parts)
+
+
 def _convert(value: str, current, where: str):
     if isinstance(current, bool):
         lowered = value.lower()

@@ -72,7 +72,7 @@ def _commit() -> str:
 UNSAMPLED_RUNNERS = ("ppo",)
 
 
-def chosen(data: dict, sample: int | None, commit: str, tables=()) -> list[str]:
+def chosen(data: dict, sample: int | None, commit: str, tables=(), runs=()) -> list[str]:
     """The run keys ``verify`` recomputes: every run of :data:`PAPER_RUNS`, plus ``sample``
     others ordered by SHA-256 of the commit and the key (so each commit draws other runs);
     ``sample=None``: every run. Not the runs of :data:`UNSAMPLED_RUNNERS`: the pixel-level
@@ -80,7 +80,11 @@ def chosen(data: dict, sample: int | None, commit: str, tables=()) -> list[str]:
     round differently on another CPU family, which a sample on every CI run should not
     hinge on. (The paper's learner's runs are drawn, and those of a learner registered from
     outside the package, :mod:`docking.study.learners`.) ``tables``: every run of these results
-    tables instead (PPO's too); ``ValueError`` naming the tables for a name the ledger lacks."""
+    tables instead (PPO's too); ``ValueError`` naming the tables for a name the ledger lacks.
+    ``runs``: these ``(configuration, seed)`` runs instead, in their order
+    (:func:`named_runs`)."""
+    if runs:
+        return named_runs(data, runs)
     keys = sorted(data["runs"])
     if tables:
         unknown = sorted(set(tables) - set(data["tables"]))
@@ -99,6 +103,30 @@ def chosen(data: dict, sample: int | None, commit: str, tables=()) -> list[str]:
         key=lambda k: hashlib.sha256(f"{commit}:{k}".encode()).hexdigest(),
     )
     return paper + others[:sample]
+
+
+def named_runs(data: dict, runs) -> list[str]:
+    """The keys, in the ledger whose manifest is ``data``, of the ``(configuration, seed)``
+    runs ``runs`` (e.g. a design's cell's, :func:`docking.study.design.cell_runs`), in their
+    order, each once; ``ValueError`` naming the runs the ledger does not hold."""
+    from docking.study.kinds import config_json
+    from docking.study.sweep import seeds_text
+
+    keys, absent, missing = [], {}, 0
+    for config, seed in runs:
+        key = data["index"].get(f"{config_json(config, compact=False)}:seed{seed}")
+        if key is None:
+            absent.setdefault(config.name, set()).add(seed)
+            missing += 1
+        elif key not in keys:
+            keys.append(key)
+    if absent:
+        named = "; ".join(f"{n} seeds {seeds_text(sorted(s))}" for n, s in sorted(absent.items()))
+        raise ValueError(
+            f"the ledger holds no run of {named[:300]} ({missing} of the {len(runs)} runs "
+            "asked for): nothing to verify them against"
+        )
+    return keys
 
 
 def platform_lines(mismatch: bool, folder: Path | str | None = None) -> list[str]:
@@ -188,16 +216,19 @@ def verify(
     progress: bool = True,
     folder: Path | str | None = None,
     tables=(),
+    runs=(),
 ) -> list[Check]:
     """Recompute the runs :func:`chosen` picks (in a temporary store; the results store is
-    not touched; ``tables``: every run of those tables) and compare each one with the ledger
-    (:func:`compare`). Returns the checks; the caller decides what a mismatch means (the CLI
-    fails)."""
+    not touched; ``tables``: every run of those tables; ``runs``: these ``(configuration,
+    seed)`` runs, e.g. a design's cell's, :func:`docking.study.design.cell_runs`) and compare
+    each one with the ledger (:func:`compare`). Returns the checks; the caller decides what a
+    mismatch means (the CLI fails)."""
     folder = Path(folder) if folder is not None else paths.ledger_dir()
     data = manifest(folder)
     if data is None:
         raise FileNotFoundError(f"no ledger to verify in {folder}")
-    keys = chosen(data, sample, _commit(), tables)  # sample=None (--all): every runner's runs
+    # sample=None (--all): every runner's runs
+    keys = chosen(data, sample, _commit(), tables, list(runs))
     return recompute(data, keys, scheduler, workers, progress, what="verify")
 
 

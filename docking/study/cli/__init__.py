@@ -64,7 +64,7 @@ def _exit_on_sigterm(signum, frame):
 
 
 #: The folder options whose empty value tyro would read as the current folder.
-_FOLDER_OPTIONS = ("--results-dir", "--results_dir", "--folder")
+_FOLDER_OPTIONS = ("--results-dir", "--results_dir", "--folder", "--figures-dir", "--figures_dir")
 
 
 def _empty_folder_option(argv: list[str]) -> str | None:
@@ -78,6 +78,43 @@ def _empty_folder_option(argv: list[str]) -> str | None:
             value = argv[k + 1] if k + 1 < len(argv) else None
         if value is not None and not value.strip():
             return name
+    return None
+
+
+def _option_name(arg: str) -> str | None:
+    """The option ``arg`` gives, as one name for its spellings (``--train_trials`` and
+    ``--train-trials=4`` are ``--train-trials``; the flag ``--no-x`` is ``--x``'s), or None
+    for what is no option (a value, a subcommand, ``--help``)."""
+    if not arg.startswith("--") or arg == "--":
+        return None
+    name = arg.partition("=")[0].replace("_", "-")
+    if name in ("--help", HELP_ALL):
+        return None
+    head, dot, last = name[2:].rpartition(".")
+    return f"--{head}{dot}{last.removeprefix('no-')}"
+
+
+def _repeated_option(argv: list[str]) -> str | None:
+    """Why ``argv`` is refused if it gives one option twice (``--seeds 0 --seeds 1``, or
+    ``--experiment3 --no-experiment3``): argparse would keep the last without a word; else
+    None. Nothing after ``--`` is read."""
+    seen: dict[str, str] = {}
+    for arg in argv:
+        if arg == "--":
+            break
+        name = _option_name(arg)
+        if name is None:
+            continue
+        given = arg.partition("=")[0]
+        if name in seen:
+            first = seen[name]
+            both = (
+                f"{given} is given twice"
+                if first == given
+                else f"{first} and {given} are both given"
+            )
+            return f"{both}: the command line would keep the last alone; give it once"
+        seen[name] = given
     return None
 
 
@@ -175,6 +212,10 @@ def main(argv=None) -> int:
             f"{PROG}: error: {empty} is empty; name a folder, or leave the option out",
             file=sys.stderr,
         )
+        return 2
+    repeated = _repeated_option(argv)
+    if repeated is not None:
+        print(f"{PROG}: error: {repeated}", file=sys.stderr)
         return 2
     try:
         command = parse(argv)

@@ -17,6 +17,7 @@ import tyro
 
 from docking.study import paths
 from docking.study.cli.options import PROG, _no_ledger, _Processes, _ResultsDir, _Scheduler, _shown
+from docking.study.designs import names as _design_names
 
 
 @dataclasses.dataclass
@@ -215,12 +216,20 @@ def _ledger_table(data: dict, folder: Path, checked: dict, size: int) -> str:
     return "\n".join(lines)
 
 
+#: The designs' names (docking.study.designs), as choices.
+_DesignName = Literal[tuple(_design_names())]  # type: ignore[valid-type]
+
+
 @dataclasses.dataclass
 class Verify:
     """Recompute runs of the ledger and check each one against the ledger: its record's
     content digest and the row its results table serves, column by column. Every run of
     Experiments 1 and 2, plus SAMPLE others chosen from the current commit (successive
-    commits check different runs); --table NAME: every run of a table; --all: every run."""
+    commits check different runs); --table NAME: every run of a table; --all: every run;
+    --design NAME [--cells KEY ...] [--seeds SEEDS]: the runs behind a number, those of a
+    design's cells (e.g. --design bracketing-replication --cells floor/paper --seeds
+    7100-7104). Its first line says how many runs and about how long, from the ledger's
+    wall times of those runs."""
 
     sample: int = 3
     """How many runs besides Experiments 1 and 2 (0 or more)."""
@@ -229,6 +238,14 @@ class Verify:
     table: Annotated[tuple[str, ...], _shown("NAME ...", "none: the sample")] = ()
     """Recompute every run of these results tables instead (python -m docking ledger show
     lists them)."""
+    design: Annotated[_DesignName | None, _shown("NAME", "none: the sample")] = None
+    """Recompute the runs of this design that the ledger keeps instead (python -m docking
+    design list): every cell's, or those of --cells, for every seed, or those of --seeds."""
+    cells: Annotated[tuple[str, ...], _shown("PATTERN ...", "every cell of --design")] = ()
+    """With --design: only the cells whose keys match one of these shell-style patterns
+    (floor/paper, 'floor/*')."""
+    seeds: Annotated[str | None, _shown("STR", "the cells' seeds")] = None
+    """With --design: only these seeds of its cells, as ranges or lists (7100-7104, 7102)."""
     scheduler: _Scheduler = None
     """Address of an existing Dask scheduler (tcp://HOST:PORT)."""
     processes: _Processes = None
@@ -245,10 +262,13 @@ class Verify:
             raise ValueError(f"--sample must be 0 or more, got {self.sample}")
         if self.derived < 0:
             raise ValueError(f"--derived must be 0 or more, got {self.derived}")
-        if self.table and self.all:
-            raise ValueError("--table and --all: give one of them")
+        if sum(map(bool, (self.table, self.all, self.design))) > 1:
+            raise ValueError("--table, --all and --design: give one of them")
+        if (self.cells or self.seeds is not None) and self.design is None:
+            raise ValueError("--cells and --seeds choose runs of a design: name it (--design)")
+        runs = self._design_runs()
         print(
-            _verify_plan(self.sample, self.all, self.processes, self.scheduler, self.table),
+            _verify_plan(self.sample, self.all, self.processes, self.scheduler, self.table, runs),
             flush=True,
         )
         checks = verify.verify(
@@ -256,6 +276,7 @@ class Verify:
             self.scheduler,
             workers=self.processes,
             tables=self.table,
+            runs=[(config, seed) for _, config, seed in runs],
         )
         bad = [c for c in checks if not c.ok]
         for c in checks:
@@ -264,11 +285,23 @@ class Verify:
                 f"{'ok' if c.ok else 'MISMATCH':8s} {c.name} seed {c.seed} ({c.key[:16]}){differs}"
             )
         print(f"{len(checks) - len(bad)} of {len(checks)} recomputed runs equal the ledger")
-        if not self.table:
+        if not self.table and self.design is None:
             bad += _verify_derived(None if self.all else self.derived)
         for line in verify.platform_lines(bool(bad)):
             print(line)
         return 1 if bad else 0
+
+    def _design_runs(self) -> list[tuple[str, object, int]]:
+        """``(cell key, config, seed)`` of the runs of --design, --cells and --seeds
+        (:func:`docking.study.design.cell_runs`); none without --design."""
+        if self.design is None:
+            return []
+        from docking.study.design import cell_runs
+        from docking.study.designs import design
+        from docking.study.sweep import parse_seeds
+
+        seeds = None if self.seeds is None else parse_seeds(self.seeds)
+        return cell_runs(design(self.design), self.cells, seeds)
 
 
 def _verify_derived(sample: int | None) -> list:
@@ -294,18 +327,20 @@ def _verify_plan(
     processes: int | None,
     scheduler: str | None = None,
     tables: tuple[str, ...] = (),
+    runs: list[tuple[str, object, int]] = (),
 ) -> str:
     """What ``verify`` is about to recompute, in one line: how many runs (``--sample`` capped
-    at the other runs the ledger holds) and about how long, from the ledger's wall times of
-    those runs, on ``processes`` workers (default: one per core; on a ``scheduler``'s
-    cluster, their sum)."""
+    at the other runs the ledger holds; ``runs``: a design's, ``(cell key, config, seed)``)
+    and about how long, from the ledger's wall times of those runs, on ``processes`` workers
+    (default: one per core; on a ``scheduler``'s cluster, their sum)."""
     from docking.study import ledger, verify
 
     data = ledger.manifest()
     if data is None:  # verify.verify says so
         return "verify: no ledger"
     commit = verify._commit()
-    keys = verify.chosen(data, None if everything else sample, commit, tables)
+    named = [(config, seed) for _, config, seed in runs]
+    keys = verify.chosen(data, None if everything else sample, commit, tables, named)
     paper = len(verify.chosen(data, 0, commit))
     others = len(verify.chosen(data, len(data["runs"]), commit)) - paper
     seconds = sum(data["runs"][k]["wall_seconds"] for k in keys)
@@ -315,6 +350,8 @@ def _verify_plan(
         if everything
         else f"every run of {', '.join(tables)} ({len(keys)})"
         if tables
+        else _runs_text(runs, data, keys)
+        if runs
         else (
             f"{len(keys)} runs: the {paper} of {' and '.join(verify.PAPER_RUNS)} and "
             f"{len(keys) - paper} of the {others} others the ledger holds"
@@ -326,6 +363,24 @@ def _verify_plan(
     return (
         f"verify: recomputing {what}; about {_duration(seconds / workers)} on {workers} "
         f"processes ({_duration(seconds)} of the runs' wall times in the ledger)"
+    )
+
+
+def _runs_text(runs: list[tuple[str, object, int]], data: dict, keys: list[str]) -> str:
+    """``the 5 runs behind cell floor/paper, seeds 7100-7104 (table bracketing-replication)``:
+    the runs of a design's cells, ``runs`` as ``(cell key, config, seed)``, whose ledger keys
+    are ``keys``."""
+    from docking.study.sweep import seeds_text
+
+    cells = list(dict.fromkeys(cell for cell, _, _ in runs))
+    seeds = seeds_text(sorted({seed for _, _, seed in runs}))
+    named = (
+        ", ".join(cells) if len(cells) <= 3 else f"{', '.join(cells[:2])} and {len(cells) - 2} more"
+    )
+    tables = sorted({data["runs"][k]["name"] for k in keys})
+    return (
+        f"the {len(keys)} runs behind {'cell' if len(cells) == 1 else 'cells'} {named[:300]}, "
+        f"seeds {seeds} ({'table' if len(tables) == 1 else 'tables'} {', '.join(tables)[:200]})"
     )
 
 

@@ -229,15 +229,10 @@ _DesignSeeds = Annotated[str | None, _shown("STR", "the design's")]
 
 
 def _seed_text(seeds) -> str:
-    """``0-4, 7`` for ``[0, 1, 2, 3, 4, 7]``."""
-    parts, start = [], None
-    for i, s in enumerate(seeds):
-        if start is None:
-            start = s
-        if i + 1 == len(seeds) or seeds[i + 1] != s + 1:
-            parts.append(str(start) if start == s else f"{start}-{s}")
-            start = None
-    return ", ".join(parts)
+    """``0-4, 7`` for ``[0, 1, 2, 3, 4, 7]`` (:func:`docking.study.sweep.seeds_text`)."""
+    from docking.study.sweep import seeds_text
+
+    return seeds_text(seeds)
 
 
 def _absent(text: str, how: str) -> str:

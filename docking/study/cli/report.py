@@ -44,8 +44,12 @@ class Report:
     between <!-- third-edition:start --> and <!-- third-edition:end -->, its verdict table
     between <!-- verdicts:start --> and <!-- verdicts:end -->."""
     figures: bool = False
-    """Also save Figs. 2-5 and the learning curves of Experiments 1 and 2 into figures/
-    (or DOCKING_FIGURES)."""
+    """Also save the figures: the README's (its first screen's, the claims at a glance) and
+    Figs. 2-5 and the learning curves of Experiments 1 and 2, into figures/ (or
+    DOCKING_FIGURES, or --figures-dir). Without it (or --readme, which saves the README's),
+    the report writes no file."""
+    figures_dir: _FiguresDir = None
+    """Save the figures (as --figures does) into this folder instead."""
 
     compute: bool = False
     """Compute the runs that neither the results store nor the ledger holds (without it, the
@@ -62,8 +66,8 @@ class Report:
             _refuse_to_compute(self.experiment3, self.results_dir, self.third_edition)
         paper = design("paper").run(results_dir=self.results_dir, workers=self.processes)
         results = [paper.runs["experiment1"], paper.runs["experiment2"]]
-        if self.figures:
-            paper_report.save_figures(*results)
+        if self.figures or self.figures_dir is not None:
+            paper_report.save_figures(*results, self.figures_dir)
         changed = self._write(paper_report.results_table(*results))
         comparisons, first = None, None
         if self.experiment3:
@@ -87,6 +91,17 @@ class Report:
             changed |= _write_timings(self.readme)
             print(f"{self.readme}: {'updated' if changed else 'already up to date'}")
         return 0
+
+    def _save_figure(self, make, name: str) -> str:
+        """The file name of the README's figure ``name`` (``.png``), which the README links
+        in the figures folder; the figure (``make()``) is saved only if asked: with
+        --readme, --figures or --figures-dir (into that folder). A report without them
+        writes no file."""
+        from docking.study import report
+
+        if self.readme is None and not self.figures and self.figures_dir is None:
+            return f"{name}.png"
+        return Path(report.save_named(make(), name, self.figures_dir)).name
 
     def _details(self, results, comparisons, first, contest, claims, added, untested) -> str:
         """The findings page's detailed summary: what was reproduced, Experiment 3, the
@@ -182,14 +197,13 @@ class Report:
         (:data:`docking.study.readme.VERDICTS_PAGE`, where it exists), and into the README the
         claims at a glance (its figure, saved into the figures folder) with a link to the
         page; whether either file changed."""
-        from docking.study import figures, readme, report
+        from docking.study import figures, readme
         from docking.study.readme import update_readme
 
         print(table)
-        fig = figures.fig_claims(rows)
-        png = Path(report.save_named(fig, readme.CLAIMS_FIGURE))
+        png = self._save_figure(lambda: figures.fig_claims(rows), readme.CLAIMS_FIGURE)
         text = (
-            f"\n![The paper's claims at a glance](figures/{png.name}) **The paper's claims at a "
+            f"\n![The paper's claims at a glance](figures/{png}) **The paper's claims at a "
             "glance:** one row per claim, one box per comparison (its world or setting, its 95% "
             "interval, its decision by the committed rule), coloured by the decision (green "
             "supported, red contradicted, orange at the bound, grey not supported; pale: outside "
@@ -235,7 +249,7 @@ class Report:
         store or the ledger; the tuning effort is counted from the ledger's records."""
         import numpy as np
 
-        from docking.study import answer, figures, ledger, readme, report
+        from docking.study import answer, figures, ledger, readme
         from docking.study.claims import judge_family, rate_interval
         from docking.study.designs import addendum, landscape, revisited
         from docking.study.designs import bracketing_continued as bc
@@ -256,10 +270,11 @@ class Report:
             for rule in (decisions, judge_family(design.claims, contest, alpha=design.alpha))
         )
         claims = (sum(len(v) for v in per_claim.values()), *_held(per_claim), *_held(family))
-        fig = figures.fig_glance(*answer.glance_data(contest, second))
-        png = Path(report.save_named(fig, readme.GLANCE_FIGURE))
+        png = self._save_figure(
+            lambda: figures.fig_glance(*answer.glance_data(contest, second)), readme.GLANCE_FIGURE
+        )
         text = answer.first_screen(published, sideboard, tuned, efforts, found, relocation, claims)
-        image = f"![The answer per world](figures/{png.name}) {answer.GLANCE_CAPTION}"
+        image = f"![The answer per world](figures/{png}) {answer.GLANCE_CAPTION}"
         changed = self._write(f"\n{image}\n\n{text}\n", readme.GLANCE_START, readme.GLANCE_END)
         paragraphs = [
             readme.reproduced_text(*results),
