@@ -216,10 +216,13 @@ def test_the_key_follows_the_learners_own_code_in_a_module(tmp_path, registry, m
     assert kinds.config_key(second.Edited()) == key
     changed = module("edited_3", LEARNER_SOURCE.replace("steps = 3", "steps = 4"))
     assert kinds.config_key(changed.Edited()) != key
-    # a docking module its code imports enters the key with what it imports
-    more = LEARNER_SOURCE.replace(
+    # a docking module its code uses enters the key with what it imports; one it imports
+    # and never uses does not (issue 62: the key follows what the learner reaches)
+    unused = LEARNER_SOURCE.replace(
         "import dataclasses\n", "import dataclasses\nimport docking.presets\n"
     )
+    assert kinds.config_key(module("edited_4a", unused).Edited()) == key
+    more = unused.replace("steps = 3  #", "steps = 3 + 0 * len(docking.presets.SEEDS)  #")
     other = module("edited_4", more)
     assert other.RUNNER.roots == (
         "docking.protocol",

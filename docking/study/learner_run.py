@@ -8,9 +8,12 @@ file). Every registered learner's runs are keyed by this module's code, as by
 
 from __future__ import annotations
 
+import sys
+import sysconfig
 import time
 import types
 from collections.abc import Callable
+from pathlib import Path
 
 import numpy as np
 
@@ -29,21 +32,82 @@ def _check_counts(config) -> None:
             check_int(type(config).__name__, field, getattr(config, field), lo=0, hi=MAX_COUNT)
 
 
-def _run(run: Callable, config, seed: int, progress: bool = True, on_trials=None, files=None):
+def _installed_folders() -> tuple[Path, ...]:
+    import site
+
+    folders = {
+        Path(p).resolve()
+        for key, p in sysconfig.get_paths().items()
+        if key in ("stdlib", "platstdlib", "purelib", "platlib") and p
+    }
+    for base in {sys.prefix, sys.base_prefix, sys.exec_prefix}:
+        folders.add(Path(base).resolve() / "lib")
+    for p in [*getattr(site, "getsitepackages", list)(), site.getusersitepackages()]:
+        folders.add(Path(p).resolve())
+    return tuple(sorted(folders))
+
+
+_DOCKING = Path(__file__).resolve().parents[1]
+
+
+def is_users_file(path: Path | str) -> bool:
+    """Whether a module loaded from ``path`` is the user's own: a file outside the standard
+    library's, the installed distributions' and ``docking``'s folders."""
+    path = Path(path).resolve()
+    for folder in (*_installed_folders(), _DOCKING):
+        if path == folder or folder in path.parents:
+            return False
+    return True
+
+
+def unkeyed_modules(before, keyed) -> list[tuple[str, str]]:
+    """``[(module, its file)]`` of the modules of the user's own loaded since ``before`` (the
+    names ``sys.modules`` held) that ``keyed`` (the modules a learner's key covers) does not
+    cover."""
+    found = []
+    for name in sorted(set(sys.modules) - set(before)):
+        path = getattr(sys.modules.get(name), "__file__", None)
+        if name in keyed or not path or name.partition(".")[0] == "docking":
+            continue
+        if is_users_file(path):
+            found.append((name, str(path)))
+    return found
+
+
+def _run(
+    run: Callable,
+    config,
+    seed: int,
+    progress: bool = True,
+    on_trials=None,
+    files=None,
+    modules: tuple[str, ...] | None = None,
+):
     """A registered learner's run: ``run``'s result, checked (its configuration and seed,
     its held-out trials drawn from the held-out stream of ``seed``, as many as the
     configuration asks for), its training time filled in if ``run`` left it out.
     ``files``: :func:`_code_files` of the learner, taken where it was registered; a copy of
     its code sent by value (to a Dask worker) gets its files back, so that a traceback from
-    it names the user's file and line (cloudpickle names them ``<dynamic-code>``)."""
+    it names the user's file and line (cloudpickle names them ``<dynamic-code>``).
+    ``modules``: the modules of the user's own its key covers; a run that loads another is
+    refused (its key cannot have seen that code), so it is never stored."""
     if files:
         _restore_files([run, type(config), *run.__globals__.values()], dict(files))
     seed = check_int(type(config).__name__, "seed", seed, lo=0, hi=MAX_SEED)
     _check_counts(config)
+    before = set(sys.modules)
     t0 = time.perf_counter()
     result = run(config, seed, progress=progress, on_trials=on_trials)
     elapsed = time.perf_counter() - t0
     what = f"the run of {type(config).__name__} {config.name!r} seed {seed}"
+    unkeyed = unkeyed_modules(before, modules or ()) if modules is not None else []
+    if unkeyed:
+        name, path = unkeyed[0]
+        raise RuntimeError(
+            f"{what} loaded {name} ({path}), a module of your own that its key does not cover "
+            "(imported while it ran, e.g. by importlib): the run is not stored. Import it at "
+            "the top of the learner's module (or of a module it imports)"
+        )
     if not isinstance(result, LearnerResult):
         raise TypeError(f"{what} returned {type(result).__name__}, not a LearnerResult (judge)")
     if result.config != config or result.seed != seed:

@@ -48,15 +48,10 @@ import that module (the embedded cluster's workers start in the current folder a
 
 from __future__ import annotations
 
-import ast
 import dataclasses
 import functools
 import hashlib
-import inspect
 import json
-import linecache
-import sys
-import textwrap
 import types
 from collections.abc import Callable
 from pathlib import Path
@@ -74,8 +69,10 @@ from docking.protocol import (
     training_env,
 )
 from docking.scene import WorldConfig
-from docking.study import fingerprint, kinds
+from docking.study import kinds
 from docking.study.learner_run import _check_counts, _functions, _run
+from docking.study.own_code import OwnCode
+from docking.study.own_code import own_code as _own_code
 from docking.validate import check_name
 
 __all__ = [
@@ -126,21 +123,6 @@ class Learner(Protocol):
 
     @classmethod
     def from_dict(cls, d: dict): ...
-
-
-@dataclasses.dataclass(frozen=True)
-class OwnCode:
-    """A learner's own code as its key reads it (:func:`own_code`).
-
-    Attributes:
-      digest: SHA-256 of its tokens.
-      imports: The ``docking`` modules it imports (or refers to).
-      where: Where it was read: module files, or ``"<cell>: class X, function run"``.
-    """
-
-    digest: str
-    imports: tuple[str, ...]
-    where: tuple[str, ...]
 
 
 @dataclasses.dataclass(frozen=True)
@@ -200,6 +182,7 @@ def register(
     name: str | None = None,
     libraries: tuple[str, ...] = (),
     trials: Callable | None = None,
+    files: tuple = (),
 ) -> LearnerRunner:
     """Make the learner of ``config_type`` and ``run`` a kind of run (see the module
     docstring); returns its runner (it replaces an earlier registration of ``name``).
@@ -215,6 +198,8 @@ def register(
         dm-control's, NumPy's and OpenCV's (e.g. ``("scipy",)``).
       trials: ``trials(config)``: the trials a run reports to ``on_trials`` (default: its
         ``train_trials`` field, if any, plus ``heldout_trials``), what progress bars count.
+      files: Data files the run reads (paths): keyed by their bytes, read now. A file it
+        reads and does not declare is not keyed: an edit to it serves the old runs.
 
     Every argument is checked here, not in a run (:func:`_check_installed`,
     :func:`_check_defaults`: the default configuration's counts, ``trials`` of it)."""
@@ -223,17 +208,9 @@ def register(
     name = check_name("register", "name", config_type.__name__ if name is None else name)
     libraries = tuple(dict.fromkeys((*kinds._LIBRARIES, *_strings("libraries", libraries))))
     _check_installed(libraries)
-    own = [hasattr(config_type, m) for m in ("to_dict", "from_dict")]
-    if own == [False, False]:
-        config_type.to_dict = _to_dict
-        config_type.from_dict = classmethod(_from_dict)
-    elif own != [True, True]:
-        raise TypeError(
-            f"register: {config_type.__name__} must define both to_dict and "
-            "from_dict, or neither (then both are derived)"
-        )
+    _serialisable(config_type)
     _check_defaults(config_type, trials)
-    code = own_code(config_type, run)
+    code = own_code(config_type, run, _checked_files(files))
     mine = sorted(m for m in code.imports if m not in (PROTOCOL_MODULE, RUN_MODULE))
     roots = (PROTOCOL_MODULE, RUN_MODULE, *mine)
     runner = LearnerRunner(
@@ -243,7 +220,7 @@ def register(
         libraries=libraries,
         format=FORMAT_VERSION,
         key_prefix=f"learner {name} ",
-        run=functools.partial(_run, run, files=_code_files(config_type, run)),
+        run=functools.partial(_run, run, files=_code_files(config_type, run), modules=code.modules),
         arrays=_arrays,
         parse=_parse,
         trials_in_run=_default_trials if trials is None else trials,
@@ -254,6 +231,27 @@ def register(
     kinds.register(runner)
     setattr(config_type, kinds.RUNNER_ATTRIBUTE, runner)  # travels with a class sent by value
     return runner
+
+
+def _serialisable(config_type: type) -> None:
+    """Give ``config_type`` ``to_dict``/``from_dict`` if it defines neither; ``TypeError`` if
+    it defines one only."""
+    own = [hasattr(config_type, m) for m in ("to_dict", "from_dict")]
+    if own == [False, False]:
+        config_type.to_dict = _to_dict
+        config_type.from_dict = classmethod(_from_dict)
+    elif own != [True, True]:
+        raise TypeError(
+            f"register: {config_type.__name__} must define both to_dict and "
+            "from_dict, or neither (then both are derived)"
+        )
+
+
+def _checked_files(files) -> tuple:
+    """``files`` (register's) as a tuple of paths; ``TypeError`` naming it otherwise."""
+    if isinstance(files, str | Path) or not all(isinstance(f, str | Path) for f in files):
+        raise TypeError(f"register: files must be a tuple of paths, got {files!r:.80}")
+    return tuple(files)
 
 
 def registered() -> dict[str, kinds.Runner]:
@@ -445,215 +443,15 @@ def _parse(data, config, seed: int, walls) -> LearnerResult:
 # ------------------------------------------------------------------------------------------
 
 
-def own_code(config_type: type, run: Callable) -> OwnCode:
-    """The own code of the learner of ``config_type`` and ``run``, as its key reads it.
-
-    Where each is defined in a module with a file (a user's module, a test file, a script
-    run as ``__main__``): the tokens of that whole file
-    (:func:`docking.study.fingerprint.code_tokens`: no comments, docstrings, type hints or error
-    messages), and the ``docking`` modules it imports. Otherwise (a notebook cell, code run with
-    ``exec`` whose source ``linecache`` holds, as Jupyter's cells): the tokens of the class's and
-    the function's own source, and the ``docking`` modules they import or refer to. Then,
-    transitively, every module of the user's own that this code imports or refers to
-    (:func:`user_modules`): its tokens, and the ``docking`` modules it imports. ``TypeError`` if a
-    source cannot be read, or a module of the user's cannot be keyed (:func:`user_modules`)."""
-    texts, imports, where, names = [], set(), [], set()
-    for module in dict.fromkeys((config_type.__module__, run.__module__)):
-        path = _module_file(module, [o for o in (config_type, run) if o.__module__ == module])
-        if path is not None:
-            source = path.read_text(encoding="utf-8")
-            tokens, found = fingerprint.code_tokens(source, module)
-            texts.append(f"file\n{tokens}")
-            imports |= found
-            names |= _resolved(fingerprint.imported_names(source, module))
-            where.append(str(path))
-            continue
-        for obj in (config_type, run):
-            if obj.__module__ != module:
-                continue
-            source, origin = _source(obj, run)
-            tokens, found = fingerprint.code_tokens(source, module)
-            texts.append(f"{'class' if isinstance(obj, type) else 'function'}\n{tokens}")
-            imports |= found | _referenced(obj)
-            names |= _resolved(fingerprint.imported_names(source, module))
-            names |= _referenced(obj, user=True)
-            where.append(f"{origin}: {obj.__qualname__}")
-    done = {m for m in (config_type.__module__, run.__module__) if _module_file(m, []) is not None}
-    for name, path in user_modules(names - done):
-        tokens, found = fingerprint.code_tokens(path.read_text(encoding="utf-8"), name)
-        texts.append(f"module {name}\n{tokens}")
-        imports |= found
-        where.append(str(path))
-    digest = hashlib.sha256("\n".join(texts).encode()).hexdigest()
+def own_code(config_type: type, run: Callable, files=()) -> OwnCode:
+    """The own code of the learner of ``config_type`` and ``run``, as its key reads it
+    (:func:`docking.study.own_code.own_code`: what the class and the function reach, the
+    modules of the user's own they import, the declared data ``files``), its ``docking``
+    modules those of the package that are followed (not :data:`NOT_FOLLOWED`)."""
+    code = _own_code(config_type, run, files)
     package = Path(kinds.__file__).resolve().parents[1]
-    followed = sorted(m for m in imports if m not in NOT_FOLLOWED and _is_module(package, m))
-    return OwnCode(digest, tuple(followed), tuple(where))
-
-
-def user_modules(names) -> list[tuple[str, Path]]:
-    """``[(module, its file)]`` of the modules of the user's own among ``names`` (imported
-    names: modules, or names in one) and every module of the user's own that those import,
-    transitively, in name order. A module of the user's own is one outside the standard
-    library, the installed distributions and ``docking``; it is keyed by its source file.
-    A name that is no module (a function imported from one, a module that cannot be found)
-    is passed over. ``TypeError`` naming a module of the user's that has no Python source
-    (a compiled extension, a ``.pyc`` only), which no key can cover."""
-    found: dict[str, Path] = {}
-    queue = sorted(set(names))
-    while queue:
-        name = queue.pop()
-        if name in found or not _is_users(name):
-            continue
-        spec = _spec(name)
-        if spec is None:
-            continue
-        origin = spec.origin
-        if origin is None or origin in ("built-in", "frozen"):  # a namespace package: no code
-            continue
-        path = Path(origin)
-        if path.suffix != ".py" or not path.is_file():
-            raise TypeError(
-                f"register: the learner's code imports {name}, a module of your own with no "
-                f"Python source ({path.name}): its code cannot be keyed; import it from a .py file"
-            )
-        found[name] = path.resolve()
-        source = path.read_text(encoding="utf-8")
-        package = name if path.name == "__init__.py" else name.rpartition(".")[0]
-        imported = fingerprint.imported_names(source, f"{package}.__init__" if package else name)
-        queue.extend(sorted(_resolved(imported) | _resolved([name])))
-    return sorted(found.items())
-
-
-def _resolved(names) -> set[str]:
-    """``names`` as :func:`docking.study.fingerprint.imported_names` found them, with each one's
-    parents (``helpers.GAIN``: ``helpers`` too, the module, or a package whose
-    ``__init__`` runs when a module of it is imported)."""
-    found = set()
-    for name in names:
-        found.add(name)
-        parent = name.rpartition(".")[0]
-        if parent:
-            found.add(parent)
-    return found
-
-
-#: The top-level names of the installed distributions' packages and modules.
-@functools.cache
-def _distributed_names() -> frozenset[str]:
-    import importlib.metadata
-
-    return frozenset(importlib.metadata.packages_distributions())
-
-
-def _is_users(name: str) -> bool:
-    """Whether module ``name`` may be the user's own: not ``docking``, not the standard
-    library's, not an installed distribution's."""
-    top = name.partition(".")[0]
-    if not top or top == "docking" or top == "__main__":
-        return False
-    if top in sys.stdlib_module_names or top in sys.builtin_module_names:
-        return False
-    return top not in _distributed_names()
-
-
-def _spec(name: str):
-    """The import spec of module ``name`` (its loaded module's, if it is loaded), or None if
-    there is no such module."""
-    import importlib.util
-
-    loaded = sys.modules.get(name)
-    if loaded is not None:
-        return getattr(loaded, "__spec__", None)
-    try:
-        return importlib.util.find_spec(name)
-    except (ImportError, ValueError, AttributeError):
-        return None
-
-
-def _module_file(module: str, objects: list) -> Path | None:
-    """The file of ``module`` if it is loaded from a ``.py`` file and ``objects`` are
-    defined in it (not a notebook's or ``exec``'s namespace)."""
-    found = getattr(sys.modules.get(module), "__file__", None)
-    if not found or not found.endswith(".py") or not Path(found).is_file():
-        return None
-    path = Path(found).resolve()
-    for obj in objects:
-        code = getattr(obj, "__code__", None)
-        if code is not None and Path(code.co_filename).resolve() != path:
-            return None
-    return path
-
-
-def _source(obj, run: Callable) -> tuple[str, str]:
-    """``(source, its file name)`` of a class or function defined outside a module file."""
-    if not isinstance(obj, type):
-        try:
-            return textwrap.dedent(inspect.getsource(obj)), obj.__code__.co_filename
-        except (OSError, TypeError):
-            pass
-    else:
-        # inspect cannot find a class without a module file (before Python 3.13): look for
-        # its definition in the cells its methods or the run function were defined in
-        files = [
-            f.__code__.co_filename
-            for f in vars(obj).values()
-            if isinstance(f, types.FunctionType)
-            and not f.__code__.co_filename.startswith("<string")
-        ]
-        for filename in dict.fromkeys([*files, run.__code__.co_filename]):
-            text = "".join(linecache.getlines(filename))
-            found = _class_source(text, obj.__name__)
-            if found is not None:
-                return found, filename
-    raise TypeError(
-        f"cannot read the source of {obj.__qualname__} (defined in {obj.__module__!r}): define "
-        "the learner in a module file, a script or a notebook cell"
-    )
-
-
-def _class_source(text: str, name: str) -> str | None:
-    """The source of the last definition of class ``name`` in ``text`` (with its
-    decorators), or None."""
-    try:
-        tree = ast.parse(text)
-    except SyntaxError:
-        return None
-    found = [n for n in ast.walk(tree) if isinstance(n, ast.ClassDef) and n.name == name]
-    if not found:
-        return None
-    node = found[-1]
-    lines = text.splitlines(keepends=True)
-    first = min([node.lineno, *(d.lineno for d in node.decorator_list)])
-    return textwrap.dedent("".join(lines[first - 1 : node.end_lineno]))
-
-
-def _referenced(obj, user: bool = False) -> set[str]:
-    """The ``docking`` modules the code of ``obj`` (a function, or a class's functions)
-    refers to through its globals: a module, or a function or class of one. With ``user``:
-    the modules of the user's own it refers to instead (:func:`_is_users`)."""
-    functions = (
-        [obj]
-        if isinstance(obj, types.FunctionType)
-        else [f for f in vars(obj).values() if isinstance(f, types.FunctionType)]
-    )
-    found = set()
-    for function in functions:
-        names, stack = set(), [function.__code__]
-        while stack:
-            code = stack.pop()
-            names.update(code.co_names)
-            stack.extend(c for c in code.co_consts if isinstance(c, types.CodeType))
-        for name in names:
-            value = function.__globals__.get(name)
-            module = value.__name__ if isinstance(value, types.ModuleType) else None
-            module = module or getattr(value, "__module__", None)
-            if not isinstance(module, str):
-                continue
-            if user and _is_users(module):
-                found.add(module)
-            elif not user and (module == "docking" or module.startswith("docking.")):
-                found.add(module)
-    return found
+    followed = sorted(m for m in code.imports if m not in NOT_FOLLOWED and _is_module(package, m))
+    return dataclasses.replace(code, imports=tuple(followed))
 
 
 def _is_module(package: Path, name: str) -> bool:
