@@ -410,3 +410,136 @@ GLANCE_CAPTION = (
     "matched training steps. Lines: the pose oracle (reads the true pose), the centroid rule, "
     "random actions."
 )
+
+
+# ------------------------------------------------------------------------------------------
+# The equal contest's answer (issue 59): the first screen and the summary's paragraph.
+# ------------------------------------------------------------------------------------------
+
+#: The worlds of the equal contest, as the first screen names them.
+EQUAL_WORLDS = {"sideboard": "sideboard", "floor": "floor", "nao": "Nao-like"}
+
+#: What the first screen calls each claim of the paper (its key in the verdict tables).
+CLAIM_WORDS = {
+    "features-success": "δ-trained features",
+    "delta": "δ-gated feature learning",
+    "features-interpretable": "interpretable features",
+    "curriculum": "the curriculum",
+    "rotation-most": "rotation",
+    "rotation-compensated": "rotation",
+    "turning-accuracy": "turning",
+    "turning-path": "turning",
+    "distractor-unseen": "distractors",
+    "distractor-mechanism": "distractors",
+}
+
+
+def _values(values: list[float]) -> str:
+    """``"200/100/50"`` (one value per world), or one value where all agree."""
+    distinct = list(dict.fromkeys(f"{v:g}" for v in values))
+    return distinct[0] if len(distinct) == 1 else "/".join(f"{v:g}" for v in values)
+
+
+def _listed(items: list[str]) -> str:
+    items = list(dict.fromkeys(items))
+    if len(items) <= 1:
+        return "".join(items)
+    return ", ".join(items[:-1]) + " and " + items[-1]
+
+
+def equal_first_screen(
+    published: dict[str, float],
+    chosen: dict[tuple[str, str], dict],
+    runs: int,
+    verdicts: dict[str, dict],
+    relocation: dict,
+    groups: dict[str, list[str]],
+) -> str:
+    """The first screen's five sentences (numbered lines) from the equal contest.
+
+    Args:
+      published: ``{world: the paper's learner's held-out success at its published settings}``
+        (sideboard, floor, Nao-like).
+      chosen: ``{(world, learner): the chosen setting}``
+        (:func:`docking.study.designs.equal_contest_report.chosen`).
+      runs: Selection runs per learner and world.
+      verdicts: ``{world: the equal contest's verdicts}``
+        (:func:`docking.study.designs.equal_contest_report.verdicts`).
+      relocation: ``{"cm", "world", "seeds", "home", "camera lower", "camera higher", "shift
+        lower", "shift higher"}``: the camera-height change, its world and seeds, the home
+        networks' held-out success at home and with the camera lower or higher, and the mean
+        shift of the landmark in input rows with the camera lower (up: negative rows) and
+        higher.
+      groups: The paper's claims by verdict (``claim_groups`` under the committed rule).
+    """
+    g = GLOSSARY
+    worlds = list(EQUAL_WORLDS)
+    paper = [chosen[w, "paper"] for w in worlds]
+    lines = [
+        f"At its [published settings]({g}#published-settings) the paper's learner docks "
+        f"{_pct(published['sideboard'])} of [held-out]({g}#held-out-trials) trials in our "
+        f"sideboard world, {_pct(published['floor'])} on the floor and "
+        f"{_pct(published['nao'])} in the Nao-like world (paper: 95%).",
+        f"Searched alike ({runs} runs per learner and world), it chose exploration β_a "
+        f"{_values([p['beta_a_train'] for p in paper])} (published 2), feature rate ε_W "
+        f"{_values([p['eps_w'] for p in paper])} (0.05), at value rate ε_Q "
+        f"{_values([p['eps_q'] for p in paper])} (0.1; fixed from earlier tuning).",
+        _equal_verdict(verdicts),
+        _relocation_sentence(relocation),
+        _claims_sentence(groups),
+    ]
+    return "\n".join(f"{k + 1}. {line}" for k, line in enumerate(lines))
+
+
+def _equal_verdict(verdicts: dict[str, dict]) -> str:
+    """The verdict's sentence: linear SARSA's lead per world, where a lead is shown, where the
+    paper's learner is non-inferior at 5 pp and where equivalent within ±5 pp."""
+    g = GLOSSARY
+    n = next(iter(verdicts.values()))["seeds"]
+    leads = "/".join(f"{100 * v['lead']:.1f}" for v in verdicts.values())
+
+    def where(test) -> str:
+        found = [EQUAL_WORLDS[w] for w, v in verdicts.items() if test(v)]
+        return "everywhere" if len(found) == len(verdicts) else ", ".join(found) or "nowhere"
+
+    shown = [w for w, v in verdicts.items() if v["lead_verdict"] != "no lead shown"]
+    behind = [w for w in shown if verdicts[w]["lead"] < 0]
+    lead = f"shown in {where(lambda v: v['lead_verdict'] != 'no lead shown')}"
+    if behind:
+        lead += f", the paper's in {', '.join(EQUAL_WORLDS[w] for w in behind)}"
+    text = (
+        f"On {n} fresh seeds, linear SARSA leads it by {leads} pp ({lead}); "
+        f"[non-inferiority]({g}#non-inferior) at 5 pp holds "
+        f"{_in(where(lambda v: v['noninferiority'] == 'non-inferior'))}, equivalence (±5 pp) "
+        f"{_in(where(lambda v: v['equivalence'] == 'equivalent'))}"
+    )
+    worse = where(lambda v: v["noninferiority"] == "inferior by more than the margin")
+    if worse != "nowhere":
+        text += f"; it trails by more than 5 pp {_in(worse)}"
+    return text + "."
+
+
+def _in(where: str) -> str:
+    return where if where in ("everywhere", "nowhere") else f"in {where}"
+
+
+def _relocation_sentence(r: dict) -> str:
+    verb = "cut" if r["camera lower"] < r["home"] else "raised"
+    return (
+        f"In the {r['world']} world ({r['seeds']} seeds), a camera {r['cm']:.0f} cm lower "
+        f"(landmark {abs(r['shift lower']):.2f} input rows up) {verb} success from "
+        f"{_pct(r['home'])} to {_pct(r['camera lower'])}; {r['cm']:.0f} cm higher "
+        f"({abs(r['shift higher']):.2f} rows down) gave {_pct(r['camera higher'])}."
+    )
+
+
+def _claims_sentence(groups: dict[str, list[str]]) -> str:
+    held = [CLAIM_WORDS.get(c, c) for c in groups.get("supported wherever judged", [])]
+    some = [CLAIM_WORDS.get(c, c) for c in groups.get("supported in some worlds only", [])]
+    against = [CLAIM_WORDS.get(c, c) for c in groups.get("contradicted in at least one world", [])]
+    total = sum(len(v) for v in groups.values())
+    return (
+        f"Of the paper's {total} claims, {_listed(held) or 'none'} hold wherever judged, "
+        f"{_listed(some) or 'none'} in some worlds; {_listed(against) or 'none'} "
+        "are contradicted."
+    )
