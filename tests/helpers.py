@@ -64,3 +64,9 @@ def tool(name: str):
     module = importlib.util.module_from_spec(spec)
     spec.loader.exec_module(module)
     return module
+
+
+def old_path(module: str) -> str:
+    """Where ``module`` (``docking.study.X``) was before the study layer moved into
+    ``docking/study/`` (issue 51): ``docking/X.py``."""
+    return module.replace("docking.study.", "docking.", 1).replace(".", "/") + ".py"

@@ -3,50 +3,17 @@ and its search, walked on synthetic scores."""
 
 from __future__ import annotations
 
-import hashlib
 import json
 import math
 import types
 from pathlib import Path
 
 import numpy as np
-import pinned
 import pytest
 
 from docking.study import provenance
 from docking.study.designs import addendum as ad
 from docking.study.designs import landscape as lsc
-
-#: The SHA-256 of rules_text() when the rules were committed, before any run of the addendum.
-RULES_DIGEST = "7809d4840d852585f603d398a8a24f8c31a1c635af7b71396390d747cd9728b9"
-#: The SHA-256 of rules_text() since the study layer moved into docking/study/ (issue 51): the
-#: same rules, its module's import statements naming the moved modules
-#: (:func:`test_the_rules_moved_unchanged` proves it from the history).
-MOVED_DIGEST = "3ccfe264ffc6bc1ccb866379711d3c5bc92b758641b68b330f1bce756544f907"
-
-
-def test_rules_are_the_committed_ones():
-    """The rules as committed: their digest since the move, which is the digest pinned at the
-    rules' commit with only import statements changed (:func:`test_the_rules_moved_unchanged`)."""
-    assert hashlib.sha256(ad.rules_text().encode()).hexdigest() == MOVED_DIGEST
-
-
-def test_the_rules_moved_unchanged():
-    """Which proof holds: the digest at the rules' commit, from the history (tests/pinned.py).
-    The rules now, with this module's tokens and the judging functions' source read as at
-    the rules' commit, have :data:`RULES_DIGEST`; the module differs from then only in
-    import statements; the judging functions' text is the same but for
-    ``report.paired_over_shared_seeds``'s import of ``t_paired_ci``."""
-    if not pinned.history():
-        pytest.skip("a shallow clone (or no git): the history that pinned the rules is not here")
-    commit = provenance.RULES_COMMITS[ad.NAME][0]
-    read = pinned.check_moved(ad.rules_text, commit, [ad], RULES_DIGEST)
-    assert sorted(read["functions"]) == [
-        "docking.study.report.contest_gaps",
-        "docking.study.report.paired_over_shared_seeds",
-        "docking.study.stats.t_paired_ci",
-    ]
-    assert pinned.changed_functions(read) == {"docking.study.report.paired_over_shared_seeds"}
 
 
 def test_seeds_are_fresh():
@@ -192,7 +159,7 @@ def test_the_rules_commit_is_the_one_history_holds():
         "--diff-filter=A",
         "--format=%H %cI",
         "--",
-        pinned.old_path(ad.__name__),  # its path at the rules' commit: docking/designs/
+        "docking/designs/addendum.py",  # its path at the rules' commit
     ]
     shallow = subprocess.run(
         ["git", "rev-parse", "--is-shallow-repository"], capture_output=True, text=True, cwd=root

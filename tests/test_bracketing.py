@@ -3,47 +3,13 @@ and its search, walked on synthetic scores."""
 
 from __future__ import annotations
 
-import hashlib
+import dataclasses
 import math
 
-import pinned
 import pytest
 
-from docking.study import provenance
 from docking.study.designs import addendum as ad
 from docking.study.designs import bracketing as br
-
-#: The SHA-256 of rules_text() when the rules were committed, before any of its runs.
-RULES_DIGEST = "061f85bf9f2da895b0038717c06fc814a98c213ab4f01bd8f64c1c14b1978077"
-#: The SHA-256 of rules_text() since the study layer moved into docking/study/ (issue 51): the
-#: same rules, its and the addendum's import statements naming the moved modules
-#: (:func:`test_the_rules_moved_unchanged` proves it from the history).
-MOVED_DIGEST = "18b5fb068d825ca1c8c11ab4dbcc72fa5d6d79653b6cb72790a6716de7c98af5"
-
-
-def test_rules_are_the_committed_ones():
-    """The rules as committed: their digest since the move, which is the digest pinned at the
-    rules' commit with only import statements changed (:func:`test_the_rules_moved_unchanged`)."""
-    assert hashlib.sha256(br.rules_text().encode()).hexdigest() == MOVED_DIGEST
-
-
-def test_the_rules_moved_unchanged():
-    """Which proof holds: the digest at the rules' commit, from the history (tests/pinned.py).
-    The rules now, with this module's and the addendum's tokens and the judging functions' source
-    read as at the rules' commit, have :data:`RULES_DIGEST`; both modules differ from then only in
-    import statements; the judging functions' text is the same but for
-    ``report.paired_over_shared_seeds``'s import of ``t_paired_ci`` (the addendum's rules, part of
-    these, by the same proof)."""
-    if not pinned.history():
-        pytest.skip("a shallow clone (or no git): the history that pinned the rules is not here")
-    commit = provenance.RULES_COMMITS[br.NAME][0]
-    read = pinned.check_moved(br.rules_text, commit, [br, ad], RULES_DIGEST)
-    assert sorted(read["functions"]) == [
-        "docking.study.report.contest_gaps",
-        "docking.study.report.paired_over_shared_seeds",
-        "docking.study.stats.t_paired_ci",
-    ]
-    assert pinned.changed_functions(read) == {"docking.study.report.paired_over_shared_seeds"}
 
 
 def _peak(optimum):
@@ -108,12 +74,11 @@ def test_ties_go_to_the_first_evaluated():
     assert br.incumbent(found) == dict(eps_q=0.1, beta_a_train=10.0)
 
 
-def test_the_extension_stage_keeps_within_the_budget(monkeypatch):
+def test_the_extension_stage_keeps_within_the_budget():
     start = dict(eps_q=0.3, beta_a_train=50.0, eps_w=0.5)
     found = {tuple(start.items()): {s: 0.9 for s in br.COMPARE_SEEDS}}
-    monkeypatch.setattr(br, "scores", lambda own, world, learner: found)
-    monkeypatch.setattr(br, "runs_used", lambda own, world, learner: br.BUDGET - 25)
-    cells = br._extend(None)
+    walk = dataclasses.replace(br.WALK, before=lambda world, learner: found, budget=25)
+    cells = walk.extend(None)
     per = {(c["world"], c["learner"]): 0 for c in cells}
     for c in cells:
         per[c["world"], c["learner"]] += len(c.seeds)

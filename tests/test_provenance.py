@@ -8,8 +8,8 @@ import json
 import subprocess
 from pathlib import Path
 
-import pinned
 import pytest
+from helpers import old_path
 
 from docking.study import provenance, report
 from docking.study.designs import MODULES
@@ -38,7 +38,7 @@ def test_the_rules_commit_is_the_one_history_holds(name):
     ).stdout.strip()
     if shallow != "false":
         pytest.skip("a shallow clone (or no git): the history that added the rules is not here")
-    module = pinned.old_path(MODULES[name])  # its path at the rules' commit: docking/designs/
+    module = old_path(MODULES[name])  # its path at the rules' commit: docking/designs/
     git = ["git", "log", "--diff-filter=A", "--format=%H %cI", "--", module]
     log = subprocess.run(git, capture_output=True, text=True, check=True, cwd=ROOT).stdout
     assert log.split() == list(provenance.RULES_COMMITS[name])
@@ -78,7 +78,7 @@ def test_each_deviation_is_the_history_s(deviation):
     shown = subprocess.run(git, capture_output=True, text=True, check=True, cwd=ROOT).stdout
     when, *paths = [line for line in shown.splitlines() if line]
     assert deviation.path in paths
-    module = pinned.old_path(MODULES[deviation.design])
+    module = old_path(MODULES[deviation.design])
     added = ["git", "log", "--diff-filter=A", "--format=%cI", "--", module]
     rules = subprocess.run(added, capture_output=True, text=True, check=True, cwd=ROOT).stdout
     assert report.utc(when) > report.utc(rules.split()[-1])
@@ -94,54 +94,26 @@ def test_every_deviation_names_a_design_and_is_shown_in_its_table():
 #: The designs whose every ledger run records the rules it was judged by (the designs whose
 #: runs were written after the ledger began recording them; the earlier ones' runs record
 #: their computed time at most).
-RULES_RECORDED = ("addendum-bracketing", "addendum-bracketing-continued", "untested-revisited")
+RULES_RECORDED = (
+    "addendum-bracketing",
+    "addendum-bracketing-continued",
+    "untested-revisited",
+    "bracketing-replication",
+    "fragility-landscape",
+)
 
 
 @pytest.mark.parametrize("name", RULES_RECORDED)
-def test_every_run_carries_the_digest_of_its_designs_rules(name):
-    """Every run records the digest of its design's rules as they were at the rules' commit:
-    the rules read now with their modules' tokens and judging functions' source as at that
-    commit (tests/pinned.py). The study layer's move into docking/study/ (issue 51) changed
-    these designs' import statements, so :func:`rules_digest` now gives another digest of the
-    same rules; each design's test proves they differ only in imports."""
-    import importlib
-    import sys
-
-    from docking.study.designs import rules_digest
-
-    if not pinned.history():
-        pytest.skip("a shallow clone (or no git): the history that pinned the rules is not here")
-    module = importlib.import_module(MODULES[name])
-    designs = [sys.modules[m] for m in set(MODULES.values()) if m in sys.modules]
-    then, read = pinned.digest_at(module.rules_text, provenance.RULES_COMMITS[name][0], designs)
-    assert module.__name__ in read["files"]
-    runs = _manifest_runs(name)
-    assert runs and {r.get("rules_sha256") for r in runs} == {then}
-    assert rules_digest(name) != then  # the digest since the move (pinned by its test)
-
-
-#: The designs whose rules' digest the study layer's move left as it was (their modules'
-#: imports are not part of their rules): each run records today's digest of its rules.
-RULES_UNMOVED = ("bracketing-replication", "fragility-landscape")
-
-
-@pytest.mark.parametrize("name", RULES_UNMOVED)
-def test_every_run_carries_its_rules_digest_as_committed_before_the_runs(name):
-    """Every run of the replication and of the landscape records the digest of its design's
-    rules, and the rules read with their modules as at the rules' commit give that digest."""
-    import importlib
-    import sys
-
+def test_every_run_carries_the_digest_of_its_designs_recorded_rules(name):
+    """Every run records the digest of its design's rules as committed before the runs: its
+    record's (tests/test_records.py holds the record to the digest pinned then), which is what
+    the ledger records for new runs too (:func:`rules_digest`)."""
+    from docking.study import records
     from docking.study.designs import rules_digest
 
     runs = _manifest_runs(name)
-    assert runs and {r.get("rules_sha256") for r in runs} == {rules_digest(name)}
-    if not pinned.history():
-        pytest.skip("a shallow clone (or no git): the history that pinned the rules is not here")
-    module = importlib.import_module(MODULES[name])
-    designs = [sys.modules[m] for m in set(MODULES.values()) if m in sys.modules]
-    then, _ = pinned.digest_at(module.rules_text, provenance.RULES_COMMITS[name][0], designs)
-    assert then == rules_digest(name)
+    assert runs and {r.get("rules_sha256") for r in runs} == {records.digest(name)}
+    assert rules_digest(name) == records.digest(name)
 
 
 def test_a_run_with_other_rules_breaks_its_tables_seal():

@@ -3,43 +3,15 @@ tests that can fail, and censoring handled by a method made for it."""
 
 from __future__ import annotations
 
-import hashlib
 import json
 import types
 from pathlib import Path
 
 import numpy as np
-import pinned
 import pytest
 
-from docking.study import claims, provenance
+from docking.study import claims
 from docking.study.designs import revisited as rv
-
-#: The SHA-256 of rules_text() when the rules were committed, before any of their runs.
-RULES_DIGEST = "580a6f6e3a0dfcf48976abdfd065c7cb93e73cc70325192beb9f0925c49d0f6b"
-#: The SHA-256 of rules_text() since the study layer moved into docking/study/ (issue 51): the
-#: same rules, its module's import statements naming the moved modules
-#: (:func:`test_the_rules_moved_unchanged` proves it from the history).
-MOVED_DIGEST = "46720a96374eacc9676062f0eb5f599d3cd325493c3e8e3e7d6e9a1f9ed2be1b"
-
-
-def test_rules_are_the_committed_ones():
-    """The rules as committed: their digest since the move, which is the digest pinned at the
-    rules' commit with only import statements changed (:func:`test_the_rules_moved_unchanged`)."""
-    assert hashlib.sha256(rv.rules_text().encode()).hexdigest() == MOVED_DIGEST
-
-
-def test_the_rules_moved_unchanged():
-    """Which proof holds: the digest at the rules' commit, from the history (tests/pinned.py).
-    The rules now, with this module's tokens and the judging code's source (the rules, the
-    family's judgement, Holm's step, the paired interval) read as at the rules' commit, have
-    :data:`RULES_DIGEST`; the module differs from then only in import statements, and the
-    judging code's text is byte for byte the same."""
-    if not pinned.history():
-        pytest.skip("a shallow clone (or no git): the history that pinned the rules is not here")
-    commit = provenance.RULES_COMMITS[rv.NAME][0]
-    read = pinned.check_moved(rv.rules_text, commit, [rv], RULES_DIGEST)
-    assert len(read["functions"]) == 9 and pinned.changed_functions(read) == set()
 
 
 def test_seeds_are_fresh():

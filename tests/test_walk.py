@@ -1,6 +1,7 @@
-"""The walk written once (docking.study.designs.walk, issue 51): given the bracketing's or its
-continuation's parameters, it builds the cells each of them builds, stage after stage, on
-synthetic scores; the two pinned designs keep their own code (their rules' digests cover it)."""
+"""The walk written once (docking.study.designs.walk): on synthetic scores it climbs to the
+optimum and brackets it, keeps within its budget; the bracketing and its continuation walk by
+it (their records' replay on the ledger's runs, tests/test_records.py, shows that it walks as
+their committed code did)."""
 
 from __future__ import annotations
 
@@ -69,63 +70,37 @@ def _same_cells(mine: list[Cell], theirs: list[Cell]) -> None:
         assert dict(a.coords) == dict(b.coords) and a.label == b.label and a.seeds == b.seeds
 
 
-def _walk_stages(design_extend, walk: Walk, own: _Results, stages: int) -> _Results:
-    """Each stage: the design's cells and the walk's are the same; both walk on."""
-    for _ in range(stages):
-        theirs, mine = design_extend(own), walk.extend(own)
-        if not theirs:
-            assert mine == []
-            break
-        _same_cells(mine, theirs)
-        own = own.extended(theirs)
-    return own
-
-
-def _bracketing_walk(addendum) -> Walk:
-    """The bracketing's parameters, its scores before it the addendum's tuning cells."""
-    return Walk(
-        name=br.NAME,
-        variant="bracket",
-        compare_seeds=br.COMPARE_SEEDS,
-        budget=br.BUDGET,
-        before=lambda world, learner: scores_of(addendum, f"tune-{learner}", world, learner),
-    )
-
-
-def test_the_walk_with_the_bracketings_parameters_is_the_bracketings_walk(monkeypatch):
+def test_the_walk_climbs_to_the_surfaces_optimum_and_brackets_it():
+    """Walked on a smooth surface with budget enough, each learner's incumbent climbs to the
+    optimum, every neighbour of it complete and worse: bracketed, and the walk stops."""
     addendum = _tuning()
-    monkeypatch.setattr(br, "addendum", lambda: addendum)
-    walk = _bracketing_walk(addendum)
-    own = _walk_stages(br._extend, walk, _Results([]), br.STAGES)
-    for world in ad.WORLDS:
-        for learner in ad.LEARNERS:
-            assert walk.tuned(own, world, learner) == br.tuned(own, world, learner)
-            assert walk.bracketed(own, world, learner) == br.bracketed(own, world, learner)
-            assert walk.runs_used(own, world, learner) == br.runs_used(own, world, learner)
-
-
-def test_the_walk_with_the_continuations_parameters_is_the_continuations_walk(monkeypatch):
-    addendum = _tuning()
-    monkeypatch.setattr(br, "addendum", lambda: addendum)
-    # the bracketing's results: two of its stages, then the continuation walks on
-    first = _walk_stages(br._extend, _bracketing_walk(addendum), _Results([]), 2)
-    bracketing = _Results([c for c in first.cells if c.coords["variant"].startswith("bracket")])
-    bracketing.cells = addendum.cells + bracketing.cells
-    bracketing.runs = first.runs
-    monkeypatch.setattr(bc, "bracketing", lambda: bracketing)
     walk = Walk(
-        name=bc.NAME,
-        variant="continue",
-        compare_seeds=bc.COMPARE_SEEDS,
-        budget=bc.BUDGET,
-        before=lambda world, learner: br.scores(bracketing, world, learner),
+        "a-walk",
+        "walk",
+        br.COMPARE_SEEDS,
+        10_000,
+        lambda world, learner: scores_of(addendum, f"tune-{learner}", world, learner),
     )
-    own = _walk_stages(bc._extend, walk, _Results([]), bc.STAGES)
-    assert own.cells  # it walked
+    own = _Results([])
+    for _ in range(20):
+        cells = walk.extend(own)
+        if not cells:
+            break
+        own = own.extended(cells)
+    else:
+        pytest.fail("the walk did not stop")
     for world in ad.WORLDS:
         for learner in ad.LEARNERS:
-            assert walk.tuned(own, world, learner) == bc.tuned(own, world, learner)
-            assert walk.bracketed(own, world, learner) == bc.bracketed(own, world, learner)
+            assert walk.tuned(own, world, learner) == OPTIMUM[learner]
+            assert walk.bracketed(own, world, learner)
+
+
+def test_the_bracketing_designs_walk_by_the_one_walk():
+    """Written once: both designs' stages are the one walk's (their records' replay shows it
+    walks as their committed code did, tests/test_records.py)."""
+    assert br._extend == br.WALK.extend and bc._extend == bc.WALK.extend
+    assert (br.WALK.variant, bc.WALK.variant) == ("bracket", "continue")
+    assert (br.WALK.budget, bc.WALK.budget) == (br.BUDGET, bc.BUDGET)
 
 
 @pytest.mark.parametrize("budget", [0, 25])

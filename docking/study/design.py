@@ -263,6 +263,14 @@ def rules_text(design: Design, constants: dict) -> str:
     return json.dumps(text, sort_keys=True, indent=1, default=list)
 
 
+def rules_data(design: Design, constants: dict) -> dict:
+    """A design's rules as data: :func:`rules_text` parsed (what its record is held against,
+    :mod:`docking.study.records`)."""
+    import json
+
+    return json.loads(rules_text(design, constants))
+
+
 def yardstick_config(base: ExperimentConfig, policy: str, heldout_trials: int) -> ExperimentConfig:
     """The yardstick run of ``policy`` (``ExperimentConfig.policy``: "oracle", "centroid",
     "forward", "random") in ``base``'s world: no training and no main test, ``heldout_trials``

@@ -16,7 +16,7 @@ import hashlib
 import json
 from pathlib import Path
 
-__all__ = ["folder", "procedure", "text", "data", "digest"]
+__all__ = ["data", "digest", "exists", "folder", "parts", "procedure", "replay", "text"]
 
 
 def folder() -> Path:
@@ -51,3 +51,25 @@ def digest(name: str) -> str:
 def procedure(name: str) -> str:
     """The verbatim source of design ``name``'s procedure as committed with its rules."""
     return _path(name, ".procedure.py.txt").read_text()
+
+
+def parts(name: str) -> list[tuple[str, str, str]]:
+    """The verbatim copy of design ``name``'s procedure in its parts, in the order the rules'
+    digest read them: ``(kind, name, text)`` with kind ``"module"`` or ``"function"``."""
+    found = []
+    for chunk in procedure(name).split("# ==== ")[1:]:
+        head, _, body = chunk.partition("\n")
+        kind, _, what = head.partition(" ")
+        found.append((kind, what, body))
+    return found
+
+
+def exists(name: str) -> bool:
+    """Whether design ``name`` has a rules record."""
+    return (folder() / f"{name}.json.gz").is_file()
+
+
+def replay(name: str) -> dict:
+    """What design ``name``'s rules gave on the committed ledger's runs when its record was
+    written (:func:`docking.study.designs.replay`)."""
+    return json.loads(_path(name, ".replay.json").read_text())

@@ -46,14 +46,102 @@ def names() -> list[str]:
 
 
 def rules_digest(name: str) -> str | None:
-    """The SHA-256 of design ``name``'s rules (its module's ``rules_text()``, what its test
-    pins), or None for a design without committed rules: what the ledger records beside each
-    of its runs (:func:`docking.study.ledger.update`'s ``rules``)."""
-    import hashlib
+    """The SHA-256 of design ``name``'s rules as committed before its runs (its record's,
+    :mod:`docking.study.records`), or None for a design without committed rules: what the
+    ledger records beside each of its runs (:func:`docking.study.ledger.update`'s
+    ``rules``)."""
+    from docking.study import records
 
     design(name)  # ValueError naming the designs
-    module = importlib.import_module(MODULES[name])
-    text = getattr(module, "rules_text", None)
-    if text is None or getattr(module, "NAME", None) != name:
-        return None
-    return hashlib.sha256(text().encode()).hexdigest()
+    return records.digest(name) if records.exists(name) else None
+
+
+def rules_data(name: str) -> dict:
+    """Design ``name``'s rules as its live code states them (its module's ``rules_data()``:
+    constants, cells, claims), what tests/test_records.py holds against its record."""
+    return importlib.import_module(MODULES[name]).rules_data()
+
+
+# ------------------------------------------------------------------------------------------
+# Replaying a design's rules on the committed ledger's runs (its record's replay).
+# ------------------------------------------------------------------------------------------
+
+
+def _gaps(found) -> list:
+    """Gap-rule verdicts as data (:class:`docking.study.report.ContestGap` each)."""
+    return [
+        [g.world, g.other, g.interval.estimate, g.interval.low, g.interval.high, g.verdict]
+        for g in found
+    ]
+
+
+def _extra_verdicts(name: str, results) -> dict:
+    """The verdicts a design's rules reach beyond its claims (its gap rule, its leads)."""
+    from docking.study import report
+
+    if name == "third-edition":
+        from docking.study.designs import third_edition as te
+
+        return {
+            "gaps": _gaps(report.contest_gaps(results, te.CONTEST, te.GAP_CLOSED)),
+            "ppo gaps": _gaps(
+                report.contest_gaps(results, te.CONTEST, te.GAP_CLOSED, other="ppo-tuned")
+            ),
+        }
+    if name == "third-edition-addendum":
+        from docking.study.designs import addendum as ad
+
+        return {"gaps": _gaps(report.contest_gaps(results, ad.WORLDS, ad.GAP_CLOSED))}
+    if name in ("addendum-bracketing", "addendum-bracketing-continued"):
+        module = importlib.import_module(MODULES[name])
+        return {"gaps": _gaps(module.gaps(results))}
+    if name == "bracketing-replication":
+        from docking.study.designs import replication as rp
+
+        pairs = {w: (results.score(f"{w}/linear"), results.score(f"{w}/paper")) for w in rp.WORLDS}
+        return {
+            "gaps": {w: [*rp.gap_interval(*p), rp.gap_verdict(*p)] for w, p in pairs.items()},
+            "leads": {w: list(v) for w, v in rp.lead_verdicts(pairs).items()},
+        }
+    if name == "equal-contest":
+        from docking.study.designs import equal_contest as ec
+        from docking.study.designs import equal_contest_report as ecr
+
+        chosen = {f"{w}/{learner}": s for (w, learner), s in ecr.chosen(results).items()}
+        return {"chosen": chosen, "verdicts": ecr.verdicts(results), "margin": ec.MARGIN}
+    return {}
+
+
+def replay(name: str, results_dir=None) -> dict:
+    """Design ``name``'s rules replayed on the runs the results store or the committed ledger
+    holds (never computed; ``LookupError`` if a run the rules ask for is in neither): the cells
+    its procedure walks (key, SHA-256 of the configuration, seeds), its claims' decisions
+    (Holm within each claim) and the verdicts of its other rules. What its record's
+    ``replay.json`` holds; the live code must give the same (tests/test_records.py)."""
+    import hashlib
+    import json
+
+    from docking.study import design as layer
+
+    found = design(name)
+    results = layer._walk(
+        found,
+        found.select(False),
+        lambda new, _: layer._loaded(found, new, results_dir),
+        results_dir,
+    )[1]
+    cells = [
+        [
+            c.key,
+            hashlib.sha256(json.dumps(c.config.to_dict(), sort_keys=True).encode()).hexdigest(),
+            list(c.seeds or found.seeds),
+        ]
+        for c in results.cells
+    ]
+    decisions = []
+    if found.claims:
+        from docking.study.claims import judge_family
+
+        for d in judge_family(found.claims, results, alpha=found.alpha, per_claim=True):
+            decisions.append([d.claim, d.world, d.key, d.verdict, d.p, d.p_adjusted])
+    return {"cells": cells, "decisions": decisions, "verdicts": _extra_verdicts(name, results)}

@@ -1,10 +1,11 @@
 """The third edition's addendum: the contest tuned until every optimum is bracketed (issue 40).
 
 **These rules were committed before any run of the addendum** and are not changed after
-seeing its runs (``tests/test_addendum.py`` pins them by a digest of :func:`rules_text`, which
-covers this module's code and the gap rule's, not only its constants). A new, labelled
-analysis beside the third edition (:mod:`docking.study.designs.third_edition`), whose tables stay
-as they were run.
+seeing its runs (their record, ``rules/third-edition-addendum.*``: the rules text pinned by
+digest at the rules' commit, this module's code and the gap rule's as they were then;
+tests/test_records.py holds the live rules to it and replays them on the ledger's runs).
+A new, labelled analysis beside the third edition
+(:mod:`docking.study.designs.third_edition`), whose tables stay as they were run.
 
 The question: once each SARSA learner is tuned on the same knobs of Eq. (4)-(8) (eps_Q, the
 exploration temperature beta_a in training, and eps_W where there is a W) by a search that
@@ -48,17 +49,14 @@ tuning, and the yardsticks (the third edition's serve: same worlds, same held-ou
 from __future__ import annotations
 
 import dataclasses
-import hashlib
-import inspect
 import itertools
 import json
-from pathlib import Path
 
 import numpy as np
 
 from docking.presets import FLOOR_WORLD, NAO_WORLD
 from docking.study.design import Cell, Design
-from docking.study.design import rules_text as design_rules_text
+from docking.study.design import rules_data as design_rules_data
 from docking.study.designs.builders import experiment2_in, linear_sarsa, net, variant
 from docking.study.ppo import PPOConfig
 
@@ -364,28 +362,17 @@ DESIGN = Design(
 )
 
 
-def _code_digest() -> str:
-    """SHA-256 of the code that runs and judges the addendum: this module's tokens (without
-    comments and docstrings) and the gap rule's and its interval's source."""
-    from docking.study import fingerprint, report, stats
-
-    digest = hashlib.sha256()
-    digest.update(fingerprint.code_tokens(Path(__file__).read_text(), __name__)[0].encode())
-    for function in (report.contest_gaps, report.paired_over_shared_seeds, stats.t_paired_ci):
-        digest.update(inspect.getsource(function).encode())
-    return digest.hexdigest()
-
-
-#: The constants that are rules (in :func:`rules_text`).
+#: The constants that are rules (in :func:`rules_data`).
 RULES = (
     "SEEDS TUNING_SEEDS ROUND1_SEEDS BUDGET EXTENSIONS ROUND_2 GAP_CLOSED ALPHA "
     "PRETRAIN_TRIALS LADDERS LIMITS START KNOBS PPO_SETTINGS PPO_ENVS NETWORK_CELLS"
 ).split()
 
 
-def rules_text() -> str:
-    """Every rule of the addendum as canonical text: its constants, its round-1 cells and a
-    digest of the code of its stages and of the gap rule (:func:`_code_digest`)."""
+def rules_data() -> dict:
+    """The rules as the live code states them: its constants, cells and claims
+    (:func:`docking.study.design.rules_data`). The record in ``rules/`` holds them as
+    committed before the runs (with the code they pinned); tests/test_records.py holds the
+    two together and replays the rules on the ledger's runs."""
     constants = {n: globals()[n] for n in RULES}
-    constants["code"] = _code_digest()
-    return design_rules_text(DESIGN, json.loads(json.dumps(constants, default=list)))
+    return design_rules_data(DESIGN, json.loads(json.dumps(constants, default=list)))

@@ -2,8 +2,9 @@
 bracketed (issue 40), a second labelled analysis beside :mod:`docking.study.designs.addendum`.
 
 **These rules were committed before any of its runs** and are not changed after seeing them
-(``tests/test_bracketing.py`` pins them by a digest of :func:`rules_text`, which covers this
-module's code, the addendum's rules and the gap rule's code).
+(their record, ``rules/addendum-bracketing.*``: the rules text pinned at the rules' commit,
+this module's code, the addendum's rules and the gap rule's code as they were then;
+tests/test_records.py holds the live rules to it and replays them on the ledger's runs).
 
 Why: the addendum's search ran out of extension stages before the paper's learner's tuned
 setting had all its neighbours evaluated (its tables say "at the edge: the search
@@ -45,18 +46,15 @@ from __future__ import annotations
 
 import dataclasses
 import functools
-import hashlib
-import inspect
 import itertools
 import json
-from pathlib import Path
 
 import numpy as np
 
 from docking.study.design import Cell, Design
-from docking.study.design import rules_text as design_rules_text
+from docking.study.design import rules_data as design_rules_data
 from docking.study.designs import addendum as ad
-from docking.study.designs.builders import experiment2_in, linear_sarsa, net, variant
+from docking.study.designs.walk import Walk, scores_of
 
 NAME = "addendum-bracketing"
 #: The seeds every setting is compared on (the addendum's first 10 tuning seeds: every
@@ -76,96 +74,22 @@ def addendum():
     return ad.DESIGN.run(progress=False)
 
 
-def learner_config(world: str, learner: str, **setting):
-    """The learner ``learner`` of ``world`` with ``setting``, named for this design."""
-    base = experiment2_in(ad.WORLDS[world], NAME)
-    make = linear_sarsa if learner == "linear" else net
-    return variant(base, NAME, network=make(base, **setting))
+def _before(world: str, learner: str) -> dict:
+    """The addendum's tuning runs of ``learner`` in ``world``, per setting."""
+    return scores_of(addendum(), f"tune-{learner}", world, learner)
 
 
-def _setting(coords, learner) -> tuple:
-    return tuple((k, coords[k]) for k in ad.KNOBS[learner])
-
-
-def scores(own, world: str, learner: str) -> dict[tuple, dict[int, float]]:
-    """Per setting (a tuple of ``(knob, value)``), in the order evaluated (the addendum's
-    tuning cells, then this design's): its held-out success on each seed it ran."""
-    found: dict[tuple, dict[int, float]] = {}
-    sources = [(addendum(), f"tune-{learner}")]
-    if own is not None:
-        sources.append((own, f"bracket-{learner}"))
-    for results, variant_name in sources:
-        for c in results.cells:
-            if c.coords.get("variant") != variant_name or c["world"] != world:
-                continue
-            seeds = [r.seed for r in results.runs[c.key]]
-            got = found.setdefault(_setting(c.coords, learner), {})
-            got.update(zip(seeds, map(float, results.score(c.key)), strict=True))
-    return found
-
-
-def complete(found: dict[tuple, dict[int, float]]) -> dict[tuple, float]:
-    """The complete settings' means over :data:`COMPARE_SEEDS`, in the order evaluated."""
-    return {
-        s: float(np.mean([got[seed] for seed in COMPARE_SEEDS]))
-        for s, got in found.items()
-        if all(seed in got for seed in COMPARE_SEEDS)
-    }
-
-
-def incumbent(found) -> dict:
-    """The complete setting with the best mean (ties: the first evaluated)."""
-    means = complete(found)
-    order = list(means)
-    best = max(range(len(order)), key=lambda i: (means[order[i]], -i))
-    return dict(order[best])
-
-
-def runs_used(own, world: str, learner: str) -> int:
-    if own is None:
-        return 0
-    return sum(
-        len(own.runs[c.key])
-        for c in own.cells
-        if c.coords.get("variant") == f"bracket-{learner}" and c["world"] == world
-    )
-
-
-def missing_neighbours(found, setting: dict) -> list[tuple[dict, tuple[int, ...]]]:
-    """Each neighbour of ``setting`` on the ladders with the compared seeds it lacks."""
-    return [
-        (other, tuple(s for s in COMPARE_SEEDS if s not in found.get(tuple(other.items()), {})))
-        for other, limit in ad.neighbours(setting)
-        if limit is None
-        and not all(s in found.get(tuple(other.items()), {}) for s in COMPARE_SEEDS)
-    ]
-
-
-def bracketed(own, world: str, learner: str) -> bool:
-    """Whether the learner's incumbent has every neighbour complete."""
-    found = scores(own, world, learner)
-    return not missing_neighbours(found, incumbent(found))
-
-
-def _extend(own) -> list[Cell]:
-    cells = []
-    for world, learner in itertools.product(ad.WORLDS, ad.LEARNERS):
-        found = scores(own, world, learner)
-        used = runs_used(own, world, learner)
-        for setting, seeds in missing_neighbours(found, incumbent(found)):
-            if used + len(seeds) <= BUDGET:
-                used += len(seeds)
-                cells.append(
-                    Cell(
-                        f"{world}/bracket-{learner}/{ad.tag(setting)}",
-                        learner_config(world, learner, **setting),
-                        {"world": world, "variant": f"bracket-{learner}", "learner": learner}
-                        | setting,
-                        f"{learner} {ad.tag(setting)}",
-                        seeds=seeds,
-                    )
-                )
-    return cells
+#: The walk (:class:`docking.study.designs.walk.Walk`): the addendum's tuning runs first, then
+#: this design's cells (variant ``bracket-{learner}``).
+WALK = Walk(NAME, "bracket", COMPARE_SEEDS, BUDGET, _before)
+learner_config = WALK.learner_config
+scores = WALK.scores
+complete = WALK.complete
+incumbent = WALK.incumbent
+missing_neighbours = WALK.missing_neighbours
+runs_used = WALK.runs_used
+bracketed = WALK.bracketed
+_extend = WALK.extend
 
 
 def tuned(own, world: str, learner: str) -> dict:
@@ -264,26 +188,14 @@ DESIGN = Design(
 )
 
 
-def _code_digest() -> str:
-    """SHA-256 of this module's tokens (without comments and docstrings), the addendum's
-    rules text and the gap rule's and its interval's source."""
-    from docking.study import fingerprint, report, stats
-
-    digest = hashlib.sha256()
-    digest.update(fingerprint.code_tokens(Path(__file__).read_text(), __name__)[0].encode())
-    digest.update(ad.rules_text().encode())
-    for function in (report.contest_gaps, report.paired_over_shared_seeds, stats.t_paired_ci):
-        digest.update(inspect.getsource(function).encode())
-    return digest.hexdigest()
-
-
-#: The constants that are rules (in :func:`rules_text`).
+#: The constants that are rules (in :func:`rules_data`).
 RULES = "COMPARE_SEEDS BUDGET STAGES STEPS_TOLERANCE".split()
 
 
-def rules_text() -> str:
-    """Every rule of the bracketing as canonical text: its constants and
-    :func:`_code_digest`."""
+def rules_data() -> dict:
+    """The rules as the live code states them: its constants, cells and claims
+    (:func:`docking.study.design.rules_data`). The record in ``rules/`` holds them as
+    committed before the runs (with the code they pinned); tests/test_records.py holds the
+    two together and replays the rules on the ledger's runs."""
     constants = {n: globals()[n] for n in RULES}
-    constants["code"] = _code_digest()
-    return design_rules_text(DESIGN, json.loads(json.dumps(constants, default=list)))
+    return design_rules_data(DESIGN, json.loads(json.dumps(constants, default=list)))

@@ -3,8 +3,9 @@
 seeds.
 
 **These rules were committed before any of its runs** and are not changed after seeing them
-(``tests/test_bracketing_continued.py`` pins them by a digest of :func:`rules_text`, which
-covers this module's code, the bracketing's rules and the gap rule's code).
+(their record, ``rules/addendum-bracketing-continued.*``: the rules text pinned at the rules'
+commit, this module's code, the bracketing's rules and the gap rule's code as they were then;
+tests/test_records.py holds the live rules to it and replays them on the ledger's runs).
 
 Why: the bracketing's search ran out of budget (100 runs per learner and world) before the
 paper's learner's tuned setting had all its neighbours evaluated, in both worlds; its
@@ -44,19 +45,16 @@ from __future__ import annotations
 
 import dataclasses
 import functools
-import hashlib
-import inspect
 import itertools
 import json
-from pathlib import Path
 
 import numpy as np
 
 from docking.study.design import Cell, Design
-from docking.study.design import rules_text as design_rules_text
+from docking.study.design import rules_data as design_rules_data
 from docking.study.designs import addendum as ad
 from docking.study.designs import bracketing as br
-from docking.study.designs.builders import experiment2_in, linear_sarsa, net, variant
+from docking.study.designs.walk import Walk
 
 NAME = "addendum-bracketing-continued"
 #: The seeds every setting is compared on (the bracketing's).
@@ -80,69 +78,22 @@ def bracketing():
     return br.DESIGN.run(progress=False)
 
 
-def learner_config(world: str, learner: str, **setting):
-    """The learner ``learner`` of ``world`` with ``setting``, named for this design."""
-    base = experiment2_in(ad.WORLDS[world], NAME)
-    make = linear_sarsa if learner == "linear" else net
-    return variant(base, NAME, network=make(base, **setting))
+def _before(world: str, learner: str) -> dict:
+    """Every setting the addendum and the bracketing ran, in the order evaluated."""
+    return br.scores(bracketing(), world, learner)
 
 
-def scores(own, world: str, learner: str) -> dict[tuple, dict[int, float]]:
-    """Per setting, in the order evaluated (the addendum's, the bracketing's, then this
-    design's): its held-out success on each seed it ran."""
-    found = br.scores(bracketing(), world, learner)
-    if own is None:
-        return found
-    for c in own.cells:
-        if c.coords.get("variant") != f"continue-{learner}" or c["world"] != world:
-            continue
-        seeds = [r.seed for r in own.runs[c.key]]
-        got = found.setdefault(br._setting(c.coords, learner), {})
-        got.update(zip(seeds, map(float, own.score(c.key)), strict=True))
-    return found
-
-
-complete = br.complete
-incumbent = br.incumbent
-missing_neighbours = br.missing_neighbours
-
-
-def runs_used(own, world: str, learner: str) -> int:
-    """This design's walk's training runs for ``learner`` in ``world``."""
-    if own is None:
-        return 0
-    return sum(
-        len(own.runs[c.key])
-        for c in own.cells
-        if c.coords.get("variant") == f"continue-{learner}" and c["world"] == world
-    )
-
-
-def bracketed(own, world: str, learner: str) -> bool:
-    """Whether the learner's incumbent has every neighbour complete."""
-    found = scores(own, world, learner)
-    return not missing_neighbours(found, incumbent(found))
-
-
-def _extend(own) -> list[Cell]:
-    cells = []
-    for world, learner in itertools.product(ad.WORLDS, ad.LEARNERS):
-        found = scores(own, world, learner)
-        used = runs_used(own, world, learner)
-        for setting, seeds in missing_neighbours(found, incumbent(found)):
-            if used + len(seeds) <= BUDGET:
-                used += len(seeds)
-                cells.append(
-                    Cell(
-                        f"{world}/continue-{learner}/{ad.tag(setting)}",
-                        learner_config(world, learner, **setting),
-                        {"world": world, "variant": f"continue-{learner}", "learner": learner}
-                        | setting,
-                        f"{learner} {ad.tag(setting)}",
-                        seeds=seeds,
-                    )
-                )
-    return cells
+#: The walk (:class:`docking.study.designs.walk.Walk`): the addendum's and the bracketing's
+#: runs first, then this design's cells (variant ``continue-{learner}``).
+WALK = Walk(NAME, "continue", COMPARE_SEEDS, BUDGET, _before)
+learner_config = WALK.learner_config
+scores = WALK.scores
+complete = WALK.complete
+incumbent = WALK.incumbent
+missing_neighbours = WALK.missing_neighbours
+runs_used = WALK.runs_used
+bracketed = WALK.bracketed
+_extend = WALK.extend
 
 
 def tuned(own, world: str, learner: str) -> dict:
@@ -225,26 +176,14 @@ DESIGN = Design(
 )
 
 
-def _code_digest() -> str:
-    """SHA-256 of this module's tokens (without comments and docstrings), the bracketing's
-    rules text and the gap rule's and its interval's source."""
-    from docking.study import fingerprint, report, stats
-
-    digest = hashlib.sha256()
-    digest.update(fingerprint.code_tokens(Path(__file__).read_text(), __name__)[0].encode())
-    digest.update(br.rules_text().encode())
-    for function in (report.contest_gaps, report.paired_over_shared_seeds, stats.t_paired_ci):
-        digest.update(inspect.getsource(function).encode())
-    return digest.hexdigest()
-
-
-#: The constants that are rules (in :func:`rules_text`).
+#: The constants that are rules (in :func:`rules_data`).
 RULES = "COMPARE_SEEDS SEEDS BUDGET STAGES".split()
 
 
-def rules_text() -> str:
-    """Every rule of the continued bracketing as canonical text: its constants and
-    :func:`_code_digest`."""
+def rules_data() -> dict:
+    """The rules as the live code states them: its constants, cells and claims
+    (:func:`docking.study.design.rules_data`). The record in ``rules/`` holds them as
+    committed before the runs (with the code they pinned); tests/test_records.py holds the
+    two together and replays the rules on the ledger's runs."""
     constants = {n: globals()[n] for n in RULES}
-    constants["code"] = _code_digest()
-    return design_rules_text(DESIGN, json.loads(json.dumps(constants, default=list)))
+    return design_rules_data(DESIGN, json.loads(json.dumps(constants, default=list)))

@@ -2,8 +2,9 @@
 of runs on a common grid, judged on fresh seeds, and its verdict named as the test it is.
 
 **These rules were committed before any of its runs** and are not changed after seeing them
-(``tests/test_equal_contest.py`` pins them by a digest of :func:`rules_text`, which covers its
-constants, its cells and the source of its procedure and its verdict functions).
+(their record, ``rules/equal-contest.*``: the rules text pinned by digest at the rules' commit
+and its procedure's source as it was then; tests/test_equal_contest.py and
+tests/test_records.py hold the live rules to it and replay them on the ledger's runs).
 
 Why: the main finding so far ("tuned alike, the paper's learner docks within 5 pp of linear
 SARSA", the bracketing and its replication) rests on searches that were not alike. The
@@ -318,7 +319,7 @@ def judgement(pairs: dict) -> dict:
     return search.judgement(pairs, MARGIN, ALPHA, ("linear SARSA", "the paper's learner"))
 
 
-#: The constants that are rules (in :func:`rules_text`).
+#: The constants that are rules (in :func:`rules_data`).
 RULES = (
     "WORLDS LEARNERS GRID_SEEDS SELECTION_SEEDS SEEDS GRID_ROWS GRID_COLS EXTENSION_STAGES "
     "EXTENSION_POINTS TOP_K ALPHA MARGIN PPO_STEPS PPO_ENVS PAPER_EPS_Q KNOBS READ_FROM"

@@ -2,8 +2,9 @@
 :mod:`docking.study.designs.bracketing_continued`, judged on seeds no earlier run has used.
 
 **These rules were committed before any of its runs** and are not changed after seeing them
-(``tests/test_replication.py`` pins them by a digest of :func:`rules_text`, which covers its
-constants, its cells and the source of its verdict functions).
+(their record, ``rules/bracketing-replication.*``: the rules text pinned at the rules' commit,
+its verdict functions' source as it was then; tests/test_records.py holds the live rules to it
+and replays them on the ledger's runs).
 
 Why: the bracketing continued judged both tuned SARSA learners on ten fresh seeds
 (7000-7009). In the Nao-like world its interval put the paper's learner ahead, at the edge
@@ -42,8 +43,6 @@ Budget: 120 runs (3 learners x 2 worlds x 20 seeds), about 1.3 h of one process.
 from __future__ import annotations
 
 import dataclasses
-import hashlib
-import inspect
 import itertools
 import json
 
@@ -51,7 +50,7 @@ import numpy as np
 from scipy import stats as sps
 
 from docking.study.design import Cell, Design
-from docking.study.design import rules_text as design_rules_text
+from docking.study.design import rules_data as design_rules_data
 from docking.study.designs import addendum as ad
 from docking.study.designs.builders import experiment2_in, linear_sarsa, net, variant
 
@@ -186,17 +185,14 @@ def first_lead(interval_low, interval_high):
     return "no lead shown"
 
 
-#: The constants that are rules (in :func:`rules_text`).
+#: The constants that are rules (in :func:`rules_data`).
 RULES = "SEEDS TUNED PPO_STEPS GAP_CLOSED ALPHA WORLDS LEARNERS".split()
-#: The functions whose source is part of the rules.
-VERDICTS = (gap_interval, gap_verdict, lead_verdicts, wording, first_lead)
 
 
-def rules_text() -> str:
-    """Every rule of the replication as canonical text: its constants, its cells and the
-    source of its verdict functions (not this module's imports, so that moving the modules
-    it imports from leaves its rules as they were)."""
+def rules_data() -> dict:
+    """The rules as the live code states them: its constants, cells and claims
+    (:func:`docking.study.design.rules_data`). The record in ``rules/`` holds them as
+    committed before the runs (with the code they pinned); tests/test_records.py holds the
+    two together and replays the rules on the ledger's runs."""
     constants = {n: globals()[n] for n in RULES}
-    source = "".join(inspect.getsource(f) for f in VERDICTS)
-    constants["verdicts"] = hashlib.sha256(source.encode()).hexdigest()
-    return design_rules_text(DESIGN, json.loads(json.dumps(constants, default=list)))
+    return design_rules_data(DESIGN, json.loads(json.dumps(constants, default=list)))

@@ -2,8 +2,9 @@
 analysis beside :mod:`docking.study.designs.untested`, whose tables stay as they were run.
 
 **These rules were committed before any of their runs** and are not changed after seeing
-them (``tests/test_revisited.py`` pins them by a digest of :func:`rules_text`, which covers
-this module's code, the measures' and the judging code's, not only their names).
+them (their record, ``rules/untested-revisited.*``: the rules text pinned at the rules' commit, this
+module's code and the judging code as they were then; tests/test_records.py holds the live
+rules to it and replays them on the ledger's runs).
 
 Why again:
 
@@ -53,17 +54,14 @@ Budget (8 h): 10 fresh seeds; both learners at home (2000 trials) and in each ch
 from __future__ import annotations
 
 import dataclasses
-import hashlib
-import inspect
 import json
-from pathlib import Path
 
 import numpy as np
 
 from docking.presets import EXPERIMENT_2
 from docking.study.claims import Above, Claim, Equivalent
 from docking.study.design import Cell, Design, yardstick_config
-from docking.study.design import rules_text as design_rules_text
+from docking.study.design import rules_data as design_rules_data
 from docking.study.designs import untested
 from docking.study.designs.builders import HELDOUT_TRIALS, experiment2_in, linear_sarsa, variant
 from docking.study.designs.measures import _unit
@@ -271,38 +269,16 @@ DESIGN = Design(
 )
 
 
-def _code_digest() -> str:
-    """SHA-256 of this module's tokens (no comments or docstrings) and the source of the
-    judging code: the rules, the family's judgement, Holm's step and the paired interval."""
-    from docking.study import claims, fingerprint, stats
-
-    digest = hashlib.sha256()
-    digest.update(fingerprint.code_tokens(Path(__file__).read_text(), __name__)[0].encode())
-    for part in (
-        claims.Rule,
-        claims.Above,
-        claims.Equivalent,
-        claims.judge_family,
-        claims.one_family,
-        claims.pair_of,
-        stats.holm,
-        stats.t_paired_ci,
-        stats.Interval,
-    ):
-        digest.update(inspect.getsource(part).encode())
-    digest.update(repr(claims.NEAR_BOUND).encode())
-    return digest.hexdigest()
-
-
 RULES = (
     "SEEDS YARDSTICK_SEEDS ALPHA RELOCATION_MARGIN HEIGHT_CHANGE EVAL_EVERY EARLY_TRIALS "
     "EVAL_TRIALS EARLY_HELDOUT REGAIN LEARNERS"
 ).split()
 
 
-def rules_text() -> str:
-    """Every rule as canonical text: its constants, claims and cells, and
-    :func:`_code_digest`."""
+def rules_data() -> dict:
+    """The rules as the live code states them: its constants, cells and claims
+    (:func:`docking.study.design.rules_data`). The record in ``rules/`` holds them as
+    committed before the runs (with the code they pinned); tests/test_records.py holds the
+    two together and replays the rules on the ledger's runs."""
     constants = {n: globals()[n] for n in RULES}
-    constants["code"] = _code_digest()
-    return design_rules_text(DESIGN, json.loads(json.dumps(constants, default=list)))
+    return design_rules_data(DESIGN, json.loads(json.dumps(constants, default=list)))

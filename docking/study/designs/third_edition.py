@@ -1,7 +1,8 @@
 """The study, third edition: confirmatory, on fresh seeds, in a fair contest (issue 30).
 
 **These rules were committed before any run of this edition** and are not changed after
-seeing its runs (``tests/test_third_edition.py`` pins them by a digest of :func:`rules_text`).
+seeing its runs (their record, ``rules/third-edition.json.gz``, the rules text pinned by
+digest at the rules' commit; tests/test_records.py holds the live rules to it).
 The question: do the paper's claims hold on seeds no run used before, judged by paired
 intervals and Holm within each claim (one family beside it); and given the same tuning
 budget in each world (:class:`~docking.study.designs.builders.Tuning`), does the paper's learner
@@ -17,13 +18,14 @@ curves, near-only and two-stage findings, eps_W x10 and x100, other learners in 
 from __future__ import annotations
 
 import itertools
+import json
 from dataclasses import replace
 
 from docking.experiments import Curriculum
 from docking.presets import EXPERIMENT_1, EXPERIMENT_2, FLOOR_WORLD, NAO_WORLD
 from docking.study.claims import Above, Claim, Equivalent, Gap, ShareAbove
 from docking.study.design import Cell, Design, yardstick_config
-from docking.study.design import rules_text as design_rules_text
+from docking.study.design import rules_data as design_rules_data
 from docking.study.designs.builders import (
     HELDOUT_TRIALS,
     YARDSTICK_LABELS,
@@ -425,7 +427,7 @@ def part(name: str) -> Design:
     raise ValueError(f"part must be 'contest' or 'rest', got {name!r}")
 
 
-#: The constants that are rules (in :func:`rules_text`).
+#: The constants that are rules (in :func:`rules_data`).
 RULES = (
     "SEEDS PATH_SEEDS YARDSTICK_SEEDS PPO_SEEDS UNTUNED_PPO_SEEDS TUNING_SEEDS FIDELITY_SEEDS "
     "FIDELITY_VIEWS FIDELITY_MIN_VIEWS ALPHA EQUIVALENCE_MARGIN ROTATION_SHARE "
@@ -434,6 +436,10 @@ RULES = (
 ).split()
 
 
-def rules_text() -> str:
-    """Every rule of this design as canonical text (:func:`docking.study.design.rules_text`)."""
-    return design_rules_text(DESIGN, {n: globals()[n] for n in RULES})
+def rules_data() -> dict:
+    """The rules as the live code states them: its constants, cells and claims
+    (:func:`docking.study.design.rules_data`). The record in ``rules/`` holds them as
+    committed before the runs (with the code they pinned); tests/test_records.py holds the
+    two together and replays the rules on the ledger's runs."""
+    constants = {n: globals()[n] for n in RULES}
+    return design_rules_data(DESIGN, json.loads(json.dumps(constants, default=list)))

@@ -2,10 +2,10 @@
 takes its walk from.
 
 The addendum's bracketing (:mod:`docking.study.designs.bracketing`) and its continuation
-(:mod:`docking.study.designs.bracketing_continued`) walk the same way, each in its own code:
-their rules were committed before their runs and their digests cover that code, so they keep
-it (tests/test_walk.py shows that this helper, given either's parameters, builds the cells
-either builds). A new walk design builds a :class:`Walk` instead of a third copy:
+(:mod:`docking.study.designs.bracketing_continued`) both walk by it. Their rules, and the code
+of their walks as committed before their runs, are kept as records (``rules/``); replayed on
+the ledger's runs, this walk gives the cells theirs gave (tests/test_records.py). A new walk
+design builds a :class:`Walk` too:
 
 * a setting is *complete* when it has held-out success on every one of the compared seeds,
   from the runs before the design (:attr:`Walk.before`) or the design's own; settings are
