@@ -18,6 +18,7 @@ from pathlib import Path
 import numpy as np
 import psutil
 import pytest
+from helpers import user_scripts
 
 from docking.presets import EXPERIMENT_1
 from docking.study.kinds import load_result
@@ -256,6 +257,45 @@ def test_remote_cluster_gives_files_identical_to_a_local_sweep(dask_cluster, tmp
     _same_files(tmp_path / "local", tmp_path / "remote")
     for p in remote:
         load_result(p)  # valid
+
+
+@pytest.mark.slow
+def test_a_scripts_learner_module_runs_on_an_existing_scheduler(dask_cluster, tmp_path):
+    """Issue 62: a learner in a module beside the user's script (with a helper module of its
+    own), the script started from a third folder, on a cluster whose scheduler and workers
+    were started elsewhere: the modules are sent to them (the scheduler could not unpickle the
+    jobs), and a module edited between two sweeps on the same cluster runs as edited."""
+    script = user_scripts(tmp_path / "scripts")
+    elsewhere = tmp_path / "elsewhere"
+    elsewhere.mkdir()
+
+    def sweep(results: str) -> list[Path]:
+        out = subprocess.run(
+            [sys.executable, str(script), str(tmp_path / results), dask_cluster.address],
+            cwd=elsewhere,
+            env={**_env(), "PYTHONPATH": str(REPO), "DOCKING_LEDGER": "off"},
+            capture_output=True,
+            text=True,
+            timeout=240,
+        )
+        assert out.returncode == 0, out.stderr[-3000:]
+        return [Path(line) for line in out.stdout.split()]
+
+    def actions(paths: list[Path]) -> set[int]:
+        found = set()
+        for path in paths:
+            with np.load(path) as data:
+                found |= {int(a) for a in data["heldout.actions"].ravel() if a >= 0}
+        return found
+
+    first = sweep("results")
+    assert [p.name for p in first] == ["seed0.npz", "seed1.npz"]
+    assert actions(first) == {0}
+    assert list((tmp_path / "worker0").rglob("user_helper.py"))  # sent, not found in place
+    (script.parent / "user_helper.py").write_text("ACTION = 2\n")
+    again = sweep("results")
+    assert again[0].parent != first[0].parent  # another key: the helper's code changed
+    assert actions(again) == {2}
 
 
 @pytest.mark.slow

@@ -42,8 +42,11 @@ The own code is read when the learner is registered: it is the code this process
 A learner defined in a notebook, a script or code run with ``exec`` reaches a sweep's Dask
 workers by value (cloudpickle), its runner with its class (:func:`docking.study.kinds.runner_for`
 adopts it there); one defined in a module file reaches them by name, so the workers must
-import that module (the embedded cluster's workers start in the current folder and inherit
-``PYTHONPATH``).
+import that module, and every module of the user's own that its code imports
+(:attr:`OwnCode.modules`). A sweep sees to it (:mod:`docking.study.sweep`): the embedded
+cluster's workers get this process's import path, an existing cluster's workers are sent the
+modules' files, and where a worker still cannot import one the sweep stops before any job,
+naming it.
 """
 
 from __future__ import annotations
@@ -55,11 +58,12 @@ import hashlib
 import inspect
 import json
 import linecache
+import os
 import sys
 import textwrap
 import time
 import types
-from collections.abc import Callable
+from collections.abc import Callable, Mapping
 from pathlib import Path
 from typing import Protocol, runtime_checkable
 
@@ -79,6 +83,7 @@ from docking.study import fingerprint, kinds
 from docking.validate import MAX_SEED, check_int, check_name
 
 __all__ = [
+    "CodeNotOnWorkers",
     "Learner",
     "LearnerResult",
     "LearnerRunner",
@@ -133,11 +138,19 @@ class OwnCode:
       digest: SHA-256 of its tokens.
       imports: The ``docking`` modules it imports (or refers to).
       where: Where it was read: module files, or ``"<cell>: class X, function run"``.
+      modules: ``((module, its file), ...)``: the modules of the user's own that a process
+        running the learner imports (by name, as it unpickles the configuration or the run
+        function, and as those import others): the module files that define the class and
+        the function (not a script run as ``__main__``, whose code travels by value), the
+        packages they are in, and the modules of the user's own that any of these import,
+        transitively (:func:`user_modules`). What a sweep ships to its Dask workers
+        (:mod:`docking.study.sweep`); not part of the key.
     """
 
     digest: str
     imports: tuple[str, ...]
     where: tuple[str, ...]
+    modules: tuple[tuple[str, str], ...] = ()
 
 
 @dataclasses.dataclass(frozen=True)
@@ -495,7 +508,8 @@ def own_code(config_type: type, run: Callable) -> OwnCode:
             names |= _referenced(obj, user=True)
             where.append(f"{origin}: {obj.__qualname__}")
     done = {m for m in (config_type.__module__, run.__module__) if _module_file(m, []) is not None}
-    for name, path in user_modules(names - done):
+    needed = dict(user_modules(names - done))
+    for name, path in needed.items():
         tokens, found = fingerprint.code_tokens(path.read_text(encoding="utf-8"), name)
         texts.append(f"module {name}\n{tokens}")
         imports |= found
@@ -503,7 +517,21 @@ def own_code(config_type: type, run: Callable) -> OwnCode:
     digest = hashlib.sha256("\n".join(texts).encode()).hexdigest()
     package = Path(kinds.__file__).resolve().parents[1]
     followed = sorted(m for m in imports if m not in NOT_FOLLOWED and _is_module(package, m))
-    return OwnCode(digest, tuple(followed), tuple(where))
+    return OwnCode(digest, tuple(followed), tuple(where), _shipped(done, needed))
+
+
+def _shipped(defining: set[str], needed: dict[str, Path]) -> tuple[tuple[str, str], ...]:
+    """:attr:`OwnCode.modules`: ``needed`` (the user's modules the learner's code imports),
+    the modules ``defining`` the class and the run function that have a file (but
+    ``__main__``), the packages these are in, and what those import, in name order."""
+    found = {name: str(path) for name, path in needed.items()}
+    for name in defining - {"__main__"}:
+        path = _module_file(name, [])
+        if path is not None:
+            found[name] = str(path)
+    parents = {p for name in found for p in _resolved([name]) if p not in found}
+    found.update((name, str(path)) for name, path in user_modules(parents - set(found)))
+    return tuple(sorted(found.items()))
 
 
 def user_modules(names) -> list[tuple[str, Path]]:
@@ -678,3 +706,173 @@ def _is_module(package: Path, name: str) -> bool:
         return False
     relative = Path(*name.split(".")[1:])
     return (package / f"{relative}.py").is_file() or (package / relative / "__init__.py").is_file()
+
+
+# ------------------------------------------------------------------------------------------
+# The learner's code on a sweep's Dask workers (docking.study.sweep).
+# ------------------------------------------------------------------------------------------
+
+
+class CodeNotOnWorkers(RuntimeError):
+    """A sweep's Dask workers cannot import a module of a registered learner's code
+    (:attr:`docking.study.learners.OwnCode.modules`): raised before any job is submitted, in one
+    line that names the module, its file, the worker's error and what to do."""
+
+
+def modules_of(configs) -> dict[str, tuple[str, str]]:
+    """``{module: (its file, the learner's name)}``: the modules of the user's own that a
+    process must import to run ``configs`` (registered learners' :attr:`OwnCode.modules`; the
+    built-in kinds need none)."""
+    found: dict[str, tuple[str, str]] = {}
+    for config in {type(c): c for c in configs}.values():
+        runner = kinds.runner_for(config)
+        for name, file in getattr(getattr(runner, "code", None), "modules", ()):
+            found.setdefault(name, (file, runner.name))
+    return found
+
+
+def _module_root(name: str, file: str) -> Path | None:
+    """The folder from which module ``name`` is imported as its file ``file`` (``/x`` for
+    ``pkg.mod`` in ``/x/pkg/mod.py``); None if the file's path does not spell the name (a
+    module loaded from a file under another name, which no import by name finds)."""
+    path = Path(file)
+    parts = name.split(".")
+    tail = (
+        [*parts, "__init__.py"] if path.name == "__init__.py" else [*parts[:-1], f"{parts[-1]}.py"]
+    )
+    if len(path.parts) <= len(tail) or list(path.parts[-len(tail) :]) != tail:
+        return None
+    return path.parents[len(tail) - 1]
+
+
+def import_path(modules: Mapping[str, tuple[str, str]] | None = None) -> list[str]:
+    """The folders the embedded cluster's workers import from before their own: this
+    process's import path (``sys.path``, the current folder for ``""``), but the standard
+    library's and site-packages' folders, which the workers (the same interpreter) have, and
+    the folder each module of ``modules`` (:func:`modules_of`) is imported from by its name:
+    so a worker imports what this process imports, wherever the script was started."""
+    import sysconfig
+
+    own = {
+        Path(p).resolve()
+        for key in ("stdlib", "platstdlib", "purelib", "platlib")
+        if (p := sysconfig.get_paths().get(key))
+    }
+    roots = [_module_root(name, file) for name, (file, _) in sorted((modules or {}).items())]
+    found: list[str] = []
+    for entry in [*sys.path, *(str(r) for r in roots if r is not None)]:
+        path = Path(entry or os.getcwd()).resolve()
+        if not path.exists() or any(path == o or path.is_relative_to(o) for o in own):
+            continue
+        if str(path) not in found:
+            found.append(str(path))
+    return found
+
+
+def ship_code(client, modules: Mapping[str, tuple[str, str]]) -> None:
+    """Send the files of ``modules`` (:func:`modules_of`) to the scheduler of ``client``'s
+    cluster (which unpickles the jobs it is given) and its workers, as plugins the scheduler
+    keeps (a worker that joins later gets them too): each writes them under its local
+    directory, laid out as their names say, puts that folder first on its import path and
+    forgets any copy of them it imported before (a long-lived worker would run a learner's
+    old code). A module whose file's path does not spell its name is not sent
+    (:func:`check_imports` names it)."""
+    import hashlib
+
+    files: dict[str, bytes] = {}
+    for name, (file, _) in sorted(modules.items()):
+        root = _module_root(name, file)
+        if root is not None:
+            files[Path(file).relative_to(root).as_posix()] = Path(file).read_bytes()
+    if not files:
+        return
+    digest = hashlib.sha256()
+    for relative, data in sorted(files.items()):
+        digest.update(f"{relative}\n{len(data)}\n".encode() + data)
+    folder = f"docking-code-{digest.hexdigest()[:16]}"
+    for plugin in _code_plugins(files, folder, tuple(sorted(modules))):
+        client.register_plugin(plugin, name=folder)
+
+
+def _code_plugins(files: dict[str, bytes], folder: str, names: tuple[str, ...]) -> tuple:
+    """A ``distributed`` scheduler plugin and a worker plugin that run :func:`_receive_code`
+    (classes made here, so that importing this module does not import distributed; they
+    travel by value)."""
+    from distributed.diagnostics.plugin import SchedulerPlugin, WorkerPlugin
+
+    class ShipCodeToScheduler(SchedulerPlugin):
+        async def start(self, scheduler):
+            _receive_code(scheduler.local_directory, files, folder, names)
+
+    class ShipCodeToWorkers(WorkerPlugin):
+        def setup(self, worker):
+            _receive_code(worker.local_directory, files, folder, names)
+
+    return ShipCodeToScheduler(), ShipCodeToWorkers()
+
+
+def _receive_code(local: str, files: dict[str, bytes], folder: str, names) -> None:
+    """In a worker: write ``files`` (``{relative path: bytes}``) under ``local/folder``, put
+    that folder first on the import path and forget the modules ``names`` imported before."""
+    import importlib
+
+    root = Path(local) / folder
+    for relative, data in files.items():
+        path = root / relative
+        path.parent.mkdir(parents=True, exist_ok=True)
+        path.write_bytes(data)
+    if str(root) in sys.path:
+        sys.path.remove(str(root))
+    sys.path.insert(0, str(root))
+    for name in names:
+        sys.modules.pop(name, None)
+    importlib.invalidate_caches()
+
+
+def _cannot_import(names) -> dict[str, str]:
+    """In a worker: ``{module: its error}`` of the modules ``names`` it cannot import."""
+    import importlib
+
+    errors = {}
+    for name in names:
+        try:
+            importlib.import_module(name)
+        except (Exception, SystemExit) as exc:  # an ImportError, or what the module raised
+            errors[name] = f"{type(exc).__name__}: {exc}"
+    return errors
+
+
+def check_imports(client, modules: Mapping[str, tuple[str, str]], embedded: bool) -> None:
+    """The scheduler of ``client``'s cluster and every worker import the modules of
+    ``modules`` (:func:`modules_of`); :class:`CodeNotOnWorkers` naming the first one
+    cannot, its file, the error and what to do."""
+    if not modules:
+        return
+    answers = {"scheduler": client.run_on_scheduler(_cannot_import, sorted(modules))}
+    answers.update(sorted(client.run(_cannot_import, sorted(modules)).items()))
+    for worker, errors in answers.items():
+        for name, error in sorted(errors.items()):
+            file, learner = modules[name]
+            if _module_root(name, file) is None:
+                advice = (
+                    f"it was loaded from a file that is not named {name.rpartition('.')[2]}"
+                    ".py, and a worker imports a learner's module by its name: save it as "
+                    "such, in a folder on sys.path, or define the learner in the script "
+                    "itself (its code then travels by value)"
+                )
+            elif embedded:
+                advice = (
+                    "the workers import from this process's import path (sys.path): import "
+                    "the learner's modules by their names from a folder on it, or define the "
+                    "learner in the script itself (its code then travels by value)"
+                )
+            else:
+                advice = (
+                    "its file was sent to the workers; install what it imports on the "
+                    "workers' machines, in the workers' Python"
+                )
+            who = "the Dask scheduler" if worker == "scheduler" else f"the Dask worker {worker}"
+            raise CodeNotOnWorkers(
+                f"{who} cannot import {name} ({file}), a module of the learner {learner!r} "
+                f"({error}); {advice}"
+            )

@@ -13,6 +13,12 @@ ledger's entry, else to compute); the runs found nowhere are computed through
   the same ``docking`` code and see the results folder under the same path (one machine or a
   shared file system).
 
+A learner registered from a module of the user's own reaches the workers by name: the
+embedded cluster's workers import from this process's import path, an existing cluster is sent
+the modules' files, and a worker that cannot import them stops the sweep before any job
+(:mod:`docking.study.learners`: ``import_path``, ``ship_code``, ``check_imports``). A sweep
+whose embedded workers have all ended stops too.
+
 Each such job computes its run on a worker, which saves it in the store in the file its key
 names (:func:`docking.study.store.compute`, :func:`docking.study.kinds.result_path`) and
 returns the path (or the run, to a caller that keeps the runs: :func:`sweep`). Stored runs
@@ -46,7 +52,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING
 
 from docking.experiments import ExperimentConfig
-from docking.study import paths, store
+from docking.study import learners, paths, store
 from docking.study.kinds import result_path, runner_for
 from docking.study.runs import Located, locate
 from docking.validate import (
@@ -405,7 +411,7 @@ class _EmbeddedCluster:
     SIGKILL or SIGTERM the resource tracker reports leaked semaphores
     (distributed 2026.8; tests/test_sweep.py's ``test_workers_end_with_their_parent``)."""
 
-    def __init__(self, n_workers: int):
+    def __init__(self, n_workers: int, modules: Mapping[str, tuple[str, str]] | None = None):
         import subprocess
         import tempfile
 
@@ -430,14 +436,14 @@ class _EmbeddedCluster:
                 silence_logs=logging.ERROR,
             )
         package_root = str(Path(__file__).resolve().parents[2])
+        path = (package_root, *learners.import_path(modules), os.environ.get("PYTHONPATH"))
         env = {
             **os.environ,
             _PARENT_VARIABLE: str(os.getpid()),
             _CLOSING_VARIABLE: self._closing,
-            # The workers import this very package.
-            "PYTHONPATH": os.pathsep.join(
-                p for p in (package_root, os.environ.get("PYTHONPATH")) if p
-            ),
+            # The workers import this very package, and what this process imports (a
+            # learner's modules of the user's own among it: learners.import_path).
+            "PYTHONPATH": os.pathsep.join(dict.fromkeys(p for p in path if p)),
         }
         try:
             for k in range(n_workers):
@@ -484,6 +490,10 @@ class _EmbeddedCluster:
             "--preload",
             "docking.study.sweep",
         ]
+
+    def alive(self) -> bool:
+        """Whether any of the worker processes still runs."""
+        return any(proc.poll() is None for proc in self._procs)
 
     def _wait_for_workers(self, n: int, timeout: float = 120.0) -> None:
         deadline = time.monotonic() + timeout
@@ -820,15 +830,17 @@ def _run_on_dask(
     scheduler, n_workers: int, jobs, located, todo, force, bar, trials, runs, computed, keep
 ) -> None:
     """Compute the jobs ``todo`` on ``scheduler``'s cluster (None: an embedded one of
-    ``n_workers`` processes), following their progress (:func:`_submit_and_follow`)."""
+    ``n_workers`` processes), following their progress (:func:`_submit_and_follow`), once its
+    workers import the modules of the user's own the jobs need (:func:`_ready`)."""
+    modules = learners.modules_of(jobs[k].config for k in todo)
     with _quiet_distributed():
-        cluster = _EmbeddedCluster(n_workers) if scheduler is None else None
+        cluster = _EmbeddedCluster(n_workers, modules) if scheduler is None else None
         finished = False
         try:
             with cluster.client if cluster is not None else _connect(scheduler) as client:
-                _submit_and_follow(
-                    client, jobs, located, todo, force, bar, trials, runs, computed, keep
-                )
+                _ready(client, cluster is not None, modules)
+                follow = (jobs, located, todo, force, bar, trials, runs, computed, keep)
+                _submit_and_follow(client, *follow, alive=cluster.alive if cluster else None)
             finished = True
         finally:
             if cluster is not None:
@@ -836,6 +848,15 @@ def _run_on_dask(
                 # end those, so SIGKILL follows after 1 s instead of 10 (a Ctrl-C took 20 s
                 # to return with two workers busy). A job's file is written atomically.
                 cluster.close(grace=10.0 if finished else 1.0)
+
+
+def _ready(client, embedded: bool, modules) -> None:
+    """Before the first job: the modules of the user's own the jobs need (``modules``) sent to
+    an existing cluster (:func:`docking.study.learners.ship_code`) and imported by every worker
+    (:func:`~docking.study.learners.check_imports`)."""
+    if not embedded:
+        learners.ship_code(client, modules)
+    learners.check_imports(client, modules, embedded=embedded)
 
 
 @contextlib.contextmanager
@@ -897,12 +918,13 @@ def _submit(client, jobs, located, todo, force: bool, keep: bool, tag: str) -> d
 
 
 def _submit_and_follow(
-    client, jobs, located, todo, force: bool, bar, trials, runs, computed: dict, keep: bool
+    client, jobs, located, todo, force, bar, trials, runs, computed, keep, alive=None
 ) -> None:
     """Submit the jobs ``todo`` to ``client`` and move ``bar`` with the trials their workers
     report (:data:`_PROGRESS_TOPIC`) and ``runs`` with the jobs done, until all are done (a
     job's exception is raised here); with ``keep``, each computed run goes into ``computed``
-    (by its job's index)."""
+    (by its job's index). ``alive()``: whether any worker still runs (the embedded cluster's,
+    which no one restarts); once not, ``RuntimeError``, not a wait for workers that never come."""
     from distributed import wait
 
     tag = uuid.uuid4().hex[:8]
@@ -938,6 +960,11 @@ def _submit_and_follow(
         except TimeoutError:
             apply_news()
             bar.refresh()
+            if alive is not None and not alive():
+                raise RuntimeError(
+                    f"every Dask worker of the sweep has ended, {len(pending)} of its jobs "
+                    "unfinished (the workers' own messages are above)"
+                ) from None
             continue
         apply_news()
         for future in done:
