@@ -275,7 +275,10 @@ def test_run_stores_runs_and_loads_them_again(tmp_path):
     assert "): test success mean" in out.stdout
     files = sorted((tmp_path / "results").rglob("seed*.npz"))
     assert [f.name for f in files] == ["seed0.npz", "seed1.npz"]
-    assert "experiment1, 2 seeds" not in out.stderr  # no bar when stderr is not a terminal
+    # No bar when stderr is not a terminal (its unit, trials, is not named), but a line per
+    # run finished (issue 62)
+    assert "trial" not in out.stderr and "\r" not in out.stderr
+    assert "experiment1, 2 seeds: run 2/2 done, computed (experiment1 seed 1); " in out.stderr
     store = files[0].parent
     assert out.stdout.splitlines()[-1] == f"seeds 0-1: computed now and stored in {store}"
     mtimes = [f.stat().st_mtime_ns for f in files]

@@ -24,7 +24,9 @@ names (:func:`docking.study.store.compute`, :func:`docking.study.kinds.result_pa
 returns the path (or the run, to a caller that keeps the runs: :func:`sweep`). Stored runs
 are skipped before anything is submitted, so an interrupted sweep resumes where it stopped and
 no finished run is computed twice. A job lost with a worker is rescheduled by Dask on another
-one. A progress bar on the terminal (stderr) counts finished jobs.
+one. A progress bar on the terminal (stderr) counts finished trials and jobs; where stderr is
+not a terminal, lines say what the sweep computes, about how long it takes, and each run
+finished (:class:`docking.study.progress.Progress`).
 
 The embedded cluster's workers end with the process that started them
 (:func:`_die_with_parent`: ``PR_SET_PDEATHSIG`` on Linux and a ``getppid`` watchdog), and
@@ -54,6 +56,7 @@ from typing import TYPE_CHECKING
 from docking.experiments import ExperimentConfig
 from docking.study import learners, paths, store
 from docking.study.kinds import result_path, runner_for
+from docking.study.progress import Progress
 from docking.study.runs import Located, locate
 from docking.validate import (
     DIGITS,
@@ -557,8 +560,9 @@ def run_jobs(
         per job to run). ``1`` runs the jobs one after another in this process, no Dask.
       force: Recompute and replace stored runs.
       progress: Show a bar on stderr that counts trials as they finish (the runs' trials
-        of :func:`docking.experiments.trials_in_run`), with the runs done beside it; quiet
-        when stderr is not a terminal.
+        of :func:`docking.experiments.trials_in_run`), with the runs done beside it; when
+        stderr is not a terminal, a line at the start (the runs to compute, about how long)
+        and a line per run finished instead (:class:`docking.study.progress.Progress`).
       desc: The bar's label.
     """
     found = sweep(jobs, results_dir, scheduler, workers, force, progress, desc, keep=False)
@@ -602,7 +606,7 @@ def sweep(
     # computing: a bar of trials (none when every run was found: it would say nothing)
     stored = sum(trials) - sum(trials[k] for k in todo)
     bar = _trial_bar(sum(trials), stored, desc, progress and bool(todo))
-    runs = _RunCount(bar, len(jobs), len(jobs) - len(todo))
+    runs = Progress(bar, jobs, todo, desc, progress)
     computed: dict[int, object] = {}
     try:
         if todo:
@@ -668,18 +672,6 @@ def _trial_bar(total: int, stored: int, desc: str, progress: bool):
         dynamic_ncols=True,
         smoothing=0.05,
     )
-
-
-class _RunCount:
-    """The runs done, shown beside a bar of trials."""
-
-    def __init__(self, bar, total: int, done: int):
-        self.bar, self.total, self.count = bar, total, done
-        self.done(0)
-
-    def done(self, n: int) -> None:
-        self.count += n
-        self.bar.set_postfix_str(f"runs {self.count}/{self.total}", refresh=True)
 
 
 def run_configs(
@@ -818,12 +810,13 @@ def _handshake(scheduler: str, seconds: float) -> None:
 def _run_here(jobs, located, todo, force, bar, trials, runs, computed, keep) -> None:
     """Compute the jobs ``todo`` one after another in this process (the bar moving with each
     trial); with ``keep``, each run goes into ``computed`` by its job's index."""
+    runs.start(1, "one after another in this process")
     for k in todo:
         job, path = jobs[k], str(located[k].path)
         result = _run_job(job.config, job.seed, path, force, bar.update, keep=keep)
         if keep:
             computed[k] = result
-        runs.done(1)
+        runs.done([k])
 
 
 def _run_on_dask(
@@ -838,7 +831,7 @@ def _run_on_dask(
         finished = False
         try:
             with cluster.client if cluster is not None else _connect(scheduler) as client:
-                _ready(client, cluster is not None, modules)
+                _ready(client, scheduler, n_workers if cluster else None, modules, runs)
                 follow = (jobs, located, todo, force, bar, trials, runs, computed, keep)
                 _submit_and_follow(client, *follow, alive=cluster.alive if cluster else None)
             finished = True
@@ -850,13 +843,19 @@ def _run_on_dask(
                 cluster.close(grace=10.0 if finished else 1.0)
 
 
-def _ready(client, embedded: bool, modules) -> None:
+def _ready(client, scheduler, embedded: int | None, modules, runs) -> None:
     """Before the first job: the modules of the user's own the jobs need (``modules``) sent to
     an existing cluster (:func:`docking.study.learners.ship_code`) and imported by every worker
-    (:func:`~docking.study.learners.check_imports`)."""
-    if not embedded:
+    (:func:`~docking.study.learners.check_imports`); then the first line of progress (``runs``:
+    :class:`~docking.study.progress.Progress`). ``embedded``: the embedded cluster's workers."""
+    if embedded is None:
         learners.ship_code(client, modules)
-    learners.check_imports(client, modules, embedded=embedded)
+    learners.check_imports(client, modules, embedded=embedded is not None)
+    if embedded is not None:
+        runs.start(embedded, f"on {embedded} worker processes (an embedded cluster)")
+    else:
+        count = len(client.scheduler_info(n_workers=-1)["workers"])
+        runs.start(count, f"on the {count} workers of {scheduler} now")
 
 
 @contextlib.contextmanager
@@ -974,5 +973,5 @@ def _submit_and_follow(
                 computed[k] = found
             bar.update(trials[k] - reported[k])  # a loaded run, or unreported trials
             reported[k] = trials[k]
-        runs.done(len(done))
+        runs.done([index[future] for future in done])
     client.unsubscribe_topic(_PROGRESS_TOPIC)
