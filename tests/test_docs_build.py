@@ -1,10 +1,12 @@
 """docs/build.py's notebook preparation, without building the site: a code cell that opens
 with imports is split into a folded import cell and the rest, and a cell the notebook hides
 already keeps its tag once (nbformat refuses repeated tags: make docs failed on notebook 07's
-hidden cells that open with imports); and no notebook prints a raw dict under a figure."""
+hidden cells that open with imports); no notebook prints a raw dict under a figure; and the
+README's figure table gives each figure the width to be read."""
 
 from __future__ import annotations
 
+import re
 import sys
 from pathlib import Path
 
@@ -85,3 +87,42 @@ def test_no_figure_of_a_notebook_has_a_raw_dict_under_it():
             if "Image" in calls:
                 found += [f"{path.name}:{first + k - 1}" for k in _raw_dicts(source)]
     assert found == []
+
+
+#: The width of the README's text on the site at the docs tests' screen
+#: (tests/test_docs.py's SCREEN, 1400 px wide): Material's grid, 61 rem of 20 px, less its
+#: 12.1 rem sidebar and the text's margins of 1.2 rem each side (docs/mkdocs.yml:
+#: toc.integrate, no second sidebar). A README on GitHub is as wide, give or take 50 px.
+README_TEXT_WIDTH = 930
+
+
+def _png_width(path: Path) -> int:
+    """A PNG file's width in pixels, read from its header."""
+    import struct
+
+    head = path.read_bytes()[:24]
+    assert head[:8] == b"\x89PNG\r\n\x1a\n", path
+    return struct.unpack(">I", head[16:20])[0]
+
+
+def test_every_readme_figure_is_shown_wide_enough_to_read():
+    """Issue 62: each figure of the README's figure table gets the width to be read, at least
+    tests/test_docs.py's MIN_SHOWN of its own (a 6 pt label at 150 dpi 5.6 px tall): its
+    table's columns share the text's width, so a figure shares its row only if it stays
+    readable at its share. In two columns, Fig. 4 (1125 px) was shown at 0.41 of its width and
+    the contest figure (1890 px) at 0.25."""
+    from test_docs import MIN_SHOWN
+
+    readme = (ROOT / "README.md").read_text()
+    section = readme.split("\n## Figures\n", 1)[1].split("\n## ", 1)[0]
+    rows = [line for line in section.splitlines() if line.startswith("|") and "![" in line]
+    columns = max(line.strip().strip("|").count("|") + 1 for line in section.splitlines()[:3])
+    small, shown = [], []
+    for row in rows:
+        for name in re.findall(r"!\[[^\]]*\]\((figures/[^)\s]+\.png)\)", row):
+            width = _png_width(ROOT / name)
+            shown.append(name)
+            if README_TEXT_WIDTH / columns < MIN_SHOWN * width:
+                small.append(f"{name}: {width} px shown at {README_TEXT_WIDTH / columns:.0f}")
+    assert len(shown) >= 7, shown  # Figs. 2-5, the learning curves, Experiment 3, ...
+    assert not small, small
