@@ -70,3 +70,52 @@ def old_path(module: str) -> str:
     """Where ``module`` (``docking.study.X``) was before the study layer moved into
     ``docking/study/`` (issue 51): ``docking/X.py``."""
     return module.replace("docking.study.", "docking.", 1).replace(".", "/") + ".py"
+
+
+#: A learner in a module of the user's own (``user_learner``), which imports a module of its
+#: own beside it (``user_helper``): what a script in the user's folder imports.
+USER_LEARNER = """
+import dataclasses
+
+import user_helper
+from docking.scene import WorldConfig
+from docking.study import learners
+
+
+@dataclasses.dataclass(frozen=True)
+class Steady:
+    name: str = "steady"
+    world: WorldConfig = WorldConfig()
+    heldout_trials: int = 2
+
+
+def run(config, seed, progress=True, on_trials=None):
+    return learners.judge(config, seed, lambda o, env: user_helper.ACTION, 0, on_trials)
+
+
+learners.register(Steady, run)
+"""
+
+#: The script that sweeps the user's learner: ``python run_it.py RESULTS [SCHEDULER]``; prints
+#: the stored runs' paths.
+USER_SCRIPT = """
+import sys
+
+import user_learner
+from docking.study.sweep import Job, run_jobs
+
+scheduler = sys.argv[2] if len(sys.argv) > 2 else None
+jobs = [Job(user_learner.Steady(), seed) for seed in (0, 1)]
+paths = run_jobs(jobs, sys.argv[1], scheduler=scheduler, workers=2, progress=False)
+print("\\n".join(str(p) for p in paths))
+"""
+
+
+def user_scripts(folder: Path) -> Path:
+    """The user's learner, its helper module and the script that sweeps it, written in
+    ``folder`` (created); the script's path."""
+    folder.mkdir(parents=True)
+    (folder / "user_learner.py").write_text(USER_LEARNER)
+    (folder / "user_helper.py").write_text("ACTION = 0\n")
+    (folder / "run_it.py").write_text(USER_SCRIPT)
+    return folder / "run_it.py"

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import dataclasses
 import os
 import re
 import subprocess
@@ -275,7 +276,10 @@ def test_run_stores_runs_and_loads_them_again(tmp_path):
     assert "): test success mean" in out.stdout
     files = sorted((tmp_path / "results").rglob("seed*.npz"))
     assert [f.name for f in files] == ["seed0.npz", "seed1.npz"]
-    assert "experiment1, 2 seeds" not in out.stderr  # no bar when stderr is not a terminal
+    # No bar when stderr is not a terminal (its unit, trials, is not named), but a line per
+    # run finished (issue 62)
+    assert "trial" not in out.stderr and "\r" not in out.stderr
+    assert "experiment1, 2 seeds: run 2/2 done, computed (experiment1 seed 1); " in out.stderr
     store = files[0].parent
     assert out.stdout.splitlines()[-1] == f"seeds 0-1: computed now and stored in {store}"
     mtimes = [f.stat().st_mtime_ns for f in files]
@@ -290,6 +294,97 @@ def test_run_stores_runs_and_loads_them_again(tmp_path):
     )
     assert status == 0, terminal
     assert "experiment1, 1 seeds" in terminal and "trial" in terminal and "runs 1/1" in terminal
+
+
+#: The configurations run names besides the paper's experiments (issue 62).
+WORLD_NAMES = ("floor", "floor-tuned", "floor-linear", "nao", "nao-tuned", "nao-linear")
+
+
+def test_run_names_the_worlds_published_settings_and_tuned_learners(tmp_path):
+    """Issue 62: ``run`` names Experiment 2 in the floor and Nao-like worlds, the paper's
+    learner at its published settings (the designs' experiment2_in) and the tuned learners
+    (``run floor`` failed); its help lists each, with what it is, on a screen."""
+    from docking.presets import EXPERIMENT_2, FLOOR_WORLD, NAO_WORLD, SEEDS
+    from docking.study.cli import named, parse
+    from docking.study.cli.runs import _label, _seeds_of
+    from docking.study.designs.builders import experiment2_in
+
+    for world, base in (("floor", FLOOR_WORLD), ("nao", NAO_WORLD)):
+        config = parse(["run", world]).experiment
+        assert config == experiment2_in(base, world) and config.network == EXPERIMENT_2.network
+        assert _seeds_of(config, None) == list(SEEDS["experiment2"])
+        for suffix, learner in (("tuned", "paper"), ("linear", "linear")):
+            name = f"{world}-{suffix}"
+            config = parse(["run", name]).experiment
+            assert config == named.tuned(world, learner) and config.name == name
+            assert config.network != EXPERIMENT_2.network
+            assert _label(config) == name  # no option differs from its namesake
+            assert _seeds_of(config, None) == list(SEEDS["experiment2"])
+    assert parse(["run", "nao-tuned", "--network.eps-w", "0"]).experiment.network.eps_w == 0
+    assert parse(["sweep", "floor-linear"]).experiment.name == "floor-linear"
+    out = _cli(["run", "--help"], tmp_path, timeout=60, columns=80)
+    assert out.returncode == 0, out.stderr
+    for name in ("experiment1", "experiment2", *WORLD_NAMES):
+        assert f"• {name} " in out.stdout, name
+    flat = " ".join(out.stdout.replace("│", " ").split())
+    assert "floor-tuned the paper's learner, tuned (bracketing-replication), floor world." in flat
+    assert "nao-linear linear SARSA, tuned (bracketing-replication), Nao-like world." in flat
+    assert "nao the paper's learner, published settings, Nao-like world." in flat
+    assert len(out.stdout.splitlines()) <= 45  # a screen, at 80 columns
+
+
+def test_the_tuned_entries_are_the_published_designs_tuned_learners():
+    """The one table of the tuned entries (named.TUNED, a copy) is the design it names: its
+    tuned settings, each entry that design's learner (its network) in Experiment 2 of the
+    world. When the table is repointed to a later design, this test is."""
+    from docking.study.cli import named
+    from docking.study.designs import replication
+    from docking.study.designs.builders import experiment2_in
+
+    assert named.TUNED == (replication.NAME, replication.TUNED)
+    for world, (_, base) in named.WORLDS.items():
+        for learner in ("paper", "linear"):
+            config = named.tuned(world, learner)
+            network = replication.learner_config(world, learner).network
+            assert config == dataclasses.replace(experiment2_in(base, config.name), network=network)
+
+
+def test_the_tuned_entries_follow_their_table(monkeypatch):
+    """Repointed (here to a stand-in table), the tuned entries are its settings under their
+    own names, the help names its design; the published settings stay."""
+    from docking.study.cli import named
+
+    settings = {"paper": {"eps_q": 0.2}, "linear": {"eps_q": 0.4}}
+    monkeypatch.setattr(named, "TUNED", ("a-later-design", dict.fromkeys(named.WORLDS, settings)))
+    found = named.named()
+    assert list(found) == list(WORLD_NAMES)
+    assert found["nao-tuned"][0].network.eps_q == 0.2 and found["nao-tuned"][0].name == "nao-tuned"
+    assert found["floor-linear"][0].network.eps_q == 0.4
+    assert found["floor-linear"][0].network.feature_layer == "none"  # linear SARSA
+    assert found["floor-tuned"][1] == "the paper's learner, tuned (a-later-design), floor world"
+    assert found["floor"][0] == named.published("floor") and found["floor"][0].name == "floor"
+
+
+def test_the_command_line_starts_without_scipy(tmp_path):
+    """Naming the worlds' entries costs no import of a design file (which imports SciPy) at
+    the start of every command."""
+    code = "import sys, docking.study.cli; print(sorted(m for m in sys.modules if 'scipy' in m))"
+    out = subprocess.run(
+        [sys.executable, "-c", code], env=_env(tmp_path), capture_output=True, text=True, timeout=60
+    )
+    assert out.returncode == 0 and out.stdout.strip() == "[]", out.stderr[-2000:]
+
+
+@pytest.mark.slow
+def test_run_runs_a_world_by_name(tmp_path):
+    args = ["run", "nao-linear", "--seeds", "0", "--processes", "1", "--train-trials", "2"]
+    out = _cli([*args, "--test-trials", "2", "--curriculum.grow-trials", "2"], tmp_path)
+    assert out.returncode == 0, out.stderr
+    first, last = out.stdout.splitlines()[0], out.stdout.splitlines()[-1]
+    assert first.startswith("nao-linear (--curriculum.grow-trials 2, --train-trials 2, ")
+    assert "): test success mean" in first
+    (stored,) = (tmp_path / "results" / "nao-linear").rglob("seed0.npz")
+    assert last == f"seeds 0: computed now and stored in {stored.parent}"
 
 
 def test_run_says_a_run_came_from_the_ledger(tmp_path, monkeypatch):

@@ -345,7 +345,7 @@ MAX_SCREENS = 10
 MIN_SHOWN = 0.45
 
 #: Each image of the page's text: its file, its natural and shown width, whether it stands in
-#: a table's cell (the README's figure table: a thumbnail beside its caption), its alt text
+#: a table's cell (the README's figure table: a figure and its caption per row), its alt text
 #: and its figure's caption, and whether that caption is visible.
 _SHOWN = """() => Array.from(document.querySelectorAll('article img')).map(i => {
   const figure = i.closest('figure'), caption = figure && figure.querySelector('figcaption');
@@ -611,9 +611,9 @@ class TestEveryPageAsLoaded:
     def test_every_figure_is_readable_at_the_pages_width(self, shown_images):
         """No figure is shown at less than :data:`MIN_SHOWN` of its own width at 1400 px: one
         too wide for the page (Fig. 4 was three blocks side by side, 3375 px shown at 898)
-        fails. Left out: the README's figure table, whose thumbnails stand beside their captions
-        and open full size, and the archived notebooks, executed at an earlier commit and kept
-        as they are."""
+        fails. Left out: the README's figure table, whose layout tests/test_docs_build.py checks
+        by the same bound (test_every_readme_figure_is_shown_wide_enough_to_read), and the
+        archived notebooks, executed at an earlier commit and kept as they are."""
         checked, small = 0, []
         for page, images in shown_images.items():
             if page.startswith("archive/"):

@@ -22,6 +22,7 @@ from helpers import SEEDS, TINY
 from docking.study import ledger, paths
 from docking.study.cli import main
 from docking.study.kinds import run_key
+from docking.study.progress import PROGRESS_LINE
 from docking.study.runs import load_run
 from docking.study.store import run_or_load
 from docking.study.sweep import jobs_for, parse_seeds, run_jobs
@@ -82,7 +83,10 @@ def _record(data, seed):
 
 
 def _one_error_line(err: str) -> str:
-    lines = err.strip().splitlines()
+    """The one line of ``err`` (a command's stderr) but a sweep's progress lines
+    (:data:`docking.study.progress.PROGRESS_LINE`: where stderr is not a terminal, the runs it
+    computes and each run finished), checked to be the command's message."""
+    lines = [line for line in err.strip().splitlines() if not PROGRESS_LINE.fullmatch(line)]
     assert "Traceback" not in err, err
     assert len(lines) == 1 and lines[0].startswith("python -m docking: error: "), err
     return lines[0]

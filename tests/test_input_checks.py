@@ -27,6 +27,7 @@ from docking.gym import DockingGymEnv
 from docking.presets import EXPERIMENT_1, EXPERIMENT_2, FLOOR_WORLD, NAO_WORLD
 from docking.scene import Distractor, WorldConfig
 from docking.study.cli import main
+from docking.study.progress import PROGRESS_LINE
 from docking.study.sweep import grid_configs, parse_seeds
 
 REPO = Path(__file__).resolve().parent.parent
@@ -66,7 +67,10 @@ def _cli(args, tmp_path, timeout=120, foreground=False, **env):
 
 
 def _one_error_line(err: str) -> str:
-    lines = err.strip().splitlines()
+    """The one line of ``err`` (a command's stderr) but a sweep's progress lines
+    (:data:`docking.study.progress.PROGRESS_LINE`: where stderr is not a terminal, the runs it
+    computes and each run finished), checked to be the command's message."""
+    lines = [line for line in err.strip().splitlines() if not PROGRESS_LINE.fullmatch(line)]
     assert "Traceback" not in err, err
     assert len(lines) == 1 and lines[0].startswith("python -m docking: "), err
     return lines[0]

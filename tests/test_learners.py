@@ -14,12 +14,13 @@ import os
 import re
 import subprocess
 import sys
+import time
 from pathlib import Path
 
 import numpy as np
 import outside_learner as outside
 import pytest
-from helpers import TINY
+from helpers import TINY, user_scripts
 
 from docking import protocol
 from docking.experiments import ExperimentConfig, run_experiment
@@ -421,6 +422,116 @@ def test_a_learners_error_on_the_embedded_cluster_names_the_users_file_and_line(
     assert "<dynamic-code>" not in out.stderr, out.stderr[-3000:]
     assert f'File "{script}", line {run_line}, in run' in out.stderr, out.stderr[-3000:]
     assert f'File "{script}", line {raise_line}, in helper' in out.stderr
+
+
+def _started_elsewhere(tmp_path, script: Path, *args: str, timeout: float):
+    """``script`` started from a folder of its own (neither the script's nor the clone's),
+    with this clone alone on PYTHONPATH: its completed process, and how long it took."""
+    elsewhere = tmp_path / "elsewhere"
+    elsewhere.mkdir(exist_ok=True)
+    start = time.monotonic()
+    out = subprocess.run(
+        [sys.executable, str(script), *args],
+        cwd=elsewhere,
+        env={**os.environ, "PYTHONPATH": str(ROOT), "DOCKING_LEDGER": "off"},
+        capture_output=True,
+        text=True,
+        timeout=timeout,
+    )
+    return out, time.monotonic() - start
+
+
+@pytest.mark.slow
+def test_a_scripts_learner_module_runs_on_the_embedded_cluster_from_another_folder(tmp_path):
+    """Issue 62: a learner in a module beside the user's script, with a helper module of its
+    own, the script saved outside the clone and started from a third folder. The embedded
+    cluster's workers import both (they died of ModuleNotFoundError, and the sweep waited for
+    them without a word until it was killed)."""
+    script = user_scripts(tmp_path / "scripts")
+    out, _ = _started_elsewhere(tmp_path, script, str(tmp_path / "results"), timeout=240)
+    assert out.returncode == 0, out.stderr[-3000:]
+    paths = [Path(line) for line in out.stdout.split()]
+    assert [p.name for p in paths] == ["seed0.npz", "seed1.npz"], out.stdout
+    assert all(p.is_file() and p.is_relative_to(tmp_path / "results") for p in paths)
+    assert "ModuleNotFoundError" not in out.stderr, out.stderr[-3000:]
+
+
+#: The user's learner module loaded from a file under another name (as plugin loaders do):
+#: no import by its name finds it, in this process or a worker.
+LOADS_IT = """
+import importlib.util
+import sys
+from pathlib import Path
+
+from docking.study.sweep import Job, run_jobs
+
+path = Path(__file__).parent / "my-learner.py"
+spec = importlib.util.spec_from_file_location("plugin_learner", path)
+module = importlib.util.module_from_spec(spec)
+sys.modules["plugin_learner"] = module
+spec.loader.exec_module(module)
+jobs = [Job(module.Steady(), seed) for seed in (0, 1)]
+run_jobs(jobs, sys.argv[1], workers=2, progress=False)
+"""
+
+
+@pytest.mark.slow
+def test_a_learner_module_no_worker_can_import_stops_the_sweep_at_once_in_one_line(tmp_path):
+    folder = tmp_path / "scripts"
+    user_scripts(folder)
+    (folder / "user_learner.py").rename(folder / "my-learner.py")
+    (folder / "loads_it.py").write_text(LOADS_IT)
+    out, elapsed = _started_elsewhere(
+        tmp_path, folder / "loads_it.py", str(tmp_path / "results"), timeout=120
+    )
+    assert out.returncode == 1 and elapsed < 30, (elapsed, out.stderr[-3000:])
+    last = out.stderr.strip().splitlines()[-1]
+    assert last.startswith("docking.study.learners.CodeNotOnWorkers: "), out.stderr[-3000:]
+    assert "cannot import plugin_learner" in last and str(folder / "my-learner.py") in last
+    assert "not named plugin_learner.py" in last and "save it as such" in last
+    assert out.stderr.count("No module named") == 1  # in that line: no worker died of it
+    assert not (tmp_path / "results" / "steady").exists()
+
+
+DYING = """
+import dataclasses
+import os
+import sys
+
+from docking.scene import WorldConfig
+from docking.study import learners
+from docking.study.sweep import Job, run_jobs
+
+
+@dataclasses.dataclass(frozen=True)
+class Dying:
+    name: str = "dying"
+    world: WorldConfig = WorldConfig()
+    heldout_trials: int = 1
+
+
+def run(config, seed, progress=True, on_trials=None):
+    os._exit(3)  # as a worker the kernel kills (out of memory) ends
+
+
+learners.register(Dying, run)
+run_jobs([Job(Dying(), 0)], sys.argv[1], workers=2, progress=False)
+"""
+
+
+@pytest.mark.slow
+def test_a_sweep_whose_embedded_workers_all_end_stops_in_one_line(tmp_path):
+    """A job that ends its worker, run again by Dask on the other one, which it ends too: the
+    sweep says so and stops (it waited for workers that would never come)."""
+    script = tmp_path / "dying.py"
+    script.write_text(DYING)
+    out, elapsed = _started_elsewhere(tmp_path, script, str(tmp_path / "results"), timeout=180)
+    assert out.returncode == 1 and elapsed < 60, (elapsed, out.stderr[-3000:])
+    last = out.stderr.strip().splitlines()[-1]
+    assert last == (
+        "RuntimeError: every Dask worker of the sweep has ended, 1 of its jobs unfinished "
+        "(the workers' own messages are above)"
+    ), out.stderr[-3000:]
 
 
 CELL = """

@@ -7,6 +7,7 @@ import dataclasses
 import json
 import logging
 import os
+import re
 import signal
 import socket
 import subprocess
@@ -18,6 +19,7 @@ from pathlib import Path
 import numpy as np
 import psutil
 import pytest
+from helpers import user_scripts
 
 from docking.presets import EXPERIMENT_1
 from docking.study.kinds import load_result
@@ -259,6 +261,45 @@ def test_remote_cluster_gives_files_identical_to_a_local_sweep(dask_cluster, tmp
 
 
 @pytest.mark.slow
+def test_a_scripts_learner_module_runs_on_an_existing_scheduler(dask_cluster, tmp_path):
+    """Issue 62: a learner in a module beside the user's script (with a helper module of its
+    own), the script started from a third folder, on a cluster whose scheduler and workers
+    were started elsewhere: the modules are sent to them (the scheduler could not unpickle the
+    jobs), and a module edited between two sweeps on the same cluster runs as edited."""
+    script = user_scripts(tmp_path / "scripts")
+    elsewhere = tmp_path / "elsewhere"
+    elsewhere.mkdir()
+
+    def sweep(results: str) -> list[Path]:
+        out = subprocess.run(
+            [sys.executable, str(script), str(tmp_path / results), dask_cluster.address],
+            cwd=elsewhere,
+            env={**_env(), "PYTHONPATH": str(REPO), "DOCKING_LEDGER": "off"},
+            capture_output=True,
+            text=True,
+            timeout=240,
+        )
+        assert out.returncode == 0, out.stderr[-3000:]
+        return [Path(line) for line in out.stdout.split()]
+
+    def actions(paths: list[Path]) -> set[int]:
+        found = set()
+        for path in paths:
+            with np.load(path) as data:
+                found |= {int(a) for a in data["heldout.actions"].ravel() if a >= 0}
+        return found
+
+    first = sweep("results")
+    assert [p.name for p in first] == ["seed0.npz", "seed1.npz"]
+    assert actions(first) == {0}
+    assert list((tmp_path / "worker0").rglob("user_helper.py"))  # sent, not found in place
+    (script.parent / "user_helper.py").write_text("ACTION = 2\n")
+    again = sweep("results")
+    assert again[0].parent != first[0].parent  # another key: the helper's code changed
+    assert actions(again) == {2}
+
+
+@pytest.mark.slow
 def test_killing_a_worker_mid_sweep_loses_no_finished_run(dask_cluster, tmp_path):
     jobs = jobs_for([SLOW], range(6))
     outcome: dict = {}
@@ -425,6 +466,103 @@ def test_a_sweep_of_stored_runs_shows_the_reading_and_no_trial_bar(tmp_path, mon
     assert all(b.updates == [] for b in _RecordingBar.made if b.unit == "trial")
 
 
+#: A sweep of TINY, seeds given as "0-2", on stderr left as it is (a file, below).
+LOGGED = """
+import dataclasses
+import sys
+
+from docking.presets import EXPERIMENT_1
+from docking.study.sweep import jobs_for, parse_seeds, run_jobs
+
+TINY = dataclasses.replace(EXPERIMENT_1, train_trials=4, test_trials=3, eval_every=2, eval_trials=2)
+jobs = jobs_for([TINY], parse_seeds(sys.argv[2]))
+run_jobs(jobs, sys.argv[1], workers=int(sys.argv[3]), desc="logged")
+"""
+
+
+@pytest.mark.parametrize(
+    "workers, where, about",
+    [
+        (1, "one after another in this process", "about 3 min"),
+        pytest.param(
+            2, "on 2 worker processes (an embedded cluster)", "about 2 min", marks=pytest.mark.slow
+        ),
+    ],
+    ids=["in-process", "dask"],
+)
+def test_a_sweep_whose_stderr_is_a_file_writes_a_line_per_run(workers, where, about, tmp_path):
+    """Issue 62: with stderr not a terminal (a file: the bar is quiet) a sweep says at the start
+    how many runs it computes and about how long (no ledger here: the default time a run),
+    then a line per run finished (a contest said nothing for 10.7 minutes)."""
+    from docking.study.progress import PROGRESS_LINE
+
+    def sweep(seeds: str) -> list[str]:
+        log = tmp_path / "stderr.log"
+        with open(log, "w") as err:
+            done = subprocess.run(
+                [sys.executable, "-c", LOGGED, str(tmp_path / "results"), seeds, str(workers)],
+                stdout=subprocess.DEVNULL,
+                stderr=err,
+                env={**_env(), "DOCKING_LEDGER": "off"},
+                timeout=240,
+            )
+        assert done.returncode == 0, log.read_text()[-3000:]
+        return log.read_text().splitlines()
+
+    lines = sweep("0-2")
+    default = "no recorded run like it: 60 s a run assumed"
+    assert lines[0] == f"logged: 3 of 3 runs to compute, {where}: {about} ({default})"
+    done = [
+        re.fullmatch(r"logged: run (\d)/3 done, computed \(experiment1 seed (\d)\); .*", x)
+        for x in lines[1:]
+    ]
+    assert len(done) == 3 and all(done), lines
+    assert [m[1] for m in done] == ["1", "2", "3"]  # one line per run, as each finished
+    assert sorted(m[2] for m in done) == ["0", "1", "2"]
+    assert all(PROGRESS_LINE.fullmatch(x) for x in lines)
+    lines = sweep("0-3")  # three stored: read, one computed
+    assert lines[0].startswith("logged: 1 of 4 runs to compute (3 read from the store or the ")
+    assert lines[1].startswith("logged: run 4/4 done, computed (experiment1 seed 3); ")
+    assert len(lines) == 2 and all(PROGRESS_LINE.fullmatch(x) for x in lines)
+    assert sweep("0-3") == []  # nothing to compute: nothing to say
+
+
+def test_a_sweeps_estimate_is_the_recorded_time_of_similar_runs(monkeypatch):
+    """The time a run is expected to take: the ledger's recorded runs of the same kind in the
+    same world (with as many trials: their median; else their median time per trial times
+    the run's trials), else the kind's in other worlds, else the default."""
+    from docking.experiments import trials_in_run
+    from docking.study import ledger
+    from docking.study.progress import DEFAULT_RUN_SECONDS, estimates
+    from docking.study.sweep import Job
+
+    other = dataclasses.replace(TINY, world=dataclasses.replace(TINY.world, step_noise_xy=0.0))
+    longer = dataclasses.replace(TINY, train_trials=2 * TINY.train_trials)
+
+    def record(config, seconds, runner="learner"):
+        return {"runner": runner, "config": config.to_dict(), "wall_seconds": seconds}
+
+    runs = [record(TINY, 10.0), record(TINY, 20.0), record(TINY, 90.0), record(other, 400.0)]
+    runs.append(record(TINY, 5000.0, runner="ppo"))  # another kind: not similar
+    monkeypatch.setattr(ledger, "manifest", lambda: {"runs": dict(enumerate(runs))})
+    seconds, basis = estimates([Job(TINY, 0), Job(longer, 0)])
+    per_trial = 20.0 / trials_in_run(TINY)
+    assert seconds == [20.0, pytest.approx(per_trial * trials_in_run(longer))]
+    assert basis == "the ledger's times of runs of the same kind in the same world"
+    elsewhere = dataclasses.replace(TINY, world=dataclasses.replace(TINY.world, step_noise_xy=0.02))
+    seconds, basis = estimates([Job(elsewhere, 0)])
+    per_trial = sorted(
+        s / trials_in_run(c) for c, s in ((TINY, 10), (TINY, 20), (TINY, 90), (other, 400))
+    )
+    assert seconds == [pytest.approx((per_trial[1] + per_trial[2]) / 2 * trials_in_run(TINY))]
+    assert basis == "the ledger's times of runs of the same kind in other worlds"
+    monkeypatch.setattr(ledger, "manifest", lambda: None)
+    assert estimates([Job(TINY, 0), Job(TINY, 1)]) == (
+        [DEFAULT_RUN_SECONDS] * 2,
+        f"no recorded run like it: {DEFAULT_RUN_SECONDS:.0f} s a run assumed",
+    )
+
+
 class _Collect(logging.Handler):
     """The records that pass a logger's level, kept."""
 
@@ -542,7 +680,9 @@ def test_a_terminals_ctrl_c_reaches_the_command_not_its_workers():
 def test_a_niced_commands_workers_yield_the_cpu_as_it_does():
     """Its workers' sessions are scheduling groups of their own (Linux autogroups), which a
     process's nice value does not reach: ``nice -n 7`` on the command gives each worker's
-    group nice 7 (make test runs verify niced beside the tests)."""
+    group the command's nice value, 7 more than this process's, at most 19 (the kernel's
+    cap: under ``nice -n 19 make test`` the command runs at 19, as its workers' groups do)
+    (make test runs verify niced beside the tests)."""
     code = (
         "from docking.study.sweep import _EmbeddedCluster\n"
         "c = _EmbeddedCluster(1)\n"
@@ -557,7 +697,7 @@ def test_a_niced_commands_workers_yield_the_cpu_as_it_does():
         env={**os.environ, "PYTHONPATH": str(Path(__file__).resolve().parent.parent)},
     )
     assert done.returncode == 0, done.stderr[-2000:]
-    assert done.stdout.split()[-1] == "7"
+    assert done.stdout.split()[-1] == str(min(os.nice(0) + 7, 19))
 
 
 def test_an_embedded_worker_is_quiet_below_error_once_its_cluster_closes(tmp_path):

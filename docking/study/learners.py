@@ -42,8 +42,11 @@ The own code is read when the learner is registered: it is the code this process
 A learner defined in a notebook, a script or code run with ``exec`` reaches a sweep's Dask
 workers by value (cloudpickle), its runner with its class (:func:`docking.study.kinds.runner_for`
 adopts it there); one defined in a module file reaches them by name, so the workers must
-import that module (the embedded cluster's workers start in the current folder and inherit
-``PYTHONPATH``).
+import that module, and every module of the user's own that its code imports
+(:attr:`OwnCode.modules`). A sweep sees to it (:mod:`docking.study.sweep`): the embedded
+cluster's workers get this process's import path, an existing cluster's workers are sent the
+modules' files, and where a worker still cannot import one the sweep stops before any job,
+naming it.
 """
 
 from __future__ import annotations
@@ -52,8 +55,10 @@ import dataclasses
 import functools
 import hashlib
 import json
+import os
+import sys
 import types
-from collections.abc import Callable
+from collections.abc import Callable, Mapping
 from pathlib import Path
 from typing import Protocol, runtime_checkable
 
@@ -76,6 +81,7 @@ from docking.study.own_code import own_code as _own_code
 from docking.validate import check_name
 
 __all__ = [
+    "CodeNotOnWorkers",
     "Learner",
     "LearnerResult",
     "LearnerRunner",
@@ -211,16 +217,32 @@ def register(
     _serialisable(config_type)
     _check_defaults(config_type, trials)
     code = own_code(config_type, run, _checked_files(files))
-    mine = sorted(m for m in code.imports if m not in (PROTOCOL_MODULE, RUN_MODULE))
-    roots = (PROTOCOL_MODULE, RUN_MODULE, *mine)
-    runner = LearnerRunner(
+    runner = _runner(name, config_type, run, libraries, trials, code)
+    kinds.register(runner)
+    setattr(config_type, kinds.RUNNER_ATTRIBUTE, runner)  # travels with a class sent by value
+    return runner
+
+
+def _runner(name: str, config_type: type, run: Callable, libraries, trials, code) -> LearnerRunner:
+    """The kind of run of a learner whose arguments :func:`register` checked."""
+    roots = (
+        PROTOCOL_MODULE,
+        RUN_MODULE,
+        *sorted(set(code.imports) - {PROTOCOL_MODULE, RUN_MODULE}),
+    )
+    return LearnerRunner(
         name=name,
         config_type=config_type,
         root=PROTOCOL_MODULE,
         libraries=libraries,
         format=FORMAT_VERSION,
         key_prefix=f"learner {name} ",
-        run=functools.partial(_run, run, files=_code_files(config_type, run), modules=code.modules),
+        run=functools.partial(
+            _run,
+            run,
+            files=_code_files(config_type, run),
+            modules=code.keyed_names(config_type, run),
+        ),
         arrays=_arrays,
         parse=_parse,
         trials_in_run=_default_trials if trials is None else trials,
@@ -228,9 +250,6 @@ def register(
         code=code,
         roots=roots,
     )
-    kinds.register(runner)
-    setattr(config_type, kinds.RUNNER_ATTRIBUTE, runner)  # travels with a class sent by value
-    return runner
 
 
 def _serialisable(config_type: type) -> None:
@@ -460,3 +479,173 @@ def _is_module(package: Path, name: str) -> bool:
         return False
     relative = Path(*name.split(".")[1:])
     return (package / f"{relative}.py").is_file() or (package / relative / "__init__.py").is_file()
+
+
+# ------------------------------------------------------------------------------------------
+# The learner's code on a sweep's Dask workers (docking.study.sweep).
+# ------------------------------------------------------------------------------------------
+
+
+class CodeNotOnWorkers(RuntimeError):
+    """A sweep's Dask workers cannot import a module of a registered learner's code
+    (:attr:`docking.study.learners.OwnCode.modules`): raised before any job is submitted, in one
+    line that names the module, its file, the worker's error and what to do."""
+
+
+def modules_of(configs) -> dict[str, tuple[str, str]]:
+    """``{module: (its file, the learner's name)}``: the modules of the user's own that a
+    process must import to run ``configs`` (registered learners' :attr:`OwnCode.modules`; the
+    built-in kinds need none)."""
+    found: dict[str, tuple[str, str]] = {}
+    for config in {type(c): c for c in configs}.values():
+        runner = kinds.runner_for(config)
+        for name, file in getattr(getattr(runner, "code", None), "modules", ()):
+            found.setdefault(name, (file, runner.name))
+    return found
+
+
+def _module_root(name: str, file: str) -> Path | None:
+    """The folder from which module ``name`` is imported as its file ``file`` (``/x`` for
+    ``pkg.mod`` in ``/x/pkg/mod.py``); None if the file's path does not spell the name (a
+    module loaded from a file under another name, which no import by name finds)."""
+    path = Path(file)
+    parts = name.split(".")
+    tail = (
+        [*parts, "__init__.py"] if path.name == "__init__.py" else [*parts[:-1], f"{parts[-1]}.py"]
+    )
+    if len(path.parts) <= len(tail) or list(path.parts[-len(tail) :]) != tail:
+        return None
+    return path.parents[len(tail) - 1]
+
+
+def import_path(modules: Mapping[str, tuple[str, str]] | None = None) -> list[str]:
+    """The folders the embedded cluster's workers import from before their own: this
+    process's import path (``sys.path``, the current folder for ``""``), but the standard
+    library's and site-packages' folders, which the workers (the same interpreter) have, and
+    the folder each module of ``modules`` (:func:`modules_of`) is imported from by its name:
+    so a worker imports what this process imports, wherever the script was started."""
+    import sysconfig
+
+    own = {
+        Path(p).resolve()
+        for key in ("stdlib", "platstdlib", "purelib", "platlib")
+        if (p := sysconfig.get_paths().get(key))
+    }
+    roots = [_module_root(name, file) for name, (file, _) in sorted((modules or {}).items())]
+    found: list[str] = []
+    for entry in [*sys.path, *(str(r) for r in roots if r is not None)]:
+        path = Path(entry or os.getcwd()).resolve()
+        if not path.exists() or any(path == o or path.is_relative_to(o) for o in own):
+            continue
+        if str(path) not in found:
+            found.append(str(path))
+    return found
+
+
+def ship_code(client, modules: Mapping[str, tuple[str, str]]) -> None:
+    """Send the files of ``modules`` (:func:`modules_of`) to the scheduler of ``client``'s
+    cluster (which unpickles the jobs it is given) and its workers, as plugins the scheduler
+    keeps (a worker that joins later gets them too): each writes them under its local
+    directory, laid out as their names say, puts that folder first on its import path and
+    forgets any copy of them it imported before (a long-lived worker would run a learner's
+    old code). A module whose file's path does not spell its name is not sent
+    (:func:`check_imports` names it)."""
+    import hashlib
+
+    files: dict[str, bytes] = {}
+    for name, (file, _) in sorted(modules.items()):
+        root = _module_root(name, file)
+        if root is not None:
+            files[Path(file).relative_to(root).as_posix()] = Path(file).read_bytes()
+    if not files:
+        return
+    digest = hashlib.sha256()
+    for relative, data in sorted(files.items()):
+        digest.update(f"{relative}\n{len(data)}\n".encode() + data)
+    folder = f"docking-code-{digest.hexdigest()[:16]}"
+    for plugin in _code_plugins(files, folder, tuple(sorted(modules))):
+        client.register_plugin(plugin, name=folder)
+
+
+def _code_plugins(files: dict[str, bytes], folder: str, names: tuple[str, ...]) -> tuple:
+    """A ``distributed`` scheduler plugin and a worker plugin that run :func:`_receive_code`
+    (classes made here, so that importing this module does not import distributed; they
+    travel by value)."""
+    from distributed.diagnostics.plugin import SchedulerPlugin, WorkerPlugin
+
+    class ShipCodeToScheduler(SchedulerPlugin):
+        async def start(self, scheduler):
+            _receive_code(scheduler.local_directory, files, folder, names)
+
+    class ShipCodeToWorkers(WorkerPlugin):
+        def setup(self, worker):
+            _receive_code(worker.local_directory, files, folder, names)
+
+    return ShipCodeToScheduler(), ShipCodeToWorkers()
+
+
+def _receive_code(local: str, files: dict[str, bytes], folder: str, names) -> None:
+    """In a worker: write ``files`` (``{relative path: bytes}``) under ``local/folder``, put
+    that folder first on the import path and forget the modules ``names`` imported before."""
+    import importlib
+
+    root = Path(local) / folder
+    for relative, data in files.items():
+        path = root / relative
+        path.parent.mkdir(parents=True, exist_ok=True)
+        path.write_bytes(data)
+    if str(root) in sys.path:
+        sys.path.remove(str(root))
+    sys.path.insert(0, str(root))
+    for name in names:
+        sys.modules.pop(name, None)
+    importlib.invalidate_caches()
+
+
+def _cannot_import(names) -> dict[str, str]:
+    """In a worker: ``{module: its error}`` of the modules ``names`` it cannot import."""
+    import importlib
+
+    errors = {}
+    for name in names:
+        try:
+            importlib.import_module(name)
+        except (Exception, SystemExit) as exc:  # an ImportError, or what the module raised
+            errors[name] = f"{type(exc).__name__}: {exc}"
+    return errors
+
+
+def check_imports(client, modules: Mapping[str, tuple[str, str]], embedded: bool) -> None:
+    """The scheduler of ``client``'s cluster and every worker import the modules of
+    ``modules`` (:func:`modules_of`); :class:`CodeNotOnWorkers` naming the first one
+    cannot, its file, the error and what to do."""
+    if not modules:
+        return
+    answers = {"scheduler": client.run_on_scheduler(_cannot_import, sorted(modules))}
+    answers.update(sorted(client.run(_cannot_import, sorted(modules)).items()))
+    for worker, errors in answers.items():
+        for name, error in sorted(errors.items()):
+            file, learner = modules[name]
+            if _module_root(name, file) is None:
+                advice = (
+                    f"it was loaded from a file that is not named {name.rpartition('.')[2]}"
+                    ".py, and a worker imports a learner's module by its name: save it as "
+                    "such, in a folder on sys.path, or define the learner in the script "
+                    "itself (its code then travels by value)"
+                )
+            elif embedded:
+                advice = (
+                    "the workers import from this process's import path (sys.path): import "
+                    "the learner's modules by their names from a folder on it, or define the "
+                    "learner in the script itself (its code then travels by value)"
+                )
+            else:
+                advice = (
+                    "its file was sent to the workers; install what it imports on the "
+                    "workers' machines, in the workers' Python"
+                )
+            who = "the Dask scheduler" if worker == "scheduler" else f"the Dask worker {worker}"
+            raise CodeNotOnWorkers(
+                f"{who} cannot import {name} ({file}), a module of the learner {learner!r} "
+                f"({error}); {advice}"
+            )

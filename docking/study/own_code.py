@@ -53,15 +53,28 @@ class OwnCode:
     Attributes:
       digest: SHA-256 of its tokens (and of its declared files' bytes).
       imports: The ``docking`` modules it imports (or refers to).
-      where: Where it was read: module files (with the statements read), or ``"<cell>:
-        class X, function run"``; the declared files.
-      modules: The modules of the user's own it covers (what a run may load).
+      where: Where it was read: module files, or ``"<cell>: class X, function run"``; the
+        declared files.
+      modules: ``((module, its file), ...)``: the modules of the user's own that a process
+        running the learner imports (by name, as it unpickles the configuration or the run
+        function, and as those import others): the module files that define the class and
+        the function (not a script run as ``__main__``, whose code travels by value), the
+        packages they are in, and the modules of the user's own that any of these import,
+        transitively (:func:`user_modules`). What a sweep ships to its Dask workers
+        (:mod:`docking.study.sweep`), and what a run may load (:func:`keyed_names`).
     """
 
     digest: str
     imports: tuple[str, ...]
     where: tuple[str, ...]
-    modules: tuple[str, ...] = ()
+    modules: tuple[tuple[str, str], ...] = ()
+
+    def keyed_names(self, config_type: type, run) -> tuple[str, ...]:
+        """The modules of the user's own this key covers: :attr:`modules` and those defining
+        the class and the function (``__main__`` included): a run that loads another is
+        refused (:func:`docking.study.learner_run.unkeyed_modules`)."""
+        names = {m for m, _ in self.modules} | {config_type.__module__, run.__module__}
+        return tuple(sorted(names))
 
 
 # ------------------------------------------------------------------------------------------
@@ -371,13 +384,12 @@ def own_code(config_type: type, run, files=()) -> OwnCode:
             imports |= found
             names |= imported
             where += places
-    covered = []
-    for name, path in user_modules(names - done):
+    needed = dict(user_modules(names - done))
+    for name, path in needed.items():
         tokens, found = fingerprint.code_tokens(path.read_text(encoding="utf-8"), name)
         texts.append(f"module {name}\n{tokens}")
         imports |= found
         where.append(str(path))
-        covered.append(name)
     for file in files:
         path = Path(file).resolve()
         if not path.is_file():
@@ -386,4 +398,18 @@ def own_code(config_type: type, run, files=()) -> OwnCode:
         where.append(f"{path} (data)")
     digest = hashlib.sha256("\n".join(texts).encode()).hexdigest()
     followed = sorted(m for m in imports if m.startswith("docking."))
-    return OwnCode(digest, tuple(followed), tuple(where), tuple(sorted({*covered, *done})))
+    return OwnCode(digest, tuple(followed), tuple(where), _shipped(done, needed))
+
+
+def _shipped(defining: set[str], needed: dict[str, Path]) -> tuple[tuple[str, str], ...]:
+    """:attr:`OwnCode.modules`: ``needed`` (the user's modules the learner's code imports),
+    the modules ``defining`` the class and the run function that have a file (but
+    ``__main__``), the packages these are in, and what those import, in name order."""
+    found = {name: str(path) for name, path in needed.items()}
+    for name in defining - {"__main__"}:
+        path = _file_of(name, [])
+        if path is not None:
+            found[name] = str(path)
+    parents = {p for name in found for p in _with_parents([name]) if p not in found}
+    found.update((name, str(path)) for name, path in user_modules(parents - set(found)))
+    return tuple(sorted(found.items()))

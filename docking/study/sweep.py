@@ -13,12 +13,20 @@ ledger's entry, else to compute); the runs found nowhere are computed through
   the same ``docking`` code and see the results folder under the same path (one machine or a
   shared file system).
 
+A learner registered from a module of the user's own reaches the workers by name: the
+embedded cluster's workers import from this process's import path, an existing cluster is sent
+the modules' files, and a worker that cannot import them stops the sweep before any job
+(:mod:`docking.study.learners`: ``import_path``, ``ship_code``, ``check_imports``). A sweep
+whose embedded workers have all ended stops too.
+
 Each such job computes its run on a worker, which saves it in the store in the file its key
 names (:func:`docking.study.store.compute`, :func:`docking.study.kinds.result_path`) and
 returns the path (or the run, to a caller that keeps the runs: :func:`sweep`). Stored runs
 are skipped before anything is submitted, so an interrupted sweep resumes where it stopped and
 no finished run is computed twice. A job lost with a worker is rescheduled by Dask on another
-one. A progress bar on the terminal (stderr) counts finished jobs.
+one. A progress bar on the terminal (stderr) counts finished trials and jobs; where stderr is
+not a terminal, lines say what the sweep computes, about how long it takes, and each run
+finished (:class:`docking.study.progress.Progress`).
 
 The embedded cluster's workers end with the process that started them
 (:func:`_die_with_parent`: ``PR_SET_PDEATHSIG`` on Linux and a ``getppid`` watchdog), and
@@ -46,8 +54,9 @@ from pathlib import Path
 from typing import TYPE_CHECKING
 
 from docking.experiments import ExperimentConfig
-from docking.study import paths, store
+from docking.study import learners, paths, store
 from docking.study.kinds import result_path, runner_for
+from docking.study.progress import Progress
 from docking.study.runs import Located, locate
 from docking.validate import (
     DIGITS,
@@ -418,7 +427,7 @@ class _EmbeddedCluster:
     SIGKILL or SIGTERM the resource tracker reports leaked semaphores
     (distributed 2026.8; tests/test_sweep.py's ``test_workers_end_with_their_parent``)."""
 
-    def __init__(self, n_workers: int):
+    def __init__(self, n_workers: int, modules: Mapping[str, tuple[str, str]] | None = None):
         import subprocess
         import tempfile
 
@@ -443,14 +452,14 @@ class _EmbeddedCluster:
                 silence_logs=logging.ERROR,
             )
         package_root = str(Path(__file__).resolve().parents[2])
+        path = (package_root, *learners.import_path(modules), os.environ.get("PYTHONPATH"))
         env = {
             **os.environ,
             _PARENT_VARIABLE: str(os.getpid()),
             _CLOSING_VARIABLE: self._closing,
-            # The workers import this very package.
-            "PYTHONPATH": os.pathsep.join(
-                p for p in (package_root, os.environ.get("PYTHONPATH")) if p
-            ),
+            # The workers import this very package, and what this process imports (a
+            # learner's modules of the user's own among it: learners.import_path).
+            "PYTHONPATH": os.pathsep.join(dict.fromkeys(p for p in path if p)),
         }
         try:
             for k in range(n_workers):
@@ -497,6 +506,10 @@ class _EmbeddedCluster:
             "--preload",
             "docking.study.sweep",
         ]
+
+    def alive(self) -> bool:
+        """Whether any of the worker processes still runs."""
+        return any(proc.poll() is None for proc in self._procs)
 
     def _wait_for_workers(self, n: int, timeout: float = 120.0) -> None:
         deadline = time.monotonic() + timeout
@@ -560,8 +573,9 @@ def run_jobs(
         per job to run). ``1`` runs the jobs one after another in this process, no Dask.
       force: Recompute and replace stored runs.
       progress: Show a bar on stderr that counts trials as they finish (the runs' trials
-        of :func:`docking.experiments.trials_in_run`), with the runs done beside it; quiet
-        when stderr is not a terminal.
+        of :func:`docking.experiments.trials_in_run`), with the runs done beside it; when
+        stderr is not a terminal, a line at the start (the runs to compute, about how long)
+        and a line per run finished instead (:class:`docking.study.progress.Progress`).
       desc: The bar's label.
     """
     found = sweep(jobs, results_dir, scheduler, workers, force, progress, desc, keep=False)
@@ -605,7 +619,7 @@ def sweep(
     # computing: a bar of trials (none when every run was found: it would say nothing)
     stored = sum(trials) - sum(trials[k] for k in todo)
     bar = _trial_bar(sum(trials), stored, desc, progress and bool(todo))
-    runs = _RunCount(bar, len(jobs), len(jobs) - len(todo))
+    runs = Progress(bar, jobs, todo, desc, progress)
     computed: dict[int, object] = {}
     try:
         if todo:
@@ -671,18 +685,6 @@ def _trial_bar(total: int, stored: int, desc: str, progress: bool):
         dynamic_ncols=True,
         smoothing=0.05,
     )
-
-
-class _RunCount:
-    """The runs done, shown beside a bar of trials."""
-
-    def __init__(self, bar, total: int, done: int):
-        self.bar, self.total, self.count = bar, total, done
-        self.done(0)
-
-    def done(self, n: int) -> None:
-        self.count += n
-        self.bar.set_postfix_str(f"runs {self.count}/{self.total}", refresh=True)
 
 
 def run_configs(
@@ -821,27 +823,30 @@ def _handshake(scheduler: str, seconds: float) -> None:
 def _run_here(jobs, located, todo, force, bar, trials, runs, computed, keep) -> None:
     """Compute the jobs ``todo`` one after another in this process (the bar moving with each
     trial); with ``keep``, each run goes into ``computed`` by its job's index."""
+    runs.start(1, "one after another in this process")
     for k in todo:
         job, path = jobs[k], str(located[k].path)
         result = _run_job(job.config, job.seed, path, force, bar.update, keep=keep)
         if keep:
             computed[k] = result
-        runs.done(1)
+        runs.done([k])
 
 
 def _run_on_dask(
     scheduler, n_workers: int, jobs, located, todo, force, bar, trials, runs, computed, keep
 ) -> None:
     """Compute the jobs ``todo`` on ``scheduler``'s cluster (None: an embedded one of
-    ``n_workers`` processes), following their progress (:func:`_submit_and_follow`)."""
+    ``n_workers`` processes), following their progress (:func:`_submit_and_follow`), once its
+    workers import the modules of the user's own the jobs need (:func:`_ready`)."""
+    modules = learners.modules_of(jobs[k].config for k in todo)
     with _quiet_distributed():
-        cluster = _EmbeddedCluster(n_workers) if scheduler is None else None
+        cluster = _EmbeddedCluster(n_workers, modules) if scheduler is None else None
         finished = False
         try:
             with cluster.client if cluster is not None else _connect(scheduler) as client:
-                _submit_and_follow(
-                    client, jobs, located, todo, force, bar, trials, runs, computed, keep
-                )
+                _ready(client, scheduler, n_workers if cluster else None, modules, runs)
+                follow = (jobs, located, todo, force, bar, trials, runs, computed, keep)
+                _submit_and_follow(client, *follow, alive=cluster.alive if cluster else None)
             finished = True
         finally:
             if cluster is not None:
@@ -849,6 +854,21 @@ def _run_on_dask(
                 # end those, so SIGKILL follows after 1 s instead of 10 (a Ctrl-C took 20 s
                 # to return with two workers busy). A job's file is written atomically.
                 cluster.close(grace=10.0 if finished else 1.0)
+
+
+def _ready(client, scheduler, embedded: int | None, modules, runs) -> None:
+    """Before the first job: the modules of the user's own the jobs need (``modules``) sent to
+    an existing cluster (:func:`docking.study.learners.ship_code`) and imported by every worker
+    (:func:`~docking.study.learners.check_imports`); then the first line of progress (``runs``:
+    :class:`~docking.study.progress.Progress`). ``embedded``: the embedded cluster's workers."""
+    if embedded is None:
+        learners.ship_code(client, modules)
+    learners.check_imports(client, modules, embedded=embedded is not None)
+    if embedded is not None:
+        runs.start(embedded, f"on {embedded} worker processes (an embedded cluster)")
+    else:
+        count = len(client.scheduler_info(n_workers=-1)["workers"])
+        runs.start(count, f"on the {count} workers of {scheduler} now")
 
 
 @contextlib.contextmanager
@@ -910,12 +930,13 @@ def _submit(client, jobs, located, todo, force: bool, keep: bool, tag: str) -> d
 
 
 def _submit_and_follow(
-    client, jobs, located, todo, force: bool, bar, trials, runs, computed: dict, keep: bool
+    client, jobs, located, todo, force, bar, trials, runs, computed, keep, alive=None
 ) -> None:
     """Submit the jobs ``todo`` to ``client`` and move ``bar`` with the trials their workers
     report (:data:`_PROGRESS_TOPIC`) and ``runs`` with the jobs done, until all are done (a
     job's exception is raised here); with ``keep``, each computed run goes into ``computed``
-    (by its job's index)."""
+    (by its job's index). ``alive()``: whether any worker still runs (the embedded cluster's,
+    which no one restarts); once not, ``RuntimeError``, not a wait for workers that never come."""
     from distributed import wait
 
     tag = uuid.uuid4().hex[:8]
@@ -951,6 +972,11 @@ def _submit_and_follow(
         except TimeoutError:
             apply_news()
             bar.refresh()
+            if alive is not None and not alive():
+                raise RuntimeError(
+                    f"every Dask worker of the sweep has ended, {len(pending)} of its jobs "
+                    "unfinished (the workers' own messages are above)"
+                ) from None
             continue
         apply_news()
         for future in done:
@@ -960,5 +986,5 @@ def _submit_and_follow(
                 computed[k] = found
             bar.update(trials[k] - reported[k])  # a loaded run, or unreported trials
             reported[k] = trials[k]
-        runs.done(len(done))
+        runs.done([index[future] for future in done])
     client.unsubscribe_topic(_PROGRESS_TOPIC)

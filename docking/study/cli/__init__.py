@@ -15,8 +15,9 @@ an option with its documented default::
 ``run`` and ``sweep`` store every run they compute in the results store
 (:mod:`docking.study.store`), keyed by its configuration and seed; a run the store or the committed
 ledger holds is loaded, not recomputed, so an interrupted command resumes where it stopped. Progress
-bars go to the terminal (stderr). ``--help`` (of the command and of each subcommand) prints usage
-and starts nothing.
+bars go to the terminal (stderr); where stderr is not a terminal, a line at the start (the runs to
+compute, about how long) and one per run finished. ``--help`` (of the command and of each
+subcommand) prints usage and starts nothing.
 """
 
 from __future__ import annotations

@@ -18,7 +18,7 @@ from docking import _PROG
 from docking.camera import CameraConfig
 from docking.experiments import POLICIES, PRETRAIN_RULES, Curriculum, ExperimentConfig
 from docking.network import FEATURE_LAYERS, RULES, NetworkConfig
-from docking.presets import EXPERIMENTS
+from docking.presets import EXPERIMENTS, HEADLINE_SEED, SEEDS
 from docking.scene import (
     ACTION_SETS,
     DISTRACTOR_SHAPES,
@@ -39,7 +39,32 @@ PROG = _PROG  # the name in every message: one place, docking/__init__.py
 HELP_ALL = "--help-all"
 
 
-# One subcommand per named experiment, its configuration as the defaults.
+def _named() -> dict[str, tuple[ExperimentConfig, str, tuple[int, ...]]]:
+    """``{name: (configuration, what it is, its seeds)}`` of every configuration ``run`` and
+    ``sweep`` name: the paper's experiments (:data:`docking.presets.EXPERIMENTS`, their seeds
+    :data:`docking.presets.SEEDS`), then the study's worlds at the paper's published settings
+    and with its tuned learners (:func:`docking.study.cli.named.named`)."""
+    from docking.study.cli import named
+
+    found = {
+        name: (config, f"the paper's {name.replace('experiment', 'Experiment ')}", SEEDS[name])
+        for name, config in EXPERIMENTS.items()
+    }
+    found.update({n: (c, what, named.SEEDS) for n, (c, what) in named.named().items()})
+    return found
+
+
+#: The configurations ``run`` and ``sweep`` name (:func:`_named`).
+NAMED = _named()
+
+
+def seeds_of(name: str) -> tuple[int, ...]:
+    """The seeds a configuration called ``name`` runs for by default (a configuration renamed
+    with ``--name`` runs for :data:`docking.presets.HEADLINE_SEED`)."""
+    return NAMED[name][2] if name in NAMED else (HEADLINE_SEED,)
+
+
+# One subcommand per named configuration, its configuration as the defaults.
 _Experiment = Union[  # noqa: UP007 (tyro needs a runtime Union of Annotated members)
     tuple(
         Annotated[
@@ -47,13 +72,10 @@ _Experiment = Union[  # noqa: UP007 (tyro needs a runtime Union of Annotated mem
             tyro.conf.subcommand(
                 name,
                 default=config,
-                description=(
-                    f"{name} as in docking.experiments; any field can be overridden. --help "
-                    f"shows the common options, {HELP_ALL} every one."
-                ),
+                description=f"{what}. --help: common options, {HELP_ALL} every one.",
             ),
         ]
-        for name, config in EXPERIMENTS.items()
+        for name, (config, what, _) in NAMED.items()
     )
 ]
 
@@ -221,7 +243,7 @@ _FiguresDir = Annotated[
 
 
 _ExperimentSeeds = Annotated[
-    str | None, _shown("STR", "the experiment's seeds, docking.presets.SEEDS")
+    str | None, _shown("STR", "the experiment's, docking.presets.SEEDS; a world's: Experiment 2's")
 ]
 
 

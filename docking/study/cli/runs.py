@@ -16,9 +16,9 @@ import numpy as np
 import tyro
 
 from docking.experiments import ExperimentConfig
-from docking.presets import EXPERIMENTS, HEADLINE_SEED, SEEDS
 from docking.study import paths
 from docking.study.cli.options import (
+    NAMED,
     PROG,
     _DesignSeeds,
     _ExperimentArg,
@@ -28,6 +28,7 @@ from docking.study.cli.options import (
     _Scheduler,
     _seed_text,
     _shown,
+    seeds_of,
 )
 from docking.study.designs import names as _design_names
 
@@ -36,7 +37,7 @@ def _seeds_of(config: ExperimentConfig, text: str | None) -> list[int]:
     from docking.study.sweep import parse_seeds
 
     if text is None:
-        return list(SEEDS.get(config.name, (HEADLINE_SEED,)))
+        return list(seeds_of(config.name))
     return parse_seeds(text)
 
 
@@ -72,8 +73,11 @@ class Run:
     """Run (or load) an experiment for several seeds; a run computed is saved in the results
     store, one the store or the committed ledger holds is loaded.
 
-    EXPERIMENT names a configuration of docking.presets.EXPERIMENTS; options after it
-    override its fields (e.g. --network.eps-w 0, --train-trials 500)."""
+    EXPERIMENT names one of the paper's experiments (docking.presets.EXPERIMENTS) or
+    Experiment 2 in a study world, floor or nao, with the paper's learner at its published
+    settings or a learner at the settings the design named in parentheses tuned
+    (docking.study.cli.named); options after it override its fields (e.g. --network.eps-w 0,
+    --train-trials 500)."""
 
     experiment: _ExperimentArg
     seeds: _ExperimentSeeds = None
@@ -99,10 +103,10 @@ class Run:
 
 
 def _preset_of(config: ExperimentConfig) -> ExperimentConfig:
-    """The preset (:data:`docking.presets.EXPERIMENTS`) ``config`` differs least from (its
-    namesake first)."""
+    """The named configuration (:data:`docking.study.cli.options.NAMED`) ``config`` differs
+    least from (its namesake first)."""
     return min(
-        EXPERIMENTS.values(),
+        (named for named, _, _ in NAMED.values()),
         key=lambda p: (len(_overrides(config, p)), p.name != config.name),
     )
 
