@@ -242,48 +242,60 @@ class Report:
         return bracketing_report.bracketed_addendum(added, own, walk)
 
     def _answer(self, results, comparisons, oracle, contest, decisions) -> bool:
-        """The README's first screen (:func:`docking.study.answer.first_screen`, under its
-        figure, saved into the figures folder) and its summary, what the runs show in a few
-        paragraphs, each number of the first screen among them; whether the README changed.
-        The replication's, the bracketing continued's and the revisit's runs are read from the
-        store or the ledger; the tuning effort is counted from the ledger's records."""
+        """The README's first screen (:func:`docking.study.answer.equal_first_screen`, under
+        the equal contest's glance figure, saved into the figures folder) and its summary,
+        what the runs show in a few paragraphs, each number of the first screen among them;
+        whether the README changed. The equal contest's, the replication's and the revisit's
+        runs are read from the store or the ledger."""
         import numpy as np
 
-        from docking.study import answer, figures, ledger, readme
-        from docking.study.claims import judge_family, rate_interval
-        from docking.study.designs import addendum, landscape, revisited
-        from docking.study.designs import bracketing_continued as bc
+        from docking.study import answer, figures, readme
+        from docking.study.claims import rate_interval
+        from docking.study.designs import equal_contest as ec
+        from docking.study.designs import equal_contest_report as ecr
         from docking.study.designs import replication as rp
+        from docking.study.designs import revisited
         from docking.study.designs.third_edition_report import claim_groups
 
         run = dict(results_dir=self.results_dir, workers=self.processes)
-        second = rp.DESIGN.run(**run)
-        found = answer.replication(bc.DESIGN.run(**run), second)
-        published = {w: rate_interval(contest, f"{w}/paper").estimate for w in answer.WORLDS}
-        sideboard = tuple(float(np.mean([r.test.success.mean() for r in x])) for x in results)
-        tuned = {w: rp.TUNED[w]["paper"] for w in rp.WORLDS}
-        efforts = answer.effort(ledger.manifest())
+        equal, second = ec.DESIGN.run(**run), rp.DESIGN.run(**run)
+        verdicts = ecr.verdicts(equal)
+        published = {w: rate_interval(contest, f"{w}/paper").estimate for w in ec.WORLDS}
         relocation = _relocation(revisited.DESIGN.run(**run), revisited)
-        design = contest.design
-        per_claim, family = (
-            claim_groups(design.claims, rule)
-            for rule in (decisions, judge_family(design.claims, contest, alpha=design.alpha))
-        )
-        claims = (sum(len(v) for v in per_claim.values()), *_held(per_claim), *_held(family))
+        groups = claim_groups(contest.design.claims, decisions)
         png = self._save_figure(
-            lambda: figures.fig_glance(*answer.glance_data(contest, second)), readme.GLANCE_FIGURE
+            lambda: figures.fig_glance(*ecr.glance_data(equal, contest)), readme.GLANCE_FIGURE
         )
-        text = answer.first_screen(published, sideboard, tuned, efforts, found, relocation, claims)
-        image = f"![The answer per world](figures/{png}) {answer.GLANCE_CAPTION}"
+        text = answer.equal_first_screen(
+            published,
+            ecr.chosen(equal),
+            ec.SEARCH.runs_per_learner(),
+            verdicts,
+            relocation,
+            groups,
+        )
+        image = f"![The answer per world](figures/{png}) {ecr.GLANCE_CAPTION}"
         changed = self._write(f"\n{image}\n\n{text}\n", readme.GLANCE_START, readme.GLANCE_END)
+        before = {
+            w: float(np.mean(second.score(f"{w}/linear") - second.score(f"{w}/paper")))
+            for w in rp.WORLDS
+        }
+        fragile = ecr.fragility(equal)
         paragraphs = [
             readme.reproduced_text(*results),
-            answer.tuning_text(published, tuned, efforts, addendum.LADDERS),
-            answer.replication_text(found),
-            "**The fragility landscape** (beyond the paper, notebook 07: the tuning's runs "
-            "drawn over two knobs at a time). " + landscape.shares_sentence(landscape.shares()),
+            answer.equal_text(
+                ecr.verdict_table(equal),
+                ecr.chosen_table(equal),
+                verdicts,
+                before,
+                ec.SEARCH.runs_per_learner(),
+                ec.SEEDS,
+            ),
+            "**The fragility landscape** (beyond the paper, notebook 07: each learner's common "
+            "grid, the same points and seeds for every learner). "
+            + ecr.fragility_sentence(fragile),
             answer.relocation_text(relocation),
-            answer.claims_text(claims),
+            answer.claims_text(_claim_counts(contest, decisions)),
         ]
         if comparisons:
             paragraphs.append(readme.turning_text(comparisons, oracle))
@@ -316,6 +328,20 @@ class Report:
         return found
 
 
+def _claim_counts(contest, decisions) -> tuple[int, int, int, int, int]:
+    """The paper's claims' counts (:func:`docking.study.answer.claims_text`): judged, held and
+    contradicted under the committed rule, then as one family."""
+    from docking.study.claims import judge_family
+    from docking.study.designs.third_edition_report import claim_groups
+
+    design = contest.design
+    per_claim, family = (
+        claim_groups(design.claims, rule)
+        for rule in (decisions, judge_family(design.claims, contest, alpha=design.alpha))
+    )
+    return (sum(len(v) for v in per_claim.values()), *_held(per_claim), *_held(family))
+
+
 def _held(groups: dict) -> tuple[int, int]:
     """Of the claims grouped by their verdicts (``claim_groups``): how many hold in at least
     one world, and how many are contradicted in at least one."""
@@ -327,22 +353,36 @@ def _held(groups: dict) -> tuple[int, int]:
 
 
 def _relocation(results, rv) -> dict:
-    """Relocation as measured, for the first screen (``results`` of the revisit ``rv``): the
-    mean shift of the start views in input rows over both places
-    (:func:`docking.study.analysis.view_shift`), the height change in cm and each learner's
-    held-out success at home and at each place."""
+    """Relocation as measured, for the first screen (``results`` of the revisit ``rv``): a
+    camera-height change in the sideboard world, the camera :data:`HEIGHT_CHANGE` lower or
+    higher (the places ``sideboard higher`` and ``sideboard lower``: the landmark as if that
+    much higher or lower); the mean shift of the landmark in the start views in input rows at
+    each height, with its sign (up negative, :func:`docking.study.analysis.view_shift`), and
+    each learner's held-out success at home and at each height over the revisit's seeds."""
     import numpy as np
 
     from docking.study.analysis import view_shift
     from docking.study.claims import rate_interval
 
     places = rv.places()
-    shift = np.mean([np.mean(np.abs(view_shift(rv._HOME, w))) for w in places.values()])
-    found = dict(shift=float(shift), cm=100 * rv.HEIGHT_CHANGE)
+    found = dict(cm=100 * rv.HEIGHT_CHANGE, world="sideboard", seeds=len(rv.SEEDS))
+    found["shift lower"] = float(np.mean(view_shift(rv._HOME, places["sideboard higher"])))
+    found["shift higher"] = float(np.mean(view_shift(rv._HOME, places["sideboard lower"])))
+    found["shift"] = float(np.mean([abs(found["shift lower"]), abs(found["shift higher"])]))
     for learner, prefix in (("paper", ""), ("linear", "linear ")):
         found[prefix + "home"] = rate_interval(results, f"home/{learner}").estimate
-        for place, name in (("sideboard higher", "higher"), ("sideboard lower", "lower")):
+        for place, name in (
+            ("sideboard higher", "camera lower"),
+            ("sideboard lower", "camera higher"),
+        ):
             found[prefix + name] = rate_interval(results, f"{place}/{learner}").estimate
+    from docking.study.claims import judge_family
+
+    names = {"sideboard higher": "camera lower", "sideboard lower": "camera higher"}
+    design = results.design
+    for d in judge_family(design.claims, results, alpha=design.alpha, per_claim=True):
+        if d.claim == "relocation-height":
+            found[f"verdict {names[d.world]}"] = d.verdict
     return found
 
 
