@@ -103,8 +103,8 @@ display(Image(filename=str(FIGURES_DIR / "learning_curves.png")))
 # started close to the dock (the numbers below, asserted: at least 90% on average, from a far
 # edge within 0.8 m). The law it learns close by (centre the landmark in the image, then walk
 # forward) carries to far starts, where the landmark is smaller but in the same place; the
-# curriculum's later stages mostly keep it from degrading rather than teach it (notebook 05
-# tests the curriculum claim with ten seeds).
+# curriculum's later stages mostly keep it from degrading rather than teach it (the archived notebook 05
+# tested the curriculum claim with ten seeds).
 
 # %%
 early = np.array([r.curve_success[list(r.curve_trials).index(100)] for r in results])
@@ -168,7 +168,7 @@ assert moved[:, 0].min() > 0.05  # the partition moved, in every seed
 # %% [markdown]
 # So learning $W$ redraws the partition for a sizeable share of views, and changes some
 # decisions. Whether that matters for success is a question for an ablation, not for a
-# cosine: notebook 05 runs the same configuration with $W$ frozen at its random start
+# cosine: the archived notebook 05 (archive/05_what_matters.py) runs the same configuration with $W$ frozen at its random start
 # ($\epsilon_W = 0$), ten seeds each, and gives the verdict with its confidence interval.
 # The weights themselves (left half of Fig. 4) show no landmark structure, where the paper's
 # Fig. 4 shows faint landmark shapes. What the units respond to is shown in the right half:
@@ -215,7 +215,7 @@ print(
 # seeds, paired with the runs above (the same initial weights and random streams), each
 # network tested greedily on 725 trials from the full region; the bold row *is* the runs
 # above, and $\epsilon_W$ is this configuration's unless a row names it. `docking.study.designs.calibration`
-# defines the rows and says why these ($\epsilon_W = 0$ is notebook 05's, with ten seeds).
+# defines the rows and says why these ($\epsilon_W = 0$ is the archived notebook 05's, with ten seeds).
 # Intervals are 95% bootstrap intervals over seeds; the difference to this configuration
 # resamples each row's seeds independently. "Training trials rewarded" is the share of the
 # 2000 training trials that ended in the dock.

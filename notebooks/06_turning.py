@@ -32,7 +32,7 @@
 # Experiment 3 is Experiment 2 (same world, network, curriculum, 2000 training trials) in a
 # grid: four or six actions × the paper's task or precision docking × heading noise 2° (the
 # world's default), 4° and 6° per step. Each cell trains **10 seeds**; each network is judged
-# on **500 held-out trials** (the study's streams, notebook 05). The cell "4 actions, paper
+# on **500 held-out trials** (the study's streams, the archived notebook 05). The cell "4 actions, paper
 # task, 2°" *is* the study's paper configuration (the same runs). Why 4° and 6°, not larger:
 # below, the oracle.
 
@@ -198,7 +198,7 @@ assert verdict == "contradicted" and removed.high < 0
 # %% [markdown]
 # ## Where the failures go: the failure taxonomy of every cell
 #
-# The study's taxonomy (notebook 05, `docking.study.analysis.FAILURE_CLASSES`) of every cell's
+# The study's taxonomy (the archived notebook 05, `docking.study.analysis.FAILURE_CLASSES`) of every cell's
 # held-out failures, its first five seeds pooled (`experiment3.TAXONOMY_SEEDS`: the ledger
 # keeps their failures' paths); a trial can be in several classes. "Heading off in
 # region" exists only with precision docking: the reference point reached the region, but the
@@ -305,7 +305,7 @@ assert centroid["TL"] < 0 < centroid["TR"] and turn_share > 0.1
 #   success in every cell, also where turning is necessary (precision docking at larger
 #   noise, where the four-action oracle fails and the six-action oracle does not).
 # * So rotation is not shown to be "the reason for most of the unsuccessful trials" by its
-#   remedy either; notebook 05 found the same by removing the noise.
+#   remedy either; the archived notebook 05 found the same by removing the noise.
 # * Precision docking with turning is solvable (the oracle) but not learned well here. What
 #   it would take is the paper's own future work; candidates the runs point to: inputs that
 #   tell an offset from a rotation (the whole frame, or several frames), or exploration that
