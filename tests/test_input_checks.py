@@ -505,49 +505,51 @@ def test_a_sweep_too_large_is_one_line_before_any_run(args, says, monkeypatch, c
 # Issue 52: the contest's arguments -------------------------------------------------------------
 
 
+def _knobs():
+    from docking.study.contest import Knob, Ladder
+
+    return (
+        Knob("train_trials", Ladder((100, 200, 500), 0, integer=True)),
+        Knob("eval_trials", Ladder((1, 2, 5), 0, integer=True)),
+    )
+
+
 @pytest.mark.parametrize(
-    "learner, grid, error, says",
+    "learner, knobs, error, says",
     [
-        (None, [{}, {}], TypeError, "contest: learner must be a learner's configuration"),
-        (ExperimentConfig, [{}, {}], TypeError, "contest: learner must be"),  # the class
-        (EXPERIMENT_2, "ab", TypeError, "contest: grid must be a list of settings"),
-        (EXPERIMENT_2, [1, 2], TypeError, r"contest: grid\[0\] must be a mapping"),
-        (lambda: EXPERIMENT_2, [{}, {}], TypeError, "contest: learner must be callable as make"),
-        (lambda world, **s: 3, [{}, {}], TypeError, "contest: learner.* must return a learner's"),
-        (
-            EXPERIMENT_2,
-            [{"train_trials": 10}, {"train_trials": 10}],
-            ValueError,
-            r"contest: grid\[0\] .* and grid\[1\] .* give the same configuration",
-        ),
-        (
-            EXPERIMENT_2,
-            [{}, {"train_trials": EXPERIMENT_2.train_trials}],  # the default, named
-            ValueError,
-            "give the same configuration",
-        ),
-        (EXPERIMENT_2, [{}, {"nope": 1}], ValueError, "the grid's setting .* names nope"),
+        (None, None, TypeError, "contest: learner must be a learner's configuration"),
+        (ExperimentConfig, None, TypeError, "contest: learner must be"),  # the class
+        (EXPERIMENT_2, ("ab", "cd"), TypeError, "contest.rows must be a Knob"),
+        (lambda: EXPERIMENT_2, None, TypeError, "contest: learner must be callable as make"),
+        (lambda world, **s: 3, None, TypeError, "contest: learner.* must return a learner's"),
+        ("same", None, ValueError, "rows and cols both name the field 'train_trials'"),
+        ("flat", None, ValueError, "give the same configuration"),  # a knob it ignores
+        ("nope", None, ValueError, "the knob nope is not a field of ExperimentConfig"),
     ],
-    ids=[
-        "None",
-        "a class",
-        "a text",
-        "numbers",
-        "lambda()",
-        "lambda->3",
-        "twice",
-        "default",
-        "nope",
-    ],
+    ids=["None", "a class", "a text", "lambda()", "lambda->3", "same", "flat", "nope"],
 )
 def test_the_contests_arguments_are_checked_before_any_work(
-    learner, grid, error, says, monkeypatch
+    learner, knobs, error, says, monkeypatch
 ):
     from docking.study import contest as contest_module
+    from docking.study.contest import Knob, Ladder
 
+    rows, cols = _knobs()
+    if learner == "same":
+        learner, cols = EXPERIMENT_2, Knob("train_trials", Ladder((1,), 0, integer=True))
+    elif learner == "flat":  # a maker that ignores the second knob
+
+        def learner(world, train_trials=100, eval_trials=1):
+            return dataclasses.replace(EXPERIMENT_2, world=world, train_trials=train_trials)
+
+    elif learner == "nope":
+        learner, rows = EXPERIMENT_2, Knob("nope", Ladder((1, 2, 5), 0))
+    if knobs is not None:
+        rows, cols = knobs
     monkeypatch.setattr(contest_module, "published", lambda *a: pytest.fail("it went on"))
+    budget = contest_module.small_budget(rows=2, cols=2)
     with pytest.raises(error, match=says):
-        contest_module.contest(learner, grid, contest_module.small_budget())
+        contest_module.contest(learner, rows, cols, budget)
 
 
 # Issue 52: a PYOPENGL_PLATFORM that does not match MUJOCO_GL -----------------------------------

@@ -28,9 +28,8 @@ from docking.policies import oracle
 from docking.presets import EXPERIMENT_2
 from docking.scene import WorldConfig
 from docking.study import kinds, learners, ledger, store, verify
-from docking.study.contest import CONTEST_BUDGET, Budget, contest, small_budget
+from docking.study.contest import CONTEST_BUDGET, Budget, Knob, Ladder, contest, small_budget
 from docking.study.design import yardstick_config
-from docking.study.designs import third_edition as te
 from docking.study.ppo import PPOConfig, run_ppo
 from docking.study.runs import load_run
 
@@ -320,7 +319,7 @@ import dataclasses
 
 import helper
 from docking.study import learners
-from docking.study.contest import contest, small_budget
+from docking.study.contest import Knob, Ladder, contest, small_budget
 from docking.scene import WorldConfig
 
 
@@ -329,7 +328,8 @@ class Helped:
     name: str = "helped"
     world: WorldConfig = WorldConfig()
     heldout_trials: int = 2
-    k: int = 0
+    k: int = 1
+    j: int = 1
 
 
 def run(config, seed, progress=True, on_trials=None):
@@ -337,8 +337,9 @@ def run(config, seed, progress=True, on_trials=None):
 
 
 learners.register(Helped, run)
-budget = small_budget(settings=1, judged=2, heldout_trials=2)
-found = contest(Helped(), [dict(k=0)], budget, workers=1, progress=False)
+budget = small_budget(rows=1, cols=1, judged=2, heldout_trials=2)
+k, j = Knob("k", Ladder((1,), 0, integer=True)), Knob("j", Ladder((1,), 0, integer=True))
+found = contest(Helped(), k, j, budget, workers=1, progress=False)
 print(sorted({s for sources in found.results.sources.values() for s in sources}))
 """
 
@@ -736,77 +737,83 @@ def test_the_command_line_verifies_an_outside_learners_runs(learner_ledger):
 
 
 def _published_linear(world, **setting):
-    """The third edition's linear SARSA in ``world`` (its design's cells' configurations)."""
-    from docking.study.designs.builders import experiment2_in, linear_sarsa, variant
+    """The equal contest's linear SARSA in ``world`` with ``setting``, under the name its
+    ledger runs of that point hold (a grid point the ledger held before the contest keeps its
+    table's name): what its search ran."""
+    from docking.study.designs import equal_contest as ec
 
-    base = experiment2_in(world, te.NAME)
-    return variant(base, te.NAME, network=linear_sarsa(base, **setting))
+    search, knobs = ec.SEARCH, ec.KNOBS["linear"]
+    e = search.entrants["linear"]
+    for r in range(-3, 13):
+        for c in range(-3, 8):
+            if (e.row.ladder.value(r), e.col.ladder.value(c)) == tuple(setting[k] for k in knobs):
+                name = search._stored(world, "linear", (r, c))
+                return ec.learner_config(world, "linear", name, **setting)
+    raise AssertionError(f"{setting} is no point of the ladders")
 
 
-def test_the_contest_of_the_published_linear_sarsa_is_the_published_contest(tmp_path, monkeypatch):
-    """The package's linear SARSA entered with its published grid and tuning seeds: every
-    run is the ledger's (none computed), the tuned settings and the judged row are the
-    published ones, and each published learner's lead over it is the published table's."""
+@pytest.mark.slow
+def test_the_contest_of_the_published_linear_sarsa_is_the_published_row(tmp_path, monkeypatch):
+    """The package's linear SARSA entered with its published knobs and the contest's budget:
+    every run is the ledger's (none computed), the chosen settings and the judged runs are the
+    published ones, its lead over itself is 0 on every seed (no interval, no test)."""
+    from docking.study.designs import equal_contest as ec
+    from docking.study.designs import equal_contest_report as ecr
+
     monkeypatch.delenv("DOCKING_LEDGER")  # the committed ledger
     monkeypatch.setattr("docking.study.kinds.run_experiment", lambda *a, **k: pytest.fail("ran"))
-    budget = Budget(tuning_seeds=te.TUNING_SEEDS)
+    e = ec.SEARCH.entrants["linear"]
     found = contest(
-        _published_linear,
-        te.GRIDS["linear"],
-        budget,
-        label="lin",
-        results_dir=tmp_path,
-        progress=False,
+        _published_linear, e.row, e.col, label="lin", results_dir=tmp_path, progress=False
     )
     assert {s for sources in found.results.sources.values() for s in sources} == {"ledger"}
-    assert budget.runs - budget.judged == te.TUNING.runs == 15
-    for world in te.CONTEST:
-        index = te.TUNING.tuned_setting(found.published, world, "linear")
-        assert found.tuned[world] == te.GRIDS["linear"][index]
+    chosen = ecr.chosen(ec.DESIGN.run(progress=False))
+    for world in ec.WORLDS:
+        assert found.chosen[world] == chosen[world, "linear"]
         np.testing.assert_array_equal(
-            found.results.score(f"{world}/lin-tuned"),
-            found.published.score(f"{world}/linear-tuned"),
+            found.results.score(f"{world}/lin/judged"),
+            found.published.score(f"{world}/linear/judged"),
         )
-    gaps = {(g.world, g.other): g for g in found.gaps}
-    assert gaps["floor", "paper-tuned"].interval.estimate < -0.05  # the edition's finding
-    assert gaps["floor", "linear-tuned"].interval.estimate == 0.0
-    assert "Not the contest: another budget" in found.table
-    assert "| **lin, tuned (yours)** | 20 | 500 |" in found.table
+        same = found.verdicts[world, "linear"]
+        assert same["lead"] == 0.0 and same.get("spread") is False
+    assert "the same on every seed: no interval, no test" in found.table
+    assert "| **lin, chosen (yours)** | 20 | 500 |" in found.table
+    assert found.budget.is_the_contest and "**The equal contest's budget**" in found.table
 
 
 def test_a_contest_budget_is_checked():
-    assert CONTEST_BUDGET.runs == 35 and CONTEST_BUDGET.is_the_contest
-    assert CONTEST_BUDGET.describe().startswith("**The published contest's budget**")
-    assert set(CONTEST_BUDGET.tuning_seeds).isdisjoint(
-        set(te.SEEDS) | set(te.TUNING_SEEDS) | {s for s in range(10)}
-    )
+    from docking.study.designs import equal_contest as ec
+
+    assert CONTEST_BUDGET.runs == ec.SEARCH.runs_per_learner() + len(ec.SEEDS) == 152
+    assert CONTEST_BUDGET.is_the_contest
+    assert CONTEST_BUDGET.describe().startswith("**The equal contest's budget**")
     small = small_budget()
     assert small.smaller and small.describe().startswith("**Not the contest: a smaller budget**")
-    with pytest.raises(ValueError, match="judged seeds"):
-        Budget(tuning_seeds=(3000, 3910))
-    with pytest.raises(ValueError, match="two or more"):
-        Budget(tuning_seeds=(3910,))
+    with pytest.raises(ValueError, match="Budget.judged must be in"):
+        Budget(judged=1)
     with pytest.raises(ValueError, match="worlds"):
         Budget(worlds=("moon",))
-    with pytest.raises(ValueError, match="the grid has 1 settings, the budget 9"):
-        contest(CONFIG, [{}])
+    rows, cols = Knob("alpha", Ladder((1, 2, 5), -2)), Knob("epsilon", Ladder((1, 3), -2))
     with pytest.raises(ValueError, match="names a published learner"):
-        contest(CONFIG, [{}, {}], small, label="linear")
+        contest(CONFIG, rows, cols, small, label="linear")
 
     @dataclasses.dataclass(frozen=True)
     class Unregistered:
         name: str = "unregistered"
         world: object = None
         heldout_trials: int = 1
+        alpha: float = 0.1
+        epsilon: float = 0.1
 
     with pytest.raises(TypeError, match="registered with docking.study.learners.register"):
-        contest(Unregistered(), [{}, {}], small)
+        contest(Unregistered(), rows, cols, small)
 
 
 def test_the_contest_reads_the_published_rows_and_never_computes_them(tmp_path):
     """With no ledger, the contest fails before it computes anything."""
+    rows, cols = Knob("alpha", Ladder((1, 2, 5), -2)), Knob("epsilon", Ladder((1, 3), -2))
     with pytest.raises(LookupError, match="published contest's rows are read from"):
-        contest(CONFIG, [{}, {"alpha": 0.1}], small_budget(), results_dir=tmp_path)
+        contest(CONFIG, rows, cols, small_budget(), results_dir=tmp_path)
     assert not any(tmp_path.iterdir())
 
 
@@ -828,19 +835,37 @@ def test_the_guides_example_is_at_most_40_lines_of_a_new_kind_of_learner():
 
 
 @pytest.mark.slow
-def test_the_guides_example_prints_its_row_beside_the_published_rows(tmp_path, monkeypatch, capsys):
-    from test_examples import remembered
+def test_the_guides_example_run_as_a_script_from_another_folder_prints_its_table(tmp_path):
+    """The guide's example saved as a script in a folder of its own and started from another
+    (issue 62): its learner runs on the embedded cluster's workers and it prints its table;
+    run again, it reads its stored runs."""
+    folder, elsewhere = tmp_path / "mine", tmp_path / "elsewhere"
+    folder.mkdir()
+    elsewhere.mkdir()
+    (folder / "kmeans_contest.py").write_text(_guide_example())
+    env = {
+        **os.environ,
+        "DOCKING_RESULTS": str(tmp_path / "results"),
+        "DOCKING_LEDGER": str(ROOT / "ledger"),
+    }
 
-    monkeypatch.setenv("DOCKING_RESULTS", str(tmp_path / "results"))
-    monkeypatch.delenv("DOCKING_LEDGER")
-    monkeypatch.chdir(tmp_path)
-    code = _guide_example()
-    namespace = {"__name__": "example"}
-    exec(compile(code, remembered(code), "exec", dont_inherit=True), namespace)
-    table = capsys.readouterr().out
-    assert table.startswith("**Not the contest: a smaller budget**")
-    rows = [line for line in table.splitlines() if line.startswith("| ")]
-    assert rows[1].startswith("| **kmeans-q, tuned (yours)** | 3 | 20 |")
-    assert rows[2].startswith("| pose oracle | 5 | 500 |")
-    assert any(r.startswith("| linear SARSA, tuned | 20 | 500 |") for r in rows)
-    assert namespace["found"].results.sources["sideboard/kmeans-q-tuned"] == ["computed"] * 3
+    def table() -> str:
+        out = subprocess.run(
+            [sys.executable, str(folder / "kmeans_contest.py")],
+            cwd=elsewhere,
+            env=env,
+            capture_output=True,
+            text=True,
+            timeout=900,
+        )
+        assert out.returncode == 0, out.stderr[-3000:]
+        return out.stdout
+
+    first = table()
+    assert first.startswith("**Not the contest: a smaller budget**")
+    rows = [line for line in first.splitlines() if line.startswith("| ")]
+    assert any(r.startswith("| **kmeans-q, chosen (yours)** | 3 | 20 |") for r in rows)
+    assert any(r.startswith("| linear SARSA, chosen | 20 | 500 |") for r in rows)
+    assert any(r.startswith("| pose oracle | 5 | 500 |") for r in rows)
+    assert "computed now" in first and "none read" in first
+    assert "0 computed now" in table()

@@ -259,10 +259,13 @@ class Search:
         return all(n in points or not self.valid(world, learner, n) for n in self.neighbours(point))
 
     def candidates(self, results, world: str, learner: str) -> list[tuple[int, int]]:
-        """The :attr:`top_k` best bracketed points of ``learner`` in ``world``, best first."""
+        """The :attr:`top_k` best bracketed points of ``learner`` in ``world``, best first;
+        where fewer are bracketed (a grid too small to bracket any, as a small budget's), the
+        best others after them."""
         points = self.searched(results, world, learner)
         ranked = self.ranked(points)
-        return [p for p in ranked if self.bracketed(points, world, learner, p)][: self.top_k]
+        inside = [p for p in ranked if self.bracketed(points, world, learner, p)]
+        return (inside + [p for p in ranked if p not in inside])[: self.top_k]
 
     def selection(self, results) -> list[Cell]:
         """The candidates of every learner and world, on the selection seeds."""
