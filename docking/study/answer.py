@@ -588,3 +588,52 @@ def equal_text(
         + "\n\nHow the answer moved from the replication (linear SARSA's lead, the replication's "
         f"bracketed tuning, then the equal contest): {moved}."
     )
+
+
+#: The headline numbers and the runs behind each: ``(what, design, cells, seeds)`` (seeds None:
+#: every seed the design's cells have).
+HEADLINE_RUNS = (
+    ("Experiments 1 and 2 (the paper's numbers)", "paper", ("experiment1", "experiment2"), None),
+    (
+        "the paper's learner at its published settings, per world",
+        "third-edition",
+        ("sideboard/paper", "floor/paper", "nao/paper"),
+        None,
+    ),
+    (
+        "each learner's chosen setting, judged (the equal contest)",
+        "equal-contest",
+        ("*/judged",),
+        None,
+    ),
+    (
+        "the equal contest's floor world: the paper's learner, 5 of its 20 judged seeds",
+        "equal-contest",
+        ("floor/paper/judged",),
+        range(7200, 7205),
+    ),
+    (
+        "relocation: the home networks at home and at each camera height",
+        "untested-revisited",
+        ("home/paper", "sideboard higher/paper", "sideboard lower/paper"),
+        None,
+    ),
+)
+
+
+def recompute_text(rows=HEADLINE_RUNS) -> str:
+    """The findings page's table of the headline numbers and the command that recomputes the
+    runs behind each and compares them with the ledger
+    (:func:`docking.study.report.verify_command`; its first line says how many runs and about
+    how long)."""
+    from docking.study.report import md_table, verify_command
+
+    lines = [
+        (what, f"`{verify_command(design, cells, seeds)}`") for what, design, cells, seeds in rows
+    ]
+    return (
+        "**Recompute the runs behind a number.** Each command recomputes the runs behind the "
+        "number in a temporary store and compares each with the ledger (its content digest and "
+        "its table row); it says first how many runs and about how long:\n\n"
+        + md_table(("number", "the command"), lines)
+    )

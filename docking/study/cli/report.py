@@ -138,7 +138,10 @@ class Report:
                     self._revisited, found, revisited
                 )
         if self.third_edition:
+            from docking.study import answer
+
             summary += "\n\n" + provenance.candour_text()
+            summary += "\n\n" + answer.recompute_text()
         return summary
 
     def _write(self, text: str, *markers: str, page: str | None = None) -> bool:
