@@ -39,7 +39,7 @@ from docking.network import NetworkConfig  # noqa: E402
 from docking.presets import EXPERIMENT_1, EXPERIMENT_2, FLOOR_WORLD, NAO_WORLD  # noqa: E402
 from docking.protocol import heldout_log  # noqa: E402
 from docking.scene import Distractor, WorldConfig  # noqa: E402
-from docking.study.contest import contest, small_budget  # noqa: E402
+from docking.study.contest import Knob, Ladder, contest, small_budget  # noqa: E402
 from docking.study.sweep import grid_configs, parse_seeds  # noqa: E402
 
 #: Three count fields of ExperimentConfig: 200 values each make a grid of 8 million.
@@ -356,27 +356,28 @@ def cases() -> dict[str, list]:
             ),
         ]
     )
+    rows = Knob("train_trials", Ladder((100, 200, 500), 0, integer=True))
+    cols = Knob("eval_trials", Ladder((1, 2, 5), 0, integer=True))
     found["contest and judging"] = [
-        (f"contest({what})", lambda a=args: contest(*a, small_budget()), names)
+        (f"contest({what})", lambda a=args: contest(*a, small_budget(rows=2, cols=2)), names)
         for what, args, names in (
-            ("None, ...", (None, [{}, {}]), "learner"),
-            ("ExperimentConfig (the class), ...", (ExperimentConfig, [{}, {}]), "learner"),
-            ("learner, 'ab'", (EXPERIMENT_2, "ab"), "grid"),
-            ("learner, [1, 2]", (EXPERIMENT_2, [1, 2]), "grid"),
-            ("lambda: config, ...", (lambda: EXPERIMENT_2, [{}, {}]), "learner"),
-            ("lambda world, **s: 3, ...", (lambda world, **s: 3, [{}, {}]), "learner"),
+            ("None, ...", (None, rows, cols), "learner"),
+            ("ExperimentConfig (the class), ...", (ExperimentConfig, rows, cols), "learner"),
+            ("learner, 'ab', 'cd'", (EXPERIMENT_2, "ab", "cd"), "rows"),
+            ("learner, rows, 3", (EXPERIMENT_2, rows, 3), "cols"),
+            ("lambda: config, ...", (lambda: EXPERIMENT_2, rows, cols), "learner"),
+            ("lambda world, **s: 3, ...", (lambda world, **s: 3, rows, cols), "learner"),
             (
-                "lambda world: config, [{}, {'x': 1}]",
-                (lambda w: dataclasses.replace(EXPERIMENT_2, world=w), [{}, {"x": 1}]),
+                "lambda world: config (takes no knob), ...",
+                (lambda w: dataclasses.replace(EXPERIMENT_2, world=w), rows, cols),
                 "learner",
             ),
-            ("a setting twice", (EXPERIMENT_2, [{"train_trials": 9}, {"train_trials": 9}]), "grid"),
+            ("both knobs one field", (EXPERIMENT_2, rows, rows), "rows"),
             (
-                "the default named",
-                (EXPERIMENT_2, [{}, {"eval_every": EXPERIMENT_2.eval_every}]),
-                "grid",
+                "a knob naming no field",
+                (EXPERIMENT_2, rows, Knob("nope", Ladder((1, 2, 5), 0))),
+                "nope",
             ),
-            ("a setting naming no field", (EXPERIMENT_2, [{}, {"nope": 1}]), "grid"),
         )
     ] + [
         (

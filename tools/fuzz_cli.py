@@ -490,6 +490,41 @@ def leaves_nothing(args: list[str], extra_env: dict, scratch: Path):
     return ("silent", f"left {', '.join(left)} in TMPDIR") if left else ("recovered", "nothing")
 
 
+def _migration_of(change: str, tmp: Path):
+    """``ledger migrate`` of a tiny ledger (beta_a 2 and 10, seeds below and at 7100 or more,
+    two worlds) by a copy of the package with ``change`` applied (tests/test_migrate.py's
+    forgeries, or ``"split"``: a keyed function split in two, which changes no number): clear
+    if a forgery is refused naming what it alters; recovered if the split migrates."""
+    import shutil
+
+    sys.path.insert(0, str(ROOT / "tests"))
+    import test_migrate as tm
+
+    base = tmp / "migrate-base"
+    if not base.exists():
+        src = tm._copy(base)
+        built = tm._python(src, "-c", tm.BUILD_WIDE, str(base / "results"), str(base / "ledger"))
+        if built.returncode != 0:
+            return "traceback", built.stderr.strip().splitlines()[-1]
+    work = tmp / f"migrate-{change}"
+    shutil.rmtree(work, ignore_errors=True)
+    src, folder, results = tm._fresh(base, work)
+    if change == "split":
+        tm._split_exp(src)
+    else:
+        tm._edit(src, *tm.FORGERIES[change][:3])
+    done = tm._migrate(src, folder, results, base / "src")
+    said = " ".join(done.stderr.split()) or done.stdout.strip().splitlines()[-1]
+    if "Traceback" in done.stderr:
+        return "traceback", said[-200:]
+    if change == "split":
+        return ("recovered", "migrated") if done.returncode == 0 else ("silent", said[-200:])
+    named = tm.FORGERIES[change][3]
+    if done.returncode == 1 and named in said:
+        return "clear", said[said.index("what only") :][:150]
+    return "silent", f"not refused naming {named!r}: {said[-150:]}"
+
+
 def cases(tmp: Path) -> dict[str, list]:
     """``{class: [(label, runner, arguments)]}``; a runner returns ``(kind, what it said)``."""
     port = _silent_server()
@@ -646,6 +681,12 @@ def cases(tmp: Path) -> dict[str, list]:
                 fresh(),
             ),
         ),
+    ]
+    found["laundering"] = [  # issue 60: a migration that would re-key changed results
+        ("migrate after beta_a in [5, 20) altered", _migration_of, ("beta_a", tmp)),
+        ("migrate after seeds >= 7100 altered", _migration_of, ("seeds", tmp)),
+        ("migrate after the floor world altered", _migration_of, ("world", tmp)),
+        ("migrate after a split function (no number changed)", _migration_of, ("split", tmp)),
     ]
     found["hangs"] = [
         (
