@@ -235,3 +235,44 @@ def test_the_verdicts_are_holm_adjusted_over_the_worlds():
     raw = [sps.ttest_1samp(pairs[w][0] - pairs[w][1], 0).pvalue for w in pairs]
     assert min(found[w]["p_lead"] for w in pairs) == pytest.approx(3 * min(raw))
     assert all(found[w]["p_lead"] >= r for w, r in zip(pairs, raw, strict=True))
+
+
+def _from_ledger(monkeypatch):
+    """The equal contest's results, every run read from the committed ledger."""
+    from docking.study import design
+
+    monkeypatch.setenv("DOCKING_LEDGER", str(REPO / "ledger"))
+    d = ec.DESIGN
+    return design._walk(d, d.select(False), lambda new, _: design._loaded(d, new), None)[1]
+
+
+@pytest.mark.slow
+def test_every_learner_spent_the_same_selection_runs_in_every_world(monkeypatch):
+    """Counted from the ledger's runs: the same grid, extension and selection runs for every
+    learner and world (132), the same judged seeds (20)."""
+    from docking.study.designs import equal_contest_report as ecr
+
+    results = _from_ledger(monkeypatch)
+    spent = ecr.spent(results)
+    assert set(spent) == {(w, learner) for w in ec.WORLDS for learner in ec.LEARNERS}
+    assert {tuple(s.values()) for s in spent.values()} == {(90, 30, 12, 20)}
+    assert ec.SEARCH.runs_per_learner() == 132
+
+
+@pytest.mark.slow
+def test_every_chosen_value_is_interior_to_the_grid_searched(monkeypatch):
+    """Each chosen point's four lattice neighbours were searched on the grid seeds: each chosen
+    value lies strictly inside the values its knob took (at the chosen point's row and
+    column)."""
+    from docking.study.designs import equal_contest_report as ecr
+
+    results = _from_ledger(monkeypatch)
+    inside = ecr.interior(results)
+    assert inside and all(inside.values()), inside
+    for (world, learner), setting in ecr.chosen(results).items():
+        e = ec.SEARCH.entrants[learner]
+        searched = ec.SEARCH.searched(results, world, learner)
+        rows = {e.row.ladder.value(r) for r, _ in searched}
+        cols = {e.col.ladder.value(c) for _, c in searched}
+        assert min(rows) < setting[e.row.field] < max(rows)
+        assert min(cols) < setting[e.col.field] < max(cols)
