@@ -134,10 +134,10 @@ for f in fragile.values():
 # SARSA about 80, PPO 15), which is why the equal contest was run; it is kept here as run.
 #
 # The replication (`docking/study/designs/replication.py`, rules committed in 792adb7 before
-# its first run, pinned by `tests/test_replication.py`) judges the bracketed learners again,
-# and PPO trained for as many steps, on 20 fresh seeds per world by the same gap rule: *closed*
-# if linear SARSA's lead over the paper's learner has its 95% interval below 5 pp, *remains*
-# if above. A learner's **lead** is named only where the interval (Holm over the two worlds)
+# its first run; its record in `rules/`) judges the bracketed learners again, and PPO trained
+# for as many steps, on 20 fresh seeds per world by the same gap rule: *closed* (the paper's
+# learner non-inferior at 5 pp, a one-sided test: the glossary's "the gap") if linear SARSA's
+# lead over the paper's learner has its 95% interval below 5 pp, *remains* if above. A learner's **lead** is named only where the interval (Holm over the two worlds)
 # excludes zero in both the first judgement and the replication. Two learners' runs of a seed
 # are matched by seed, not paired: one generator draws both the starts and the step noise, so
 # only a trial's first start is shared.
@@ -207,7 +207,8 @@ assert all(effort[w, "paper"][0] > 2 * effort[w, "linear"][0] for w in ad.WORLDS
 #   tuned, 3000-3004 untuned; yardsticks 3000-3004); intervals are Student-t over seeds.
 # * **The finding's rule:** in each world the gap is tuned linear SARSA minus the tuned paper's
 #   learner, over matched seeds (each run on its own seed's held-out stream): *closed* if its 95% interval
-#   lies below 5 pp, *remains* if it lies above, else undecided.
+#   lies below 5 pp, *remains* if it lies above, else undecided (*closed* is a one-sided
+#   non-inferiority test of the paper's learner at 5 pp: the glossary's "the gap").
 #
 # The claims of the paper (the verdicts) are the other part of this edition, under the same
 # committed rules; their runs came after the contest's (second half of this notebook).

@@ -1,15 +1,18 @@
-"""The answer as the evidence allows it (issue 50): the README's first screen and the
-replication's sentences, computed from the runs.
+"""The answer as the evidence allows it: the README's first screen and its paragraphs,
+computed from the runs (the equal contest's, issue 59), and the replication's sentences
+(the history notebook 07 keeps).
 
-The first screen says, in at most :data:`MAX_SENTENCES` sentences of at most
-:data:`MAX_WORDS` words (:func:`words`, :func:`sentences` count them):
+The first screen (:func:`equal_first_screen`) says, in at most :data:`MAX_SENTENCES` sentences
+of at most :data:`MAX_WORDS` words (:func:`words`, :func:`sentences` count them), with at most
+three terms that need the glossary:
 
-* the paper's learner at its published settings beside the sideboard world's reproduction;
-* what tuning changed (beta_a, eps_W) and each learner's tuning effort, and what it reached;
-* the main finding, worded by the replication's rule
-  (:func:`docking.study.designs.replication.wording`);
-* relocation as measured: how far the view moved in input rows, the success there;
-* the paper's claims' verdict counts under the committed rule and as one family.
+* the paper's learner at its published settings in the three worlds (held-out success);
+* what the equal search chose (β_a, ε_W, and ε_Q held at its earlier tuning), and its effort;
+* the verdict, named as the tests it is (the lead, non-inferiority at 5 pp, equivalence
+  within ±5 pp);
+* relocation as measured: a camera-height change, its world, its seeds, the landmark's shift
+  with its sign, the success there;
+* the paper's claims that hold and those contradicted, named.
 
 Every number comes from arrays passed in (loaded by the report from the store or the
 ledger); the README's text gives each number the first screen gives (tests hold both).
@@ -26,13 +29,14 @@ __all__ = [
     "MAX_SENTENCES",
     "MAX_WORDS",
     "Replication",
+    "claims_text",
     "effort",
-    "first_screen",
+    "equal_first_screen",
+    "equal_text",
+    "recompute_text",
+    "relocation_text",
     "replication",
     "replication_text",
-    "relocation_text",
-    "claims_text",
-    "tuning_text",
     "sentences",
     "words",
 ]
@@ -149,133 +153,40 @@ def _pct(x: float) -> str:
 
 
 def replication_text(found: dict[str, Replication], glossary: str | None = GLOSSARY) -> str:
-    """The replication's paragraph of the README: what it ran, a table of both judgements per
-    world (the bracketing continued's first, then the replication's) and what may be said
-    (:func:`docking.study.designs.replication.wording`); ``glossary``: the glossary's path
-    its terms link to (None: no links, as in a notebook's output)."""
+    """The replication's paragraph (notebook 07's history): what it ran, a table of both
+    judgements per world (the bracketing continued's first, then the replication's) and what
+    it allowed to be said (:func:`docking.study.designs.replication.wording`), its gap rule's
+    verdicts named as the test it is (:func:`docking.study.report.gap_words`); ``glossary``:
+    the glossary's path its terms link to (None: no links, as in a notebook's output)."""
     from docking.study.designs import replication as rp
+    from docking.study.report import GAP_WORDS, gap_words
 
     gap = f"[gap]({glossary}#gap)" if glossary else "gap"
     n = len(next(iter(found.values())).paper)
     rows = [
         "| world | first judgement: linear SARSA's lead | the paper's learner | linear SARSA | "
-        "PPO, matched steps | linear SARSA's lead | a lead (Holm p) | what may be said |",
+        "PPO, matched steps | linear SARSA's lead | a lead (Holm p) | what it allowed |",
         "|---|---|---|---|---|---|---|---|",
     ]
     for w, r in found.items():
-        gap_words, lead_words = r.words
+        said_gap, said_lead = r.words
+        for old, new in GAP_WORDS.items():
+            said_gap = said_gap.replace(old, new)
         rows.append(
-            f"| {WORLDS[w]} | {_pp(r.first_gap)}, {r.first_verdict}; {r.first_lead} | "
+            f"| {WORLDS[w]} | {_pp(r.first_gap)}, {gap_words(r.first_verdict)}; {r.first_lead} | "
             f"{_pct(r.paper.mean())} | {_pct(r.linear.mean())} | {_pct(r.ppo.mean())} | "
-            f"{_pp(r.gap)}, **{r.verdict}** | {r.lead} (p {r.lead_p:.2g}) | the gap "
-            f"{gap_words}; {lead_words} |"
+            f"{_pp(r.gap)}, **{gap_words(r.verdict)}** | {r.lead} (p {r.lead_p:.2g}) | "
+            f"{said_gap}; {said_lead} |"
         )
     return (
-        f"**The main finding, replicated** (notebook 07). The tuned learners of the bracketing "
-        f"were judged first on seeds 7000-7009, then again, by rules committed before the runs "
-        f"and the same {gap} rule (closed: linear SARSA's lead below 5 pp), on "
-        f"{n} fresh seeds per world ({min(rp.SEEDS)}-{max(rp.SEEDS)}), with PPO trained for "
-        "as many steps as the paper's learner (held-out success, mean over seeds; leads with "
-        "95% intervals over matched seeds):\n\n" + "\n".join(rows)
+        f"**The replication** (*superseded* by the equal contest). The tuned learners of the "
+        f"bracketing were judged first on seeds 7000-7009, then again, by rules committed "
+        f"before the runs and the same {gap} rule (a one-sided non-inferiority test of the "
+        f"paper's learner at 5 pp), on {n} fresh seeds per world "
+        f"({min(rp.SEEDS)}-{max(rp.SEEDS)}), with PPO trained for as many steps as the paper's "
+        "learner (held-out success, mean over seeds; leads with 95% intervals over matched "
+        "seeds):\n\n" + "\n".join(rows)
     )
-
-
-def first_screen(
-    published: dict[str, float],
-    sideboard: tuple[float, float],
-    tuned: dict[str, dict],
-    efforts: dict[tuple[str, str], tuple[int, int]],
-    found: dict[str, Replication],
-    relocation: dict,
-    claims: tuple[int, int, int, int, int],
-) -> str:
-    """The first screen's sentences (numbered lines).
-
-    Args:
-      published: ``{world: the paper's learner's held-out success at its published settings}``.
-      sideboard: Experiments 1 and 2's test success in the sideboard world.
-      tuned: ``{world: the paper's learner's tuned setting}`` (``beta_a_train``, ``eps_w``).
-      efforts: :func:`effort`.
-      found: :func:`replication`.
-      relocation: ``{"shift": mean |view shift| in input rows, "cm": the landmark's move,
-        "home", "higher", "lower": held-out success}``.
-      claims: ``(judged, held, contradicted, held as one family, contradicted as one family)``.
-    """
-    g = GLOSSARY
-    floor, nao = found["floor"], found["nao"]
-    beta = " and ".join(f"{tuned[w]['beta_a_train']:g}" for w in WORLDS)
-    widened = {tuned[w]["eps_w"] / 0.05 for w in WORLDS}
-    eps = f"{widened.pop():g}-fold" if len(widened) == 1 else "up"
-    runs = " and ".join(str(efforts[w, "paper"][0]) for w in WORLDS)
-    linear_runs = " and ".join(str(efforts[w, "linear"][0]) for w in WORLDS)
-    lines = [
-        f"At its [published settings]({g}#published-settings) the paper's learner docks "
-        f"{_pct(published['floor'])} in the floor world and {_pct(published['nao'])} in the "
-        f"Nao-like world (our calibrated sideboard world: {_pct(sideboard[1])}; paper: 95%).",
-        f"Tuning raised [β_a]({g}#beta_a) from 2 to {beta} and [ε_W]({g}#eps_w) {eps}, over "
-        f"{runs} [runs]({g}#tuning-effort) (linear SARSA: {linear_runs}), lifting it to "
-        f"{_pct(floor.paper.mean())} and {_pct(nao.paper.mean())}.",
-        _finding(floor, nao),
-        f"Relocation moved the camera {relocation['cm']:.0f} cm (view shifted "
-        f"{relocation['shift']:.1f} [input row]({g}#input-row)): success "
-        f"{_moved(relocation['home'], relocation['higher'])} {_pct(relocation['higher'])} "
-        f"(lower camera), {_moved(relocation['home'], relocation['lower'], again=True)} "
-        f"{_pct(relocation['lower'])} (higher); along the floor, unchanged by construction.",
-        f"Of the paper's {claims[0]} claims judged on fresh seeds, {claims[1]} hold in some "
-        f"world and {claims[2]} are contradicted somewhere (as one family: {claims[3]} and "
-        f"{claims[4]}).",
-    ]
-    return "\n".join(f"{k + 1}. {line}" for k, line in enumerate(lines))
-
-
-def tuning_text(
-    published: dict[str, float],
-    tuned: dict[str, dict],
-    efforts: dict[tuple[str, str], tuple[int, int]],
-    ladder: dict[str, tuple],
-) -> str:
-    """The README's paragraph on the paper's learner's settings: its held-out success at the
-    published settings (``published``: per world), what the bracketed tuning changed
-    (``tuned``: per world, the paper learner's setting; ``ladder``: the values searched per
-    knob, :data:`docking.study.designs.addendum.LADDERS`), whether a chosen value is the
-    ladder's last rung (then it is bracketed on one side only), and each learner's tuning
-    effort (:func:`effort`)."""
-    g = GLOSSARY
-    top = [w for w in WORLDS if tuned[w]["beta_a_train"] == max(ladder["beta_a_train"])]
-    edge = ""
-    if top:
-        edge = (
-            f" In the {_and_worlds(top)}, β_a {tuned[top[0]]['beta_a_train']:g} is the top rung "
-            "of the values searched: the search could not go higher, so that optimum is not "
-            "interior."
-        )
-    beta = ", ".join(f"{tuned[w]['beta_a_train']:g} in the {WORLDS[w]}" for w in WORLDS)
-    widened = {tuned[w]["eps_w"] for w in WORLDS}
-    if len(widened) == 1:
-        eps = f"{widened.pop():g} ({tuned['floor']['eps_w'] / 0.05:g}-fold) in both"
-    else:
-        eps = ", ".join(f"{tuned[w]['eps_w']:g} in the {WORLDS[w]}" for w in WORLDS)
-    spent = "; ".join(
-        f"{WORLDS[w]}: {efforts[w, 'paper'][0]} runs over {efforts[w, 'paper'][1]} settings "
-        f"for the paper's learner, {efforts[w, 'linear'][0]} over {efforts[w, 'linear'][1]} for "
-        "linear SARSA"
-        for w in WORLDS
-    )
-    return (
-        f"**Published settings, and what tuning changed** (notebook 07). At its [published "
-        f"settings]({g}#published-settings) (β_a 2, ε_Q 0.1, ε_W 0.05) the paper's learner docks "
-        f"{_pct(published['floor'])} of held-out trials in the floor world and "
-        f"{_pct(published['nao'])} in the Nao-like world. The bracketed tuning raised its "
-        f"training temperature [β_a]({g}#beta_a) from 2 to {beta}, and [ε_W]({g}#eps_w) from "
-        f"0.05 to {eps}.{edge} The [tuning effort]({g}#tuning-effort) was not equal ({spent}): "
-        "the paper's learner's search was continued under a further budget that linear SARSA "
-        "did not need, as its optimum was bracketed sooner."
-    )
-
-
-def _and_worlds(worlds: list[str]) -> str:
-    names = [WORLDS[w] for w in worlds]
-    return names[0] if len(names) == 1 else ", ".join(names[:-1]) + " and " + names[-1]
 
 
 def relocation_text(relocation: dict) -> str:
@@ -311,109 +222,6 @@ def claims_text(claims: tuple[int, int, int, int, int]) -> str:
         f"one; judged as one family of all comparisons, the stricter rule, {claims[3]} hold and "
         f"{claims[4]} are contradicted."
     )
-
-
-def _moved(home: float, there: float, again: bool = False) -> str:
-    """How success moved from ``home`` to ``there``, in the first screen's words."""
-    verb = "fell" if there < home else "rose"
-    return f"{verb} to" if again else f"{verb} from {_pct(home)} to"
-
-
-#: How the first screen names a learner's lead.
-_WHOSE = {"paper ahead": "the paper's", "linear ahead": "linear's"}
-_SHORT = {"floor": "floor", "nao": "Nao-like"}
-
-
-def _finding(floor: Replication, nao: Replication) -> str:
-    """The main finding's sentence, as the replication's wording allows it: *within 5 pp*
-    only in the worlds where both judgements closed the gap; a lead *replicated* only where
-    both judgements saw the same learner ahead, and named as not replicated where one did."""
-    g = GLOSSARY
-    both = [r for r in (floor, nao) if r.verdict == r.first_verdict == "closed"]
-    gaps = f"{100 * floor.gap[0]:.1f}, {100 * nao.gap[0]:.1f} pp"
-    n = len(floor.paper)
-    if len(both) == 2:
-        head = (
-            f"Replicated on {n} fresh seeds, the paper's learner stays within 5 pp of linear SARSA "
-            f"([gap]({g}#gap) {gaps})"
-        )
-    elif both:
-        head = (
-            f"Within 5 pp of linear SARSA replicated in the {WORLDS[both[0].world]} only "
-            f"({n} fresh seeds; [gap]({g}#gap) {gaps})"
-        )
-    else:
-        head = (
-            f"Within 5 pp of linear SARSA did not replicate ({n} fresh seeds per world; "
-            f"[gap]({g}#gap) {gaps})"
-        )
-    clauses = []
-    for r in (floor, nao):
-        if r.first_lead == r.lead == "no lead shown":
-            continue
-        if r.first_lead == r.lead:
-            clauses.append(f"{_WHOSE[r.lead]} {_SHORT[r.world]} lead replicated")
-        else:
-            seen = r.first_lead if r.first_lead != "no lead shown" else r.lead
-            clauses.append(f"{_WHOSE[seen]} {_SHORT[r.world]} lead did not")
-    if not clauses:
-        return head + "; neither learner leads."
-    return head + "; " + ", ".join(clauses) + "."
-
-
-#: The first screen's figure: its learners, in the legend's order.
-GLANCE_LEARNERS = (
-    "the paper's learner, published settings",
-    "the paper's learner, tuned",
-    "linear SARSA, tuned",
-    "PPO (matched steps; sideboard: tuned)",
-)
-#: The yardsticks of the figure: ``(variant in the contest, label)``.
-GLANCE_YARDSTICKS = (
-    ("oracle", "pose oracle"),
-    ("centroid", "centroid rule"),
-    ("random", "random actions"),
-)
-#: Each column of the figure: its label, with the tuning its learners had.
-GLANCE_WORLDS = {
-    "sideboard": "sideboard world\n(calibrated; contest tuning)",
-    "floor": "floor world\n(bracketed tuning)",
-    "nao": "Nao-like world\n(bracketed tuning)",
-}
-
-
-def glance_data(contest, replicated) -> tuple[list, list, dict, dict]:
-    """The first screen's figure's arrays (:func:`docking.study.figures.fig_glance`): per
-    world, each learner's per-seed held-out success and the yardsticks' means. The paper's
-    learner at its published settings is the contest's untuned one in every world; the tuned
-    learners are the replication's (``replicated``: its results) in the floor and Nao-like
-    worlds (PPO at the paper learner's training steps) and the contest's in the sideboard world
-    (PPO tuned by the contest)."""
-    seeds, yardsticks = {}, {}
-    for world, name in GLANCE_WORLDS.items():
-        seeds[name, GLANCE_LEARNERS[0]] = contest.score(f"{world}/paper")
-        if world == "sideboard":
-            keys = (f"{world}/paper-tuned", f"{world}/linear-tuned", f"{world}/ppo-tuned")
-            source = contest
-        else:
-            keys = (f"{world}/paper", f"{world}/linear", f"{world}/ppo")
-            source = replicated
-        for label, key in zip(GLANCE_LEARNERS[1:], keys, strict=True):
-            seeds[name, label] = source.score(key)
-        for variant, label in GLANCE_YARDSTICKS:
-            yardsticks[name, label] = float(np.mean(contest.score(f"{world}/{variant}")))
-    return list(GLANCE_WORLDS.values()), list(GLANCE_LEARNERS), seeds, yardsticks
-
-
-#: The caption under the first screen's figure (the README and the site).
-GLANCE_CAPTION = (
-    "**The answer per world:** each dot one network's success on 500 held-out start poses, the "
-    "mean with its 95% interval; blue: the paper's learner at its published settings. Sideboard "
-    "world: the contest's tuning (15 runs per learner). Floor and Nao-like worlds: the SARSA "
-    "learners tuned to bracketed optima, judged on the replication's 20 fresh seeds, PPO at "
-    "matched training steps. Lines: the pose oracle (reads the true pose), the centroid rule, "
-    "random actions."
-)
 
 
 # ------------------------------------------------------------------------------------------
@@ -556,20 +364,28 @@ def equal_text(
     before: dict[str, float],
     runs: int,
     seeds: tuple[int, ...],
+    published: dict[str, float],
     glossary: str | None = GLOSSARY,
 ) -> str:
-    """The README's paragraph on the equal contest: what it ran, its verdicts per world
-    (``verdict_table``), the chosen settings and the runs each learner spent
-    (``chosen_table``), and how the answer moved from the replication's (``before``: ``{world:
-    linear SARSA's lead over the paper's learner in the replication}``, floor and Nao-like)."""
+    """The README's paragraph on the equal contest: the paper's learner at its published
+    settings (``published``: per world, the third edition's untuned runs), what the contest
+    ran, its verdicts per world (``verdict_table``), the chosen settings and the runs each
+    learner spent (``chosen_table``), and how the answer moved from the replication's
+    (``before``: ``{world: linear SARSA's lead over the paper's learner in the
+    replication}``, floor and Nao-like)."""
     g = glossary
     link = (lambda text, anchor: f"[{text}]({g}#{anchor})") if g else (lambda text, _: text)
+    at = ", ".join(f"{_pct(published[w])} in the {EQUAL_WORLDS[w]} world" for w in published)
     moved = "; ".join(
         f"{EQUAL_WORLDS[w]}: {100 * before[w]:+.1f} pp then, "
         f"{100 * verdicts[w]['lead']:+.1f} pp now"
         for w in before
     )
     return (
+        f"**The paper's learner as published** (notebook 07). At its "
+        f"{link('published settings', 'published-settings')} (β_a 2, ε_W 0.05, ε_Q 0.1: the "
+        f"paper's β_a, our defaults where it gives none) it docks {at} of held-out trials (the "
+        f"third edition's runs, seeds 3000-3019; paper: 95%).\n\n"
         f"**The main finding, from an {link('equal contest', 'equal-contest')}** (notebook 07). "
         f"Every learner (the paper's, linear SARSA, PPO) was selected in every world by one "
         f"procedure with the same {runs} {link('selection runs', 'selection-runs')} (a common "

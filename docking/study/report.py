@@ -185,6 +185,21 @@ def contest_gaps(results, worlds, bound: float, other: str = "linear-tuned") -> 
     return found
 
 
+#: What tables and sentences call the gap rule's verdicts (:func:`contest_gaps`): the test the
+#: rule is, a one-sided non-inferiority test of the paper's learner at the bound (issue 59: the
+#: word "closed" is retired; the rules and their records keep their verdicts' names).
+GAP_WORDS = {
+    "closed": "non-inferior at 5 pp",
+    "remains": "inferior by more than 5 pp",
+    "undecided": "undecided",
+}
+
+
+def gap_words(verdict: str) -> str:
+    """The gap rule's ``verdict`` as the test it is (:data:`GAP_WORDS`)."""
+    return GAP_WORDS[verdict]
+
+
 def gaps_table(gaps: list[ContestGap]) -> str:
     """The Markdown table of :func:`contest_gaps`."""
     return md_table(
@@ -194,7 +209,7 @@ def gaps_table(gaps: list[ContestGap]) -> str:
                 g.world,
                 g.other,
                 f"{g.interval.format(unit=' pp')} (n = {len(g.interval.values)})",
-                g.verdict,
+                gap_words(g.verdict),
             )
             for g in gaps
         ],

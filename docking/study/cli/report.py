@@ -293,6 +293,7 @@ class Report:
                 before,
                 ec.SEARCH.runs_per_learner(),
                 ec.SEEDS,
+                published,
             ),
             "**The fragility landscape** (beyond the paper, notebook 07: each learner's common "
             "grid, the same points and seeds for every learner). "

@@ -11,7 +11,13 @@ import functools
 
 import numpy as np
 
-from docking.study.report import _pct, contest_gaps, md_table, paired_over_shared_seeds
+from docking.study.report import (
+    _pct,
+    contest_gaps,
+    gap_words,
+    md_table,
+    paired_over_shared_seeds,
+)
 from docking.study.stats import Interval
 
 #: What the summary calls the contest's worlds, and what it says of a world in brackets.
@@ -64,7 +70,9 @@ def contest_summary(contest, corrected: bool = False) -> str:
         v: [CONTEST_NAMES[w] for w, g in gaps.items() if g.verdict == v]
         for v in ("closed", "remains", "undecided")
     }
-    verdicts = "; ".join(f"{v} in {' and '.join(ws)}" for v, ws in by_verdict.items() if ws)
+    verdicts = "; ".join(
+        f"{gap_words(v)} in {' and '.join(ws)}" for v, ws in by_verdict.items() if ws
+    )
     lead = (
         "**The contest's finding, too strong where the addendum below corrects it**"
         if corrected
@@ -74,7 +82,8 @@ def contest_summary(contest, corrected: bool = False) -> str:
         f"{lead} (the study's third edition, notebook 07: fresh seeds, every "
         "learner tuned by the same successive halving of 15 runs per world): "
         + "; ".join(parts)
-        + f". By the edition's rule (closed: linear SARSA's lead lies below 5 pp), the gap is "
+        + ". By the edition's rule (a one-sided non-inferiority test of the paper's learner at "
+        f"5 pp: linear SARSA's lead's 95% interval below 5 pp), the paper's learner is "
         f"{verdicts}. The Nao-like world's steps and camera are Nao's published ones, not "
         "tuned towards any result; but it is built on the floor world's scene (the landmark on "
         "the floor), chosen after the second edition had shown that it breaks the paper's "
