@@ -1,6 +1,6 @@
 """The answer as the evidence allows it (docking.study.answer): the first screen's sentences are at
-most five of at most thirty words, in every outcome the replication could have; each name
-what the issue asks for; the wording follows the replication's rule."""
+most five of at most thirty words with at most three terms to look up, in every outcome the
+equal contest's verdicts could have; each names what issue 59 asks for."""
 
 from __future__ import annotations
 
@@ -8,77 +8,71 @@ import itertools
 import re
 from pathlib import Path
 
-import numpy as np
 import pytest
 
 from docking.study import answer
-from docking.study.answer import Replication
+
+#: Each world's outcome a verdict could take: (lead, lead verdict, non-inferiority, equivalence).
+OUTCOMES = [
+    (0.004, "no lead shown", "non-inferior", "equivalent"),
+    (0.028, "linear SARSA ahead", "non-inferior", "equivalent"),
+    (-0.03, "the paper's learner ahead", "non-inferior", "equivalence not shown"),
+    (0.04, "linear SARSA ahead", "undecided", "equivalence not shown"),
+    (0.12, "linear SARSA ahead", "inferior by more than the margin", "equivalence not shown"),
+]
+RELOCATION = {
+    "cm": 3.0,
+    "world": "sideboard",
+    "seeds": 10,
+    "home": 0.953,
+    "camera lower": 0.626,
+    "camera higher": 0.994,
+    "shift lower": -0.68,
+    "shift higher": 0.66,
+}
+GROUPS = {
+    "supported wherever judged": ["features-success", "delta"],
+    "supported in some worlds only": ["features-interpretable", "curriculum"],
+    "contradicted in at least one world": [
+        "rotation-most",
+        "turning-accuracy",
+        "distractor-unseen",
+    ],
+    "not supported in any world": ["distractor-mechanism"],
+}
 
 
-def _rep(world, gap, verdict, lead, first_verdict="closed", first_lead="no lead shown"):
-    from docking.study.designs import replication as rp
-
-    paper = np.full(20, 0.94)
-    return Replication(
-        world,
-        paper,
-        paper + gap[0],
-        np.full(20, 0.96),
-        gap,
-        verdict,
-        lead,
-        0.01,
-        (0.02, 0.002, 0.045),
-        first_verdict,
-        first_lead,
-        rp.wording(first_verdict, verdict, first_lead, lead),
-    )
-
-
-OUTCOMES = list(
-    itertools.product(
-        ("closed", "undecided", "remains"), ("no lead shown", "paper ahead", "linear ahead")
-    )
-)
-
-
-@pytest.mark.parametrize("verdict, lead", OUTCOMES)
-def test_the_first_screen_is_five_sentences_of_at_most_thirty_words(verdict, lead):
-    found = {
-        "floor": _rep(
-            "floor", (0.028, 0.015, 0.041), "closed", "linear ahead", first_lead="linear ahead"
-        ),
-        "nao": _rep("nao", (-0.005, -0.02, 0.01), verdict, lead, first_lead="paper ahead"),
+@pytest.mark.parametrize("outcomes", list(itertools.product(OUTCOMES, repeat=3)))
+def test_the_first_screen_is_five_sentences_of_at_most_thirty_words(outcomes):
+    worlds = ("sideboard", "floor", "nao")
+    verdicts = {
+        w: dict(seeds=20, lead=o[0], lead_verdict=o[1], noninferiority=o[2], equivalence=o[3])
+        for w, o in zip(worlds, outcomes, strict=True)
     }
-    text = answer.first_screen(
-        {"floor": 0.375, "nao": 0.309},
-        (0.999, 0.970),
-        {
-            "floor": {"beta_a_train": 100.0, "eps_w": 0.5},
-            "nao": {"beta_a_train": 50.0, "eps_w": 0.5},
-        },
-        {
-            ("floor", "paper"): (234, 37),
-            ("nao", "paper"): (202, 33),
-            ("floor", "linear"): (81, 10),
-            ("nao", "linear"): (88, 11),
-        },
-        found,
-        {"shift": 0.67, "cm": 3.0, "home": 0.953, "higher": 0.626, "lower": 0.994},
-        (10, 4, 4, 3, 4),
-    )
+    chosen = {
+        (w, "paper"): dict(eps_q=q, beta_a_train=b, eps_w=e)
+        for w, q, b, e in zip(
+            worlds, (0.03, 0.03, 0.3), (20.0, 200.0, 100.0), (0.5, 0.5, 1.5), strict=True
+        )
+    }
+    published = {"sideboard": 0.9, "floor": 0.375, "nao": 0.309}
+    text = answer.equal_first_screen(published, chosen, 132, verdicts, RELOCATION, GROUPS)
     said = answer.sentences(text)
     assert len(said) <= answer.MAX_SENTENCES
     assert all(answer.words(s) <= answer.MAX_WORDS for s in said), [answer.words(s) for s in said]
-    assert "37.5%" in said[0] and "30.9%" in said[0]  # the published settings' success
-    assert "β_a" in said[1] and "100 and 50" in said[1] and "234 and 202" in said[1]
-    assert "81 and 88" in said[1]  # each learner's tuning effort
-    assert "relocation fails" not in text.lower() and "view shifted 0.7 [input row" in said[3]
-    assert "fell from 95.3% to 62.6% (lower camera), rose to 99.4%" in said[3]
-    assert "linear's floor lead replicated" in said[2]  # seen in both judgements
-    replicated = lead == "paper ahead"  # the first judgement put the paper ahead
-    assert ("the paper's Nao-like lead replicated" in said[2]) == replicated
-    assert ("lead did not" in said[2]) == (not replicated)  # named as not replicated
+    assert len(re.findall(r"\]\(docs/guide/glossary\.md#", text)) <= 3  # terms to look up
+    assert "37.5%" in said[0] and "30.9%" in said[0] and "held-out" in said[0]
+    assert "β_a" in said[1] and "ε_W" in said[1] and "ε_Q" in said[1] and "132" in said[1]
+    leads = "/".join(f"{100 * o[0]:.1f}" for o in outcomes)
+    assert f"linear SARSA's lead: {leads} pp" in said[2]
+    trails = any(o[2] == "inferior by more than the margin" for o in outcomes)
+    assert ("trails >5 pp" in said[2]) == trails  # "the gap remains", said
+    assert "closed" not in text.lower()
+    # relocation as a camera-height change, with its world, its seeds and the shifts' signs
+    assert "sideboard world (10 seeds)" in said[3] and "camera 3 cm lower" in said[3]
+    assert "0.68 input rows up" in said[3] and "0.66 rows down" in said[3]
+    # the claims that hold and those contradicted, named
+    assert "δ-trained features" in said[4] and "rotation, turning and distractors" in said[4]
 
 
 def test_words_counts_a_links_text_and_not_its_address():
@@ -105,6 +99,7 @@ def test_the_readmes_first_screen_is_at_most_five_sentences_of_thirty_words():
     assert 3 <= len(said) <= answer.MAX_SENTENCES, said
     assert all(answer.words(s) <= answer.MAX_WORDS for s in said), [answer.words(s) for s in said]
     assert "β_a" in screen and "published settings" in screen and "runs" in screen
+    assert len(re.findall(r"\]\(docs/guide/glossary\.md#", screen)) <= 3
     assert "relocation fails" not in README.read_text().lower()
 
 

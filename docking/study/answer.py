@@ -304,8 +304,9 @@ def equal_first_screen(
 
 
 def _equal_verdict(verdicts: dict[str, dict]) -> str:
-    """The verdict's sentence: linear SARSA's lead per world, where a lead is shown, where the
-    paper's learner is non-inferior at 5 pp and where equivalent within ±5 pp."""
+    """The verdict's sentence: linear SARSA's lead per world (its sign says who leads), where
+    a lead is shown, where the paper's learner is non-inferior at 5 pp, where it trails by
+    more than 5 pp (the gap remains) and where the two are equivalent within ±5 pp."""
     g = GLOSSARY
     n = next(iter(verdicts.values()))["seeds"]
     leads = "/".join(f"{100 * v['lead']:.1f}" for v in verdicts.values())
@@ -314,21 +315,17 @@ def _equal_verdict(verdicts: dict[str, dict]) -> str:
         found = [EQUAL_WORLDS[w] for w, v in verdicts.items() if test(v)]
         return "everywhere" if len(found) == len(verdicts) else ", ".join(found) or "nowhere"
 
-    shown = [w for w, v in verdicts.items() if v["lead_verdict"] != "no lead shown"]
-    behind = [w for w in shown if verdicts[w]["lead"] < 0]
-    lead = f"shown in {where(lambda v: v['lead_verdict'] != 'no lead shown')}"
-    if behind:
-        lead += f", the paper's in {', '.join(EQUAL_WORLDS[w] for w in behind)}"
     text = (
-        f"On {n} fresh seeds, linear SARSA leads it by {leads} pp ({lead}); "
-        f"[non-inferiority]({g}#non-inferior) at 5 pp holds "
-        f"{_in(where(lambda v: v['noninferiority'] == 'non-inferior'))}, equivalence (±5 pp) "
-        f"{_in(where(lambda v: v['equivalence'] == 'equivalent'))}"
+        f"On {n} fresh seeds, linear SARSA's lead: {leads} pp, shown "
+        f"{_in(where(lambda v: v['lead_verdict'] != 'no lead shown'))}; "
+        f"[non-inferior]({g}#non-inferior) (5 pp) "
+        f"{_in(where(lambda v: v['noninferiority'] == 'non-inferior'))}"
     )
     worse = where(lambda v: v["noninferiority"] == "inferior by more than the margin")
     if worse != "nowhere":
-        text += f"; it trails by more than 5 pp {_in(worse)}"
-    return text + "."
+        text += f"; trails >5 pp {_in(worse)}"
+    equal = where(lambda v: v["equivalence"] == "equivalent")
+    return text + f"; equivalent (±5 pp) {_in(equal)}."
 
 
 def _in(where: str) -> str:
