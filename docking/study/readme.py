@@ -277,6 +277,14 @@ GLANCE_END = "<!-- glance:end -->"
 FINDINGS_PAGE = "docs/guide/findings.md"
 
 
+#: The markers of the findings page's section on the equal contest (the current finding):
+#: its verdicts, the runs each learner spent and what it chose, its fragility tables.
+EQUAL_START = "<!-- equal-contest:start -->"
+
+
+EQUAL_END = "<!-- equal-contest:end -->"
+
+
 DETAILS_START = "<!-- details:start -->"
 
 

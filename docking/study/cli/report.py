@@ -308,7 +308,28 @@ class Report:
             f"the runs show, in detail]({readme.FINDINGS_PAGE})."
         )
         summary = "\n\n".join(paragraphs)
-        return changed | self._write(summary, readme.SUMMARY_START, readme.SUMMARY_END)
+        changed |= self._write(summary, readme.SUMMARY_START, readme.SUMMARY_END)
+        detail = "\n\n".join(
+            [
+                answer.equal_text(
+                    ecr.verdict_table(equal),
+                    ecr.chosen_table(equal),
+                    verdicts,
+                    before,
+                    ec.SEARCH.runs_per_learner(),
+                    ec.SEEDS,
+                    published,
+                    glossary="glossary.md",
+                ),
+                "**Fragility on the common grid** (notebook 07). "
+                + ecr.fragility_sentence(fragile)
+                + "\n\n"
+                + ecr.fragility_table(fragile),
+            ]
+        )
+        return changed | self._write(
+            detail, readme.EQUAL_START, readme.EQUAL_END, page=readme.FINDINGS_PAGE
+        )
 
     def _untested(self) -> list:
         """The untested claims' rows of the verdict table
