@@ -294,7 +294,7 @@ print(
 
 # %%
 centroid = dict(zip(world.action_letters, centroid_offset(inputs.action_mean), strict=True))
-print({k: round(float(v), 1) for k, v in centroid.items()})
+print("; ".join(f"{k}: {float(v):.1f}" for k, v in centroid.items()))
 assert centroid["TL"] < 0 < centroid["TR"] and turn_share > 0.1
 
 # %% [markdown]

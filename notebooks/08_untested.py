@@ -189,7 +189,7 @@ touched = {
     for p, w in places.items()
 }
 at_table = analysis.furniture_contacts(places["along the wall"], [[-1.2, 0.7, 0.0]])
-print({p: f"{n} of 600 walking poses touch furniture" for p, n in touched.items()})
+print("; ".join(f"{p}: {n} of 600 walking poses touch furniture" for p, n in touched.items()))
 assert not any(touched.values()) and at_table.all()
 
 # %% [markdown]
