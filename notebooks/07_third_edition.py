@@ -83,7 +83,7 @@ from docking.study.designs import equal_contest_report as ecr  # noqa: E402
 equal = ec.DESIGN.run(progress=False)
 verdicts = ecr.verdicts(equal)
 display(Markdown(ecr.verdict_table(equal)))
-for w, v in verdicts.items():  # judged on 20 fresh seeds, matched across learners
+for v in verdicts.values():  # judged on 20 fresh seeds, matched across learners
     assert v["seeds"] == len(ec.SEEDS) >= 20
     assert v["low"] < v["lead"] < v["high"]
     if v["noninferiority"] == "non-inferior":  # at one world: the interval's upper end < 5 pp
