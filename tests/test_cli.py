@@ -392,8 +392,9 @@ def test_a_command_imports_the_experiments_modules_only_if_they_are_its_options(
     args, experiment, tmp_path
 ):
     """Issue 61: every command imported every command's modules, and with them the
-    experiment's (MuJoCo), before it parsed its command line; now only a command whose options
-    are an experiment's fields (run, sweep) imports them to parse."""
+    experiment's (NumPy, MuJoCo), before it parsed its command line (and ``import docking``
+    NumPy with Gymnasium); now only a command whose options are an experiment's fields (run,
+    sweep) imports them to parse."""
     code = (
         "import sys\n"
         "from docking.study.cli import main\n"
@@ -401,7 +402,7 @@ def test_a_command_imports_the_experiments_modules_only_if_they_are_its_options(
         "    main(sys.argv[1:])\n"
         "except SystemExit:\n"
         "    pass\n"
-        "found = ('mujoco', 'docking.experiments', 'docking.study.cli.named')\n"
+        "found = ('numpy', 'mujoco', 'docking.experiments', 'docking.study.cli.named')\n"
         "print(sorted(m for m in found if m in sys.modules), file=sys.stderr)\n"
     )
     out = subprocess.run(
@@ -412,7 +413,7 @@ def test_a_command_imports_the_experiments_modules_only_if_they_are_its_options(
         timeout=60,
     )
     assert out.returncode == 0 and "usage:" in out.stdout, out.stderr
-    every = str(sorted(("mujoco", "docking.experiments", "docking.study.cli.named")))
+    every = str(sorted(("numpy", "mujoco", "docking.experiments", "docking.study.cli.named")))
     assert out.stderr.strip().splitlines()[-1] == (every if experiment else "[]")
 
 

@@ -20,7 +20,7 @@ import numpy as np
 import psutil
 import pytest
 
-import docking  # noqa: F401  (registers the Gymnasium ids)
+import docking.gym_ids  # noqa: F401  (registers the Gymnasium ids)
 from docking.camera import CameraConfig
 from docking.experiments import ExperimentConfig
 from docking.gym import DockingGymEnv
