@@ -9,64 +9,28 @@ The core, at this top level (``docking.core`` imports it in one line): ``world``
 dm-control scene, from ``assets/docking.xml``, and the ``dm_env`` task), ``render`` (offscreen
 rendering), ``camera`` (the observation pipeline of Fig. 2), ``oracle`` (a pose-reading
 reference policy), ``network`` (Eq. 1-16), ``trial`` (SARSA trials), ``experiments``
-(Experiments 1 and 2). The study layer, the machinery of the study's many runs, is the folder
-``docking.study`` (the store and the ledger, ``designs``: every question the package asks, as
-data, run by ``design``; the reports, ``figures``, the command line); docs/guide/package.md
-lists every module. The world is imported lazily, so ``docking.network`` works without
-OpenGL.
+(Experiments 1 and 2); ``gym`` adapts the world to Gymnasium, and ``import docking.gym_ids``
+registers its ids (:data:`ENV_IDS`). The study layer, the machinery of the study's many runs,
+is the folder ``docking.study`` (the store and the ledger, ``designs``: every question the
+package asks, as data, run by ``design``; the reports, ``figures``, the command line
+``python -m docking``); docs/guide/package.md lists every module.
+
+``import docking`` imports none of them: the names it gives (``docking.DockingEnv``,
+``docking.Network``, ...) load their modules when first read, and ``docking.network`` works
+without OpenGL. It does only what must precede any of the package's code: the rendering
+defaults, Triton's library loaded before Mesa's (if Triton is installed), and the stat of each
+of the package's files (the code the process is about to load).
 """
 
 __version__ = "0.1.0"
 
 import os as _os  # noqa: E402
-import signal as _signal  # noqa: E402
 import sys as _sys  # noqa: E402
+import time as _time  # noqa: E402
 
-#: The command line's name in its messages (:data:`docking.study.cli.PROG`), here because
-#: ``python -m docking`` may need it before the command line is imported.
-_PROG = "python -m docking"
-
-
-def _exit_on_ctrl_c(signum, frame):
-    """Ctrl-C while ``python -m docking`` is importing: one line and status 130, nothing to
-    undo. (A KeyboardInterrupt there is a traceback, or an ImportError when an extension
-    module's initialisation meets it.)"""
-    print(f"{_PROG}: interrupted", file=_sys.stderr, flush=True)
-    _os._exit(130)
-
-
-def _take_ctrl_c() -> bool:
-    """Make Ctrl-C :func:`_exit_on_ctrl_c`, unless SIGINT is ignored (a shell's background
-    job: it stays ignored, as Python leaves it); whether it did."""
-    if _signal.getsignal(_signal.SIGINT) is _signal.SIG_IGN:
-        return False
-    _signal.signal(_signal.SIGINT, _exit_on_ctrl_c)
-    return True
-
-
-# ``python -m docking ...`` imports this package before docking.__main__, while argv[0] is
-# still "-m": the handler then covers the imports below too (gymnasium and numpy, the larger
-# part of the command's start). ``import docking`` anywhere else leaves Ctrl-C alone.
-if _sys.argv[:1] == ["-m"] and "docking" in getattr(_sys, "orig_argv", ()):
-    _take_ctrl_c()
-
-# The rendering environment's defaults (MUJOCO_GL=egl, ...), before anything imports mujoco.
-from docking import glenv as _glenv  # noqa: E402
-
-
-def _check_opengl_platform() -> None:
-    """:class:`docking.glenv.RenderingUnavailable` in one line, before dm-control's renderer
-    fails with an ``ImportError`` on its first import, when ``PYOPENGL_PLATFORM`` names
-    another platform than the ``MUJOCO_GL`` backend (egl or osmesa) it must match. (Here, not
-    in :mod:`docking.glenv`, whose code keys every run.)"""
-    backend = _os.environ.get("MUJOCO_GL", "")
-    platform = _os.environ.get("PYOPENGL_PLATFORM", "")
-    if backend in ("egl", "osmesa") and platform not in ("", backend):
-        raise _glenv.RenderingUnavailable(
-            f"PYOPENGL_PLATFORM={platform!r} does not match MUJOCO_GL={backend}: dm-control "
-            f"renders with {backend} only if PYOPENGL_PLATFORM is unset or {backend!r}"
-        )
-
+# The rendering environment's defaults (MUJOCO_GL=egl, ...), before any module imports mujoco
+# (docking.render does, and its code keys every run: the defaults are set here, for all).
+from docking import glenv as _glenv  # noqa: E402, F401
 
 #: A symbol every LLVM library exports (its C API): when it resolves in the process's global
 #: scope, a library holding another LLVM that binds through that scope binds to this one.
@@ -121,28 +85,43 @@ def _load_triton_first() -> int | None:
     return mode
 
 
+# At import: every process that renders imports this package before it renders (the
+# rendering modules' code keys every run, so they cannot do it themselves).
 _load_triton_first()
 
 
-def _snapshot_sources() -> dict:
-    """SHA-256 of every ``.py`` file of the package as it is when ``docking`` is imported:
-    :mod:`docking.study.store` fingerprints this code, and refuses to key runs if a file has changed
-    on disk since (the process would compute with the code it loaded, not the edited one)."""
-    import hashlib
-    from pathlib import Path
+def _sources_at_import() -> dict[str, tuple]:
+    """``{file: (its os.stat_result, its SHA-256 or None)}`` of every ``.py`` file of the
+    package as it is when ``docking`` is imported, before any of its code is loaded:
+    :func:`docking.study.kinds.source_fingerprint` refuses to key runs with a file that has
+    changed on disk since (the process would compute with the code it loaded, not the edited
+    one). A file is read and hashed there, its stat compared with this one; here only stat is
+    called, but a file modified in the last two seconds is hashed too, as an edit within one
+    tick of the file system's clock can keep its times."""
+    here = _os.path.realpath(_os.path.dirname(__file__))
+    recent = _time.time_ns() - 2_000_000_000
+    found = {}
+    for folder, subfolders, names in _os.walk(here):
+        subfolders[:] = [d for d in subfolders if d != "__pycache__"]
+        for name in names:
+            if not name.endswith(".py"):
+                continue
+            path = _os.path.join(folder, name)
+            stat = _os.stat(path)
+            digest = None
+            if max(stat.st_mtime_ns, stat.st_ctime_ns) >= recent:
+                import hashlib
 
-    here = Path(__file__).resolve().parent
-    return {
-        p.relative_to(here).as_posix(): hashlib.sha256(p.read_bytes()).hexdigest()
-        for p in sorted(here.rglob("*.py"))
-        if "__pycache__" not in p.parts
-    }
+                with open(path, "rb") as file:
+                    digest = hashlib.sha256(file.read()).hexdigest()
+            found[_os.path.relpath(path, here).replace(_os.sep, "/")] = (stat, digest)
+    return found
 
 
-_SOURCES_AT_IMPORT = _snapshot_sources()
+_SOURCES_AT_IMPORT = _sources_at_import()
 
-#: The Gymnasium ids ``import docking`` registers: ``{id: the preset world it starts from}``
-#: (:func:`docking.gym.preset_world`; None: the default ``WorldConfig``).
+#: The Gymnasium ids ``import docking.gym_ids`` registers: ``{id: the preset world it starts
+#: from}`` (:func:`docking.gym.preset_world`; None: the default ``WorldConfig``).
 ENV_IDS = {
     "docking/Docking-v0": None,
     "docking/Experiment1-v0": "experiment1",
@@ -155,42 +134,19 @@ ENV_IDS = {
 }
 
 
-def _register_envs() -> None:
-    """Register :data:`ENV_IDS` with Gymnasium (if installed); the environments and their
-    worlds are built only by ``gymnasium.make``."""
-    try:
-        import gymnasium
-    except ImportError:  # pragma: no cover - gymnasium is a dependency
-        return
-    from docking.scene import WorldConfig
-
-    steps = WorldConfig.__dataclass_fields__["max_steps"].default  # the presets keep it
-    for env_id, preset in ENV_IDS.items():
-        if env_id not in gymnasium.registry:
-            gymnasium.register(
-                id=env_id,
-                # the adapter with its seed and actions checked (docking/gym_ids.py)
-                entry_point="docking.gym_ids:CheckedDockingGymEnv",
-                kwargs={"preset": preset},
-                max_episode_steps=steps,
-                # Gymnasium 1.4's PassiveEnvChecker counts its first reset as checked before
-                # it returns: after a refused first reset(seed='0') the next step fails inside
-                # it (issue 52). check_env passes on every id (tests/test_gym.py).
-                disable_env_checker=True,
-            )
-
-
-_register_envs()
-
+#: The names the package gives (read as ``docking.<name>``), each from the module that defines
+#: it, imported when the name is first read: ``{name: (module, its name there)}``.
 _LAZY = {
-    "DockingEnv": "docking.world",
-    "WorldConfig": "docking.world",
-    "CameraConfig": "docking.camera",
-    "Network": "docking.network",
-    "NetworkConfig": "docking.network",
-    "run_trial": "docking.trial",
-    "TrialRecord": "docking.trial",
-    "oracle_action": "docking.oracle",
+    "DockingEnv": ("docking.world", "DockingEnv"),
+    "WorldConfig": ("docking.world", "WorldConfig"),
+    "CameraConfig": ("docking.camera", "CameraConfig"),
+    "Network": ("docking.network", "Network"),
+    "NetworkConfig": ("docking.network", "NetworkConfig"),
+    "run_trial": ("docking.trial", "run_trial"),
+    "TrialRecord": ("docking.trial", "TrialRecord"),
+    "oracle_action": ("docking.oracle", "oracle_action"),
+    # what docking.gym.register() calls (its code keys PPO's runs, so it keeps the name)
+    "_register_envs": ("docking.gym_ids", "register"),
 }
 
 
@@ -198,5 +154,6 @@ def __getattr__(name):
     if name in _LAZY:
         import importlib
 
-        return getattr(importlib.import_module(_LAZY[name]), name)
+        module, attribute = _LAZY[name]
+        return getattr(importlib.import_module(module), attribute)
     raise AttributeError(f"module 'docking' has no attribute {name!r}")

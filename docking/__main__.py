@@ -3,28 +3,13 @@
 if __name__ == "__main__":
     import atexit
     import os
-    import signal
     import sys
 
-    from docking import _PROG, _take_ctrl_c
+    # Imports the standard library alone: the command's modules are imported by main, with
+    # Ctrl-C one line and status 130 while they are (take_ctrl_c).
+    from docking.study.cli import main, take_ctrl_c
 
-    # Ctrl-C while the command's modules are imported: one line, 130 (the package did this
-    # already under ``python -m docking``; ``runpy.run_module`` comes here without it).
-    ctrl_c = _take_ctrl_c()
-    from docking.glenv import RenderingUnavailable, check_gl_backend
-
-    try:  # before docking.study.cli imports MuJoCo, whose own failure is a traceback
-        check_gl_backend()
-    except RenderingUnavailable as exc:
-        print(f"{_PROG}: error: {exc}", file=sys.stderr)
-        raise SystemExit(1) from None
-
-    from docking.study.cli import main
-
-    # A command is interrupted by KeyboardInterrupt, so that a sweep closes its cluster on the
-    # way out; main says so in one line and returns 130.
-    if ctrl_c:
-        signal.signal(signal.SIGINT, signal.default_int_handler)
+    take_ctrl_c()
     try:
         status = main()
         sys.stdout.flush()

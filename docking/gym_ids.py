@@ -1,6 +1,8 @@
-"""What ``gymnasium.make`` builds for the ids of :data:`docking.ENV_IDS`: the adapter
-:class:`docking.gym.DockingGymEnv`, with its arguments and actions checked here, and the
-conventions of reinforcement-learning libraries such as Stable-Baselines3.
+"""The Gymnasium ids of :data:`docking.ENV_IDS`, registered when this module is imported
+(``import docking.gym_ids``: Gymnasium 1.x has no plugin entry points), and what
+``gymnasium.make`` builds for them: the adapter :class:`docking.gym.DockingGymEnv`, with its
+arguments and actions checked here, and the conventions of reinforcement-learning libraries
+such as Stable-Baselines3.
 
 The adapter's code is part of the fingerprint of PPO's runs (:mod:`docking.study.ppo` builds it), so
 what its code could hold lives in this module instead, which no run imports:
@@ -24,14 +26,16 @@ from __future__ import annotations
 
 import dataclasses
 
+import gymnasium
 import numpy as np
 from gymnasium import spaces
 
+from docking import ENV_IDS
 from docking.gym import DockingGymEnv
 from docking.scene import WorldConfig
 from docking.validate import MAX_SEED, FieldTypeError, check_int
 
-__all__ = ["OBSERVATIONS", "CheckedDockingGymEnv"]
+__all__ = ["OBSERVATIONS", "CheckedDockingGymEnv", "register"]
 
 #: The layouts of ``make(..., observation=...)``: name -> what it is.
 OBSERVATIONS = {
@@ -122,3 +126,26 @@ def _check_vector(action, names: tuple[str, ...]) -> None:
             f"action must be {len(names)} finite numbers in [-1, 1] ({', '.join(names)}), "
             f"got {action!r}"
         )
+
+
+def register() -> None:
+    """Register :data:`docking.ENV_IDS` with Gymnasium (each id not yet registered); the
+    environments and their worlds are built only by ``gymnasium.make``. Done when this module
+    is imported."""
+    steps = WorldConfig.__dataclass_fields__["max_steps"].default  # the presets keep it
+    for env_id, preset in ENV_IDS.items():
+        if env_id not in gymnasium.registry:
+            gymnasium.register(
+                id=env_id,
+                # the adapter with its seed and actions checked (this module)
+                entry_point="docking.gym_ids:CheckedDockingGymEnv",
+                kwargs={"preset": preset},
+                max_episode_steps=steps,
+                # Gymnasium 1.4's PassiveEnvChecker counts its first reset as checked before
+                # it returns: after a refused first reset(seed='0') the next step fails inside
+                # it (issue 52). check_env passes on every id (tests/test_gym.py).
+                disable_env_checker=True,
+            )
+
+
+register()

@@ -47,7 +47,7 @@ import numpy as np
 from gymnasium.utils.env_checker import check_env
 from IPython.display import Image, Markdown, display
 
-import docking  # noqa: F401  (registers the Gymnasium ids)
+import docking.gym_ids  # noqa: F401  (registers the Gymnasium ids)
 from docking.experiments import initial_network
 from docking.scene import scene_facts
 from docking.study import analysis, figures, provenance, report

@@ -375,6 +375,48 @@ def test_the_command_line_starts_without_scipy(tmp_path):
     assert out.returncode == 0 and out.stdout.strip() == "[]", out.stderr[-2000:]
 
 
+@pytest.mark.parametrize(
+    "args, experiment",
+    [
+        (["--help"], False),
+        (["ledger", "--help"], False),
+        (["verify", "--help"], False),
+        (["report", "--help"], False),
+        (["design", "list", "--help"], False),
+        (["run", "experiment1", "--help"], True),
+        (["sweep", "--help"], True),
+    ],
+    ids=lambda a: " ".join(a) if isinstance(a, list) else str(a),
+)
+def test_a_command_imports_the_experiments_modules_only_if_they_are_its_options(
+    args, experiment, tmp_path
+):
+    """Issue 61: every command imported every command's modules, and with them the
+    experiment's (NumPy, MuJoCo), before it parsed its command line (and ``import docking``
+    NumPy with Gymnasium); now only a command whose options are an experiment's fields (run,
+    sweep) imports them to parse."""
+    code = (
+        "import sys\n"
+        "from docking.study.cli import main\n"
+        "try:\n"
+        "    main(sys.argv[1:])\n"
+        "except SystemExit:\n"
+        "    pass\n"
+        "found = ('numpy', 'mujoco', 'docking.experiments', 'docking.study.cli.named')\n"
+        "print(sorted(m for m in found if m in sys.modules), file=sys.stderr)\n"
+    )
+    out = subprocess.run(
+        [sys.executable, "-c", code, *args],
+        env=_env(tmp_path, columns=90),
+        capture_output=True,
+        text=True,
+        timeout=60,
+    )
+    assert out.returncode == 0 and "usage:" in out.stdout, out.stderr
+    every = str(sorted(("numpy", "mujoco", "docking.experiments", "docking.study.cli.named")))
+    assert out.stderr.strip().splitlines()[-1] == (every if experiment else "[]")
+
+
 @pytest.mark.slow
 def test_run_runs_a_world_by_name(tmp_path):
     args = ["run", "nao-linear", "--seeds", "0", "--processes", "1", "--train-trials", "2"]
@@ -627,7 +669,7 @@ def _choice_checks() -> set[tuple[str, str]]:
 
 
 def test_every_named_value_field_is_a_choice_on_the_command_line():
-    from docking.study.cli.options import CHOICES
+    from docking.study.cli.named import CHOICES
 
     table = {(cls.__name__, name) for cls, fields in CHOICES.items() for name in fields}
     assert table == _choice_checks()

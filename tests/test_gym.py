@@ -8,6 +8,7 @@ from gymnasium.utils.env_checker import check_env
 
 import docking
 import docking.gym
+import docking.gym_ids  # noqa: F401  (registers the ids)
 from docking.world import DockingEnv, WorldConfig
 
 
@@ -138,18 +139,42 @@ def test_every_task_id_passes_check_env_and_has_its_step_limit(env_id):
         env.close()
 
 
-def test_the_ids_are_registered_by_importing_docking_alone():
+def test_the_ids_are_registered_by_importing_docking_gym_ids_alone():
     import subprocess
     import sys
 
     code = (
-        "import gymnasium, docking\n"
+        "import gymnasium, docking.gym_ids\n"
         "env = gymnasium.make('docking/Experiment2-v0')\n"
         "print(env.unwrapped.config.start_far, env.spec.max_episode_steps)\n"
     )
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=False)
     assert out.returncode == 0, out.stderr
     assert out.stdout.split() == ["1.5", "25"]
+
+
+def test_import_docking_imports_no_library_and_registers_nothing():
+    """``import docking`` is the package's face (issue 61): it imports none of its modules but
+    the rendering defaults (docking.glenv), nor Gymnasium, NumPy or MuJoCo, and registers no
+    id; ``docking.gym.register()`` (which PPO's keyed code keeps) registers them all."""
+    import subprocess
+    import sys
+
+    code = (
+        "import sys, docking\n"
+        "print(sorted(m for m in sys.modules if m.split('.')[0] in "
+        "('docking', 'gymnasium', 'numpy', 'mujoco', 'dm_control')))\n"
+        "import gymnasium\n"
+        "print(sorted(i for i in gymnasium.registry if i.startswith('docking/')))\n"
+        "import docking.gym\n"
+        "docking.gym.register()\n"
+        "print(sorted(i for i in gymnasium.registry if i.startswith('docking/')))\n"
+    )
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=False)
+    assert out.returncode == 0, out.stderr
+    imported, before, after = out.stdout.splitlines()
+    assert imported == str(["docking", "docking.glenv"])
+    assert before == "[]" and after == str(sorted(docking.ENV_IDS))
 
 
 def test_an_ids_world_fields_can_be_overridden():

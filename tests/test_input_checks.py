@@ -20,7 +20,7 @@ import numpy as np
 import psutil
 import pytest
 
-import docking  # noqa: F401  (registers the Gymnasium ids)
+import docking.gym_ids  # noqa: F401  (registers the Gymnasium ids)
 from docking.camera import CameraConfig
 from docking.experiments import ExperimentConfig
 from docking.gym import DockingGymEnv
@@ -208,12 +208,12 @@ def test_a_bogus_rendering_backend_is_one_clear_line(value, tmp_path):
 
 
 def test_ctrl_c_while_a_command_runs_is_one_line_and_130(monkeypatch, capsys):
-    from docking.study import cli
+    from docking.study.cli import ledger
 
     def interrupted(self):
         raise KeyboardInterrupt
 
-    monkeypatch.setattr(cli.ledger.Verify, "execute", interrupted)
+    monkeypatch.setattr(ledger.Verify, "execute", interrupted)
     handler = signal.getsignal(signal.SIGTERM)
     try:
         assert main(["verify"]) == 130
@@ -314,10 +314,11 @@ def _ctrl_c_at_import(tmp_path, module, when="True", before="pass"):
     )
 
 
-def test_ctrl_c_while_the_package_itself_imports_is_one_line_and_130(tmp_path):
-    """python -m docking imports the package (gymnasium, numpy) before docking.__main__ runs:
-    an interrupt there was a traceback and a death by SIGINT."""
-    out = _ctrl_c_at_import(tmp_path, "gymnasium")
+def test_ctrl_c_while_the_commands_modules_import_is_one_line_and_130(tmp_path):
+    """python -m docking imports a command's modules (numpy, MuJoCo, ...) as it parses the
+    command line, before the command runs: an interrupt there was a traceback and a death by
+    SIGINT (when the package imported gymnasium and numpy itself, there)."""
+    out = _ctrl_c_at_import(tmp_path, "numpy")
     assert out.returncode == 130, out.stderr
     assert _one_error_line(out.stderr) == "python -m docking: interrupted"
 
@@ -326,7 +327,8 @@ def test_ctrl_c_that_cpython_counts_unhandled_still_ends_130(tmp_path):
     """CPython 3.11 can hold a KeyboardInterrupt unhandled although main caught it (seen under
     load: one raised in code that namedtuple evaluates while dm_control is imported), and then
     ends python -m by SIGINT whatever the status. Here the flag is set by hand, at the import
-    of dm_control.mujoco while the command runs, just before the interrupt."""
+    of dm_control.mujoco while the command runs (docking.study.sweep imported), just before the
+    interrupt."""
     import ctypes
 
     try:
@@ -337,7 +339,7 @@ def test_ctrl_c_that_cpython_counts_unhandled_still_ends_130(tmp_path):
     out = _ctrl_c_at_import(
         tmp_path,
         "dm_control.mujoco",
-        when='"docking.study.cli" in sys.modules',
+        when='"docking.study.sweep" in sys.modules',
         before=f"import ctypes; {flag}",
     )
     assert out.returncode == 130, out.stderr
@@ -491,9 +493,9 @@ def test_a_grid_of_millions_is_refused_before_any_configuration_is_built(monkeyp
     ids=["grid", "grid x seeds"],
 )
 def test_a_sweep_too_large_is_one_line_before_any_run(args, says, monkeypatch, capsys):
-    from docking.study import cli
+    from docking.study.cli import runs
 
-    monkeypatch.setattr(cli.runs, "_run", lambda *a: pytest.fail("the sweep started"))
+    monkeypatch.setattr(runs, "_run", lambda *a: pytest.fail("the sweep started"))
     handler = signal.getsignal(signal.SIGTERM)
     try:
         assert main(["sweep", "experiment1", *args]) == 2

@@ -8,6 +8,7 @@ import shutil
 import subprocess
 import sys
 import textwrap
+import time
 import zipfile
 
 import numpy as np
@@ -315,6 +316,37 @@ def test_code_edited_after_import_cannot_key_runs(tmp_path):
     assert found.returncode == 0, found.stderr
     assert "STALE" in found.stdout and "docking/world.py" in found.stdout
     assert issubclass(StaleCode, RuntimeError)
+
+
+@pytest.mark.slow
+def test_code_rewritten_in_place_after_import_cannot_key_runs(tmp_path):
+    """``import docking`` records each file's stat and hashes only a file modified in the last
+    two seconds (issue 61: it hashed every file); an older one is hashed when a fingerprint is
+    first read, and is refused if its stat has moved since the import. Here a file is rewritten
+    after the import with the same size and its modification time set back: its change time
+    has moved (a check of the modification time and size alone would key runs with it)."""
+    root = _copied_package(tmp_path)
+    time.sleep(2.5)  # the copy is older than the two seconds import docking hashes
+    code = f"""
+        import os, pathlib, docking
+        from docking.study import kinds
+        world = pathlib.Path({str(root / "docking" / "world.py")!r})
+        print("HASHED" if docking._SOURCES_AT_IMPORT["world.py"][1] else "STAT")
+        kinds.source_fingerprint()  # fine: hashed now, its stat that of the import
+        before = os.stat(world)
+        text = world.read_bytes()
+        world.write_bytes(text[:-1] + b" ")  # the last newline a space: the same size
+        os.utime(world, ns=(before.st_atime_ns, before.st_mtime_ns))
+        assert os.stat(world).st_size == before.st_size
+        try:
+            kinds.source_fingerprint()
+        except kinds.StaleCode as exc:
+            print("STALE", exc)
+        """
+    found = _python(code, root)
+    assert found.returncode == 0, found.stderr
+    assert found.stdout.startswith("STAT\n"), found.stdout
+    assert "STALE" in found.stdout and "docking/world.py" in found.stdout
 
 
 # ------------------------------------------------------------------------------------------

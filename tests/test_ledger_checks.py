@@ -20,8 +20,9 @@ import pytest
 from helpers import SEEDS, TINY, tool
 
 from docking.presets import EXPERIMENT_1
-from docking.study import cli, ledger, verify
+from docking.study import ledger, verify
 from docking.study.cli import main
+from docking.study.cli.ledger import _verify_plan
 from docking.study.kinds import result_path, run_key
 from docking.study.runs import load_run
 from docking.study.store import run_or_load
@@ -444,11 +445,11 @@ def test_run_refuses_a_damaged_ledger_before_it_computes(
 
 
 def test_verify_caps_its_sample_and_says_how_long_before_it_starts(copy):
-    line = cli.ledger._verify_plan(10**12, False, 2)
+    line = _verify_plan(10**12, False, 2)
     assert "2 of the 2 others the ledger holds (--sample 1000000000000 capped at 2)" in line
     assert line.startswith("verify: recomputing 3 runs: the 1 of experiment1 and experiment2")
     assert "about " in line and "of the runs' wall times in the ledger" in line
-    assert "capped" not in cli.ledger._verify_plan(1, False, 2)
+    assert "capped" not in _verify_plan(1, False, 2)
 
 
 def _log_arrays(part: str, n_trials: int) -> dict[str, np.ndarray]:

@@ -31,7 +31,7 @@ PROBE = """
 import ctypes, sys
 if sys.argv[1] == "dm_control":  # Mesa's LLVM global before docking is imported
     import dm_control.mujoco
-import docking, gymnasium
+import docking.gym_ids, gymnasium
 gymnasium.make("docking/Docking-v0").reset(seed=0)
 llvm_global = hasattr(ctypes.CDLL(None), "LLVMContextCreate")
 print(llvm_global, ctypes.CDLL(sys.argv[2]).probe())
@@ -97,7 +97,7 @@ def test_triton_imports_after_rendering(first):
         "import sys\n"
         "if sys.argv[1] == 'dm_control':\n"
         "    import dm_control.mujoco\n"
-        "import docking, gymnasium\n"
+        "import docking.gym_ids, gymnasium\n"
         "gymnasium.make('docking/Docking-v0').reset(seed=0)\n"
         "import triton\n"
         "print('imported')\n"
@@ -113,7 +113,7 @@ def test_stable_baselines3_trains_in_either_import_order(first):
     code = (
         "import sys, importlib\n"
         "importlib.import_module(sys.argv[1])\n"
-        "import gymnasium, docking\n"
+        "import gymnasium, docking.gym_ids\n"
         "from stable_baselines3 import PPO\n"
         "env = gymnasium.make('docking/Docking-v0', observation='flat')\n"
         "PPO('MlpPolicy', env, n_steps=64, batch_size=32, n_epochs=1, seed=0).learn(64)\n"

@@ -12,7 +12,7 @@ import numpy as np
 import pytest
 from gymnasium.utils.env_checker import check_env
 
-import docking  # noqa: F401  (registers the Gymnasium ids)
+import docking.gym_ids  # noqa: F401  (registers the Gymnasium ids)
 from docking.experiments import ExperimentConfig, policy_trial, run_experiment, trials_in_run
 from docking.network import Network, NetworkConfig
 from docking.policies import evaluate_policy, oracle

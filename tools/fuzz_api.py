@@ -32,7 +32,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parent.parent))
 
 import gymnasium  # noqa: E402
 
-import docking  # noqa: E402, F401  (registers the ids)
+import docking.gym_ids  # noqa: E402, F401  (registers the ids)
 from docking.camera import CameraConfig  # noqa: E402
 from docking.experiments import Curriculum, ExperimentConfig  # noqa: E402
 from docking.network import NetworkConfig  # noqa: E402

@@ -184,10 +184,7 @@ def source_fingerprint(
     package_dir = Path(package_dir).resolve() if package_dir else own
     fingerprint, _, files = _fingerprint_parts(package_dir, root, tuple(libraries))
     if package_dir == own:
-        import docking
-
-        loaded = docking._SOURCES_AT_IMPORT
-        changed = sorted(f for f, digest in files.items() if loaded.get(f) != digest)
+        changed = _changed_since_import(files)
         if changed:
             raise StaleCode(
                 f"docking's code changed on disk after this process imported it "
@@ -196,6 +193,39 @@ def source_fingerprint(
                 "(in Jupyter: restart the kernel)."
             )
     return fingerprint
+
+
+def _changed_since_import(files: dict[str, str]) -> list[str]:
+    """The files of ``files`` (``{file: SHA-256 of the bytes read}``, this package's) that may
+    not be those this process imported: as ``import docking`` found them
+    (:data:`docking._SOURCES_AT_IMPORT`), a file hashed then has another digest, any other file
+    another stat now (modification or change time, size or inode: its bytes read since are then
+    not known to be those loaded), and a file it did not find is new."""
+    import docking
+
+    loaded = docking._SOURCES_AT_IMPORT
+    changed = []
+    for name, digest in sorted(files.items()):
+        stat, loaded_digest = loaded.get(name, (None, None))
+        if loaded_digest is not None:
+            same = loaded_digest == digest
+        else:
+            try:
+                now = os.stat(_OWN / name)
+            except OSError:
+                now = None
+            same = None not in (stat, now) and _same_stat(stat, now)
+        if not same:
+            changed.append(name)
+    return changed
+
+
+def _same_stat(a: os.stat_result, b: os.stat_result) -> bool:
+    """Whether ``a`` and ``b`` are the stat of one version of a file: its modification and
+    change times (the change time moves with every write, and cannot be set back), size and
+    inode."""
+    fields = ("st_mtime_ns", "st_ctime_ns", "st_size", "st_ino")
+    return all(getattr(a, f) == getattr(b, f) for f in fields)
 
 
 def module_digests(

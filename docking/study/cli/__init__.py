@@ -23,45 +23,82 @@ subcommand) prints usage and starts nothing.
 from __future__ import annotations
 
 import contextlib
-import inspect
 import os
-import re
 import signal
 import sys
-from typing import Annotated, Union
 
-import tyro
+__all__ = ["DESCRIPTION", "HELP_ALL", "PROG", "check_rendering", "main", "parse", "take_ctrl_c"]
 
-from docking import _check_opengl_platform
-from docking.study.cli import options
-from docking.study.cli.ledger import Benchmark, Ledger, Verify
-from docking.study.cli.options import HELP_ALL, PROG, _registry
-from docking.study.cli.report import Figures, Report
-from docking.study.cli.runs import DesignCommand, Run, Sweep
-
-__all__ = ["DESCRIPTION", "PROG", "Command", "main", "parse"]
+#: The command line's name in its messages.
+PROG = "python -m docking"
 
 DESCRIPTION = (
     "Kleesiek et al. (2011) on dm-control: run the experiments, sweep parameters on a Dask "
     "cluster, print the results table, benchmark the environment."
 )
 
+#: The option that prints every option of an experiment (``--help`` shows the common ones,
+#: :data:`docking.study.cli.named.COMMON`).
+HELP_ALL = "--help-all"
 
-Command = Union[  # noqa: UP007
-    Annotated[Run, tyro.conf.subcommand("run")],
-    Annotated[Sweep, tyro.conf.subcommand("sweep")],
-    Annotated[DesignCommand, tyro.conf.subcommand("design")],
-    Annotated[Report, tyro.conf.subcommand("report")],
-    Annotated[Figures, tyro.conf.subcommand("figures")],
-    Annotated[Ledger, tyro.conf.subcommand("ledger")],
-    Annotated[Verify, tyro.conf.subcommand("verify")],
-    Annotated[Benchmark, tyro.conf.subcommand("benchmark")],
-]
+
+def _commands():
+    """The commands, as tyro's subcommands: each a dataclass whose ``execute()`` runs it, and
+    whose docstring is its description. Their modules import what a command runs when it
+    runs (and run's and sweep's options the experiment's modules when they are built:
+    :mod:`docking.study.cli.named`)."""
+    from typing import Annotated, Union
+
+    import tyro
+
+    from docking.study.cli.ledger import Benchmark, Ledger, Verify
+    from docking.study.cli.options import reflow
+    from docking.study.cli.report import Figures, Report
+    from docking.study.cli.runs import DesignCommand, Run, Sweep
+
+    commands = {
+        "run": Run,
+        "sweep": Sweep,
+        "design": DesignCommand,
+        "report": Report,
+        "figures": Figures,
+        "ledger": Ledger,
+        "verify": Verify,
+        "benchmark": Benchmark,
+    }
+    # Each class its own constructor: tyro then builds the options of the command given alone
+    # (it expands a Union's every member to see whether it is one of structs, else).
+    return Union[  # noqa: UP007 (tyro needs a runtime Union of Annotated members)
+        tuple(
+            Annotated[
+                kind, tyro.conf.subcommand(name, description=reflow(kind.__doc__), constructor=kind)
+            ]
+            for name, kind in commands.items()
+        )
+    ]
 
 
 def _exit_on_sigterm(signum, frame):
     # SystemExit unwinds the stack: a running sweep closes its cluster and workers.
     raise SystemExit(128 + signum)
+
+
+def _exit_on_ctrl_c(signum, frame):
+    """Ctrl-C while ``python -m docking`` imports a command's modules and parses its command
+    line: one line and status 130, nothing to undo. (A KeyboardInterrupt there is a traceback,
+    or an ImportError when an extension module's initialisation meets it.)"""
+    print(f"{PROG}: interrupted", file=sys.stderr, flush=True)
+    os._exit(130)
+
+
+def take_ctrl_c() -> bool:
+    """Make Ctrl-C :func:`_exit_on_ctrl_c` until :func:`main` runs the command, unless SIGINT
+    is ignored (a shell's background job: it stays ignored, as Python leaves it); whether it
+    did. ``python -m docking`` calls it first."""
+    if signal.getsignal(signal.SIGINT) is signal.SIG_IGN:
+        return False
+    signal.signal(signal.SIGINT, _exit_on_ctrl_c)
+    return True
 
 
 #: The folder options whose empty value tyro would read as the current folder.
@@ -119,50 +156,15 @@ def _repeated_option(argv: list[str]) -> str | None:
     return None
 
 
-_LIST_ITEM = re.compile(r"\s*([-*\u2022]|\d+\.)\s")
-
-
-def _reflow(text: str) -> str:
-    """``text`` (a docstring) as one line per paragraph: blank lines and list items
-    ("- ", "* ", "1. ") keep their breaks, every other line break becomes a space."""
-    paragraphs = re.split(r"\n\s*\n", inspect.cleandoc(text))
-    return "\n\n".join(
-        "".join(
-            ("\n" + line) if _LIST_ITEM.match(line) else (" " if k else "") + line.strip()
-            for k, line in enumerate(p.split("\n"))
-        )
-        for p in paragraphs
-    )
-
-
-@contextlib.contextmanager
-def _reflowed_help():
-    """Help texts reflowed by :func:`_reflow` while tyro builds the parser. tyro 1.0 keeps a
-    docstring's line break wherever the next line does not begin with a letter, and reads an
-    option's docstring with its indentation, so every continued line of an option's text
-    (and a line beginning ``_,`` or ``25-action``) broke the help mid-sentence."""
-    from tyro import _strings
-
-    original = getattr(_strings, "remove_single_line_breaks", None)
-    if original is None:  # another tyro: its own reflowing
-        yield
-        return
-    _strings.remove_single_line_breaks = _reflow
-    try:
-        yield
-    finally:
-        _strings.remove_single_line_breaks = original
-
-
 #: The narrowest help tyro is given: at a few columns its formatter never ends (issue 41).
 MIN_COLUMNS = 40
 
 
 @contextlib.contextmanager
 def _wide_enough():
-    """``COLUMNS`` at least :data:`MIN_COLUMNS` while tyro builds the parser and its help: a
-    narrower terminal (or ``COLUMNS=5``) gets the help at that width, wrapped by the
-    terminal."""
+    """``COLUMNS`` at least :data:`MIN_COLUMNS` while tyro builds the parser and its help (tyro
+    reads the width as :func:`shutil.get_terminal_size` gives it): a narrower terminal (or
+    ``COLUMNS=5``) gets the help at that width, wrapped by the terminal."""
     import shutil
 
     saved = os.environ.get("COLUMNS")
@@ -177,35 +179,30 @@ def _wide_enough():
             os.environ["COLUMNS"] = saved
 
 
-@contextlib.contextmanager
-def _help_of(argv: list[str]):
-    """``argv`` with :data:`HELP_ALL` read as ``--help``; while tyro builds the parser for a
-    ``--help`` (not :data:`HELP_ALL`), an experiment's options are its common ones
-    (:data:`docking.study.cli.options.COMMON`)."""
-    saved = options._brief
-    options._brief = HELP_ALL not in argv and any(a in ("-h", "--help") for a in argv)
-    try:
-        yield ["--help" if a == HELP_ALL else a for a in argv]
-    finally:
-        options._brief = saved
-
-
-def parse(argv: list[str]) -> Command:
+def parse(argv: list[str]):
     """The command ``argv`` names, parsed and checked, not run (``SystemExit`` as argparse
-    exits: on bad input, and after printing ``--help``)."""
-    with _reflowed_help(), _wide_enough(), _help_of(argv) as args:
+    exits: on bad input, and after printing ``--help``). ``--help`` shows an experiment's
+    common options, :data:`HELP_ALL` every one."""
+    import tyro
+
+    from docking.study.cli.options import registry
+
+    brief = HELP_ALL not in argv and any(a in ("-h", "--help") for a in argv)
+    with _wide_enough():
         return tyro.cli(
-            Command,
-            args=args,
+            _commands(),
+            args=["--help" if a == HELP_ALL else a for a in argv],
             prog=PROG,
             description=DESCRIPTION,
             config=(tyro.conf.CascadeSubcommandArgs,),
-            registry=_registry,
+            registry=registry(brief),
         )
 
 
 def main(argv=None) -> int:
     """Parse ``argv`` (default ``sys.argv[1:]``) and run the subcommand; its exit status."""
+    from docking.glenv import RenderingUnavailable
+
     argv = sys.argv[1:] if argv is None else list(argv)
     empty = _empty_folder_option(argv)
     if empty is not None:  # as DOCKING_RESULTS / DOCKING_FIGURES set but empty are refused
@@ -223,11 +220,18 @@ def main(argv=None) -> int:
     except KeyboardInterrupt:  # Ctrl-C while tyro builds the parser
         print(f"{PROG}: interrupted", file=sys.stderr)
         return 130
+    except RenderingUnavailable as exc:  # run's and sweep's options import MuJoCo: checked
+        print(f"{PROG}: error: {exc}", file=sys.stderr)
+        return 1
     signal.signal(signal.SIGTERM, _exit_on_sigterm)
+    # From here Ctrl-C interrupts the command (a KeyboardInterrupt), so that a sweep closes its
+    # cluster on the way out; this says so in one line and returns 130.
+    if signal.getsignal(signal.SIGINT) is _exit_on_ctrl_c:
+        signal.signal(signal.SIGINT, signal.default_int_handler)
     try:
-        _check_opengl_platform()  # RenderingUnavailable, a RuntimeError: one line
+        check_rendering()  # RenderingUnavailable, a RuntimeError: one line
         return command.execute()
-    except KeyboardInterrupt:  # Ctrl-C: a running sweep has closed its cluster on the way
+    except KeyboardInterrupt:
         print(f"{PROG}: interrupted", file=sys.stderr)
         return 130
     except ValueError as exc:  # bad input (seeds, grid entries, configuration values)
@@ -238,3 +242,22 @@ def main(argv=None) -> int:
         # ledger that changed (StaleCode, StaleLedger), a run the ledger does not keep.
         print(f"{PROG}: error: {exc}", file=sys.stderr)
         return 1
+
+
+def check_rendering() -> None:
+    """:class:`docking.glenv.RenderingUnavailable`, in one line, if MuJoCo cannot render here:
+    before a command imports MuJoCo, whose own failure is a traceback. Its backend
+    (:func:`docking.glenv.check_gl_backend`), and ``PYOPENGL_PLATFORM``, which must be unset or
+    the ``MUJOCO_GL`` backend (egl or osmesa), or dm-control's renderer fails with an
+    ``ImportError`` on its first import (checked here, not in :mod:`docking.glenv`, whose code
+    keys every run)."""
+    from docking.glenv import RenderingUnavailable, check_gl_backend
+
+    check_gl_backend()
+    backend = os.environ.get("MUJOCO_GL", "")
+    platform = os.environ.get("PYOPENGL_PLATFORM", "")
+    if backend in ("egl", "osmesa") and platform not in ("", backend):
+        raise RenderingUnavailable(
+            f"PYOPENGL_PLATFORM={platform!r} does not match MUJOCO_GL={backend}: dm-control "
+            f"renders with {backend} only if PYOPENGL_PLATFORM is unset or {backend!r}"
+        )

@@ -16,7 +16,8 @@ from typing import Annotated, Literal
 import tyro
 
 from docking.study import paths
-from docking.study.cli.options import PROG, _no_ledger, _Processes, _ResultsDir, _Scheduler, _shown
+from docking.study.cli import PROG
+from docking.study.cli.options import _no_ledger, _Processes, _ResultsDir, _Scheduler, _shown
 from docking.study.designs import names as _design_names
 
 

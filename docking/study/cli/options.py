@@ -1,183 +1,84 @@
-"""The command line's options: the configuration dataclasses as options (tyro's registry,
-the choices of the fields that take one of a few names, the common options ``--help`` shows),
-the option types the commands share, and the words every command says (where a run came
-from, why the ledger serves none).
+"""What every command's options share: tyro's registry (numbers read as the seeds are, every
+option's help reflowed, the configuration dataclasses handed to
+:mod:`docking.study.cli.named`), the option types the commands share, and the words every
+command says (why the ledger serves no run). Imports nothing heavy: a command's own modules
+are imported when it runs.
 """
 
 from __future__ import annotations
 
 import dataclasses
 import functools
+import inspect
 import os
+import re
 from pathlib import Path
-from typing import Annotated, Literal, Union
+from typing import Annotated
 
 import tyro
 
-from docking import _PROG
-from docking.camera import CameraConfig
-from docking.experiments import POLICIES, PRETRAIN_RULES, Curriculum, ExperimentConfig
-from docking.network import FEATURE_LAYERS, RULES, NetworkConfig
-from docking.presets import EXPERIMENTS, HEADLINE_SEED, SEEDS
-from docking.scene import (
-    ACTION_SETS,
-    DISTRACTOR_SHAPES,
-    LANDMARK_SHAPES,
-    ROOMS,
-    SCENES,
-    Distractor,
-    WorldConfig,
-)
 from docking.study import paths
-from docking.validate import parse_int, parse_real
-
-PROG = _PROG  # the name in every message: one place, docking/__init__.py
 
 
-#: The option that prints every option of an experiment (``--help`` shows the common ones,
-#: :data:`COMMON`).
-HELP_ALL = "--help-all"
-
-
-def _named() -> dict[str, tuple[ExperimentConfig, str, tuple[int, ...]]]:
-    """``{name: (configuration, what it is, its seeds)}`` of every configuration ``run`` and
-    ``sweep`` name: the paper's experiments (:data:`docking.presets.EXPERIMENTS`, their seeds
-    :data:`docking.presets.SEEDS`), then the study's worlds at the paper's published settings
-    and with its tuned learners (:func:`docking.study.cli.named.named`)."""
-    from docking.study.cli import named
-
-    found = {
-        name: (config, f"the paper's {name.replace('experiment', 'Experiment ')}", SEEDS[name])
-        for name, config in EXPERIMENTS.items()
-    }
-    found.update({n: (c, what, named.SEEDS) for n, (c, what) in named.named().items()})
+def registry(brief: bool = False) -> tyro.constructors.ConstructorRegistry:
+    """tyro's rules for a command line (:func:`docking.study.cli.parse`): every integer and
+    real option read as the seeds are (:func:`_as_number`), every dataclass's fields with
+    their help reflowed, and a configuration's as :func:`docking.study.cli.named.as_options`
+    shows them (``brief``, for ``--help``: its common fields alone)."""
+    found = tyro.constructors.ConstructorRegistry()
+    found.primitive_rule(_as_number)
+    found.struct_rule(functools.partial(_as_options, brief=brief))
     return found
-
-
-#: The configurations ``run`` and ``sweep`` name (:func:`_named`).
-NAMED = _named()
-
-
-def seeds_of(name: str) -> tuple[int, ...]:
-    """The seeds a configuration called ``name`` runs for by default (a configuration renamed
-    with ``--name`` runs for :data:`docking.presets.HEADLINE_SEED`)."""
-    return NAMED[name][2] if name in NAMED else (HEADLINE_SEED,)
-
-
-# One subcommand per named configuration, its configuration as the defaults.
-_Experiment = Union[  # noqa: UP007 (tyro needs a runtime Union of Annotated members)
-    tuple(
-        Annotated[
-            ExperimentConfig,
-            tyro.conf.subcommand(
-                name,
-                default=config,
-                description=f"{what}. --help: common options, {HELP_ALL} every one.",
-            ),
-        ]
-        for name, (config, what, _) in NAMED.items()
-    )
-]
-
-
-_ExperimentArg = Annotated[_Experiment, tyro.conf.arg(name=""), tyro.conf.OmitSubcommandPrefixes]
-
-
-# The configuration fields whose value is one of a few names (checked by check_choice in
-# their __post_init__, which a test compares with this table): tyro shows them as choices and
-# refuses any other value in one line. The dataclasses keep plain ``str`` annotations (they
-# are part of the runs' fingerprint); the CLI gives these fields Literal types instead.
-CHOICES: dict[type, dict[str, tuple[str, ...]]] = {
-    ExperimentConfig: {"pretrain_rule": PRETRAIN_RULES, "policy": POLICIES},
-    NetworkConfig: {"rule": RULES, "feature_layer": FEATURE_LAYERS},
-    WorldConfig: {
-        "scene": SCENES,
-        "actions": tuple(ACTION_SETS),
-        "landmark_shape": LANDMARK_SHAPES,
-        "room": ROOMS,
-    },
-    Distractor: {"shape": tuple(DISTRACTOR_SHAPES)},
-}
-
-
-#: The configuration dataclasses that appear on the command line, each shown by
-#: _as_options below.
-CONFIGS = (ExperimentConfig, Curriculum, WorldConfig, CameraConfig, NetworkConfig, Distractor)
-
-
-#: Fields left off the command line (the configuration keeps its preset's value):
-#: ExperimentConfig.heldout_world (a WorldConfig or None) and ExperimentConfig.before (an
-#: ExperimentConfig or None), which tyro can only offer as a choice of two subcommands
-#: ({world-config,none}). The designs set them (docking.study.designs); their held-out worlds carry
-#: distractors, which no option can give.
-HIDDEN: dict[type, tuple[str, ...]] = {ExperimentConfig: ("heldout_world", "before")}
-
-
-#: The options ``run EXPERIMENT --help`` (and ``sweep``'s) shows, per configuration: the
-#: common fields; a nested configuration absent from this table (the camera, distractors) is
-#: shown by ``--help-all`` alone. Every field is an option either way.
-COMMON: dict[type, tuple[str, ...]] = {
-    ExperimentConfig: ("train_trials", "test_trials", "heldout_trials", "policy"),
-    Curriculum: ("grow_trials",),
-    WorldConfig: ("scene", "actions", "room", "start_near", "start_far"),
-    NetworkConfig: ("n_features", "beta_a_train", "eps_q", "eps_w", "rule"),
-}
-
-
-#: Added to an option's help (the dataclasses' docstrings are part of the runs' fingerprint).
-NOTES: dict[tuple[type, str], str] = {
-    (ExperimentConfig, "train_trials"): (
-        "Fewer than --curriculum.grow-trials cut the curriculum short: the training region's "
-        "far edge never reaches the test region's (a warning says which range training sees)."
-    ),
-}
-
-
-_registry = tyro.constructors.ConstructorRegistry()
-
-
-_expanding: set[type] = set()
-
-
-#: Whether the parser being built is for ``--help`` (the common options, :data:`COMMON`).
-_brief = False
 
 
 def _is_int(value) -> bool:
     return isinstance(value, int) and not isinstance(value, bool)
 
 
-#: Every integer and real option (and each number of a tuple option), read as the seeds are:
-#: ASCII digits, no underscores (tyro's own ``int`` and ``float`` would read ``1_0`` as 10
-#: and other scripts' digits as theirs). ``(parse, is_instance)`` per type.
+#: ``(the name of its parser in docking.validate, is_instance)`` per number type: every integer
+#: and real option (and each number of a tuple option) is read as the seeds are, ASCII digits
+#: and no underscores (tyro's own ``int`` and ``float`` would read ``1_0`` as 10 and other
+#: scripts' digits as theirs).
 _NUMBERS = {
-    int: (parse_int, _is_int),
-    float: (parse_real, lambda v: isinstance(v, float) or ("~" if _is_int(v) else False)),
+    int: ("parse_int", _is_int),
+    float: ("parse_real", lambda v: isinstance(v, float) or ("~" if _is_int(v) else False)),
 }
 
 
-@_registry.primitive_rule
 def _as_number(info):
     """An ``int`` or ``float`` option read by :func:`docking.validate.parse_int` or
     :func:`docking.validate.parse_real` (tyro prints their error as the option's)."""
     if info.type not in _NUMBERS:
         return None
-    parse, is_instance = _NUMBERS[info.type]
+    parser, is_instance = _NUMBERS[info.type]
     return tyro.constructors.PrimitiveConstructorSpec(
         nargs=1,
         metavar=info.type.__name__.upper(),
-        instance_from_str=lambda args: parse(args[0]),
+        instance_from_str=functools.partial(_parsed, parser),
         is_instance=is_instance,
         str_from_instance=lambda value: [str(value)],
     )
 
 
-@_registry.struct_rule
-def _as_options(info):
-    """tyro's own expansion of a configuration dataclass, with its fields as options: the
-    named-value fields as Literals, the hidden fields suppressed, an optional number shown
-    as FLOAT|None."""
-    if info.type not in CONFIGS or info.type in _expanding:
+def _parsed(parser: str, args: list[str]):
+    """``args``' one value read by ``docking.validate``'s ``parser`` (imported here: numpy)."""
+    from docking import validate
+
+    return getattr(validate, parser)(args[0])
+
+
+#: The dataclasses :func:`_as_options` is expanding (tyro's own expansion is asked for inside
+#: it, which asks the rules again).
+_expanding: set[type] = set()
+
+
+def _as_options(info, brief: bool):
+    """tyro's own expansion of a struct (a command's dataclass, a configuration, tyro's own),
+    with each field's help reflowed (:func:`reflow`) and, for a dataclass of the core (a
+    configuration: the experiment's parts; the commands' are the study layer's), its fields as
+    the command line shows them (:func:`docking.study.cli.named.as_options`, imported only
+    then: no other command's options meet one)."""
+    if info.type in _expanding:
         return None
     _expanding.add(info.type)
     try:
@@ -186,36 +87,40 @@ def _as_options(info):
         _expanding.discard(info.type)
     if not isinstance(spec, tyro.constructors.StructConstructorSpec):
         return spec
-    choices = CHOICES.get(info.type, {})
-    hidden = HIDDEN.get(info.type, ())
-    common = COMMON.get(info.type, ())
-    fields = []
-    for field in spec.fields:
-        kind, helptext = field.type, field.helptext
-        if field.name in choices:
-            kind = Literal[choices[field.name]]
-        elif field.name in hidden:
-            kind = Annotated[kind, tyro.conf.Suppress]
-        elif kind in _OPTIONAL_METAVARS:
-            kind = Annotated[kind, tyro.conf.arg(metavar=_OPTIONAL_METAVARS[kind])]
-        if _brief and field.name not in common and field.type not in COMMON:
-            kind = Annotated[kind, tyro.conf.Suppress]  # --help: the common options only
-        note = NOTES.get((info.type, field.name))
-        if note is not None:
-            helptext = functools.partial(_noted, helptext, note)
-        fields.append(dataclasses.replace(field, type=kind, helptext=helptext))
-    return dataclasses.replace(spec, fields=tuple(fields))
+    fields = tuple(dataclasses.replace(f, helptext=_reflowed(f.helptext)) for f in spec.fields)
+    module = getattr(info.type, "__module__", "")
+    if module.startswith("docking.") and not module.startswith("docking.study."):
+        from docking.study.cli import named  # the core's: a configuration
+
+        fields = named.as_options(info.type, fields, brief)
+    return dataclasses.replace(spec, fields=fields)
 
 
-def _noted(helptext, note: str) -> str:
-    """An option's help (a text, or tyro's callable that gives it) with ``note`` after it."""
-    text = (helptext() if callable(helptext) else helptext) or ""
-    return f"{text.rstrip()} {note}".strip()
+def _reflowed(helptext):
+    """An option's help (a text, None, or tyro's callable that gives it) as :func:`reflow`
+    gives it."""
+    if callable(helptext):
+        return lambda: _reflowed(helptext())
+    return reflow(helptext) if helptext else helptext
 
 
-#: The optional values of the configurations, as their options show them (tyro's own is
-#: "{None}|FLOAT").
-_OPTIONAL_METAVARS = {float | None: "FLOAT|None", int | None: "INT|None", str | None: "STR|None"}
+_LIST_ITEM = re.compile(r"\s*([-*\u2022]|\d+\.)\s")
+
+
+def reflow(text: str) -> str:
+    """``text`` (a docstring) as one line per paragraph: blank lines and list items
+    ("- ", "* ", "1. ") keep their breaks, every other line break becomes a space. (tyro keeps
+    a docstring's line break wherever the next line does not begin with a letter, and reads an
+    attribute's docstring with its indentation: every continued line of an option's help, and
+    a line beginning ``(`` or ``--``, broke the help mid-sentence.)"""
+    paragraphs = re.split(r"\n\s*\n", inspect.cleandoc(text))
+    return "\n\n".join(
+        "".join(
+            ("\n" + line) if _LIST_ITEM.match(line) else (" " if k else "") + line.strip()
+            for k, line in enumerate(p.split("\n"))
+        )
+        for p in paragraphs
+    )
 
 
 def _shown(metavar: str, default: str):

@@ -9,7 +9,6 @@ import dataclasses
 from pathlib import Path
 from typing import Annotated
 
-from docking.presets import SEEDS
 from docking.study import paths
 from docking.study.cli.options import (
     _absent,
@@ -458,7 +457,7 @@ class Figures:
     """The results store."""
 
     def execute(self) -> int:
-        from docking.presets import EXPERIMENT_1, EXPERIMENT_2
+        from docking.presets import EXPERIMENT_1, EXPERIMENT_2, SEEDS
         from docking.study.designs.paper_report import save_figures
         from docking.study.runs import load_run
 

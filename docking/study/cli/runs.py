@@ -10,30 +10,50 @@ import collections
 import dataclasses
 import sys
 from pathlib import Path
-from typing import Annotated, Literal, Union
+from typing import TYPE_CHECKING, Annotated, Any, Literal, Union
 
-import numpy as np
 import tyro
 
-from docking.experiments import ExperimentConfig
 from docking.study import paths
+from docking.study.cli import PROG
 from docking.study.cli.options import (
-    NAMED,
-    PROG,
     _DesignSeeds,
-    _ExperimentArg,
     _ExperimentSeeds,
     _Processes,
     _ResultsDir,
     _Scheduler,
     _seed_text,
     _shown,
-    seeds_of,
 )
 from docking.study.designs import names as _design_names
 
+if TYPE_CHECKING:
+    from docking.experiments import ExperimentConfig
+
+
+def _experiment():
+    """The configurations EXPERIMENT names, as tyro's subcommands
+    (:data:`docking.study.cli.named.EXPERIMENT`), imported when run's or sweep's options are
+    built (the experiment's modules: no other command imports them to parse), once MuJoCo is
+    known to render here (they import it)."""
+    from docking.study.cli import check_rendering
+
+    check_rendering()
+    from docking.study.cli.named import EXPERIMENT
+
+    return EXPERIMENT
+
+
+#: run's and sweep's EXPERIMENT, an :class:`~docking.experiments.ExperimentConfig`.
+_ExperimentArg = Annotated[
+    Any,
+    tyro.conf.arg(name="", constructor_factory=_experiment),
+    tyro.conf.OmitSubcommandPrefixes,
+]
+
 
 def _seeds_of(config: ExperimentConfig, text: str | None) -> list[int]:
+    from docking.study.cli.named import seeds_of
     from docking.study.sweep import parse_seeds
 
     if text is None:
@@ -58,6 +78,8 @@ def _summary(results) -> str:
 def _success_line(what: str, logs, results) -> str:
     """``what`` success of ``logs`` (one per run of ``results``): the mean, the minimum and
     each seed's successes."""
+    import numpy as np
+
     rates = np.array([log.success_rate for log in logs])
     per_seed = ", ".join(
         f"{r.seed}: {int(np.sum(log.success))}/{len(log.success)}"
@@ -103,8 +125,10 @@ class Run:
 
 
 def _preset_of(config: ExperimentConfig) -> ExperimentConfig:
-    """The named configuration (:data:`docking.study.cli.options.NAMED`) ``config`` differs
+    """The named configuration (:data:`docking.study.cli.named.NAMED`) ``config`` differs
     least from (its namesake first)."""
+    from docking.study.cli.named import NAMED
+
     return min(
         (named for named, _, _ in NAMED.values()),
         key=lambda p: (len(_overrides(config, p)), p.name != config.name),
