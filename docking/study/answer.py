@@ -356,7 +356,7 @@ def _claims_sentence(groups: dict[str, list[str]]) -> str:
 
 def equal_text(
     verdict_table: str,
-    chosen_table: str,
+    chosen_table: str | None,
     verdicts: dict[str, dict],
     before: dict[str, float],
     runs: int,
@@ -395,9 +395,17 @@ def equal_text(
         f"{link('equivalent (TOST)', 'equivalent')} within ±5 pp, each Holm-adjusted over the "
         "three worlds):\n\n"
         + verdict_table
-        + "\n\nWhat each learner chose, the runs it spent, and its success on the grid's seeds, "
-        "the selection seeds and the judged seeds (a fall is the selection's optimism):\n\n"
-        + chosen_table
+        + (
+            "\n\nWhat each learner chose, the runs it spent, and its success on the grid's "
+            "seeds, the selection seeds and the judged seeds (a fall is the selection's "
+            "optimism):\n\n" + chosen_table
+            if chosen_table is not None
+            else "\n\nWhat each learner chose and the runs it spent: "
+            + link("the findings page", "equal-contest").replace(
+                "glossary.md#equal-contest", "findings.md"
+            )
+            + "."
+        )
         + "\n\nHow the answer moved from the replication (linear SARSA's lead, the replication's "
         f"bracketed tuning, then the equal contest): {moved}."
     )

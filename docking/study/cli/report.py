@@ -283,49 +283,17 @@ class Report:
             for w in rp.WORLDS
         }
         fragile = ecr.fragility(equal)
-        paragraphs = [
-            readme.reproduced_text(*results),
-            answer.equal_text(
-                ecr.verdict_table(equal),
-                ecr.chosen_table(equal),
-                verdicts,
-                before,
-                ec.SEARCH.runs_per_learner(),
-                ec.SEEDS,
-                published,
-            ),
-            "**The fragility landscape** (beyond the paper, notebook 07: each learner's common "
-            "grid, the same points and seeds for every learner). "
-            + ecr.fragility_sentence(fragile),
-            answer.relocation_text(relocation),
-            answer.claims_text(_claim_counts(contest, decisions)),
-        ]
-        if comparisons:
-            paragraphs.append(readme.turning_text(comparisons, oracle))
-        paragraphs.append(
-            f"Every number of the study, with its interval, its rule and its notebook: [what "
-            f"the runs show, in detail]({readme.FINDINGS_PAGE})."
+        summary = _summary(
+            results,
+            comparisons,
+            oracle,
+            (equal, verdicts, before, published, fragile),
+            relocation,
+            contest,
+            decisions,
         )
-        summary = "\n\n".join(paragraphs)
         changed |= self._write(summary, readme.SUMMARY_START, readme.SUMMARY_END)
-        detail = "\n\n".join(
-            [
-                answer.equal_text(
-                    ecr.verdict_table(equal),
-                    ecr.chosen_table(equal),
-                    verdicts,
-                    before,
-                    ec.SEARCH.runs_per_learner(),
-                    ec.SEEDS,
-                    published,
-                    glossary="glossary.md",
-                ),
-                "**Fragility on the common grid** (notebook 07). "
-                + ecr.fragility_sentence(fragile)
-                + "\n\n"
-                + ecr.fragility_table(fragile),
-            ]
-        )
+        detail = _equal_detail(equal, verdicts, before, published, fragile)
         return changed | self._write(
             detail, readme.EQUAL_START, readme.EQUAL_END, page=readme.FINDINGS_PAGE
         )
@@ -350,6 +318,66 @@ class Report:
                 runs = design.run(results_dir=self.results_dir, workers=self.processes)
                 found.append((runs, keys))
         return found
+
+
+def _summary(results, comparisons, oracle, equal_parts, relocation, contest, decisions) -> str:
+    """The README's summary: what was reproduced, the equal contest (its verdict table; the
+    chosen settings are on the findings page), its fragility sentence, relocation, the claims
+    and turning, each paragraph's numbers from the runs."""
+    from docking.study import answer, readme
+    from docking.study.designs import equal_contest as ec
+    from docking.study.designs import equal_contest_report as ecr
+
+    equal, verdicts, before, published, fragile = equal_parts
+    paragraphs = [
+        readme.reproduced_text(*results),
+        answer.equal_text(
+            ecr.verdict_table(equal),
+            None,
+            verdicts,
+            before,
+            ec.SEARCH.runs_per_learner(),
+            ec.SEEDS,
+            published,
+        ),
+        "**The fragility landscape** (beyond the paper, notebook 07: each learner's common "
+        "grid, the same points and seeds for every learner). " + ecr.fragility_sentence(fragile),
+        answer.relocation_text(relocation),
+        answer.claims_text(_claim_counts(contest, decisions)),
+    ]
+    if comparisons:
+        paragraphs.append(readme.turning_text(comparisons, oracle))
+    paragraphs.append(
+        f"Every number of the study, with its interval, its rule and its notebook: [what the "
+        f"runs show, in detail]({readme.FINDINGS_PAGE})."
+    )
+    return "\n\n".join(paragraphs)
+
+
+def _equal_detail(equal, verdicts, before, published, fragile) -> str:
+    """The findings page's section on the equal contest: its paragraph and tables (links to the
+    glossary beside the page) and its fragility tables."""
+    from docking.study import answer
+    from docking.study.designs import equal_contest as ec
+    from docking.study.designs import equal_contest_report as ecr
+
+    text = answer.equal_text(
+        ecr.verdict_table(equal),
+        ecr.chosen_table(equal),
+        verdicts,
+        before,
+        ec.SEARCH.runs_per_learner(),
+        ec.SEEDS,
+        published,
+        glossary="glossary.md",
+    )
+    fragility = (
+        "**Fragility on the common grid** (notebook 07). "
+        + ecr.fragility_sentence(fragile)
+        + "\n\n"
+        + ecr.fragility_table(fragile)
+    )
+    return text + "\n\n" + fragility
 
 
 def _claim_counts(contest, decisions) -> tuple[int, int, int, int, int]:
