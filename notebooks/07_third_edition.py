@@ -425,8 +425,8 @@ display(
 # two SARSA learners were not tuned on the same knobs. **The addendum** (a new, labelled
 # analysis; the tables above stay as they were run) asks the question again in the two worlds
 # where the gap remained. Its rules were committed before any of its runs
-# (`docking/study/designs/addendum.py`, pinned by `tests/test_addendum.py`'s digest, which covers
-# the search's code and the gap rule's):
+# (`docking/study/designs/addendum.py`; its record in `rules/` keeps the rules text and the
+# search's and the gap rule's code as committed):
 #
 # * **The same knobs for both SARSA learners:** eps_Q, the exploration temperature beta_a in
 #   training (Eq. 4) and, for the paper's learner, eps_W, each on a log-spaced ladder.
@@ -491,7 +491,7 @@ assert edges and {learner for _, learner, _ in edges} == {"paper"}  # linear SAR
 # ### The bracketing: the search continued until each optimum is inside
 #
 # A second labelled analysis, its rules committed before its runs
-# (`docking/study/designs/bracketing.py`, pinned by `tests/test_bracketing.py`'s digest): from
+# (`docking/study/designs/bracketing.py`; its record in `rules/`): from
 # where the addendum stopped, every setting is compared on the same 10 tuning seeds
 # (5900-5909), and every neighbour of the best one on the ladders is run on the seeds it
 # lacks, stage after stage, until the best setting has every neighbour tried (or 100 runs
@@ -540,8 +540,8 @@ display(
 #
 # A third labelled analysis, written after the bracketing's runs were seen (which is why it
 # is a new analysis, not a change of the bracketing's rules), its rules committed before its
-# own runs (`docking/study/designs/bracketing_continued.py`, pinned by
-# `tests/test_bracketing_continued.py`'s digest): the bracketing's walk, unchanged, with a
+# own runs (`docking/study/designs/bracketing_continued.py`; its record in `rules/`): the
+# bracketing's walk, unchanged, with a
 # further budget of runs per learner and world, the same for both learners; then **both**
 # tuned SARSA learners, and PPO at the paper's learner's training steps, judged on fresh
 # seeds that no earlier run used (the addendum's judged seeds had had two judged looks).
@@ -567,7 +567,7 @@ for w in ad.WORLDS:  # every tuned learner judged on the fresh seeds
 flat = []
 for r in bracketing:
     found = walk.scores(own, r["world"], r["learner"])
-    means = sorted(walk.complete(found).values(), reverse=True)
+    means = sorted(walk.WALK.complete(found).values(), reverse=True)
     tuned_seeds = [found[tuple(r["tuned"].items())][s] for s in walk.COMPARE_SEEDS]
     se = float(np.std(tuned_seeds, ddof=1) / np.sqrt(len(tuned_seeds)))
     flat.append(

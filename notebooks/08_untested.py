@@ -31,7 +31,7 @@
 # part (`ut.part("findings")`, ten seeds per cell): the same design, the same rules.
 #
 # **The rules were committed before any of these runs** (`docking/study/designs/untested.py`,
-# pinned by `tests/test_untested.py`'s digest of its `rules_text()`; two amendments before
+# its record in `rules/`, held to the live code by `tests/test_records.py`; two amendments before
 # any run, named there), on seeds no earlier run used (4000-4019). The judged claims
 # (relocation, coping, continuous accuracy and path) are decided by Holm's adjustment within
 # each claim at 0.05, on paired Student-t intervals over seeds, with the verdicts of the

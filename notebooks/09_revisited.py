@@ -29,9 +29,9 @@
 #   and stay outside the counts too.
 #
 # This notebook is their revisit: a new, labelled analysis whose **rules were committed
-# before any of its runs** (`docking/study/designs/revisited.py`, pinned by
-# `tests/test_revisited.py`'s digest, which covers the code of the measure and of the
-# judging functions, not only their names), on fresh seeds 6000-6009.
+# before any of its runs** (`docking/study/designs/revisited.py`; its record in `rules/` keeps
+# the rules text and the code of the measure and of the judging functions as committed), on
+# fresh seeds 6000-6009.
 #
 # * **Relocation to another height:** the landmark on a sideboard 3 cm lower or higher (a
 #   common difference between pieces of furniture), everything else the same. Since the

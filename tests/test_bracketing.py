@@ -26,7 +26,7 @@ def _climb(start: dict, surface, budget=10_000):
     found = {tuple(start.items()): {s: surface(start) for s in br.COMPARE_SEEDS}}
     used = 0
     for _ in range(50):
-        missing = br.missing_neighbours(found, br.incumbent(found))
+        missing = br.WALK.missing_neighbours(found, br.WALK.incumbent(found))
         if not missing:
             break
         for setting, seeds in missing:
@@ -41,8 +41,8 @@ def test_the_climb_ends_bracketed_at_an_interior_optimum():
     optimum = dict(eps_q=0.03, beta_a_train=100.0, eps_w=1.5)
     start = dict(eps_q=0.3, beta_a_train=20.0, eps_w=0.5)
     found, _ = _climb(start, _peak(optimum))
-    assert br.incumbent(found) == optimum
-    assert not br.missing_neighbours(found, optimum)  # every neighbour complete and worse
+    assert br.WALK.incumbent(found) == optimum
+    assert not br.WALK.missing_neighbours(found, optimum)  # every neighbour complete and worse
 
 
 def test_a_partial_setting_is_topped_up_to_the_compared_seeds_only():
@@ -52,7 +52,7 @@ def test_a_partial_setting_is_topped_up_to_the_compared_seeds_only():
         (("eps_q", 0.3), ("beta_a_train", 10.0)): {5900: 0.5, 5901: 0.5},
         (("eps_q", 0.03), ("beta_a_train", 10.0)): {s: 0.5 for s in br.COMPARE_SEEDS},
     }
-    missing = dict((ad.tag(s), seeds) for s, seeds in br.missing_neighbours(found, start))
+    missing = dict((ad.tag(s), seeds) for s, seeds in br.WALK.missing_neighbours(found, start))
     assert missing["eps_q=0.3,beta_a_train=10"] == br.COMPARE_SEEDS[2:]
     assert "eps_q=0.03,beta_a_train=10" not in missing  # complete already
     assert missing["eps_q=0.1,beta_a_train=5"] == br.COMPARE_SEEDS
@@ -63,7 +63,7 @@ def test_an_incomplete_setting_never_becomes_the_incumbent():
         (("eps_q", 0.1), ("beta_a_train", 10.0)): {s: 0.8 for s in br.COMPARE_SEEDS},
         (("eps_q", 0.3), ("beta_a_train", 10.0)): {5900: 1.0},
     }
-    assert br.incumbent(found) == dict(eps_q=0.1, beta_a_train=10.0)
+    assert br.WALK.incumbent(found) == dict(eps_q=0.1, beta_a_train=10.0)
 
 
 def test_ties_go_to_the_first_evaluated():
@@ -71,7 +71,7 @@ def test_ties_go_to_the_first_evaluated():
         (("eps_q", 0.1), ("beta_a_train", 10.0)): {s: 0.8 for s in br.COMPARE_SEEDS},
         (("eps_q", 0.3), ("beta_a_train", 10.0)): {s: 0.8 for s in br.COMPARE_SEEDS},
     }
-    assert br.incumbent(found) == dict(eps_q=0.1, beta_a_train=10.0)
+    assert br.WALK.incumbent(found) == dict(eps_q=0.1, beta_a_train=10.0)
 
 
 def test_the_extension_stage_keeps_within_the_budget():
@@ -95,5 +95,5 @@ def test_seeds_compared_are_the_addendums_round2_seeds():
 @pytest.mark.parametrize("learner", ad.LEARNERS)
 def test_both_learners_search_the_addendums_ladders(learner):
     start = {k: ad.START[k][1] for k in ad.KNOBS[learner]}
-    missing = br.missing_neighbours({}, start)
+    missing = br.WALK.missing_neighbours({}, start)
     assert len(missing) == 2 * len(ad.KNOBS[learner])

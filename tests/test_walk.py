@@ -55,7 +55,7 @@ def _tuning() -> _Results:
         cells.append(
             Cell(
                 f"{world}/tune-{learner}/{ad.tag(setting)}",
-                br.learner_config(world, learner, **setting),
+                br.WALK.learner_config(world, learner, **setting),
                 {"world": world, "variant": f"tune-{learner}", "learner": learner} | setting,
                 seeds=br.COMPARE_SEEDS,
             )

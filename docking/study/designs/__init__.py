@@ -57,9 +57,19 @@ def rules_digest(name: str) -> str | None:
 
 
 def rules_data(name: str) -> dict:
-    """Design ``name``'s rules as its live code states them (its module's ``rules_data()``:
-    constants, cells, claims), what tests/test_records.py holds against its record."""
-    return importlib.import_module(MODULES[name]).rules_data()
+    """Design ``name``'s rules as its live code states them: its module's constants named in
+    its ``RULES`` and its cells and claims (:func:`docking.study.design.rules_data`), or its
+    module's own ``rules_data()`` where it has more (the equal contest's ladders): what
+    tests/test_records.py holds against its record."""
+    import json
+
+    from docking.study.design import rules_data as data_of
+
+    module = importlib.import_module(MODULES[name])
+    if hasattr(module, "rules_data"):
+        return module.rules_data()
+    constants = {n: getattr(module, n) for n in module.RULES}
+    return data_of(design(name), json.loads(json.dumps(constants, default=list)))
 
 
 # ------------------------------------------------------------------------------------------

@@ -50,13 +50,11 @@ from __future__ import annotations
 
 import dataclasses
 import itertools
-import json
 
 import numpy as np
 
 from docking.presets import FLOOR_WORLD, NAO_WORLD
 from docking.study.design import Cell, Design
-from docking.study.design import rules_data as design_rules_data
 from docking.study.designs.builders import experiment2_in, linear_sarsa, net, variant
 from docking.study.ppo import PPOConfig
 
@@ -121,6 +119,20 @@ def learner_config(world: str, learner: str, **setting):
         return PPOConfig(name=NAME, world=WORLDS[world], heldout_trials=HELDOUT_TRIALS, **setting)
     make = linear_sarsa if learner == "linear" else net
     return variant(base, NAME, network=make(base, **setting))
+
+
+def ppo_matched(world: str, mean_steps: float, name: str) -> Cell:
+    """PPO's cell ``{world}/ppo-matched`` of design ``name``: its setting of ``world``
+    (:data:`PPO_SETTINGS`) trained for ``mean_steps`` (the tuned paper learner's mean training
+    steps) rounded to a multiple of :data:`PPO_ENVS`."""
+    steps = PPO_ENVS * int(round(mean_steps / PPO_ENVS))
+    config = learner_config(world, "ppo", steps=steps, envs=PPO_ENVS, **PPO_SETTINGS[world])
+    return Cell(
+        f"{world}/ppo-matched",
+        dataclasses.replace(config, name=name),
+        {"world": world, "variant": "ppo-matched", "learner": "ppo"},
+        f"PPO at the paper learner's {steps} training steps",
+    )
 
 
 def round1_settings(learner: str) -> list[dict]:
@@ -362,17 +374,8 @@ DESIGN = Design(
 )
 
 
-#: The constants that are rules (in :func:`rules_data`).
+#: The constants that are rules (:func:`docking.study.designs.rules_data`).
 RULES = (
     "SEEDS TUNING_SEEDS ROUND1_SEEDS BUDGET EXTENSIONS ROUND_2 GAP_CLOSED ALPHA "
     "PRETRAIN_TRIALS LADDERS LIMITS START KNOBS PPO_SETTINGS PPO_ENVS NETWORK_CELLS"
 ).split()
-
-
-def rules_data() -> dict:
-    """The rules as the live code states them: its constants, cells and claims
-    (:func:`docking.study.design.rules_data`). The record in ``rules/`` holds them as
-    committed before the runs (with the code they pinned); tests/test_records.py holds the
-    two together and replays the rules on the ledger's runs."""
-    constants = {n: globals()[n] for n in RULES}
-    return design_rules_data(DESIGN, json.loads(json.dumps(constants, default=list)))

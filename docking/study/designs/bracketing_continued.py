@@ -43,15 +43,11 @@ beyond the addendum's cuts.
 
 from __future__ import annotations
 
-import dataclasses
 import functools
-import itertools
-import json
 
 import numpy as np
 
 from docking.study.design import Cell, Design
-from docking.study.design import rules_data as design_rules_data
 from docking.study.designs import addendum as ad
 from docking.study.designs import bracketing as br
 from docking.study.designs.walk import Walk
@@ -86,36 +82,17 @@ def _before(world: str, learner: str) -> dict:
 #: The walk (:class:`docking.study.designs.walk.Walk`): the addendum's and the bracketing's
 #: runs first, then this design's cells (variant ``continue-{learner}``).
 WALK = Walk(NAME, "continue", COMPARE_SEEDS, BUDGET, _before)
-learner_config = WALK.learner_config
-scores = WALK.scores
-complete = WALK.complete
-incumbent = WALK.incumbent
-missing_neighbours = WALK.missing_neighbours
-runs_used = WALK.runs_used
-bracketed = WALK.bracketed
-_extend = WALK.extend
-
-
-def tuned(own, world: str, learner: str) -> dict:
-    """The tuned setting: the last incumbent."""
-    return incumbent(scores(own, world, learner))
+scores, tuned, _extend = WALK.scores, WALK.tuned, WALK.extend
 
 
 def changed(own, world: str, learner: str) -> bool:
     """Whether the tuned setting differs from the addendum's."""
-    return tuned(own, world, learner) != ad.TUNING.tuned(addendum(), world, learner)
+    return WALK.changed(own, world, learner, ad.TUNING.tuned(addendum(), world, learner))
 
 
 def _judged(own) -> list[Cell]:
-    return [
-        Cell(
-            f"{world}/{learner}-bracketed",
-            learner_config(world, learner, **tuned(own, world, learner)),
-            {"world": world, "variant": f"{learner}-bracketed", "learner": learner},
-            f"{learner}, bracketed: {ad.tag(tuned(own, world, learner))}",
-        )
-        for world, learner in itertools.product(ad.WORLDS, ad.LEARNERS)
-    ]
+    """Every tuned learner, judged on this design's fresh seeds."""
+    return WALK.judged(own)
 
 
 def judged_scores(own, world: str, learner: str) -> np.ndarray:
@@ -128,41 +105,13 @@ def paper_steps(own, world: str) -> float:
 
 
 def _ppo(own) -> list[Cell]:
-    cells = []
-    for world in ad.WORLDS:
-        steps = ad.PPO_ENVS * int(round(paper_steps(own, world) / ad.PPO_ENVS))
-        config = ad.learner_config(
-            world, "ppo", steps=steps, envs=ad.PPO_ENVS, **ad.PPO_SETTINGS[world]
-        )
-        cells.append(
-            Cell(
-                f"{world}/ppo-matched",
-                dataclasses.replace(config, name=NAME),
-                {"world": world, "variant": "ppo-matched", "learner": "ppo"},
-                f"PPO at the paper learner's {steps} training steps",
-            )
-        )
-    return cells
-
-
-class _Judged:
-    """The judged success of the tuned learners (``{world}/{learner}-tuned``): what the gap
-    rule reads."""
-
-    def __init__(self, own):
-        self.own = own
-
-    def score(self, key: str) -> np.ndarray:
-        world, variant_name = key.split("/")
-        return judged_scores(self.own, world, variant_name.removesuffix("-tuned"))
+    """PPO trained for the tuned paper learner's mean training steps here, in each world."""
+    return [ad.ppo_matched(world, paper_steps(own, world), NAME) for world in ad.WORLDS]
 
 
 def gaps(own):
-    """The gap rule on the tuned learners' fresh judged runs
-    (:func:`docking.study.report.contest_gaps`)."""
-    from docking.study import report
-
-    return report.contest_gaps(_Judged(own), ad.WORLDS, ad.GAP_CLOSED)
+    """The gap rule on the tuned learners' fresh judged runs."""
+    return WALK.gaps(functools.partial(judged_scores, own))
 
 
 DESIGN = Design(
@@ -176,14 +125,5 @@ DESIGN = Design(
 )
 
 
-#: The constants that are rules (in :func:`rules_data`).
+#: The constants that are rules (:func:`docking.study.designs.rules_data`).
 RULES = "COMPARE_SEEDS SEEDS BUDGET STAGES".split()
-
-
-def rules_data() -> dict:
-    """The rules as the live code states them: its constants, cells and claims
-    (:func:`docking.study.design.rules_data`). The record in ``rules/`` holds them as
-    committed before the runs (with the code they pinned); tests/test_records.py holds the
-    two together and replays the rules on the ledger's runs."""
-    constants = {n: globals()[n] for n in RULES}
-    return design_rules_data(DESIGN, json.loads(json.dumps(constants, default=list)))

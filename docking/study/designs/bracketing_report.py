@@ -25,7 +25,7 @@ def bracketing_rows(own, br) -> list[dict]:
     for world in ad.WORLDS:
         for learner in ad.LEARNERS:
             found = br.scores(own, world, learner)
-            means = br.complete(found)
+            means = br.WALK.complete(found)
             tuned = br.tuned(own, world, learner)
             positions = {}
             for knob, value in tuned.items():
@@ -49,8 +49,8 @@ def bracketing_rows(own, br) -> list[dict]:
                     start=ad.TUNING.tuned(br.addendum(), world, learner),
                     tuned=tuned,
                     changed=br.changed(own, world, learner),
-                    runs=br.runs_used(own, world, learner),
-                    bracketed=br.bracketed(own, world, learner),
+                    runs=br.WALK.runs_used(own, world, learner),
+                    bracketed=br.WALK.bracketed(own, world, learner),
                     positions=positions,
                     mean=means[tuple(tuned.items())],
                     n=len(br.COMPARE_SEEDS),

@@ -28,7 +28,6 @@ import json
 import numpy as np
 
 from docking.study.design import Cell, Design
-from docking.study.design import rules_data as design_rules_data
 from docking.study.designs import addendum as ad
 from docking.study.designs import replication as rp
 
@@ -197,17 +196,8 @@ DESIGN = Design(
     measure="heldout",
 )
 
-#: The constants that are rules (in :func:`rules_data`).
+#: The constants that are rules (:func:`docking.study.designs.rules_data`).
 RULES = "SEEDS MIN_RUNS BETA_A EPS_W EPS_Q WORLDS MISSING".split()
-
-
-def rules_data() -> dict:
-    """The rules as the live code states them: its constants, cells and claims
-    (:func:`docking.study.design.rules_data`). The record in ``rules/`` holds them as
-    committed before the runs (with the code they pinned); tests/test_records.py holds the
-    two together and replays the rules on the ledger's runs."""
-    constants = {n: globals()[n] for n in RULES}
-    return design_rules_data(DESIGN, json.loads(json.dumps(constants, default=list)))
 
 
 # ------------------------------------------------------------------------------------------

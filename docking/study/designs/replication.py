@@ -44,13 +44,11 @@ from __future__ import annotations
 
 import dataclasses
 import itertools
-import json
 
 import numpy as np
 from scipy import stats as sps
 
 from docking.study.design import Cell, Design
-from docking.study.design import rules_data as design_rules_data
 from docking.study.designs import addendum as ad
 from docking.study.designs.builders import experiment2_in, linear_sarsa, net, variant
 
@@ -185,14 +183,5 @@ def first_lead(interval_low, interval_high):
     return "no lead shown"
 
 
-#: The constants that are rules (in :func:`rules_data`).
+#: The constants that are rules (:func:`docking.study.designs.rules_data`).
 RULES = "SEEDS TUNED PPO_STEPS GAP_CLOSED ALPHA WORLDS LEARNERS".split()
-
-
-def rules_data() -> dict:
-    """The rules as the live code states them: its constants, cells and claims
-    (:func:`docking.study.design.rules_data`). The record in ``rules/`` holds them as
-    committed before the runs (with the code they pinned); tests/test_records.py holds the
-    two together and replays the rules on the ledger's runs."""
-    constants = {n: globals()[n] for n in RULES}
-    return design_rules_data(DESIGN, json.loads(json.dumps(constants, default=list)))

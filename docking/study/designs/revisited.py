@@ -54,14 +54,12 @@ Budget (8 h): 10 fresh seeds; both learners at home (2000 trials) and in each ch
 from __future__ import annotations
 
 import dataclasses
-import json
 
 import numpy as np
 
 from docking.presets import EXPERIMENT_2
 from docking.study.claims import Above, Claim, Equivalent
 from docking.study.design import Cell, Design, yardstick_config
-from docking.study.design import rules_data as design_rules_data
 from docking.study.designs import untested
 from docking.study.designs.builders import HELDOUT_TRIALS, experiment2_in, linear_sarsa, variant
 from docking.study.designs.measures import _unit
@@ -273,12 +271,3 @@ RULES = (
     "SEEDS YARDSTICK_SEEDS ALPHA RELOCATION_MARGIN HEIGHT_CHANGE EVAL_EVERY EARLY_TRIALS "
     "EVAL_TRIALS EARLY_HELDOUT REGAIN LEARNERS"
 ).split()
-
-
-def rules_data() -> dict:
-    """The rules as the live code states them: its constants, cells and claims
-    (:func:`docking.study.design.rules_data`). The record in ``rules/`` holds them as
-    committed before the runs (with the code they pinned); tests/test_records.py holds the
-    two together and replays the rules on the ledger's runs."""
-    constants = {n: globals()[n] for n in RULES}
-    return design_rules_data(DESIGN, json.loads(json.dumps(constants, default=list)))

@@ -18,14 +18,12 @@ curves, near-only and two-stage findings, eps_W x10 and x100, other learners in 
 from __future__ import annotations
 
 import itertools
-import json
 from dataclasses import replace
 
 from docking.experiments import Curriculum
 from docking.presets import EXPERIMENT_1, EXPERIMENT_2, FLOOR_WORLD, NAO_WORLD
 from docking.study.claims import Above, Claim, Equivalent, Gap, ShareAbove
 from docking.study.design import Cell, Design, yardstick_config
-from docking.study.design import rules_data as design_rules_data
 from docking.study.designs.builders import (
     HELDOUT_TRIALS,
     YARDSTICK_LABELS,
@@ -427,19 +425,10 @@ def part(name: str) -> Design:
     raise ValueError(f"part must be 'contest' or 'rest', got {name!r}")
 
 
-#: The constants that are rules (in :func:`rules_data`).
+#: The constants that are rules (:func:`docking.study.designs.rules_data`).
 RULES = (
     "SEEDS PATH_SEEDS YARDSTICK_SEEDS PPO_SEEDS UNTUNED_PPO_SEEDS TUNING_SEEDS FIDELITY_SEEDS "
     "FIDELITY_VIEWS FIDELITY_MIN_VIEWS ALPHA EQUIVALENCE_MARGIN ROTATION_SHARE "
     "ROTATION_MIN_SUCCESS BREAK_DROP GAP_CLOSED LONG PPO_STEPS GRID_SIZE ROUND_2 GRIDS PATH "
     "BRANCHES CONTEST VERDICT_WORLDS"
 ).split()
-
-
-def rules_data() -> dict:
-    """The rules as the live code states them: its constants, cells and claims
-    (:func:`docking.study.design.rules_data`). The record in ``rules/`` holds them as
-    committed before the runs (with the code they pinned); tests/test_records.py holds the
-    two together and replays the rules on the ledger's runs."""
-    constants = {n: globals()[n] for n in RULES}
-    return design_rules_data(DESIGN, json.loads(json.dumps(constants, default=list)))

@@ -20,13 +20,11 @@ from __future__ import annotations
 
 import dataclasses
 import itertools
-import json
 
 from docking.experiments import Curriculum, ExperimentConfig
 from docking.presets import EXPERIMENT_2, FLOOR_WORLD, NAO_WORLD, RELOCATIONS
 from docking.study.claims import Above, AtMost, Claim, Equivalent
 from docking.study.design import Cell, Design, yardstick_config
-from docking.study.design import rules_data as design_rules_data
 from docking.study.designs.builders import (
     HELDOUT_TRIALS,
     experiment2_in,
@@ -376,17 +374,8 @@ def part(name: str) -> Design:
     raise ValueError(f"part must be 'judged' or 'findings', got {name!r}")
 
 
-#: The constants that are rules (in :func:`rules_data`).
+#: The constants that are rules (:func:`docking.study.designs.rules_data`).
 RULES = (
     "SEEDS FINDING_SEEDS YARDSTICK_SEEDS ORACLE_SEEDS NEGLECT_SEEDS ALPHA RELOCATION_MARGIN "
     "REGAIN HALF CENSORED CHECKPOINTS BETAS PAIRS"
 ).split()
-
-
-def rules_data() -> dict:
-    """The rules as the live code states them: its constants, cells and claims
-    (:func:`docking.study.design.rules_data`). The record in ``rules/`` holds them as
-    committed before the runs (with the code they pinned); tests/test_records.py holds the
-    two together and replays the rules on the ledger's runs."""
-    constants = {n: globals()[n] for n in RULES}
-    return design_rules_data(DESIGN, json.loads(json.dumps(constants, default=list)))

@@ -32,7 +32,7 @@ from docking.study.design import Cell
 from docking.study.designs import addendum as ad
 from docking.study.designs.builders import experiment2_in, linear_sarsa, net, variant
 
-__all__ = ["Walk", "scores_of"]
+__all__ = ["Judged", "Walk", "scores_of"]
 
 
 def scores_of(results, variant_name: str, world: str, learner: str) -> dict[tuple, dict]:
@@ -130,6 +130,31 @@ class Walk:
         """The tuned setting: the last incumbent."""
         return self.incumbent(self.scores(own, world, learner))
 
+    def changed(self, own, world: str, learner: str, before: dict) -> bool:
+        """Whether the tuned setting differs from ``before`` (an earlier search's)."""
+        return self.tuned(own, world, learner) != before
+
+    def judged(self, own, only: Callable[[str, str], bool] | None = None) -> list[Cell]:
+        """The tuned learners' cells (``{world}/{learner}-bracketed``, the design's seeds),
+        those ``only(world, learner)`` keeps (None: every one)."""
+        return [
+            Cell(
+                f"{world}/{learner}-bracketed",
+                self.learner_config(world, learner, **self.tuned(own, world, learner)),
+                {"world": world, "variant": f"{learner}-bracketed", "learner": learner},
+                f"{learner}, bracketed: {ad.tag(self.tuned(own, world, learner))}",
+            )
+            for world, learner in itertools.product(self.worlds, self.learners)
+            if only is None or only(world, learner)
+        ]
+
+    def gaps(self, scores: Callable[[str, str], np.ndarray]) -> list:
+        """The gap rule (:func:`docking.study.report.contest_gaps`, the addendum's bound) on
+        the tuned learners whose judged success ``scores(world, learner)`` gives."""
+        from docking.study import report
+
+        return report.contest_gaps(Judged(scores), self.worlds, ad.GAP_CLOSED)
+
     def extend(self, own) -> list[Cell]:
         """One stage of the walk (a design's stage function): the cells that run each
         incumbent's missing neighbours on the seeds they lack, within the budget."""
@@ -152,3 +177,15 @@ class Walk:
                         )
                     )
         return cells
+
+
+class Judged:
+    """The judged success of a walk's tuned learners as the gap rule reads it (cells
+    ``{world}/{learner}-tuned``), wherever their runs are: ``scores(world, learner)``."""
+
+    def __init__(self, scores: Callable[[str, str], np.ndarray]):
+        self.scores = scores
+
+    def score(self, key: str) -> np.ndarray:
+        world, variant_name = key.split("/")
+        return self.scores(world, variant_name.removesuffix("-tuned"))
