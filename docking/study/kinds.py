@@ -725,6 +725,34 @@ def _parse_ppo(data, config, seed: int, walls):
     )
 
 
+def _learner_from_table(config, seed: int, row: dict, logs: dict, walls) -> ExperimentResult:
+    """The learner's run of a ledger table's ``row`` (its network where the row keeps W and Q)."""
+    net = config.network
+    network = None
+    if "W" in row:
+        W, Q = row["W"].reshape(net.n_features, -1), row["Q"].reshape(net.n_actions, -1)
+        network = Network.from_weights(net, W, Q)
+    return ExperimentResult(
+        config,
+        seed,
+        network,
+        logs["train"],
+        logs["test"],
+        *(row[f"curve_{c}"] for c in ("trials", "success", "steps", "rewarded")),
+        *walls,
+        heldout=logs["heldout"],
+    )
+
+
+def _ppo_from_table(config, seed: int, row: dict, logs: dict, walls):
+    """PPO's run of a ledger table's ``row``: its training episodes where the row keeps them,
+    its held-out trial log."""
+    from docking.study import ppo
+
+    train = [row.get(f"train.{f}") for f in ("success", "steps")]
+    return ppo.PPOResult(config, seed, *train, logs["heldout"], *walls)
+
+
 # ------------------------------------------------------------------------------------------
 # The kinds of run.
 # ------------------------------------------------------------------------------------------
@@ -747,6 +775,10 @@ class Runner:
       parse: ``parse(data, config, seed, (wall_time_train, wall_time_test))``: the run of an
         open stored file whose meta record is checked; :class:`CorruptResult` if its arrays
         are not a run of ``config``.
+      from_table: ``from_table(config, seed, row, logs, (wall_time_train,
+        wall_time_test))``: the run of a row of a ledger's results table (``row``: its cells
+        by column; ``logs``: its trial logs by part, None for a part the row holds none of;
+        :func:`docking.study.ledger.read`).
       trials_in_run: ``trials_in_run(config)``: the trials a run reports to ``on_trials``.
       test_elsewhere: Whether a design cell may test its trained runs in another world.
     """
@@ -760,6 +792,7 @@ class Runner:
     run: Callable
     arrays: Callable
     parse: Callable
+    from_table: Callable
     trials_in_run: Callable
     test_elsewhere: bool
 
@@ -788,6 +821,7 @@ LEARNER = Runner(
     run=lambda config, seed, **kwargs: run_experiment(config, seed, **kwargs),
     arrays=result_arrays,
     parse=_parse_learner,
+    from_table=_learner_from_table,
     trials_in_run=trials_in_run,
     test_elsewhere=True,
 )
@@ -819,6 +853,7 @@ def _ppo_runner() -> Runner:
         run=lambda config, seed, **kwargs: ppo.run_ppo(config, seed, **kwargs),
         arrays=ppo.result_arrays,
         parse=_parse_ppo,
+        from_table=_ppo_from_table,
         trials_in_run=ppo.trials_in_run,
         test_elsewhere=False,
     )

@@ -163,18 +163,6 @@ class LearnerRunner(kinds.Runner):
         text = json.dumps(self.module_digests(), sort_keys=True)
         return hashlib.sha256(f"learner code {text}\n".encode()).hexdigest()
 
-    def from_table(self, config, seed: int, got: dict, logs: dict, walls) -> LearnerResult:
-        """A run read from a ledger's results table (:func:`docking.study.ledger.read`)."""
-        steps = got.get("train_steps")
-        return LearnerResult(
-            config=config,
-            seed=seed,
-            heldout=logs["heldout"],
-            train_steps=None if steps is None else int(steps[0]),
-            wall_time_train=walls[0],
-            wall_time_test=walls[1],
-        )
-
 
 # ------------------------------------------------------------------------------------------
 # Registration.
@@ -245,10 +233,25 @@ def _runner(name: str, config_type: type, run: Callable, libraries, trials, code
         ),
         arrays=_arrays,
         parse=_parse,
+        from_table=_from_table,
         trials_in_run=_default_trials if trials is None else trials,
         test_elsewhere=False,
         code=code,
         roots=roots,
+    )
+
+
+def _from_table(config, seed: int, row: dict, logs: dict, walls) -> LearnerResult:
+    """A registered learner's run of a ledger table's ``row``: its held-out trial log and its
+    training steps where the row keeps them."""
+    steps = row.get("train_steps")
+    return LearnerResult(
+        config=config,
+        seed=seed,
+        heldout=logs["heldout"],
+        train_steps=None if steps is None else int(steps[0]),
+        wall_time_train=walls[0],
+        wall_time_test=walls[1],
     )
 
 

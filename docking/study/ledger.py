@@ -48,9 +48,8 @@ from pathlib import Path
 
 import numpy as np
 
-from docking.experiments import ExperimentResult, TrialLog
+from docking.experiments import TrialLog
 from docking.fileio import UnsafeFile, atomic_write, read_regular
-from docking.network import Network
 from docking.study import kinds, paths
 from docking.validate import NAME_PATTERN, check_name
 
@@ -484,33 +483,11 @@ def read(config, seed: int, key: str | None = None):
     )
 
 
-def _from_row(config, seed: int, runner, got: dict, walls) -> object:
-    """The run of (``config``, ``seed``) read from its table row ``got``."""
+def _from_row(config, seed: int, runner: kinds.Runner, got: dict, walls) -> object:
+    """The run of (``config``, ``seed``) read from its table row ``got``, by its kind's
+    :attr:`~docking.study.kinds.Runner.from_table`."""
     logs = {p: _log(got, p, f"{config.name!r} seed {seed}") for p in PARTS}
-    # a registered learner's (docking.study.learners)
-    from_table = getattr(runner, "from_table", None)
-    if from_table is not None:
-        return from_table(config, seed, got, logs, walls)
-    if runner.name == "ppo":
-        from docking.study import ppo
-
-        train = [got.get(f"train.{f}") for f in ("success", "steps")]
-        return ppo.PPOResult(config, seed, *train, logs["heldout"], *walls)
-    net = config.network
-    return ExperimentResult(
-        config,
-        seed,
-        Network.from_weights(
-            net, got["W"].reshape(net.n_features, -1), got["Q"].reshape(net.n_actions, -1)
-        )
-        if "W" in got
-        else None,
-        logs["train"],
-        logs["test"],
-        *(got[f"curve_{c}"] for c in ("trials", "success", "steps", "rewarded")),
-        *walls,
-        heldout=logs["heldout"],
-    )
+    return runner.from_table(config, seed, got, logs, walls)
 
 
 def _check_content(raw: bytes, record: dict, path: Path) -> None:
