@@ -57,7 +57,8 @@ from docking.oracle import oracle_action
 from docking.policies import run_oracle_trial
 from docking.presets import EXPERIMENT_1, EXPERIMENT_2
 from docking.scene import scene_facts
-from docking.study.analysis import VIEW_POSES, floor_plan
+from docking.study.analysis import example_views, floor_plan, overview
+from docking.study.arrays import VIEW_POSES
 from docking.study.designs.paper_report import save_fig2
 from docking.study.figures import FIGURES_DIR, fig_trial, to_png
 from docking.world import ACTION_NAMES, DockingEnv, WorldConfig
@@ -181,7 +182,7 @@ print(f"docked: {success} after {n_steps} actions")
 assert success and n_steps <= cfg.max_steps and oracle_env.docked
 
 # %%
-display(Image(data=to_png(fig_trial(cfg, poses, "the oracle's trial, seen from above"))))
+display(Image(data=to_png(fig_trial(cfg, fp, poses, "the oracle's trial, seen from above"))))
 
 # %% [markdown]
 # ## Fig. 2
@@ -193,5 +194,6 @@ display(Image(data=to_png(fig_trial(cfg, poses, "the oracle's trial, seen from a
 # receives from each.
 
 # %%
-save_fig2(env)  # analysis.example_views + analysis.overview -> figures.fig2_scene -> save
+views = example_views(env)  # the world renders; the report takes the arrays
+save_fig2(cam, views, overview(env, views.poses[1]))  # -> figures.fig2_scene -> save
 display(Image(filename=str(FIGURES_DIR / "fig2_scene.png")))

@@ -34,7 +34,8 @@ import numpy as np
 from IPython.display import Image, Markdown, display
 
 from docking.presets import EXPERIMENT_1
-from docking.study.analysis import best_actions, feature_change, learning_curves
+from docking.study.analysis import example_views, feature_change
+from docking.study.arrays import best_actions, learning_curves
 from docking.study.designs import calibration, design
 from docking.study.designs.calibration_report import (
     calibration_rows,
@@ -97,7 +98,8 @@ display(Image(data=to_png(fig_rewards(learning_curves(results), main.seed))))
 # are dark, as in the paper.
 
 # %%
-save_fig3(main, DockingEnv(config.world, seed=0))  # analysis -> figures.fig3 -> save
+views = example_views(DockingEnv(config.world, seed=0))  # the run's world renders the views
+save_fig3(main, views)  # receptive fields, decisions -> figures.fig3 -> save
 display(Image(filename=str(FIGURES_DIR / "fig3_experiment1.png")))
 
 # %%

@@ -35,13 +35,14 @@ from IPython.display import Image, Markdown, display
 from docking.experiments import initial_network
 from docking.presets import EXPERIMENT_1, EXPERIMENT_2
 from docking.study.analysis import (
-    FAILURE_CLASSES,
     failure_taxonomy,
     feature_change,
-    rewarded_share,
+    floor_plan,
+    mean_winning_inputs,
+    start_fields,
     start_views,
-    winner_change,
 )
+from docking.study.arrays import FAILURE_CLASSES, rewarded_share, winner_change
 from docking.study.designs import calibration, design
 from docking.study.designs.calibration_report import (
     calibration_rows,
@@ -94,7 +95,7 @@ for r in results:
 
 # %%
 results1 = experiments.runs[EXPERIMENT_1.name]
-save_learning_curves(results1, results)  # analysis.learning_curves -> figure -> save
+save_learning_curves(results1, results)  # arrays.learning_curves -> figure -> save
 display(Image(filename=str(FIGURES_DIR / "learning_curves.png")))
 
 # %% [markdown]
@@ -121,7 +122,8 @@ assert early.mean() >= 0.9 and early_far < 0.8
 # ## Fig. 4: receptive fields of the action and feature units
 
 # %%
-save_fig4(main)  # receptive fields, mean winning inputs -> figures.fig4 -> save
+inputs = mean_winning_inputs(main.network, main.config.world, n=1500)  # over rendered start views
+save_fig4(main, inputs, start_fields(main))  # receptive fields -> figures.fig4 -> save
 display(Image(filename=str(FIGURES_DIR / "fig4_experiment2.png")))
 
 # %% [markdown]
@@ -180,7 +182,7 @@ assert moved[:, 0].min() > 0.05  # the partition moved, in every seed
 # ## Fig. 5: sample test trajectories
 
 # %%
-save_fig5(main)  # analysis.trajectory_sample -> figures.fig5 -> save
+save_fig5(main, floor_plan(main.config.world))  # arrays.trajectory_sample -> figures.fig5 -> save
 display(Image(filename=str(FIGURES_DIR / "fig5_trajectories.png")))
 
 # %% [markdown]

@@ -42,8 +42,8 @@ import numpy as np
 from IPython.display import Image, Markdown, display
 
 from docking.policies import centroid_offset, oracle, run_episode
-from docking.study import analysis, figures, report
-from docking.study.analysis import FAILURE_CLASSES
+from docking.study import analysis, arrays, figures, report
+from docking.study.arrays import FAILURE_CLASSES
 from docking.study.designs import design, experiment3, experiment3_report
 from docking.study.report import save_named
 from docking.study.stats import difference_ci
@@ -71,7 +71,12 @@ print("actions:", " ".join(letters[a] for a in episode.actions), "| docked:", ep
 display(
     Image(
         save_named(
-            figures.fig_trial(env.config, episode.poses, "oracle, 6 actions, precision, 6°"),
+            figures.fig_trial(
+                env.config,
+                analysis.floor_plan(env.config),
+                episode.poses,
+                "oracle, 6 actions, precision, 6°",
+            ),
             "experiment3_oracle_trial",
         )
     )
@@ -198,7 +203,7 @@ assert verdict == "contradicted" and removed.high < 0
 # %% [markdown]
 # ## Where the failures go: the failure taxonomy of every cell
 #
-# The study's taxonomy (the archived notebook 05, `docking.study.analysis.FAILURE_CLASSES`) of every cell's
+# The study's taxonomy (the archived notebook 05, `docking.study.arrays.FAILURE_CLASSES`) of every cell's
 # held-out failures, its first five seeds pooled (`experiment3.TAXONOMY_SEEDS`: the ledger
 # keeps their failures' paths); a trial can be in several classes. "Heading off in
 # region" exists only with precision docking: the reference point reached the region, but the
@@ -208,7 +213,7 @@ assert verdict == "contradicted" and removed.high < 0
 # %% tags=["hide-input"]
 keys = [c.key for c in results.cells]
 n_taxonomy = len(experiment3.TAXONOMY_SEEDS)
-shares, failures = experiment3_report.failure_shares(results, keys, n_taxonomy)
+shares, failures = analysis.failure_shares(results, keys, n_taxonomy)
 classes = list(FAILURE_CLASSES)
 display(
     Image(
@@ -236,10 +241,10 @@ for c in found.values():
     yaw4 = np.median(experiment3_report.final_headings(results, k4, n_taxonomy))
     yaw6 = np.median(experiment3_report.final_headings(results, k6, n_taxonomy))
     rewarded = difference_ci(
-        analysis.rewarded_share(results.runs[k6]), analysis.rewarded_share(results.runs[k4])
+        arrays.rewarded_share(results.runs[k6]), arrays.rewarded_share(results.runs[k4])
     )
     drift = f"{100 * share[k4, 'heading_drift']:.0f}% / {100 * share[k6, 'heading_drift']:.0f}%"
-    trained = [100 * analysis.rewarded_share(results.runs[k]).mean() for k in (k4, k6)]
+    trained = [100 * arrays.rewarded_share(results.runs[k]).mean() for k in (k4, k6)]
     lines.append(
         (c.task, f"{c.noise:g}", drift, f"{yaw4:.1f} / {yaw6:.1f}")
         + (f"{trained[0]:.1f}% / {trained[1]:.1f}%", pp(rewarded))
@@ -259,7 +264,7 @@ display(Markdown(report.md_table(header + ("rewarded, 6 minus 4",), lines)))
 # %% tags=["hide-input"]
 headline = results.runs["6 actions, precision, 2 deg"][0]
 world = headline.config.world
-action_rf, _ = analysis.receptive_fields(headline.network, world.camera.input_shape)
+action_rf, _ = arrays.receptive_fields(headline.network, world.camera.input_shape)
 inputs = analysis.mean_winning_inputs(headline.network, world, poses=headline.heldout.poses)
 fig = figures.fig_action_fields(
     list(world.action_letters),

@@ -50,10 +50,10 @@ from IPython.display import Image, Markdown, display
 import docking.gym_ids  # noqa: F401  (registers the Gymnasium ids)
 from docking.experiments import initial_network
 from docking.scene import scene_facts
-from docking.study import analysis, figures, provenance, report
+from docking.study import analysis, arrays, figures, provenance, report
 from docking.study.claims import design_verdicts, judge_family, rate_interval
 from docking.study.designs import addendum as ad
-from docking.study.designs import addendum_report, measures, third_edition_report
+from docking.study.designs import measures, third_edition_report
 from docking.study.designs import third_edition as te
 from docking.study.designs import untested as ut
 from docking.study.designs.builders import with_cup
@@ -572,7 +572,7 @@ share = lambda m: [f"{100 * m[:, k].mean():.2f}%" for k in range(3)]  # noqa: E7
 gain = {k: t_paired_ci(m[:, 0], frozen[:, 0]) for k, m in neglect.items()}  # landmark share
 display(
     md_table(
-        ["trained", "trials", *analysis.MASS_PARTS, "landmark minus the random start"],
+        ["trained", "trials", *arrays.MASS_PARTS, "landmark minus the random start"],
         [["(random start)", "0", *share(frozen), ""]]
         + [[f"{t} the cup", str(n), *share(m), pp(gain[t, n])] for (t, n), m in neglect.items()],
     )
@@ -695,7 +695,7 @@ assert gap["floor", best][0].estimate < 0.6 * gap["floor", "paper"][0].estimate
 
 # %% tags=["hide-input"]
 added = ad.DESIGN.run(progress=False)
-parts = {d.world: d for d in addendum_report.decomposition(added, ad.WORLDS, 300, seed=0)}
+parts = {d.world: d for d in ad.decomposition(added, ad.WORLDS, 300, seed=0)}
 columns = [
     "linear SARSA, tuned",
     "paper's W, oracle-labelled Q",

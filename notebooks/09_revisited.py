@@ -64,7 +64,7 @@ from docking.study.designs import revisited_report
 from docking.study.report import save_named
 
 results = rv.DESIGN.run(progress=False)
-rows = revisited_report.revisited_rows(results, rv)
+rows = revisited_report.revisited_rows(results, rv, rv.changed_views())  # rendered here
 verdict = rows["verdict"]
 pct = lambda ci: ci.format(unit="%")  # noqa: E731
 rules_commit, rules_time = provenance.RULES_COMMITS[rv.NAME]  # tests/test_provenance.py checks it

@@ -2,6 +2,7 @@
 networks and trials whose answers are known."""
 
 import dataclasses
+import re
 
 import numpy as np
 import pytest
@@ -10,7 +11,7 @@ from docking.experiments import TrialLog, initial_network, run_experiment
 from docking.network import Network, NetworkConfig
 from docking.presets import EXPERIMENT_1
 from docking.scene import scene_facts
-from docking.study import analysis
+from docking.study import analysis, arrays
 from docking.world import ACTION_LETTERS, DockingEnv, WorldConfig
 
 TINY = dict(train_trials=4, test_trials=6, eval_every=2, eval_trials=2)
@@ -51,7 +52,7 @@ def test_receptive_fields_are_rows_of_W_and_of_QW():
     W[0, 0] = 1.0  # top-left pixel
     W[1, 1 * cols + 5] = 1.0  # row 1, column 5 (row-major, as Network.prepare flattens)
     Q = np.array([[1.0, 0.0], [0.0, 2.0], [0.5, 0.5], [0.0, 0.0]])
-    action_rf, feature_rf = analysis.receptive_fields(Network.from_weights(config, W, Q))
+    action_rf, feature_rf = arrays.receptive_fields(Network.from_weights(config, W, Q))
     assert feature_rf.shape == (2, rows, cols) and action_rf.shape == (4, rows, cols)
     assert feature_rf[0, 0, 0] == 1.0 and feature_rf[1, 1, 5] == 1.0
     assert feature_rf.sum() == 2.0
@@ -60,12 +61,12 @@ def test_receptive_fields_are_rows_of_W_and_of_QW():
         np.testing.assert_array_equal(action_rf[i], expected)
     assert action_rf[1, 1, 5] == 2.0 and action_rf[2, 0, 0] == 0.5
     with pytest.raises(ValueError):
-        analysis.receptive_fields(Network.from_weights(config, W, Q), shape=(8, 32))
+        arrays.receptive_fields(Network.from_weights(config, W, Q), shape=(8, 32))
 
 
 def test_best_actions_and_unused_units():
     Q = np.array([[0.1, 0.0, 0.0], [0.7, 0.0, 0.2], [0.2, 0.0, 0.5], [0.0, 0.0, 0.1]])
-    np.testing.assert_array_equal(analysis.best_actions(Q), [1, -1, 2])
+    np.testing.assert_array_equal(arrays.best_actions(Q), [1, -1, 2])
 
 
 def test_strongest_units_frame_the_largest_weight_of_L_R_F():
@@ -74,9 +75,9 @@ def test_strongest_units_frame_the_largest_weight_of_L_R_F():
     Q[R] = [0.0, 0.3, 0.4]
     Q[F] = [0.0, 0.8, 0.1]
     Q[B] = [5.0, 0.0, 0.0]  # B is not framed
-    assert analysis.strongest_units(Q) == {1: ["L", "F"], 2: ["R"]}
+    assert arrays.strongest_units(Q) == {1: ["L", "F"], 2: ["R"]}
     Q[R] = 0.0  # no unit votes for R: nothing framed for it
-    assert analysis.strongest_units(Q) == {1: ["L", "F"]}
+    assert arrays.strongest_units(Q) == {1: ["L", "F"]}
 
 
 def test_feature_change_is_the_cosine_to_the_initial_weights(result1):
@@ -101,14 +102,14 @@ def test_decide_and_decisions():
     left, right = np.zeros((rows, cols)), np.zeros((rows, cols))
     left[:, 2] = 1.0
     right[:, cols - 3] = 1.0
-    winner, activation, action = analysis.decide(net, left)
+    winner, activation, action = arrays.decide(net, left)
     assert (winner, action) == (0, F) and activation > 0.99  # beta_s = 100: a clear winner
-    assert analysis.decide(net, right)[::2] == (1, R)
-    d = analysis.decisions(net, np.stack([left, right, left]))
+    assert arrays.decide(net, right)[::2] == (1, R)
+    d = arrays.decisions(net, np.stack([left, right, left]))
     np.testing.assert_array_equal(d.winners, [0, 1, 0])
     np.testing.assert_array_equal(d.actions, [F, R, F])
     assert d.activations.shape == (3,) and d.winners.dtype == np.int64
-    assert len(analysis.decisions(net, []).winners) == 0
+    assert len(arrays.decisions(net, []).winners) == 0
 
 
 # -- views ----------------------------------------------------------------------------------
@@ -120,7 +121,7 @@ def test_view_poses_see_the_landmark_from_the_named_side(env):
     views = analysis.example_views(env)
     cols = env.config.camera.input_shape[1]
     assert views.names == ("left", "front", "right")
-    np.testing.assert_array_equal(views.poses, list(analysis.VIEW_POSES.values()))
+    np.testing.assert_array_equal(views.poses, list(arrays.VIEW_POSES.values()))
     cam = env.config.camera
     assert views.frames.shape == (3, cam.height, cam.width, 3)
     assert views.inputs.shape == (3,) + cam.input_shape
@@ -136,11 +137,11 @@ def test_view_poses_see_the_landmark_from_the_named_side(env):
 
 
 def test_overview_is_an_rgb_render_with_the_dock_drawn(env):
-    image = analysis.overview(env, analysis.VIEW_POSES["front"], size=(160, 120))
+    image = analysis.overview(env, arrays.VIEW_POSES["front"], size=(160, 120))
     assert image.shape == (120, 160, 3) and image.dtype == np.uint8
     yellow = (image[..., 0] > 200) & (image[..., 1] > 180) & (image[..., 2] < 120)
     assert yellow.any()  # the virtual docking region is drawn in overview renders
-    np.testing.assert_array_equal(env.pose[:2], analysis.VIEW_POSES["front"][:2])
+    np.testing.assert_array_equal(env.pose[:2], arrays.VIEW_POSES["front"][:2])
 
 
 def test_mean_winning_inputs_average_the_views_each_unit_wins():
@@ -168,15 +169,15 @@ def test_mean_winning_inputs_average_the_views_each_unit_wins():
 
 def test_sample_trials_is_seeded_representative_and_shows_failures():
     success = np.array([True] * 95 + [False] * 5)
-    chosen = analysis.sample_trials(success, 10, seed=0)
+    chosen = arrays.sample_trials(success, 10, seed=0)
     assert len(chosen) == len(set(chosen)) == 10
     assert np.all(np.diff(chosen) > 0)
     assert np.sum(~success[chosen]) == 3  # round(10 * 5%) = 0 < 3: at least three failures
-    np.testing.assert_array_equal(chosen, analysis.sample_trials(success, 10, seed=0))
+    np.testing.assert_array_equal(chosen, arrays.sample_trials(success, 10, seed=0))
     many_fail = np.array([True] * 30 + [False] * 70)
-    assert np.sum(~many_fail[analysis.sample_trials(many_fail, 10, seed=1)]) == 7
+    assert np.sum(~many_fail[arrays.sample_trials(many_fail, 10, seed=1)]) == 7
     all_ok = np.ones(5, dtype=bool)
-    assert len(analysis.sample_trials(all_ok, 30, seed=0)) == 5
+    assert len(arrays.sample_trials(all_ok, 30, seed=0)) == 5
 
 
 def _log(trials) -> TrialLog:
@@ -197,8 +198,8 @@ def test_trajectory_sample_returns_the_chosen_paths():
         ([(-1.0, 0, 0), (-0.9, 0, 0)], [F], k % 3 != 0) for k in range(9)
     ]  # trials 0, 3, 6 fail
     log = _log(trials)
-    sample = analysis.trajectory_sample(log, n=4, seed=2)
-    np.testing.assert_array_equal(sample.indices, analysis.sample_trials(log.success, 4, 2))
+    sample = arrays.trajectory_sample(log, n=4, seed=2)
+    np.testing.assert_array_equal(sample.indices, arrays.sample_trials(log.success, 4, 2))
     assert (sample.n_trials, sample.n_docked) == (9, 6)
     for k, path, ok in zip(sample.indices, sample.paths, sample.success, strict=True):
         np.testing.assert_array_equal(path, log.trial_poses(k))
@@ -238,7 +239,7 @@ def test_failure_taxonomy_classifies_hand_made_trials(env):
         "pressed": ([(-0.6, 0.15, 0), (contact_x, 0.15, 0)], [F], False),
     }
     flags = analysis.failure_taxonomy(_log(list(trials.values())), env)
-    assert set(flags) == set(analysis.FAILURE_CLASSES)
+    assert set(flags) == set(arrays.FAILURE_CLASSES)
     names = list(trials)
     table = {name: {c for c in flags if flags[c][k]} for k, name in enumerate(names)}
     assert table["clean"] == set()
@@ -275,11 +276,11 @@ def test_floor_plan_names_the_sideboard():
 def test_mean_curve_uses_the_shared_points_and_ignores_nan():
     xs = [np.array([0, 10, 20, 30]), np.array([0, 10, 20])]
     ys = [np.array([0.0, 0.5, np.nan, 1.0]), np.array([0.2, 0.7, np.nan])]
-    points, mean = analysis.mean_curve(xs, ys)
+    points, mean = arrays.mean_curve(xs, ys)
     np.testing.assert_array_equal(points, [0, 10, 20])
     np.testing.assert_allclose(mean[:2], [0.1, 0.6])
     assert np.isnan(mean[2])  # no value in any run stays NaN
-    _, m = analysis.mean_curve(
+    _, m = arrays.mean_curve(
         [np.array([0, 10]), np.array([0, 10])], [np.array([1.0, np.nan]), np.array([0.0, 0.4])]
     )
     np.testing.assert_allclose(m, [0.5, 0.4])
@@ -287,7 +288,7 @@ def test_mean_curve_uses_the_shared_points_and_ignores_nan():
 
 def test_learning_curves_of_several_seeds(result1):
     other = run_experiment(result1.config, seed=1, progress=False)
-    curves = analysis.learning_curves([result1, other])
+    curves = arrays.learning_curves([result1, other])
     assert curves.seeds == (0, 1) and curves.config == result1.config
     np.testing.assert_array_equal(curves.mean_trials, result1.curve_trials)
     np.testing.assert_allclose(
@@ -300,10 +301,10 @@ def test_learning_curves_of_several_seeds(result1):
     np.testing.assert_array_equal(curves.rewarded[1], other.curve_rewarded)
     assert len(curves.start_far) == 2 and len(curves.start_far[0]) == TINY["train_trials"]
     with pytest.raises(ValueError):
-        analysis.learning_curves([])
+        arrays.learning_curves([])
     different = dataclasses.replace(result1, config=dataclasses.replace(result1.config, name="x"))
     with pytest.raises(ValueError, match="one configuration"):
-        analysis.learning_curves([result1, different])
+        arrays.learning_curves([result1, different])
 
 
 def test_floor_plan_and_taxonomy_of_the_floor_scene():
@@ -332,7 +333,7 @@ def test_floor_plan_and_taxonomy_of_the_floor_scene():
 
 def test_winner_change_counts_views_whose_winner_or_action_moved():
     from docking.network import Network, NetworkConfig
-    from docking.study.analysis import winner_change
+    from docking.study.arrays import winner_change
 
     config = NetworkConfig(n_inputs=4, n_features=2, n_actions=2)
     W0 = np.array([[1.0, 0, 0, 0], [0, 1.0, 0, 0]])
@@ -366,15 +367,15 @@ def test_rewarded_share_counts_the_far_training_trials():
         ([(-0.7, 0, 0), (-0.5, 0, 0)], [F], True),
     ]
     run = SimpleNamespace(train=_log(trials), config=SimpleNamespace(world=WorldConfig()))
-    np.testing.assert_allclose(analysis.rewarded_share([run]), [2 / 3])
+    np.testing.assert_allclose(arrays.rewarded_share([run]), [2 / 3])
     # Below half the start region's near edge every trial counts, without reading starts.
     starts_unread = SimpleNamespace(success=run.train.success)
     np.testing.assert_allclose(
-        analysis.rewarded_share([SimpleNamespace(train=starts_unread, config=run.config)]),
+        arrays.rewarded_share([SimpleNamespace(train=starts_unread, config=run.config)]),
         [2 / 3],
     )
-    np.testing.assert_allclose(analysis.rewarded_share([run], beyond=0.75), [0.5])
-    assert np.isnan(analysis.rewarded_share([run], beyond=2.0)[0])
+    np.testing.assert_allclose(arrays.rewarded_share([run], beyond=0.75), [0.5])
+    assert np.isnan(arrays.rewarded_share([run], beyond=2.0)[0])
 
 
 def test_the_failure_taxonomy_of_chosen_trials_reads_only_their_poses():
@@ -387,7 +388,7 @@ def test_the_failure_taxonomy_of_chosen_trials_reads_only_their_poses():
     env = DockingEnv(EXPERIMENT_1.world, seed=0)
     every = analysis.failure_taxonomy(log, env)
     some = analysis.failure_taxonomy(log, env, trials=[1, 4])
-    for name in analysis.FAILURE_CLASSES:
+    for name in arrays.FAILURE_CLASSES:
         np.testing.assert_array_equal(some[name][[1, 4]], every[name][[1, 4]])
         assert not some[name][[0, 2, 3, 5]].any()
     with pytest.raises(ValueError, match="must index the log's 6 trials"):
@@ -439,7 +440,7 @@ def test_the_oracle_labelled_q_gives_each_unit_its_views_most_frequent_action():
     for i, group in enumerate((0, 0, 0, 1, 1, 2, 2)):
         views[i, 10 * group : 10 * group + 10] = 1.0 + i
     actions = np.array([2, 2, 1, 3, 3, 0, 0])
-    labelled = analysis.OracleViews(views, actions)
+    labelled = arrays.OracleViews(views, actions)
     assert list(analysis.winners(net, views)) == [0, 0, 0, 1, 1, 2, 2]
     labelled_net = analysis.oracle_labelled(net, labelled)
     assert list(labelled_net.Q.argmax(axis=0)) == [2, 3, 0, 1]
@@ -449,7 +450,7 @@ def test_the_oracle_labelled_q_gives_each_unit_its_views_most_frequent_action():
 
 def test_landscape_puts_each_settings_mean_and_runs_on_its_grid_point():
     scores = {(2.0, 0.05): [0.3, 0.5], (100.0, 0.5): [0.9], (7.0, 0.5): [1.0], (2.0, 5.0): []}
-    grid = analysis.landscape(scores, [2.0, 100.0], [0.05, 0.5, 5.0])
+    grid = arrays.landscape(scores, [2.0, 100.0], [0.05, 0.5, 5.0])
     assert grid.mean[0, 0] == pytest.approx(0.4) and grid.n[0, 0] == 2
     assert grid.mean[1, 1] == pytest.approx(0.9) and grid.n[1, 1] == 1
     assert np.isnan(grid.mean[0, 2]) and grid.n[0, 2] == 0  # no runs: blank
@@ -457,16 +458,16 @@ def test_landscape_puts_each_settings_mean_and_runs_on_its_grid_point():
 
 
 def test_share_near_best_counts_the_settings_within_the_margin():
-    assert analysis.share_near_best([0.95, 0.91, 0.89, 0.3]) == (2, 4)
-    assert analysis.share_near_best([0.5]) == (1, 1)
-    assert analysis.share_near_best([]) == (0, 0)
+    assert arrays.share_near_best([0.95, 0.91, 0.89, 0.3]) == (2, 4)
+    assert arrays.share_near_best([0.5]) == (1, 1)
+    assert arrays.share_near_best([]) == (0, 0)
 
 
 def test_centroid_rows_weigh_each_row_by_its_intensity():
     views = np.zeros((3, 10, 32))
     views[0, 2, :] = 1.0  # all in row 2
     views[1, 4, 0], views[1, 6, 0] = 1.0, 3.0  # (4 + 18) / 4
-    found = analysis.centroid_rows(views)
+    found = arrays.centroid_rows(views)
     assert found[0] == pytest.approx(2.0) and found[1] == pytest.approx(5.5)
     assert np.isnan(found[2])  # an empty view has no centroid
 
@@ -479,3 +480,69 @@ def test_view_shift_is_zero_in_the_same_world_and_signed_by_the_landmarks_move()
     higher, lower = (analysis.view_shift(rv._HOME, places[p], n=5) for p in sorted(places))
     assert len(lower) == len(higher) == 5
     assert np.all(np.sign(lower) == -np.sign(higher)) and np.all(lower != 0)
+
+
+# -- a trial log's columns, sample efficiency, the oracle's views (issue 61) -----------------
+
+
+def test_actions_and_heading_error_of_the_docked_trials():
+    """The mean actions of the docked trials, and their mean |heading error| at the end
+    (0 for a robot facing the landmark from straight in front of it); NaN if none docked."""
+    ahead = [(-1.0, 0, 0), (-0.9, 0, 0), (-0.8, 0, 0)]
+    tilted = [(-1.0, 0, 0), (-0.8, 0, np.radians(10))]
+    log = _log([(ahead, [F, F], True), (tilted, [F], True), (ahead, [L, R], False)])
+    assert arrays.actions_per_docking(log) == 1.5
+    assert arrays.docked_heading_error_deg(log) == pytest.approx(5.0)
+    failed = _log([(ahead, [L, R], False)])
+    assert np.isnan(arrays.actions_per_docking(failed))
+    assert np.isnan(arrays.docked_heading_error_deg(failed))
+
+
+def test_trials_to_level_reads_each_runs_learning_curve():
+    from types import SimpleNamespace
+
+    def run(success):
+        return SimpleNamespace(
+            curve_trials=np.array([0, 100, 200]),
+            curve_success=np.array(success),
+            config=SimpleNamespace(name="x"),
+            seed=0,
+        )
+
+    found = arrays.trials_to_level([run([0.2, 0.95, 1.0]), run([0.0, 0.5, 0.8])], 0.9)
+    np.testing.assert_array_equal(found[:1], [100.0])
+    assert np.isnan(found[1])
+    with pytest.raises(ValueError):
+        arrays.trials_to_level([run([0.1, 0.2, 0.3])], 0.0)
+
+
+def test_oracle_views_are_the_oracle_trials_views_and_actions():
+    """Every view of the pose oracle's trials (observations as the network's flat input)
+    with the oracle's action there, read-only; the same again from the same stream."""
+    from docking.oracle import oracle_action
+
+    world = WorldConfig()
+    found = analysis.oracle_views(world, 2, 0)
+    assert found.views.shape == (len(found.actions), int(np.prod(world.camera.input_shape)))
+    assert not found.views.flags.writeable and not found.actions.flags.writeable
+    env = DockingEnv(world, seed=0)
+    step = env.reset()
+    assert np.array_equal(found.views[0], np.asarray(step.observation, dtype=float).ravel())
+    assert found.actions[0] == oracle_action(env.pose, world)
+
+
+def test_every_function_of_arrays_and_analysis_is_tested_by_name():
+    """CONTRIBUTING's recipe for a figure: each function that computes a figure's arrays has
+    a test; a new one without one fails here."""
+    from pathlib import Path
+
+    tests = "".join(p.read_text() for p in Path(__file__).parent.glob("test_*.py"))
+    untested = [
+        f"{module.__name__}.{name}"
+        for module in (arrays, analysis)
+        for name in module.__all__
+        if callable(getattr(module, name))
+        and not isinstance(getattr(module, name), type)
+        and not re.search(rf"\b{name}\(", tests)
+    ]
+    assert not untested, untested

@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 
 from docking.presets import EXPERIMENT_1, EXPERIMENT_2, SEEDS
-from docking.study.analysis import rewarded_share
+from docking.study.arrays import rewarded_share
 from docking.study.design import Cell
 from docking.study.designs.calibration import BASELINE, run, variants
 from docking.study.designs.calibration_report import (

@@ -11,7 +11,7 @@ from matplotlib.figure import Figure
 from docking.experiments import Curriculum, run_experiment
 from docking.presets import EXPERIMENT_1, EXPERIMENT_2
 from docking.region import StartRegion
-from docking.study import analysis, figures, readme
+from docking.study import analysis, arrays, figures, readme
 from docking.study.designs import paper_report
 from docking.study.kinds import load_result, save_result
 from docking.world import ACTION_LETTERS, DockingEnv
@@ -73,8 +73,8 @@ def test_figure_functions_write_nothing(env, views, result1, tmp_path, monkeypat
             result1.config,
             0,
             views,
-            analysis.decisions(net, views.inputs),
-            *analysis.receptive_fields(net),
+            arrays.decisions(net, views.inputs),
+            *arrays.receptive_fields(net),
             net.Q,
         ),
         min_axes=3 + 4 + 4,
@@ -83,9 +83,7 @@ def test_figure_functions_write_nothing(env, views, result1, tmp_path, monkeypat
 
 
 def test_fig2_needs_three_views(env, views):
-    two = analysis.ExampleViews(
-        views.names[:2], views.poses[:2], views.frames[:2], views.inputs[:2]
-    )
+    two = arrays.ExampleViews(views.names[:2], views.poses[:2], views.frames[:2], views.inputs[:2])
     with pytest.raises(ValueError, match="three views"):
         figures.fig2_scene(env.config.camera, two, views.frames[0])
 
@@ -97,23 +95,24 @@ def test_fig4_from_fresh_and_loaded_results(result2, loaded2):
         fig = figures.fig4(
             result.config,
             result.seed,
-            *analysis.receptive_fields(net),
+            *arrays.receptive_fields(net),
             analysis.mean_winning_inputs(net, result.config.world, n=40),
-            analysis.strongest_units(net.Q),
+            arrays.strongest_units(net.Q),
         )
         _drawn(fig, min_axes=2 * (4 + 36))
 
 
 def test_fig5_and_floor_plan(result1, loaded2):
     for result in (result1, loaded2):
-        sample = analysis.trajectory_sample(result.test, n=4)
-        fig = _drawn(figures.fig5(result.config.world, sample, "label"))
+        sample = arrays.trajectory_sample(result.test, n=4)
+        plan = analysis.floor_plan(result.config.world)
+        fig = _drawn(figures.fig5(result.config.world, plan, sample, "label"))
         assert "label: 4 of 6 test trials" in fig.axes[0].get_title()
     # The start trapezoid drawn is the StartRegion's, corners in (y, x).
     region = StartRegion(near=0.6, far=0.9, half_angle_deg=10.0)
     fig = Figure()
     ax = fig.add_subplot()
-    figures.draw_floor_plan(ax, result1.config.world, region)
+    figures.draw_floor_plan(ax, analysis.floor_plan(result1.config.world), region)
     polygon = [p for p in ax.patches if type(p).__name__ == "Polygon"]
     assert len(polygon) == 1
     np.testing.assert_allclose(polygon[0].get_xy()[:4], region.corners()[:, ::-1])
@@ -121,8 +120,8 @@ def test_fig5_and_floor_plan(result1, loaded2):
 
 @pytest.mark.slow
 def test_learning_curves_with_one_or_both_experiments(result1, result2, loaded2):
-    c1 = analysis.learning_curves([result1])
-    c2 = analysis.learning_curves([result2, loaded2])
+    c1 = arrays.learning_curves([result1])
+    c2 = arrays.learning_curves([result2, loaded2])
     for curves in ((c1, c2), (c1, None), (None, c2)):
         n_columns = sum(c is not None for c in curves)
         _drawn(figures.fig_learning_curves(*curves), min_axes=3 * n_columns)
@@ -135,7 +134,8 @@ def test_learning_curves_with_one_or_both_experiments(result1, result2, loaded2)
 
 def test_fig_trial_draws_the_path_on_the_floor_plan(result1):
     poses = result1.test.trial_poses(0)
-    fig = _drawn(figures.fig_trial(result1.config.world, poses, "a trial"))
+    world = result1.config.world
+    fig = _drawn(figures.fig_trial(world, analysis.floor_plan(world), poses, "a trial"))
     ax = fig.axes[0]
     assert ax.get_title() == "a trial" and ax.xaxis_inverted()
     np.testing.assert_array_equal(ax.get_lines()[0].get_xydata(), poses[:, [1, 0]])
@@ -143,9 +143,10 @@ def test_fig_trial_draws_the_path_on_the_floor_plan(result1):
 
 def test_floor_plans_of_a_scene_without_a_sideboard(result1):
     world = dataclasses.replace(result1.config.world, scene="floor")
-    fig = _drawn(figures.fig_trial(world, result1.test.trial_poses(0), "floor scene"))
+    plan = analysis.floor_plan(world)
+    fig = _drawn(figures.fig_trial(world, plan, result1.test.trial_poses(0), "floor scene"))
     assert len(fig.axes[0].patches) == 3 + 1  # slab, post, dock and the start trapezoid
-    _drawn(figures.fig5(world, analysis.trajectory_sample(result1.test, n=3), "floor"))
+    _drawn(figures.fig5(world, plan, arrays.trajectory_sample(result1.test, n=3), "floor"))
 
 
 def test_save_figure_writes_png_and_pdf(tmp_path):
@@ -163,6 +164,7 @@ def test_save_figure_writes_png_and_pdf(tmp_path):
 
 _FIG4_SCRIPT = """
 import dataclasses, sys
+from docking.study import analysis
 from docking.study.designs import paper_report
 from docking.experiments import Curriculum, run_experiment
 from docking.presets import EXPERIMENT_2
@@ -170,7 +172,9 @@ config = dataclasses.replace(
     EXPERIMENT_2, curriculum=Curriculum(far_initial=0.7, grow_trials=2), train_trials=4,
     test_trials=6, eval_every=2, eval_trials=2,
 )
-paper_report.save_fig4(run_experiment(config, seed=0, progress=False), sys.argv[1], n_samples=20)
+run = run_experiment(config, seed=0, progress=False)
+inputs = analysis.mean_winning_inputs(run.network, config.world, n=20)
+paper_report.save_fig4(run, inputs, analysis.start_fields(run), sys.argv[1])
 """
 
 
@@ -192,10 +196,16 @@ def test_a_figure_saved_in_another_process_has_the_same_bytes(tmp_path):
 
 @pytest.mark.slow
 def test_report_saves_every_figure(result1, result2, tmp_path):
-    paper_report.save_fig2(DockingEnv(seed=0), tmp_path)
-    paper_report.save_fig3(result1, DockingEnv(result1.config.world, seed=0), tmp_path)
-    paper_report.save_fig4(result2, tmp_path, n_samples=20)
-    paper_report.save_fig5(result2, tmp_path, n=4)
+    env = DockingEnv(seed=0)
+    views = analysis.example_views(env)
+    paper_report.save_fig2(
+        env.config.camera, views, analysis.overview(env, views.poses[1]), tmp_path
+    )
+    views1 = analysis.example_views(DockingEnv(result1.config.world, seed=0))
+    paper_report.save_fig3(result1, views1, tmp_path)
+    inputs = analysis.mean_winning_inputs(result2.network, result2.config.world, n=20)
+    paper_report.save_fig4(result2, inputs, analysis.start_fields(result2), tmp_path)
+    paper_report.save_fig5(result2, analysis.floor_plan(result2.config.world), tmp_path, n=4)
     paper_report.save_learning_curves([result1], [result2], tmp_path)
     for name in (
         "fig2_scene",
@@ -220,12 +230,12 @@ def test_fig4_draws_the_random_start_below_the_learned_weights(result2):
     args = (
         result2.config,
         result2.seed,
-        *analysis.receptive_fields(net),
+        *arrays.receptive_fields(net),
         analysis.mean_winning_inputs(net, result2.config.world, n=40),
-        analysis.strongest_units(net.Q),
+        arrays.strongest_units(net.Q),
     )
     two = figures.fig4(*args)
-    three = figures.fig4(*args, initial_rf=analysis.receptive_fields(start)[1])
+    three = figures.fig4(*args, initial_rf=arrays.receptive_fields(start)[1])
     assert len(three.axes) == len(two.axes) + 36
     # the blocks one above the other, as wide as a page (the site's figures are read there)
     assert three.get_figheight() > two.get_figheight()
@@ -330,7 +340,7 @@ def test_episode_gif_writes_an_animation_of_an_episode(tmp_path):
 
 
 def test_fig_landscape_draws_each_panel_with_its_marks():
-    grid = analysis.landscape({(2.0, 0.05): [0.4], (100.0, 0.5): [0.95]}, [2.0, 100.0], [0.05, 0.5])
+    grid = arrays.landscape({(2.0, 0.05): [0.4], (100.0, 0.5): [0.95]}, [2.0, 100.0], [0.05, 0.5])
     panels = [
         dict(world=w, learner=lr, title=f"{w} {lr}", row_label="beta_a", col_label="eps", grid=grid)
         for w in ("floor", "nao")

@@ -16,7 +16,7 @@ import pytest
 from helpers import SEEDS, TINY
 
 from docking.experiments import run_experiment
-from docking.study import analysis, kinds, ledger, store, verify
+from docking.study import arrays, kinds, ledger, store, verify
 from docking.study.kinds import (
     CorruptResult,
     StaleCode,
@@ -121,24 +121,24 @@ def test_a_table_keeps_the_final_poses_it_is_asked_for(short_built, built, monke
     served = _served(monkeypatch, folder, 1, SHORT)
     for part in ("test", "heldout"):
         whole = getattr(stored, part)
-        ends = analysis.final_poses(getattr(served, part))
-        assert ends.tobytes() == analysis.final_poses(whole).tobytes()
+        ends = arrays.final_poses(getattr(served, part))
+        assert ends.tobytes() == arrays.final_poses(whole).tobytes()
         assert (
             ends.tobytes()
             == np.array([whole.trial_poses(k)[-1] for k in range(len(whole))]).tobytes()
         )
-        lengths = analysis.path_lengths(getattr(served, part))
+        lengths = arrays.path_lengths(getattr(served, part))
         walked = [
             np.sum(np.linalg.norm(np.diff(whole.trial_poses(k)[:, :2], axis=0), axis=1))
             for k in range(len(whole))
         ]
         assert np.allclose(lengths, walked, rtol=0, atol=1e-12)
-        assert lengths.tobytes() == analysis.path_lengths(whole).tobytes()
+        assert lengths.tobytes() == arrays.path_lengths(whole).tobytes()
     without = _served(monkeypatch, built[0], 1)  # a table not asked for them
     with pytest.raises(ledger.NotInLedger, match="final poses"):
-        analysis.final_poses(without.heldout)
+        arrays.final_poses(without.heldout)
     with pytest.raises(ledger.NotInLedger, match="path lengths"):
-        analysis.path_lengths(without.heldout)
+        arrays.path_lengths(without.heldout)
 
 
 def test_an_update_writes_the_same_bytes_again(built, tmp_path):

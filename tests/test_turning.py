@@ -10,7 +10,7 @@ from docking.experiments import ExperimentConfig, TrialLog, run_experiment
 from docking.gym import DockingGymEnv
 from docking.oracle import oracle_action
 from docking.presets import EXPERIMENT_2
-from docking.study import analysis
+from docking.study import analysis, arrays
 from docking.study.designs import experiment3, experiment3_report
 from docking.study.designs.builders import variant
 from docking.world import (
@@ -285,9 +285,9 @@ def test_failure_shares_pool_the_seeds_of_a_cell():
     rates = {c.key: 0.8 for c in experiment3.experiment3_cells()}
     results = _synthetic(rates, n=20)
     keys = ["4 actions, paper task, 2 deg"]
-    shares, failures = experiment3_report.failure_shares(results, keys)
+    shares, failures = analysis.failure_shares(results, keys)
     assert failures[0] == sum(int((~log.success).sum()) for log in results.logs[keys[0]])
-    assert shares.shape == (1, len(analysis.FAILURE_CLASSES))
+    assert shares.shape == (1, len(arrays.FAILURE_CLASSES))
     assert np.all((shares >= 0) & (shares <= 1))
 
 
@@ -353,7 +353,7 @@ def test_centroid_offset_of_stacks_and_final_headings():
 def test_fig4_follows_the_configured_action_set():
     from docking.network import Network
     from docking.study import figures
-    from docking.study.analysis import MeanInputs, receptive_fields, strongest_units
+    from docking.study.arrays import MeanInputs, receptive_fields, strongest_units
 
     cell = next(c for c in experiment3.experiment3_cells() if c.key.startswith("6"))
     config = cell.config

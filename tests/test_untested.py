@@ -102,7 +102,8 @@ def test_weight_mass_moves_onto_the_landmark_when_W_draws_it():
     the mean landmark view it wins, the landmark's share rises and the distractor's falls."""
     from docking.experiments import initial_network
     from docking.presets import EXPERIMENT_2
-    from docking.study.analysis import MASS_PARTS, mean_winning_inputs, weight_mass
+    from docking.study.analysis import mean_winning_inputs, weight_mass
+    from docking.study.arrays import MASS_PARTS
     from docking.study.designs.builders import with_cup
 
     world = with_cup(EXPERIMENT_2.world)

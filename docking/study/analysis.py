@@ -1,19 +1,25 @@
-"""What the figures and the notebooks compute, as functions that return arrays.
+"""What the study computes by replaying the world or a run's code: rendered views, the pose
+oracle's views, the scene's compiled floor plan, the landmark's projection, held-out trials
+of a changed network; as functions that return arrays.
 
 Analysis is kept apart from drawing (rliable's way): every function here takes networks,
-results, trial logs or an environment and returns numbers and arrays; :mod:`docking.study.figures`
-takes those arrays and returns a figure; the caller (a notebook or :mod:`docking.study.report`)
-saves it. Nothing here draws or writes files.
+results, trial logs, worlds or an environment and returns numbers and arrays;
+:mod:`docking.study.figures` takes those arrays and returns a figure; the caller (a notebook or
+the command line) hands them to a design's report or a figure and saves it. Nothing here
+draws or writes files. What needs no world is :mod:`docking.study.arrays`, which the figures
+and the reports import instead of this module (the import contracts of ``pyproject.toml``):
+a figure or a report takes what this module computes as arrays.
 
-* Weights: :func:`receptive_fields`, :func:`best_actions`, :func:`strongest_units`,
-  :func:`feature_change`.
-* Decisions: :func:`decide` (one observation), :func:`decisions` (many).
-* Views: :data:`VIEW_POSES`, :func:`example_views` (frames and inputs at given poses),
-  :func:`overview` (a render of the room), :func:`mean_winning_inputs` (what the units
-  respond to over many start views).
-* Trials: :func:`sample_trials`, :func:`trajectory_sample`, :func:`failure_taxonomy`.
-* Learning curves: :func:`mean_curve`, :func:`learning_curves`.
-* Geometry for floor plans: :func:`floor_plan`.
+* Weights: :func:`feature_change`, :func:`start_fields` (against the network's random start).
+* Views: :func:`example_views` (frames and inputs at given poses), :func:`overview` (a render
+  of the room), :func:`start_views`, :func:`mean_winning_inputs` (what the units respond to
+  over many start views), :func:`feature_fidelity`, :func:`weight_mass`,
+  :func:`ambiguous_views`, :func:`view_shift`; the robot's walk: :func:`walking_poses`,
+  :func:`furniture_contacts`.
+* The floor plan: :func:`floor_plan` (the rectangles the figures draw a path on).
+* Trials: :func:`failure_taxonomy`, :func:`landmark_lost`, :func:`failure_shares`.
+* The representation against learning Q on it: :func:`oracle_views`, :func:`winners`,
+  :func:`oracle_labelled`, :func:`partition_purity`, :func:`oracle_labelled_success`.
 """
 
 from __future__ import annotations
@@ -21,17 +27,14 @@ from __future__ import annotations
 import dataclasses
 import functools
 import math
-import warnings
-from typing import TYPE_CHECKING, NamedTuple
+from typing import TYPE_CHECKING
 
 import numpy as np
 
 from docking import arith
-from docking.camera import CameraConfig
-from docking.experiments import ExperimentConfig, ExperimentResult, TrialLog, initial_network
+from docking.experiments import ExperimentResult, initial_network
 from docking.network import Network
 from docking.scene import (
-    ACTION_LETTERS,
     LEFT,
     RIGHT,
     TURN_LEFT,
@@ -41,101 +44,50 @@ from docking.scene import (
     in_region,
     scene_facts,
 )
+from docking.study.arrays import (
+    FAILURE_CLASSES,
+    MASS_PARTS,
+    VIEW_POSES,
+    Ambiguity,
+    ExampleViews,
+    MeanInputs,
+    OracleViews,
+    centroid_rows,
+    receptive_fields,
+)
 
 if TYPE_CHECKING:  # the task renders (OpenGL): imported where a function needs it
+    from docking.experiments import TrialLog
     from docking.world import DockingEnv
 
 __all__ = [
-    "feature_fidelity",
-    "trials_to_level",
-    "rewarded_share",
-    "VIEW_POSES",
-    "FAILURE_CLASSES",
-    "ExampleViews",
-    "Decisions",
-    "MeanInputs",
-    "TrajectorySample",
-    "LearningCurves",
-    "receptive_fields",
-    "best_actions",
-    "strongest_units",
-    "feature_change",
-    "decide",
-    "decisions",
+    "ambiguous_views",
     "example_views",
-    "overview",
-    "mean_winning_inputs",
-    "sample_trials",
-    "trajectory_sample",
-    "mean_curve",
-    "learning_curves",
-    "floor_plan",
+    "failure_shares",
     "failure_taxonomy",
+    "feature_change",
+    "feature_fidelity",
+    "floor_plan",
+    "furniture_contacts",
+    "landmark_lost",
+    "mean_winning_inputs",
+    "oracle_labelled",
+    "oracle_labelled_success",
+    "oracle_views",
+    "overview",
+    "partition_purity",
+    "start_fields",
+    "start_views",
+    "view_shift",
+    "walking_poses",
+    "weight_mass",
+    "winners",
 ]
-
-#: Robot poses ``[x, y, yaw]`` of the three example views (Fig. 2 D, Fig. 3 top): to the left
-#: of, in front of and to the right of the landmark, 0.68 m from its front plane (inside
-#: Experiment 1's start region, 0.58-0.70 m) and 0.15 m to the side (near the edge of the start
-#: trapezoid, whose half-width there is ``StartRegion.half_width(0.68)`` = 0.17 m). The robot
-#: faces +x and its left is +y, so a robot standing *left of* the landmark is at +y and sees
-#: the landmark on the right of its image; it has to step right to dock.
-VIEW_POSES = {
-    "left": (-0.68, 0.15, 0.0),
-    "front": (-0.68, 0.0, 0.0),
-    "right": (-0.68, -0.15, 0.0),
-}
 
 
 # ------------------------------------------------------------------------------------------
 # Weights.
 # ------------------------------------------------------------------------------------------
-
-
-def receptive_fields(net: Network, shape=None) -> tuple[np.ndarray, np.ndarray]:
-    """The receptive fields of the action and the feature units, as images.
-
-    * Feature unit ``j``: its weight row ``W_j`` (Eq. 1), reshaped to the input image.
-    * Action unit ``i``: its action weights mapped back into input space through the feature
-      layer, ``RF_i = sum_j Q_ij W_j`` (i.e. the rows of ``Q @ W``). With a winner-take-all
-      feature layer (``s`` nearly one-hot) an input that matches ``W_j`` drives action ``i``
-      with ``Q_ij``, so ``RF_i`` shows which inputs favour action ``i``.
-
-    Args:
-      net: A network (``W``: features x inputs, ``Q``: actions x features).
-      shape: ``(rows, cols)`` of the input image; default the camera's 32x10 input
-        (``CameraConfig().input_shape``). Inputs are flattened row-major (``Network.prepare``).
-
-    Returns:
-      ``(action_rf, feature_rf)`` of shapes ``(n_actions, rows, cols)`` and
-      ``(n_features, rows, cols)``, in action index order (``ACTION_LETTERS``) and unit order.
-    """
-    shape = tuple(CameraConfig().input_shape if shape is None else shape)
-    if int(np.prod(shape)) != net.W.shape[1]:
-        raise ValueError(f"shape {shape} does not hold the network's {net.W.shape[1]} inputs")
-    action_rf = arith.matmul(net.Q, net.W).reshape(-1, *shape)
-    feature_rf = net.W.reshape(-1, *shape)
-    return action_rf, feature_rf
-
-
-def best_actions(Q: np.ndarray) -> np.ndarray:
-    """Per feature unit ``j``, the action it votes for most, ``argmax_i Q_ij``; -1 for a unit
-    with no positive action weight (an unused unit). Shape ``(n_features,)``."""
-    Q = np.asarray(Q)
-    best = np.argmax(Q, axis=0).astype(np.int64)
-    best[np.max(Q, axis=0) <= 0] = -1
-    return best
-
-
-def strongest_units(Q: np.ndarray, letters: str = "LRF") -> dict[int, list[str]]:
-    """For each action in ``letters``, the feature unit with the largest action weight
-    (``argmax_j Q_ij``), as ``{unit: [letters]}``; an action no unit votes for (all
-    ``Q_ij <= 0``) has no strongest unit."""
-    framed: dict[int, list[str]] = {}
-    for letter in letters:
-        i = ACTION_LETTERS.index(letter)
-        if np.max(Q[i]) > 0:
-            framed.setdefault(int(np.argmax(Q[i])), []).append(letter)
-    return framed
 
 
 def feature_change(result: ExperimentResult) -> np.ndarray:
@@ -146,38 +98,17 @@ def feature_change(result: ExperimentResult) -> np.ndarray:
     return np.einsum("jn,jn->j", start, result.network.W)
 
 
+def start_fields(result: ExperimentResult) -> np.ndarray:
+    """The feature units' receptive fields at ``result``'s random start (its W before
+    training, ``docking.experiments.initial_network``), as images ``(n_features, rows,
+    cols)`` (:func:`docking.study.arrays.receptive_fields`)."""
+    start = initial_network(result.config, result.seed)
+    return receptive_fields(start, result.config.world.camera.input_shape)[1]
+
+
 # ------------------------------------------------------------------------------------------
-# Decisions.
+# Views, and the robot's walk.
 # ------------------------------------------------------------------------------------------
-
-
-class Decisions(NamedTuple):
-    """Per observation: the winning feature unit (``argmax_j s_j``, Eq. 2), its activation
-    ``s_j`` and the greedy action (``argmax_i h_i``, Eq. 3)."""
-
-    winners: np.ndarray  # int64
-    activations: np.ndarray  # float64
-    actions: np.ndarray  # int64
-
-
-def decide(net: Network, observation: np.ndarray) -> tuple[int, float, int]:
-    """The winning feature unit, its activation ``s_j`` and the greedy action (argmax of
-    Eq. 3) for one ``observation``."""
-    s = net.features(net.prepare(observation))
-    winner = int(np.argmax(s))
-    return winner, float(s[winner]), int(np.argmax(arith.matvec(net.Q, s)))
-
-
-def decisions(net: Network, observations) -> Decisions:
-    """:func:`decide` for each of ``observations`` (a sequence or an array with one
-    observation per leading index)."""
-    rows = [decide(net, obs) for obs in observations]
-    winners, activations, actions = zip(*rows, strict=True) if rows else ((), (), ())
-    return Decisions(
-        np.array(winners, dtype=np.int64),
-        np.array(activations, dtype=np.float64),
-        np.array(actions, dtype=np.int64),
-    )
 
 
 def furniture_contacts(world: WorldConfig, poses) -> np.ndarray:
@@ -247,34 +178,6 @@ def start_views(world: WorldConfig, n: int, seed: int) -> np.ndarray:
     return views
 
 
-def winner_change(start: Network, end: Network, views) -> tuple[float, float]:
-    """What learning W changed: over ``views``, the fraction whose winning feature unit
-    (argmax of Eq. 2) differs between the network ``start`` (W before training) and ``end``
-    (after), and the fraction whose greedy action differs when ``end``'s Q reads the
-    features of either W. A measure of the partition of image space the units draw, where a
-    cosine between the weights says little: at beta_s = 100 a tiny change of W moves the
-    boundaries between units."""
-    before = decisions(Network.from_weights(end.config, start.W, end.Q), views)
-    after = decisions(end, views)
-    return float(np.mean(before.winners != after.winners)), float(
-        np.mean(before.actions != after.actions)
-    )
-
-
-# ------------------------------------------------------------------------------------------
-# Views.
-# ------------------------------------------------------------------------------------------
-
-
-class ExampleViews(NamedTuple):
-    """Camera frames and network inputs at named poses."""
-
-    names: tuple[str, ...]
-    poses: np.ndarray  # (n, 3): [x, y, yaw]
-    frames: np.ndarray  # (n, height, width, 3) uint8 RGB
-    inputs: np.ndarray  # (n, rows, cols) float32 in [0, 1]
-
-
 def _check_views(poses) -> dict:
     poses = dict(VIEW_POSES if poses is None else poses)
     if len(poses) != 3:
@@ -304,16 +207,6 @@ def overview(env: DockingEnv, pose, size=(800, 600)) -> np.ndarray:
     robot at ``pose`` and the virtual docking region drawn; ``size = (width, height)``."""
     env.reset_to(np.asarray(pose, dtype=np.float64))
     return env.render_view("overview", *size)
-
-
-class MeanInputs(NamedTuple):
-    """Mean network inputs per greedy action and per winning feature unit (zeros where an
-    action is never chosen or a unit never wins), with the numbers of views behind them."""
-
-    action_mean: np.ndarray  # (n_actions, rows, cols)
-    unit_mean: np.ndarray  # (n_features, rows, cols)
-    action_counts: np.ndarray  # (n_actions,) int64
-    unit_counts: np.ndarray  # (n_features,) int64
 
 
 def _views_at(world: WorldConfig, poses: np.ndarray) -> np.ndarray:
@@ -383,108 +276,9 @@ def feature_fidelity(net: Network, inputs: MeanInputs, min_views: int = 20) -> f
     return math.fsum(rs) / len(rs) if rs else float("nan")
 
 
-def final_poses(log: TrialLog) -> np.ndarray:
-    """The final pose of every trial of ``log``, ``(n, 3)`` (a results table's column where
-    the log is read from one)."""
-    if log.poses is None:
-        return log.require(log.ends, "the trials' final poses")
-    return log.poses[np.cumsum(log.steps + 1) - 1] if len(log) else np.zeros((0, 3))
-
-
-def path_lengths(log: TrialLog) -> np.ndarray:
-    """The distance the reference point walked in each trial of ``log`` (m; the sum of its
-    steps' displacements; a results table's column where the log is read from one)."""
-    if log.poses is None:
-        return log.require(log.lengths, "the trials' path lengths")
-    steps = np.linalg.norm(np.diff(log.poses[:, :2], axis=0), axis=1)
-    ends = np.cumsum(log.steps + 1)
-    walked = np.concatenate([[0.0], np.cumsum(steps)])
-    return walked[ends - 1] - walked[ends - 1 - log.steps]
-
-
-def docked_heading_error_deg(log: TrialLog) -> float:
-    """The mean absolute heading error (deg; :func:`docking.scene.heading_error`, against
-    facing the landmark) at the end of the docked trials of ``log`` (NaN if none docked)."""
-    from docking.scene import heading_error
-
-    ends = final_poses(log)[np.asarray(log.success, dtype=bool)]
-    if not len(ends):
-        return float("nan")
-    return float(np.mean([abs(np.degrees(heading_error(p))) for p in ends]))
-
-
-def actions_per_docking(log: TrialLog) -> float:
-    """The mean number of actions of the docked trials of ``log`` (NaN if none docked)."""
-    docked = np.asarray(log.steps)[np.asarray(log.success, dtype=bool)]
-    return float(np.mean(docked)) if len(docked) else float("nan")
-
-
 # ------------------------------------------------------------------------------------------
-# Trials.
+# The floor plan, and the failure taxonomy of trials.
 # ------------------------------------------------------------------------------------------
-
-
-def sample_trials(success: np.ndarray, n: int, seed: int = 0, min_failures: int = 3) -> np.ndarray:
-    """A seeded random sample of ``n`` trial indices that represents the success rate but
-    shows failures when there are any: failures get ``round(n * failure rate)`` places, at
-    least ``min(min_failures, failures)``. Sorted indices; fewer if there are fewer trials."""
-    success = np.asarray(success, dtype=bool)
-    rng = np.random.default_rng(seed)
-    fails, oks = np.flatnonzero(~success), np.flatnonzero(success)
-    n = min(n, len(success))
-    n_fail = int(round(n * len(fails) / max(len(success), 1)))
-    n_fail = min(len(fails), max(n_fail, min(min_failures, len(fails), n)))
-    n_ok = min(n - n_fail, len(oks))
-    n_fail = min(len(fails), n - n_ok)
-    chosen = np.concatenate(
-        [rng.choice(fails, n_fail, replace=False), rng.choice(oks, n_ok, replace=False)]
-    ).astype(np.int64)
-    return np.sort(chosen)
-
-
-class TrajectorySample(NamedTuple):
-    """Some trials of a log: their indices, their poses and whether each docked, plus the
-    totals of the whole log."""
-
-    indices: np.ndarray  # (k,) int64, sorted
-    paths: list[np.ndarray]  # k arrays (steps + 1, 3)
-    success: np.ndarray  # (k,) bool
-    n_trials: int  # trials in the log
-    n_docked: int  # docked trials in the log
-
-
-def trajectory_sample(log: TrialLog, n: int = 30, seed: int = 0) -> TrajectorySample:
-    """``n`` trials of ``log`` chosen by :func:`sample_trials` (seeded; failures shown if there
-    are any), with their paths."""
-    chosen = sample_trials(log.success, n, seed)
-    return TrajectorySample(
-        chosen,
-        [log.trial_poses(k) for k in chosen],
-        np.asarray(log.success)[chosen].astype(bool),
-        len(log),
-        int(np.sum(log.success)),
-    )
-
-
-#: The failure classes of :func:`failure_taxonomy`, with the definition of each (the numbers
-#: are the function's defaults).
-FAILURE_CLASSES = {
-    "heading_drift": "the heading drifted beyond heading_deg (10 deg) from facing the landmark's "
-    "wall (yaw 0) at some pose of the trial",
-    "landmark_lost": "at some pose after the start the landmark left the crop rectangle "
-    "(DockingEnv.landmark_in_crop(pose, margin=0), a projection, no rendering)",
-    "ended_farther": "the trial ended farther from the docking region's centre than it started",
-    "oscillating": "at least min_reversals (2) immediate reversals of a sidestep (L then R, or "
-    "R then L, as consecutive actions) or of a turn (TL then TR, or TR then TL)",
-    "timed_out_near": "the step limit ended the trial within near_m (10 cm) of the docking "
-    "region (distance of the reference point to the region's rectangle)",
-    "pressed_beside_dock": "the trial ended against the sideboard's front (the floor scene: the "
-    "landmark's front) (within contact_tol, "
-    "2 cm, of where the robot's body meets it) beside the docking region (|y| > half its width)",
-    "heading_off_in_region": "(precision docking only) at some pose of the trial the reference "
-    "point was in the docking region but the heading outside the tolerance, and the trial did "
-    "not dock",
-}
 
 
 def floor_plan(config: WorldConfig) -> dict[str, tuple[float, float, float, float]]:
@@ -645,125 +439,35 @@ def failure_taxonomy(
     return flags
 
 
-def rewarded_share(runs: list[ExperimentResult], beyond: float = 0.0) -> np.ndarray:
-    """Per run, the share of its training trials that started more than ``beyond`` m from
-    the landmark's front plane and ended in the dock (NaN if none started there). Every trial
-    starts at least the world's ``start_near`` (0.45 m or more) from it, so for ``beyond``
-    below half of that it is every trial, and the start poses are not read."""
-    out = []
-    for r in runs:
-        if beyond < r.config.world.start_near / 2:
-            far = np.ones(len(r.train.success), dtype=bool)
-        else:
-            far = -r.train.starts[:, 0] > beyond
-        out.append(float(np.mean(r.train.success[far])) if far.any() else float("nan"))
-    return np.array(out)
+def failure_shares(
+    results, keys: list[str], n_seeds: int | None = None
+) -> tuple[np.ndarray, list[int]]:
+    """The failure taxonomy (:func:`failure_taxonomy`) of the held-out failures of each cell
+    in ``keys`` of a design's ``results``, its first ``n_seeds`` seeds (None: all) pooled:
+    ``(shares, failures)`` with ``shares[k, c]`` the share of cell ``k``'s failed trials in
+    class ``c`` (classes in the order of :data:`docking.study.arrays.FAILURE_CLASSES`; NaN for a
+    cell without failures) and ``failures[k]`` its failed trials."""
+    from docking.world import DockingEnv
+
+    shares, failures = np.full((len(keys), len(FAILURE_CLASSES)), np.nan), []
+    for k, key in enumerate(keys):
+        env = DockingEnv(results.cell(key).config.world, seed=0)
+        counts, n = np.zeros(len(FAILURE_CLASSES)), 0
+        for log in results.logs[key][:n_seeds]:
+            failed = ~log.success
+            flags = failure_taxonomy(log, env, trials=np.flatnonzero(failed))
+            n += int(failed.sum())
+            counts += [int(flags[c][failed].sum()) for c in FAILURE_CLASSES]
+        env.close()
+        failures.append(n)
+        if n:
+            shares[k] = counts / n
+    return shares, failures
 
 
 # ------------------------------------------------------------------------------------------
-# Learning curves.
+# What one start view cannot tell apart; where the units put their weight.
 # ------------------------------------------------------------------------------------------
-
-
-def mean_curve(xs: list[np.ndarray], ys: list[np.ndarray]) -> tuple[np.ndarray, np.ndarray]:
-    """Mean over runs at the learning-curve points all runs share (NaNs ignored; a point with
-    no value in any run stays NaN). Returns ``(points, mean)``."""
-    common = xs[0]
-    for x in xs[1:]:
-        common = np.intersect1d(common, x)
-    stack = np.array(
-        [[y[np.flatnonzero(x == c)[0]] for c in common] for x, y in zip(xs, ys, strict=True)],
-        dtype=np.float64,
-    )
-    with warnings.catch_warnings():  # an all-NaN column (no success anywhere) stays NaN
-        warnings.simplefilter("ignore", RuntimeWarning)
-        mean = np.nanmean(stack, axis=0)
-    return common, mean
-
-
-@dataclasses.dataclass(frozen=True)
-class LearningCurves:
-    """The learning curves of several seeds of one configuration, and their means.
-
-    Per seed (lists, one entry per run): ``trials`` (training trials done at each point),
-    ``success`` (greedy test success there), ``steps`` (mean actions of the successful test
-    trials there), ``rewarded`` (rewarded training trials so far there), ``start_far`` (the
-    start region's far edge in each training trial); ``final_trials`` and ``final_success``
-    (the final test). Means over the seeds at their shared points: ``mean_trials``,
-    ``mean_success``, ``mean_steps``.
-    """
-
-    config: ExperimentConfig
-    seeds: tuple[int, ...]
-    trials: list[np.ndarray]
-    success: list[np.ndarray]
-    steps: list[np.ndarray]
-    rewarded: list[np.ndarray]
-    start_far: list[np.ndarray]
-    final_trials: np.ndarray
-    final_success: np.ndarray
-    mean_trials: np.ndarray
-    mean_success: np.ndarray
-    mean_steps: np.ndarray
-
-
-def learning_curves(results: list[ExperimentResult]) -> LearningCurves:
-    """:class:`LearningCurves` of the runs of one configuration (all of ``results`` must have
-    been made with the same configuration)."""
-    results = list(results)
-    if not results:
-        raise ValueError("learning_curves needs at least one result")
-    if any(r.config != results[0].config for r in results):
-        raise ValueError("learning_curves needs results of one configuration")
-    xs = [r.curve_trials for r in results]
-    mean_trials, mean_success = mean_curve(xs, [r.curve_success for r in results])
-    _, mean_steps = mean_curve(xs, [r.curve_steps for r in results])
-    return LearningCurves(
-        config=results[0].config,
-        seeds=tuple(r.seed for r in results),
-        trials=xs,
-        success=[r.curve_success for r in results],
-        steps=[r.curve_steps for r in results],
-        rewarded=[r.curve_rewarded for r in results],
-        start_far=[np.asarray(r.train.start_far) for r in results],
-        final_trials=np.array([r.config.train_trials for r in results], dtype=np.int64),
-        final_success=np.array([r.test.success_rate for r in results], dtype=np.float64),
-        mean_trials=mean_trials,
-        mean_success=mean_success,
-        mean_steps=mean_steps,
-    )
-
-
-# ------------------------------------------------------------------------------------------
-# Sample efficiency.
-# ------------------------------------------------------------------------------------------
-
-
-def trials_to_level(runs: list[ExperimentResult], level: float) -> np.ndarray:
-    """Per run, the training trials at the first learning-curve point whose greedy success
-    is at least ``level`` (NaN if none is): a run's sample efficiency."""
-    if not 0 < level <= 1:
-        raise ValueError(f"level must be in (0, 1], got {level}")
-    out = []
-    for r in runs:
-        if len(r.curve_trials) == 0:
-            raise ValueError(f"run {r.config.name} seed {r.seed} has no learning curve")
-        hits = np.flatnonzero(r.curve_success >= level)
-        out.append(float(r.curve_trials[hits[0]]) if len(hits) else np.nan)
-    return np.array(out)
-
-
-class Ambiguity(NamedTuple):
-    """What one 32x10 input cannot tell apart (:func:`ambiguous_views`): of ``views`` start
-    views, ``shared`` have an input that at least one other start view has too;
-    ``ambiguous`` are in such a group whose poses the pose oracle answers with different
-    actions (no policy of the input alone can act as the oracle on all of them); ``groups``
-    holds the poses (``(m, 3)``) of each such group."""
-
-    views: int
-    shared: int
-    ambiguous: int
-    groups: tuple[np.ndarray, ...]
 
 
 def ambiguous_views(world: WorldConfig, n: int = 1500, seed: int = 0) -> Ambiguity:
@@ -789,10 +493,6 @@ def ambiguous_views(world: WorldConfig, n: int = 1500, seed: int = 0) -> Ambigui
         np.array(g) for g in groups.values() if len({oracle_action(p, world) for p in g}) > 1
     )
     return Ambiguity(n, shared, sum(len(g) for g in mixed), mixed)
-
-
-#: The parts of a view that :func:`weight_mass` tells apart.
-MASS_PARTS = ("landmark", "distractor", "background")
 
 
 @functools.lru_cache(maxsize=4)
@@ -887,13 +587,6 @@ def oracle_views(world: WorldConfig, n_trials: int = 300, seed: int = 0) -> Orac
     return found
 
 
-class OracleViews(NamedTuple):
-    """Views ``(n, inputs)`` and the pose oracle's action at each ``(n,)``."""
-
-    views: np.ndarray
-    actions: np.ndarray
-
-
 def winners(net: Network, views: np.ndarray) -> np.ndarray:
     """The winning feature unit of each view (the largest h_j of Eq. 1: the unit that the
     softmax of Eq. 2 at beta_s = 100 all but selects)."""
@@ -937,50 +630,6 @@ def oracle_labelled_success(
     world = world or run.config.world
     net = oracle_labelled(run.network, labelled)
     return heldout_trials(run.config, run.seed, net, world).success_rate
-
-
-class Landscape(NamedTuple):
-    """Success over a grid of two knobs (:func:`landscape`): ``mean[i, j]`` the mean held-out
-    success (fraction) of the setting ``(rows[i], cols[j])`` over its runs (NaN: none),
-    ``n[i, j]`` its runs."""
-
-    rows: np.ndarray
-    cols: np.ndarray
-    mean: np.ndarray
-    n: np.ndarray
-
-
-def landscape(scores: dict[tuple[float, float], list[float]], rows, cols) -> Landscape:
-    """The grid of ``scores`` (``{(row value, column value): per-run success}``) over the
-    knob values ``rows`` x ``cols``; a setting of ``scores`` off the grid is left out."""
-    rows, cols = np.asarray(rows, dtype=np.float64), np.asarray(cols, dtype=np.float64)
-    mean = np.full((len(rows), len(cols)), np.nan)
-    n = np.zeros((len(rows), len(cols)), dtype=np.int64)
-    for (r, c), found in scores.items():
-        i, j = np.flatnonzero(np.isclose(rows, r)), np.flatnonzero(np.isclose(cols, c))
-        if len(i) and len(j) and len(found):
-            mean[i[0], j[0]], n[i[0], j[0]] = float(np.mean(found)), len(found)
-    return Landscape(rows, cols, mean, n)
-
-
-def share_near_best(means, margin: float = 0.05) -> tuple[int, int]:
-    """``(k, n)``: of ``n`` settings' mean success ``means``, the ``k`` within ``margin`` of
-    the best (the best among them counts)."""
-    values = np.asarray(list(means), dtype=np.float64)
-    if not len(values):
-        return 0, 0
-    return int(np.sum(values >= values.max() - margin)), len(values)
-
-
-def centroid_rows(views) -> np.ndarray:
-    """Each view's centroid row (``(n, rows, cols)`` network inputs): the mean row index of
-    its pixels weighted by their intensity (NaN for an empty view)."""
-    views = np.asarray(views, dtype=np.float64)
-    rows = np.arange(views.shape[1], dtype=np.float64)
-    mass = views.sum(axis=(1, 2))
-    weighted = np.einsum("nrc,r->n", views, rows)
-    with np.errstate(invalid="ignore", divide="ignore"):
-        return np.where(mass > 0, weighted / mass, np.nan)
 
 
 def view_shift(home: WorldConfig, place: WorldConfig, n: int = 300, seed: int = 0) -> np.ndarray:

@@ -27,6 +27,7 @@ from pathlib import Path
 import numpy as np
 
 from docking.study import analysis, kinds, ledger, paths, store
+from docking.study.arrays import OracleViews
 
 __all__ = [
     "COMMITTED",
@@ -102,7 +103,7 @@ def _oracle_key(run, n_trials: int, seed: int) -> str:
 
 
 def oracle_labelled_success(
-    run, n_trials: int = 300, seed: int = 0, views: analysis.OracleViews | None = None
+    run, n_trials: int = 300, seed: int = 0, views: OracleViews | None = None
 ) -> float:
     """:func:`docking.study.analysis.oracle_labelled_success` of ``run`` (its held-out trials
     with its W and the oracle-labelled Q) on the labelled views

@@ -594,7 +594,7 @@ def _npz(arrays: dict[str, np.ndarray]) -> bytes:
 
 def _row(arrays: dict, keep: frozenset) -> dict[str, np.ndarray]:
     """What a table keeps of a run's stored ``arrays`` as ``keep`` asks (module docstring)."""
-    from docking.study.analysis import final_poses, path_lengths
+    from docking.study.arrays import final_poses, path_lengths
 
     row, parts = {}, PARTS[1:] if NO_TRAIN in keep else PARTS
     for name, array in arrays.items():

@@ -10,14 +10,17 @@ writes them.
 from __future__ import annotations
 
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import numpy as np
 
-from docking.experiments import ExperimentResult
 from docking.presets import HEADLINE_SEED
 from docking.study.designs.paper_report import headline
 from docking.study.designs.third_edition_report import contest_summary
 from docking.study.report import _pct
+
+if TYPE_CHECKING:  # runs are read here, never made
+    from docking.experiments import ExperimentResult
 
 #: The README's generated block lies between these lines.
 README_START = "<!-- results:start -->"

@@ -19,13 +19,16 @@ from __future__ import annotations
 import dataclasses
 from collections.abc import Sequence
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 from matplotlib.figure import Figure
 
-from docking.experiments import ExperimentConfig
 from docking.presets import HEADLINE_SEED, SEEDS
 from docking.study import figures
 from docking.study.stats import Interval
+
+if TYPE_CHECKING:  # a configuration's fields are read, no run is made
+    from docking.experiments import ExperimentConfig
 
 
 def _pct(x: float) -> str:

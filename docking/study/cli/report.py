@@ -66,7 +66,7 @@ class Report:
         paper = design("paper").run(results_dir=self.results_dir, workers=self.processes)
         results = [paper.runs["experiment1"], paper.runs["experiment2"]]
         if self.figures or self.figures_dir is not None:
-            paper_report.save_figures(*results, self.figures_dir)
+            save_paper_figures(*results, self.figures_dir)
         changed = self._write(paper_report.results_table(*results))
         comparisons, first = None, None
         if self.experiment3:
@@ -132,7 +132,8 @@ class Report:
             else:
                 from docking.study.designs import revisited
 
-                self._revisited = revisited_report.revisited_rows(found, revisited)
+                views = revisited.changed_views()  # rendered here, the report takes them
+                self._revisited = revisited_report.revisited_rows(found, revisited, views)
                 summary += "\n\n" + revisited_report.revisited_summary(
                     self._revisited, found, revisited
                 )
@@ -405,37 +406,16 @@ def _held(groups: dict) -> tuple[int, int]:
 
 
 def _relocation(results, rv) -> dict:
-    """Relocation as measured, for the first screen (``results`` of the revisit ``rv``): a
-    camera-height change in the sideboard world, the camera :data:`HEIGHT_CHANGE` lower or
-    higher (the places ``sideboard higher`` and ``sideboard lower``: the landmark as if that
-    much higher or lower); the mean shift of the landmark in the start views in input rows at
-    each height, with its sign (up negative, :func:`docking.study.analysis.view_shift`), and
-    each learner's held-out success at home and at each height over the revisit's seeds."""
-    import numpy as np
-
+    """Relocation as measured, for the first screen: the revisit's report
+    (:func:`docking.study.designs.revisited_report.relocation`) of ``results`` of ``rv``, with
+    the landmark's shift in the start views at each camera height rendered here
+    (:func:`docking.study.analysis.view_shift`)."""
     from docking.study.analysis import view_shift
-    from docking.study.claims import rate_interval
+    from docking.study.designs.revisited_report import relocation
 
     places = rv.places()
-    found = dict(cm=100 * rv.HEIGHT_CHANGE, world="sideboard", seeds=len(rv.SEEDS))
-    found["shift lower"] = float(np.mean(view_shift(rv._HOME, places["sideboard higher"])))
-    found["shift higher"] = float(np.mean(view_shift(rv._HOME, places["sideboard lower"])))
-    found["shift"] = float(np.mean([abs(found["shift lower"]), abs(found["shift higher"])]))
-    for learner, prefix in (("paper", ""), ("linear", "linear ")):
-        found[prefix + "home"] = rate_interval(results, f"home/{learner}").estimate
-        for place, name in (
-            ("sideboard higher", "camera lower"),
-            ("sideboard lower", "camera higher"),
-        ):
-            found[prefix + name] = rate_interval(results, f"{place}/{learner}").estimate
-    from docking.study.claims import judge_family
-
-    names = {"sideboard higher": "camera lower", "sideboard lower": "camera higher"}
-    design = results.design
-    for d in judge_family(design.claims, results, alpha=design.alpha, per_claim=True):
-        if d.claim == "relocation-height":
-            found[f"verdict {names[d.world]}"] = d.verdict
-    return found
+    shifts = {p: view_shift(rv._HOME, places[p]) for p in ("sideboard higher", "sideboard lower")}
+    return relocation(results, rv, shifts)
 
 
 def _write_timings(readme: Path) -> bool:
@@ -486,7 +466,6 @@ class Figures:
 
     def execute(self) -> int:
         from docking.presets import EXPERIMENT_1, EXPERIMENT_2, SEEDS
-        from docking.study.designs.paper_report import save_figures
         from docking.study.runs import load_run
 
         results = []
@@ -500,7 +479,31 @@ class Figures:
                 how = f"compute them with python -m docking run {config.name}"
                 raise ValueError(_absent(text, how))
             results.append(runs)
-        for fig in save_figures(*results, self.folder):
+        for fig in save_paper_figures(*results, self.folder):
             del fig
         print(f"figures written to {self.folder or paths.figures_dir()}")
         return 0
+
+
+def save_paper_figures(results1, results2, folder=None) -> list:
+    """Every figure of the paper's design, from the runs of Experiments 1 and 2 (``results1``,
+    ``results2``) and the world (this caller renders; the report takes arrays): Fig. 2 (the
+    default world), Fig. 3 (the headline run of ``results1``), Figs. 4 and 5 (the headline
+    run of ``results2``) and the learning curves, saved in ``folder`` (default
+    :data:`docking.study.figures.FIGURES_DIR`)."""
+    from docking.study import analysis
+    from docking.study.designs import paper_report as pr
+    from docking.world import DockingEnv
+
+    main1, main2 = pr.headline(results1), pr.headline(results2)
+    env = DockingEnv(seed=0)
+    views = analysis.example_views(env)
+    world2 = main2.config.world
+    inputs = analysis.mean_winning_inputs(main2.network, world2, n=1500)
+    return [
+        pr.save_fig2(env.config.camera, views, analysis.overview(env, views.poses[1]), folder),
+        pr.save_fig3(main1, analysis.example_views(DockingEnv(main1.config.world, seed=0)), folder),
+        pr.save_fig4(main2, inputs, analysis.start_fields(main2), folder),
+        pr.save_fig5(main2, analysis.floor_plan(world2), folder),
+        pr.save_learning_curves(results1, results2, folder),
+    ]

@@ -50,6 +50,7 @@ from __future__ import annotations
 
 import dataclasses
 import itertools
+from typing import TYPE_CHECKING
 
 import numpy as np
 
@@ -57,6 +58,9 @@ from docking.presets import FLOOR_WORLD, NAO_WORLD
 from docking.study.design import Cell, Design
 from docking.study.designs.builders import experiment2_in, linear_sarsa, net, variant
 from docking.study.ppo import PPOConfig
+
+if TYPE_CHECKING:
+    from docking.study.designs.addendum_report import Decomposition
 
 NAME = "third-edition-addendum"
 #: The judged seeds: fresh (no run of the package used a seed from 4020 up before).
@@ -317,6 +321,43 @@ def position(results, world: str, learner: str, knob: str) -> tuple[tuple[float,
 def training_steps(results, key: str) -> np.ndarray:
     """Per seed, the environment steps of a learner cell's training trials."""
     return np.array([int(np.sum(r.train.steps)) for r in results.runs[key]])
+
+
+def decomposition(results, worlds, n_trials: int = 300, seed: int = 0) -> list[Decomposition]:
+    """Per world of ``worlds`` (names of the addendum's worlds):
+    :class:`docking.study.designs.addendum_report.Decomposition` from
+    the addendum's runs (the networks of ``paper-tuned`` and ``views-frozen``, which its
+    ledger table keeps), on the views the pose oracle labels on ``n_trials`` trials of the
+    runs' world from its stream ``seed`` (:func:`docking.study.analysis.oracle_views`); the
+    oracle-labelled success of each run is kept in the store and the committed ledger
+    (:func:`docking.study.derived.oracle_labelled_success`)."""
+    from docking.study.analysis import oracle_views, partition_purity
+    from docking.study.derived import oracle_labelled_success
+    from docking.study.designs.addendum_report import Decomposition
+
+    found = []
+    for world in worlds:
+        paper, fixed = results.runs[f"{world}/paper-tuned"], results.runs[f"{world}/views-frozen"]
+        places = {r.config.world for r in (*paper, *fixed)}
+        if len(places) != 1:
+            raise ValueError(f"decomposition: the runs of {world!r} were trained in several worlds")
+        views = oracle_views(places.pop(), n_trials, seed)
+
+        def labelled(runs, views=views):
+            return np.array([oracle_labelled_success(r, n_trials, seed, views) for r in runs])
+
+        found.append(
+            Decomposition(
+                world,
+                results.score(f"{world}/linear-tuned"),
+                results.score(f"{world}/paper-tuned"),
+                labelled(paper),
+                np.array([partition_purity(r.network, views) for r in paper]),
+                results.score(f"{world}/views-frozen"),
+                labelled(fixed),
+            )
+        )
+    return found
 
 
 def _matched_and_levers(results) -> list[Cell]:

@@ -9,7 +9,6 @@ import dataclasses
 
 import numpy as np
 
-from docking.study import analysis
 from docking.study.designs.third_edition_report import CONTEST_NAMES, CONTEST_WORLDS
 from docking.study.report import _pct, contest_gaps, gap_words, md_table
 from docking.study.stats import Interval
@@ -107,9 +106,10 @@ def training_steps_table(rows: list[tuple]) -> str:
 class Decomposition:
     """One world's gap between linear SARSA and the paper's tuned learner (:attr:`gap`, paired
     by seed) beside the per-seed arrays that the addendum's rules meant to split it with (the
-    paper's W with the oracle-labelled Q, and W's purity). The runs show that the
-    oracle-labelled Q is no bound on what W allows, so notebook 08 draws and tabulates the
-    arrays and no split of the gap.
+    paper's W with the oracle-labelled Q, and W's purity), as
+    :func:`docking.study.designs.addendum.decomposition` computes them from the runs and the
+    pose oracle's views. The runs show that the oracle-labelled Q is no bound on what W
+    allows, so notebook 08 draws and tabulates the arrays and no split of the gap.
 
     Attributes:
       world: The world's key.
@@ -136,40 +136,6 @@ class Decomposition:
         from docking.study.stats import t_paired_ci
 
         return t_paired_ci(self.linear, self.paper)
-
-
-def decomposition(results, worlds, n_trials: int = 300, seed: int = 0) -> list[Decomposition]:
-    """Per world of ``worlds`` (names of the addendum's worlds): :class:`Decomposition` from
-    the addendum's runs (the networks of ``paper-tuned`` and ``views-frozen``, which its
-    ledger table keeps), on the views the pose oracle labels on ``n_trials`` trials of the
-    runs' world from its stream ``seed`` (:func:`docking.study.analysis.oracle_views`); the
-    oracle-labelled success of each run is kept in the store and the committed ledger
-    (:func:`docking.study.derived.oracle_labelled_success`)."""
-    from docking.study.derived import oracle_labelled_success
-
-    found = []
-    for world in worlds:
-        paper, fixed = results.runs[f"{world}/paper-tuned"], results.runs[f"{world}/views-frozen"]
-        places = {r.config.world for r in (*paper, *fixed)}
-        if len(places) != 1:
-            raise ValueError(f"decomposition: the runs of {world!r} were trained in several worlds")
-        views = analysis.oracle_views(places.pop(), n_trials, seed)
-
-        def labelled(runs, views=views):
-            return np.array([oracle_labelled_success(r, n_trials, seed, views) for r in runs])
-
-        found.append(
-            Decomposition(
-                world,
-                results.score(f"{world}/linear-tuned"),
-                results.score(f"{world}/paper-tuned"),
-                labelled(paper),
-                np.array([analysis.partition_purity(r.network, views) for r in paper]),
-                results.score(f"{world}/views-frozen"),
-                labelled(fixed),
-            )
-        )
-    return found
 
 
 def addendum_summary(added, contest, ad) -> str:

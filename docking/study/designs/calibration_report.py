@@ -8,7 +8,7 @@ import dataclasses
 
 import numpy as np
 
-from docking.study import analysis
+from docking.study import arrays
 from docking.study.stats import Interval, difference_ci, mean_ci, rate_ci
 
 
@@ -113,7 +113,7 @@ def calibration_rows(results, baseline: str, seed: int = 0) -> list[Row]:
         results.cells,
         {c.key: results.score(c.key) for c in results.cells},
         baseline,
-        {c.key: analysis.rewarded_share(results.runs[c.key]) for c in results.cells},
+        {c.key: arrays.rewarded_share(results.runs[c.key]) for c in results.cells},
         seed=seed,
         trials={c.key: [len(log.success) for log in results.logs[c.key]] for c in results.cells},
     )

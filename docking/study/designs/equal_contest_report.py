@@ -243,7 +243,7 @@ def grid_panels(results) -> tuple[list[dict], dict]:
     (rows of panels) and learner (columns), every point searched on the grid seeds (the common
     grid and the extension's points around it) by its mean held-out success; marks at the
     chosen setting (star) and the published or default one (circle)."""
-    from docking.study.analysis import landscape
+    from docking.study.arrays import landscape
 
     panels, marks = [], {}
     picked = chosen(results)

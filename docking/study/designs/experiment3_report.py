@@ -10,7 +10,6 @@ import numpy as np
 
 from docking.study.report import md_table
 from docking.study.stats import Interval, difference_ci, removed_share_ci
-from docking.world import DockingEnv
 
 
 @dataclasses.dataclass(frozen=True)
@@ -111,32 +110,6 @@ def rotation_verdict(comparisons: list[Comparison], rule) -> tuple[str, Interval
     if found.removed is None:
         raise ValueError("the four-action learner never failed: nothing to remove")
     return rule.decide(found.removed), found.removed
-
-
-def failure_shares(
-    results, keys: list[str], n_seeds: int | None = None
-) -> tuple[np.ndarray, list[int]]:
-    """The failure taxonomy (:func:`docking.study.analysis.failure_taxonomy`) of the held-out
-    failures of each cell in ``keys``, its first ``n_seeds`` seeds (None: all) pooled:
-    ``(shares, failures)`` with
-    ``shares[k, c]`` the share of cell ``k``'s failed trials in class ``c`` (classes in the
-    order of :data:`docking.study.analysis.FAILURE_CLASSES`; NaN for a cell without failures)."""
-    from docking.study.analysis import FAILURE_CLASSES, failure_taxonomy
-
-    shares, failures = np.full((len(keys), len(FAILURE_CLASSES)), np.nan), []
-    for k, key in enumerate(keys):
-        env = DockingEnv(results.cell(key).config.world, seed=0)
-        counts, n = np.zeros(len(FAILURE_CLASSES)), 0
-        for log in results.logs[key][:n_seeds]:
-            failed = ~log.success
-            flags = failure_taxonomy(log, env, trials=np.flatnonzero(failed))
-            n += int(failed.sum())
-            counts += [int(flags[c][failed].sum()) for c in FAILURE_CLASSES]
-        env.close()
-        failures.append(n)
-        if n:
-            shares[k] = counts / n
-    return shares, failures
 
 
 def final_headings(results, key: str, n_seeds: int | None = None) -> np.ndarray:

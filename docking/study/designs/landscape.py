@@ -249,7 +249,7 @@ def panels(scores: dict) -> tuple[list[dict], dict]:
     """The figure's panels (:func:`docking.study.figures.fig_landscape`) and marks from
     :func:`run_scores`: per world, the paper's learner over beta_a x eps_W at its tuned eps_Q,
     linear SARSA over beta_a x eps_Q; the tuned setting starred, the published one circled."""
-    from docking.study.analysis import landscape
+    from docking.study.arrays import landscape
 
     names = {"floor": "floor world", "nao": "Nao-like world"}
     found, marks = [], {}
@@ -307,8 +307,8 @@ def searched(scores: dict, world: str, learner: str) -> dict[tuple, list[float]]
 def shares(folder=None, min_runs: int = 2) -> dict[tuple[str, str], tuple[int, int]]:
     """Per world and learner, ``(k, n)``: of the ``n`` settings the tuning searched with at
     least ``min_runs`` runs, the ``k`` whose mean success lies within :data:`MARGIN` of the
-    best of them (:func:`docking.study.analysis.share_near_best`)."""
-    from docking.study.analysis import share_near_best
+    best of them (:func:`docking.study.arrays.share_near_best`)."""
+    from docking.study.arrays import share_near_best
 
     scores = run_scores(TUNING_TABLES, folder)
     found = {}

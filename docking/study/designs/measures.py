@@ -53,7 +53,7 @@ def interpretability(n_seeds: Callable, views: int, min_views: int) -> Measure:
 @_unit("°", 2, "|heading error| at docking")
 def heading_error_deg(results, key: str) -> np.ndarray:
     """Per seed, the mean |heading error| (deg) at docking in the held-out trials."""
-    from docking.study.analysis import docked_heading_error_deg
+    from docking.study.arrays import docked_heading_error_deg
 
     return np.array([docked_heading_error_deg(log) for log in results.logs[key]])
 
@@ -61,7 +61,7 @@ def heading_error_deg(results, key: str) -> np.ndarray:
 @_unit(" actions", 2, "actions per docking")
 def actions_per_docking(results, key: str) -> np.ndarray:
     """Per seed, the mean actions of the docked held-out trials."""
-    from docking.study.analysis import actions_per_docking as per_log
+    from docking.study.arrays import actions_per_docking as per_log
 
     return np.array([per_log(log) for log in results.logs[key]])
 
@@ -88,7 +88,7 @@ def regain(level: float, censored: float) -> Measure:
 def final_error_m(results, key: str) -> np.ndarray:
     """Per seed, the mean distance (m) of the final reference point from the docking
     region's centre, over the docked held-out trials."""
-    from docking.study.analysis import final_poses
+    from docking.study.arrays import final_poses
 
     centre = -results.cell(key).world.dock_center
     out = []
@@ -103,7 +103,7 @@ def final_error_m(results, key: str) -> np.ndarray:
 @_unit(" m", 3, "metres walked per docking")
 def metres_per_docking(results, key: str) -> np.ndarray:
     """Per seed, the mean distance walked (m) in the docked held-out trials."""
-    from docking.study.analysis import path_lengths
+    from docking.study.arrays import path_lengths
 
     out = []
     for log in results.logs[key]:

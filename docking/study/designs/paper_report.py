@@ -1,23 +1,29 @@
 """The report of the paper's design (:mod:`docking.study.designs.paper`): Experiments 1 and 2
-beside the paper's numbers (:func:`results_table`, the README's first table) and the callers
-of the paper's figures (``save_fig*``: each computes the figure's arrays with
-:mod:`docking.study.analysis`, draws them with :mod:`docking.study.figures`, saves the figure,
-``.png`` and ``.pdf``, and returns it; :func:`save_figures` makes every one from the runs of
-both experiments).
+beside the paper's numbers (:func:`results_table`, the README's first table) and the paper's
+figures (``save_fig*``: each takes the runs and the arrays the world gives them, computed by
+the caller with :mod:`docking.study.analysis` (the rendered views, the mean inputs over
+rendered start views, the floor plan), computes the rest with :mod:`docking.study.arrays`,
+draws them with :mod:`docking.study.figures`, saves the figure, ``.png`` and ``.pdf``, and
+returns it; ``python -m docking figures`` makes every one from the runs of both
+experiments).
 """
 
 from __future__ import annotations
 
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import numpy as np
 from matplotlib.figure import Figure
 
-from docking.experiments import ExperimentResult, initial_network
+from docking.camera import CameraConfig
 from docking.presets import HEADLINE_SEED
-from docking.study import analysis, figures
+from docking.study import arrays, figures
+from docking.study.arrays import ExampleViews, MeanInputs
 from docking.study.report import _folder, _pct, md_table
-from docking.world import DockingEnv
+
+if TYPE_CHECKING:  # runs are read here, never made
+    from docking.experiments import ExperimentResult
 
 #: The paper's figures (Sec. III).
 PAPER = {
@@ -102,7 +108,7 @@ def _efficiency_row(results: list[ExperimentResult]) -> tuple[str, str, str]:
     """Experiment 2's sample efficiency: per seed, the training trials at the first point of
     its learning curve (greedy trials from the full start region) at or above
     :data:`EFFICIENCY_LEVEL`."""
-    trials = analysis.trials_to_level(results, EFFICIENCY_LEVEL)
+    trials = arrays.trials_to_level(results, EFFICIENCY_LEVEL)
     reached = trials[~np.isnan(trials)]
     r = results[0]
     return (
@@ -135,29 +141,34 @@ def heldout_rows(
     return rows
 
 
-def save_fig2(env: DockingEnv, folder: Path | str | None = None) -> Figure:
-    """Fig. 2 (the scene) from ``env``'s world, saved as ``fig2_scene`` in ``folder`` (default
-    :data:`docking.study.figures.FIGURES_DIR`). ``env`` is moved to the example poses."""
-    views = analysis.example_views(env)
-    overview = analysis.overview(env, views.poses[1])
-    fig = figures.fig2_scene(env.config.camera, views, overview)
+def save_fig2(
+    camera: CameraConfig,
+    views: ExampleViews,
+    overview: np.ndarray,
+    folder: Path | str | None = None,
+) -> Figure:
+    """Fig. 2 (the scene) of the three example ``views`` and the ``overview`` render at the
+    middle one (:func:`docking.study.analysis.example_views`,
+    :func:`docking.study.analysis.overview`), seen by ``camera``, saved as ``fig2_scene`` in
+    ``folder`` (default :data:`docking.study.figures.FIGURES_DIR`)."""
+    fig = figures.fig2_scene(camera, views, overview)
     figures.save_figure(fig, _folder(folder) / "fig2_scene")
     return fig
 
 
 def save_fig3(
-    result: ExperimentResult, env: DockingEnv, folder: Path | str | None = None
+    result: ExperimentResult, views: ExampleViews, folder: Path | str | None = None
 ) -> Figure:
     """Fig. 3 (Experiment 1's views, decisions and receptive fields) of ``result``, saved as
-    ``fig3_experiment1``; ``env`` renders the three views (its camera should be the run's)."""
+    ``fig3_experiment1``; ``views``: the three example views rendered in the run's world
+    (:func:`docking.study.analysis.example_views`)."""
     net = result.network
-    views = analysis.example_views(env)
-    action_rf, feature_rf = analysis.receptive_fields(net, result.config.world.camera.input_shape)
+    action_rf, feature_rf = arrays.receptive_fields(net, result.config.world.camera.input_shape)
     fig = figures.fig3(
         result.config,
         result.seed,
         views,
-        analysis.decisions(net, views.inputs),
+        arrays.decisions(net, views.inputs),
         action_rf,
         feature_rf,
         net.Q,
@@ -167,36 +178,44 @@ def save_fig3(
 
 
 def save_fig4(
-    result: ExperimentResult, folder: Path | str | None = None, n_samples: int = 1500
+    result: ExperimentResult,
+    mean_inputs: MeanInputs,
+    initial_rf: np.ndarray,
+    folder: Path | str | None = None,
 ) -> Figure:
-    """Fig. 4 (Experiment 2's receptive fields, the mean input of each unit over
-    ``n_samples`` start views, and the feature units at their random start) of ``result``,
-    saved as ``fig4_experiment2``."""
+    """Fig. 4 (Experiment 2's receptive fields, the mean input of each unit over start views,
+    and the feature units at their random start) of ``result``, saved as
+    ``fig4_experiment2``; ``mean_inputs``: :func:`docking.study.analysis.mean_winning_inputs`
+    of its network in its world; ``initial_rf``: :func:`docking.study.analysis.start_fields`
+    of it."""
     net = result.network
-    action_rf, feature_rf = analysis.receptive_fields(net, result.config.world.camera.input_shape)
-    mean_inputs = analysis.mean_winning_inputs(net, result.config.world, n=n_samples)
-    start = initial_network(result.config, result.seed)
+    action_rf, feature_rf = arrays.receptive_fields(net, result.config.world.camera.input_shape)
     fig = figures.fig4(
         result.config,
         result.seed,
         action_rf,
         feature_rf,
         mean_inputs,
-        analysis.strongest_units(net.Q),
-        initial_rf=analysis.receptive_fields(start, result.config.world.camera.input_shape)[1],
+        arrays.strongest_units(net.Q),
+        initial_rf=initial_rf,
     )
     figures.save_figure(fig, _folder(folder) / "fig4_experiment2")
     return fig
 
 
 def save_fig5(
-    result: ExperimentResult, folder: Path | str | None = None, n: int = 30, seed: int = 0
+    result: ExperimentResult,
+    plan: dict,
+    folder: Path | str | None = None,
+    n: int = 30,
+    seed: int = 0,
 ) -> Figure:
-    """Fig. 5 (``n`` sample test trajectories of ``result``, chosen with ``seed``), saved as
+    """Fig. 5 (``n`` sample test trajectories of ``result``, chosen with ``seed``, on its
+    world's floor plan ``plan``, :func:`docking.study.analysis.floor_plan`), saved as
     ``fig5_trajectories``."""
-    sample = analysis.trajectory_sample(result.test, n, seed)
+    sample = arrays.trajectory_sample(result.test, n, seed)
     label = f"{result.config.name}, seed {result.seed}"
-    fig = figures.fig5(result.config.world, sample, label, shade_seed=seed)
+    fig = figures.fig5(result.config.world, plan, sample, label, shade_seed=seed)
     figures.save_figure(fig, _folder(folder) / "fig5_trajectories")
     return fig
 
@@ -208,27 +227,10 @@ def save_learning_curves(
 ) -> Figure:
     """The learning curves of both experiments (an empty list skips one), saved as
     ``learning_curves``."""
-    curves = [analysis.learning_curves(r) if len(r) else None for r in (results1, results2)]
+    curves = [arrays.learning_curves(r) if len(r) else None for r in (results1, results2)]
     fig = figures.fig_learning_curves(*curves)
     figures.save_figure(fig, _folder(folder) / "learning_curves")
     return fig
-
-
-def save_figures(
-    results1: list[ExperimentResult],
-    results2: list[ExperimentResult],
-    folder: Path | str | None = None,
-) -> list[Figure]:
-    """Every figure: Fig. 2 (default world), Fig. 3 (headline run of ``results1``), Figs. 4
-    and 5 (headline run of ``results2``) and the learning curves."""
-    main1, main2 = headline(results1), headline(results2)
-    return [
-        save_fig2(DockingEnv(seed=0), folder),
-        save_fig3(main1, DockingEnv(main1.config.world, seed=0), folder),
-        save_fig4(main2, folder),
-        save_fig5(main2, folder),
-        save_learning_curves(results1, results2, folder),
-    ]
 
 
 #: The columns of :func:`experiment1_rows`' and :func:`experiment2_rows`' tables.

@@ -212,6 +212,11 @@ def changed_start_views(place, n: int = 300, seed: int = 0) -> tuple[int, int]:
     return int(sum(not np.array_equal(a, b) for a, b in zip(home, moved, strict=True))), n
 
 
+def changed_views(n: int = 300, seed: int = 0) -> dict[str, tuple[int, int]]:
+    """Per place of :func:`places`, :func:`changed_start_views` (what the report takes)."""
+    return {place: changed_start_views(world, n, seed) for place, world in places().items()}
+
+
 P = "paired"
 CLAIMS = (
     Claim(

@@ -13,24 +13,26 @@ from docking.study.report import _pct
 REVISITED_IN_README = ("relocation-height", "coping-early")
 
 
-def revisited_rows(results, rv) -> dict:
+def revisited_rows(results, rv, views: dict[str, tuple[int, int]]) -> dict:
     """What the revisit of relocation and coping (``results`` of ``rv``:
     :mod:`docking.study.designs.revisited`) measured, for its sentences and notebook 09: per
-    place, the start views it changes and the home networks' held-out success there and at
-    home; per change, each arm's early failure (mean over seeds) and the sign test of trials
-    to regain (``(sooner, signed pairs, p)``); and the decisions (Holm within each claim)."""
+    place, the start views it changes (``views``: ``{place: (changed, n)}``, rendered by the
+    caller, :func:`docking.study.designs.revisited.changed_views`) and the home networks'
+    held-out success there and at home; per change, each arm's early failure (mean over
+    seeds) and the sign test of trials to regain (``(sooner, signed pairs, p)``); and the
+    decisions (Holm within each claim)."""
     from docking.study.claims import judge_family, rate_interval
 
     design = results.design
     decisions = judge_family(design.claims, results, alpha=design.alpha, per_claim=True)
     places = {
         place: dict(
-            views=rv.changed_start_views(world),
+            views=views[place],
             home=rate_interval(results, "home/paper"),
             there=rate_interval(results, f"{place}/paper"),
             oracle=rate_interval(results, f"{place}/oracle"),
         )
-        for place, world in rv.places().items()
+        for place in rv.places()
     }
     changes = {}
     for change in rv.untested.CHANGES:
@@ -86,3 +88,29 @@ def revisited_summary(rows: dict, results, rv) -> str:
         f"against a fresh network: {change_text}. "
         + claims_summary(design.claims, rows["decisions"], design.alpha)
     )
+
+
+def relocation(results, rv, shifts: dict[str, np.ndarray]) -> dict:
+    """Relocation as measured, for the first screen (``results`` of the revisit ``rv``): a
+    camera-height change in the sideboard world, the camera ``rv.HEIGHT_CHANGE`` lower or
+    higher (the places ``sideboard higher`` and ``sideboard lower``: the landmark as if that
+    much higher or lower); the mean shift of the landmark in the start views in input rows at
+    each height, with its sign (up negative; ``shifts``: per place, each start view's shift,
+    :func:`docking.study.analysis.view_shift`, rendered by the caller), and each learner's
+    held-out success at home and at each height over the revisit's seeds, and the verdicts."""
+    from docking.study.claims import judge_family, rate_interval
+
+    found = dict(cm=100 * rv.HEIGHT_CHANGE, world="sideboard", seeds=len(rv.SEEDS))
+    found["shift lower"] = float(np.mean(shifts["sideboard higher"]))
+    found["shift higher"] = float(np.mean(shifts["sideboard lower"]))
+    found["shift"] = float(np.mean([abs(found["shift lower"]), abs(found["shift higher"])]))
+    names = {"sideboard higher": "camera lower", "sideboard lower": "camera higher"}
+    for learner, prefix in (("paper", ""), ("linear", "linear ")):
+        found[prefix + "home"] = rate_interval(results, f"home/{learner}").estimate
+        for place, name in names.items():
+            found[prefix + name] = rate_interval(results, f"{place}/{learner}").estimate
+    design = results.design
+    for d in judge_family(design.claims, results, alpha=design.alpha, per_claim=True):
+        if d.claim == "relocation-height":
+            found[f"verdict {names[d.world]}"] = d.verdict
+    return found

@@ -13,9 +13,12 @@ contest, the verdicts, the first screen, an episode's animation) :mod:`docking.s
 and what they share (saving, layout, colours, the floor plan)
 :mod:`docking.study.figures.common`; every figure function is importable from here.
 
-Every figure function takes the arrays that :mod:`docking.study.analysis` (or
-:mod:`docking.study.episodes`) computes, and configurations for geometry and labels, and returns
-a :class:`matplotlib.figure.Figure`; it renders nothing, runs no network and writes no file.
+Every figure function takes arrays (what :mod:`docking.study.arrays`,
+:mod:`docking.study.analysis` or :mod:`docking.study.episodes` computes; the floor plan a path
+is drawn on is :func:`docking.study.analysis.floor_plan`'s, passed in), and configurations
+for labels, and returns a :class:`matplotlib.figure.Figure`; it renders nothing, runs no
+network and writes no file, and imports neither the world, the renderer, the runs' code nor
+:mod:`docking.study.analysis` (an import contract of ``pyproject.toml``).
 Panels are laid out by matplotlib's constrained layout, grouped in subfigures, each headed by
 its bold panel letter. The caller saves the figure with :func:`save_figure` (``.png`` and
 ``.pdf``). The figures are drawn on matplotlib's Agg canvas without pyplot, so the library

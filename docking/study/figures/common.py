@@ -18,9 +18,6 @@ from docking.camera import CameraConfig
 from docking.fileio import atomic_write
 from docking.region import StartRegion
 from docking.scene import ACTION_LETTERS, WorldConfig
-from docking.study.analysis import (
-    floor_plan,
-)
 from docking.study.paths import figures_dir
 
 #: Where the notebooks write the figures (:func:`docking.study.paths.figures_dir` at import time).
@@ -195,11 +192,12 @@ def _view_title(name: str, pose) -> str:
     return f"{where}\n(x = {pose[0]:+.2f} m, y = {pose[1]:+.2f} m)"
 
 
-def draw_floor_plan(ax, config: WorldConfig, start_region: StartRegion | None = None) -> None:
-    """Draw the floor plan on ``ax`` (horizontal: y, inverted; vertical: x): the grey sideboard,
-    the landmark's red boxes, the yellow docking region and, dashed, the start trapezoid
-    (default the config's, ``StartRegion.of(config)``)."""
-    fp = floor_plan(config)
+def draw_floor_plan(ax, plan: dict, start_region: StartRegion) -> None:
+    """Draw the floor plan ``plan`` (rectangles ``(x0, y0, x1, y1)`` by name,
+    :func:`docking.study.analysis.floor_plan` of the world) on ``ax`` (horizontal: y, inverted;
+    vertical: x): the grey sideboard, the landmark's red boxes, the yellow docking region and,
+    dashed, the start trapezoid ``start_region`` (``StartRegion.of(world)`` for the world's)."""
+    fp = plan
     styles = {
         "sideboard": dict(facecolor=_SIDEBOARD_GREY, edgecolor="0.4", zorder=1),
         "landmark_slab": dict(facecolor=_LANDMARK_RED, edgecolor="none", zorder=2),
@@ -211,8 +209,7 @@ def draw_floor_plan(ax, config: WorldConfig, start_region: StartRegion | None = 
             continue
         x0, y0, x1, y1 = fp[name]
         ax.add_patch(Rectangle((y0, x0), y1 - y0, x1 - x0, **style))
-    region = start_region if start_region is not None else StartRegion.of(config)
-    corners = region.corners()[:, ::-1]  # (y, x): y is the horizontal axis
+    corners = start_region.corners()[:, ::-1]  # (y, x): y is the horizontal axis
     ax.add_patch(
         Polygon(
             corners,
@@ -231,10 +228,10 @@ def draw_floor_plan(ax, config: WorldConfig, start_region: StartRegion | None = 
     ax.set_ylabel("x (m), approach axis; landmark's front at x = 0")
 
 
-def _plan_extent(config: WorldConfig) -> tuple[float, float, float]:
+def _plan_extent(plan: dict) -> tuple[float, float, float]:
     """``(y_min, y_max, x_max)`` over the floor plan's rectangles (m): how far the furniture
     and the landmark reach across and beyond the landmark's front."""
-    rects = np.array(list(floor_plan(config).values()))
+    rects = np.array(list(plan.values()))
     return float(rects[:, 1].min()), float(rects[:, 3].max()), float(rects[:, 2].max())
 
 

@@ -1,7 +1,10 @@
-"""The paper's figures (Figs. 2-5) and the learning curves of its experiments, drawn from the
-arrays of :mod:`docking.study.analysis`; a single trial's path and the rewards to mastery."""
+"""The paper's figures (Figs. 2-5) and the learning curves of its experiments, drawn from
+arrays (:mod:`docking.study.arrays`' and :mod:`docking.study.analysis`', computed by the
+caller); a single trial's path and the rewards to mastery."""
 
 from __future__ import annotations
+
+from typing import TYPE_CHECKING
 
 import numpy as np
 from matplotlib import colormaps
@@ -10,17 +13,15 @@ from matplotlib.lines import Line2D
 from matplotlib.patches import Circle, Rectangle
 
 from docking.camera import CameraConfig
-from docking.experiments import ExperimentConfig
 from docking.region import StartRegion
 from docking.scene import WorldConfig, scene_facts
-from docking.study.analysis import (
+from docking.study.arrays import (
     Decisions,
     ExampleViews,
     LearningCurves,
     MeanInputs,
     TrajectorySample,
     best_actions,
-    floor_plan,
 )
 from docking.study.figures.common import (
     _DOCK_YELLOW,
@@ -39,6 +40,9 @@ from docking.study.figures.common import (
     draw_floor_plan,
     draw_trajectory,
 )
+
+if TYPE_CHECKING:  # a configuration's fields are read, no run is made
+    from docking.experiments import ExperimentConfig
 
 
 def fig2_scene(camera: CameraConfig, views: ExampleViews, overview: np.ndarray) -> Figure:
@@ -118,8 +122,8 @@ def fig3(
       seed: The run's seed (for the title).
       views: The three views (:func:`docking.study.analysis.example_views`).
       decisions: The network's decisions on ``views.inputs``
-        (:func:`docking.study.analysis.decisions`).
-      action_rf, feature_rf: :func:`docking.study.analysis.receptive_fields` of the network.
+        (:func:`docking.study.arrays.decisions`).
+      action_rf, feature_rf: :func:`docking.study.arrays.receptive_fields` of the network.
       Q: The network's action weights (for the unit titles).
     """
     shape = config.world.camera.input_shape
@@ -357,9 +361,9 @@ def fig4(
     Args:
       config: The experiment (input shape and labels).
       seed: The run's seed (for the title).
-      action_rf, feature_rf: :func:`docking.study.analysis.receptive_fields` of the network.
+      action_rf, feature_rf: :func:`docking.study.arrays.receptive_fields` of the network.
       mean_inputs: :func:`docking.study.analysis.mean_winning_inputs` of the network.
-      framed: :func:`docking.study.analysis.strongest_units` of the network.
+      framed: :func:`docking.study.arrays.strongest_units` of the network.
       columns: Grid columns; default ``ceil(sqrt(n_features))``.
       initial_rf: The feature units' receptive fields at the run's random start (the same
         seed's initial ``W``: what W frozen, eps_W = 0, keeps), drawn as a third block C, so
@@ -378,6 +382,7 @@ def fig4(
 
 def fig5(
     config: WorldConfig,
+    plan: dict,
     sample: TrajectorySample,
     label: str,
     start_region: StartRegion | None = None,
@@ -391,8 +396,8 @@ def fig5(
     ``scene_facts().robot_radius``) drawn once at the end of a successful trial for scale.
 
     Args:
-      config: The world (floor plan, docking region, start region).
-      sample: The trials to show (:func:`docking.study.analysis.trajectory_sample`).
+      config, plan: The world (docking and start region), its floor plan (``analysis.floor_plan``).
+      sample: The trials to show (:func:`docking.study.arrays.trajectory_sample`).
       label: Names the run in the title, e.g. ``"experiment2, seed 0"``.
       start_region: The start trapezoid to draw; default the config's.
       shade_seed: Seeds the order of the shades of green (so neighbouring paths differ).
@@ -402,7 +407,7 @@ def fig5(
     bad = [m for m in range(len(sample.indices)) if not sample.success[m]]
     paths = dict(enumerate(sample.paths))
 
-    fig, ax = _plan_axes(config, region, list(paths.values()))
+    fig, ax = _plan_axes(plan, region, list(paths.values()))
 
     # Shades of green, shuffled (seeded) so that neighbouring paths differ.
     shades = colormaps["Greens"](np.linspace(0.45, 0.95, max(len(ok), 1)))
@@ -437,11 +442,11 @@ def fig5(
     return fig
 
 
-def _plan_axes(config: WorldConfig, region: StartRegion, paths: list[np.ndarray]):
+def _plan_axes(plan: dict, region: StartRegion, paths: list[np.ndarray]):
     """A figure and its axes for a floor plan seen from above: the plotted area holds the
-    floor plan, the start region and every path of ``paths``, plus a margin, with one metre
+    floor plan ``plan``, the start region and every path of ``paths``, plus a margin, with one metre
     drawn the same length on both axes and +y (the robot's left) on the left."""
-    y_min, y_max, x_max = _plan_extent(config)
+    y_min, y_max, x_max = _plan_extent(plan)
     ys = np.concatenate(
         [[region.half_width(region.far), -region.half_width(region.far), y_min, y_max]]
         + [p[:, 1] for p in paths]
@@ -454,7 +459,7 @@ def _plan_axes(config: WorldConfig, region: StartRegion, paths: list[np.ndarray]
     plot_w, plot_h = inch_per_m * (y_hi - y_lo), inch_per_m * (x_hi - x_lo)
     fig = _new_figure(max(plot_w, 3.6) + 1.3, plot_h + 2.1)
     ax = fig.add_subplot()
-    draw_floor_plan(ax, config, region)
+    draw_floor_plan(ax, plan, region)
     ax.set_xlim(y_hi, y_lo)  # inverted: +y (the robot's left) on the left
     ax.set_ylim(x_lo, x_hi)
     return fig, ax
@@ -517,7 +522,7 @@ def fig_learning_curves(curves1: LearningCurves | None, curves2: LearningCurves 
     """Learning curves of both experiments (not a figure of the paper).
 
     One column per experiment with curves (``None`` skips its column), from
-    :func:`docking.study.analysis.learning_curves`. Top: test success rate (greedy trials from the
+    :func:`docking.study.arrays.learning_curves`. Top: test success rate (greedy trials from the
     full start region) against training trials; thin lines one per seed, the thick line their
     mean; a diamond per seed at the end is the final test's success rate; dashed, the paper's
     final result (100% and 95%). Middle: mean actions of the successful test trials, with the
@@ -616,9 +621,12 @@ def _curriculum_panel(ax, curves: LearningCurves, color) -> None:
     ax.set_xlabel("training trials")
 
 
-def fig_trial(config: WorldConfig, poses: np.ndarray, title: str, color="green") -> Figure:
-    """One trial seen from above (``poses``: rows ``[x, y, yaw]``) on the floor plan, framed
-    to the start region and the sideboard: the path, an arrow at each pose pointing where
+def fig_trial(
+    config: WorldConfig, plan: dict, poses: np.ndarray, title: str, color="green"
+) -> Figure:
+    """One trial seen from above (``poses``: rows ``[x, y, yaw]``) on the floor plan ``plan``
+    of the world ``config`` (:func:`docking.study.analysis.floor_plan`), framed to the start
+    region and the sideboard: the path, an arrow at each pose pointing where
     the robot faces, and a legend of every mark."""
     from matplotlib.lines import Line2D
     from matplotlib.patches import Patch
@@ -627,7 +635,7 @@ def fig_trial(config: WorldConfig, poses: np.ndarray, title: str, color="green")
     region = StartRegion.of(config)
     fig = _new_figure(6.4, 6.8)
     ax = fig.add_subplot()
-    draw_floor_plan(ax, config, region)
+    draw_floor_plan(ax, plan, region)
     draw_trajectory(ax, poses, color)
     length = 0.08  # m: the arrows' length on the plan
     ax.quiver(
@@ -644,7 +652,7 @@ def fig_trial(config: WorldConfig, poses: np.ndarray, title: str, color="green")
         zorder=5,
     )
     ax.set_title(title)
-    ax.set_ylim(-region.far - 0.1, _plan_extent(config)[2] + 0.05)
+    ax.set_ylim(-region.far - 0.1, _plan_extent(plan)[2] + 0.05)
     ax.set_xlim(region.half_width(region.far) + 0.1, -region.half_width(region.far) - 0.1)
     handles = [
         Line2D([], [], color=color, marker=".", lw=1.1, label="path (a dot after each step)"),
@@ -654,7 +662,7 @@ def fig_trial(config: WorldConfig, poses: np.ndarray, title: str, color="green")
         Patch(fill=False, linestyle="--", edgecolor="0.45", label="start region"),
         Patch(facecolor=_LANDMARK_RED, label="landmark"),
     ]
-    if "sideboard" in floor_plan(config):
+    if "sideboard" in plan:
         handles.append(Patch(facecolor=_SIDEBOARD_GREY, edgecolor="0.4", label="sideboard"))
     ax.legend(handles=handles, fontsize=7, loc="upper left", bbox_to_anchor=(1.02, 1.0))
     return fig

@@ -616,7 +616,7 @@ def fig_landscape(
 
     Args:
       panels: Each ``{"world", "learner", "title", "row_label", "col_label", "grid"}`` with
-        ``grid`` a :class:`docking.study.analysis.Landscape` (rows: the y axis, bottom up).
+        ``grid`` a :class:`docking.study.arrays.Landscape` (rows: the y axis, bottom up).
       marks: ``{(world, learner): [(label, (row value, column value)), ...]}``; the first
         label of each kind gets a star, the second a circle (in the legend).
     """
