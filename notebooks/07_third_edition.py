@@ -665,12 +665,13 @@ display(Markdown("\n".join(lines)))
 
 # %% tags=["hide-input"]
 from docking.study.designs import landscape as lsc  # noqa: E402
+from docking.study.designs import landscape_report as lscr  # noqa: E402
 
 scores = lsc.run_scores()
-fig = figures.fig_landscape(*lsc.panels(scores))
+fig = figures.fig_landscape(*lscr.panels(scores))
 display(Image(filename=str(save_named(fig, "fragility_landscape_searches"))))
-near = lsc.shares()
-display(Markdown(lsc.shares_sentence(near)))
+near = lscr.shares()
+display(Markdown(lscr.shares_sentence(near)))
 for (w, learner), (k, n) in near.items():
     assert 1 <= k <= n and n >= 10, (w, learner, k, n)  # the best is near itself; a real search
 published = {w: contest.score(f"{w}/paper").mean() for w in ad.WORLDS}
