@@ -14,7 +14,7 @@ import numpy as np
 import pytest
 from helpers import SEEDS, TINY
 
-from docking.study import analysis, derived, ledger, verify
+from docking.study import analysis, derived, ledger, ledger_rows, verify
 from docking.study.cli import main
 from docking.study.store import run_or_load
 
@@ -149,7 +149,7 @@ def _forge(folder: Path, change) -> None:
     with np.load(path) as found:
         table = {k: found[k] for k in found.files}
     table["success"] = change(table["success"])
-    path.write_bytes(ledger._npz(table))
+    path.write_bytes(ledger_rows.npz(table))
     manifest = folder / "manifest.json"
     data = json.loads(manifest.read_text())
     data["derived"]["oracle-labelled-success"] = hashlib.sha256(path.read_bytes()).hexdigest()

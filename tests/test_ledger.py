@@ -16,7 +16,7 @@ import pytest
 from helpers import SEEDS, TINY
 
 from docking.experiments import run_experiment
-from docking.study import arrays, kinds, ledger, store, verify
+from docking.study import arrays, kinds, ledger, ledger_rows, store, verify
 from docking.study.kinds import (
     CorruptResult,
     StaleCode,
@@ -103,7 +103,7 @@ def test_a_table_run_serves_its_per_trial_arrays_and_none_of_the_rest(short_buil
             assert log.trial_actions(k).tobytes() == whole.trial_actions(k).tobytes()
         docked = np.flatnonzero(whole.success)
         if docked.size:
-            with pytest.raises(ledger.NotInLedger, match="path of trial"):
+            with pytest.raises(ledger_rows.NotInLedger, match="path of trial"):
                 log.trial_poses(docked[0])
     assert failures, "the tiny run must fail some trials for this test to mean anything"
     # What the table does not keep is absent (None), not a substitute
@@ -112,7 +112,7 @@ def test_a_table_run_serves_its_per_trial_arrays_and_none_of_the_rest(short_buil
         log = getattr(served, part)
         assert log.poses is None and log.actions is None and log.deltas is None
         assert log.winners is None  # not asked for
-    with pytest.raises(ledger.NotInLedger, match="'tiny' seed 1.*whole"):
+    with pytest.raises(ledger_rows.NotInLedger, match="'tiny' seed 1.*whole"):
         served.test.trial_poses(int(np.flatnonzero(stored.test.success)[0]))
 
 
@@ -135,9 +135,9 @@ def test_a_table_keeps_the_final_poses_it_is_asked_for(short_built, built, monke
         assert np.allclose(lengths, walked, rtol=0, atol=1e-12)
         assert lengths.tobytes() == arrays.path_lengths(whole).tobytes()
     without = _served(monkeypatch, built[0], 1)  # a table not asked for them
-    with pytest.raises(ledger.NotInLedger, match="final poses"):
+    with pytest.raises(ledger_rows.NotInLedger, match="final poses"):
         arrays.final_poses(without.heldout)
-    with pytest.raises(ledger.NotInLedger, match="path lengths"):
+    with pytest.raises(ledger_rows.NotInLedger, match="path lengths"):
         arrays.path_lengths(without.heldout)
 
 
@@ -512,7 +512,9 @@ def test_a_table_without_training_trials_serves_the_rest_and_no_training_log(
     """``no-train`` leaves each training trial's outcome out of the table: the held-out
     trials and the learning curve are served as before, the training trials refused."""
     folder, _, full, results = built
-    ledger.update([(TINY, 1, False, frozenset({ledger.NO_TRAIN}))], tmp_path / "ledger", results)
+    ledger.update(
+        [(TINY, 1, False, frozenset({ledger_rows.NO_TRAIN}))], tmp_path / "ledger", results
+    )
     with zipfile.ZipFile(tmp_path / "ledger" / "tables" / f"{TINY.name}.npz") as z:
         assert not [n for n in z.namelist() if n.startswith("train.")]
     served = _served(monkeypatch, tmp_path / "ledger", 1)
@@ -607,7 +609,7 @@ def test_each_kind_decodes_its_own_table_rows(name, monkeypatch):
     monkeypatch.setitem(kinds.RUNNERS, type(config), dataclasses.replace(runner, from_table=own))
     assert ledger.read(config, seed) == "decoded by its kind"
     (config_seen, seed_seen, row, logs, walls) = seen[0]
-    assert (config_seen, seed_seen) == (config, seed) and set(logs) == set(ledger.PARTS)
+    assert (config_seen, seed_seen) == (config, seed) and set(logs) == set(ledger_rows.PARTS)
     assert np.array_equal(logs["heldout"].success, served.heldout.success)
 
 

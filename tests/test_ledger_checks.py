@@ -20,7 +20,7 @@ import pytest
 from helpers import SEEDS, TINY, tool
 
 from docking.presets import EXPERIMENT_1
-from docking.study import ledger, verify
+from docking.study import ledger, ledger_rows, verify
 from docking.study.cli import main
 from docking.study.cli.ledger import _verify_plan
 from docking.study.kinds import result_path, run_key
@@ -211,7 +211,7 @@ def _forge_table(folder: Path, seed: int, column: str, change) -> None:
     start = int(np.sum(np.maximum(table[column + ".count"][:row], 0)))
     cells = table[column][start : start + table[column + ".count"][row]]
     table[column][start : start + len(cells)] = change(cells)
-    path.write_bytes(ledger._npz(table))
+    path.write_bytes(ledger_rows.npz(table))
 
     def edit(data):
         data["tables"]["tiny"] = hashlib.sha256(path.read_bytes()).hexdigest()
@@ -225,9 +225,11 @@ def _reseal_rows(folder: Path) -> None:
     the forged table, and the seals recomputed."""
 
     def edit(data):
-        rows = ledger._rows(ledger._table_bytes((folder / "tables" / "tiny.npz").read_bytes()))
+        rows = ledger_rows.rows(
+            ledger_rows.table_bytes((folder / "tables" / "tiny.npz").read_bytes())
+        )
         for key, cells in rows:
-            data["runs"][key]["row"] = ledger.row_digest(cells)
+            data["runs"][key]["row"] = ledger_rows.row_digest(cells)
 
     _edit(folder, edit, reseal=True)
 
@@ -281,16 +283,16 @@ def test_a_swap_of_rows_and_digests_resealed_is_caught_by_verify(copy):
     """Two runs' rows swapped in the table and their records' digests with them, resealed:
     every digest agrees with every file; recomputing shows both runs differ."""
     path = copy / "tables" / "tiny.npz"
-    table = ledger._table_bytes(path.read_bytes())
-    rows = dict(ledger._rows(table))
+    table = ledger_rows.table_bytes(path.read_bytes())
+    rows = dict(ledger_rows.rows(table))
     a, b = run_key(TINY, 0), run_key(TINY, 1)
     rows[a], rows[b] = rows[b], rows[a]
-    path.write_bytes(ledger._npz(ledger._columns(sorted(rows.items()))))
+    path.write_bytes(ledger_rows.npz(ledger_rows.columns(sorted(rows.items()))))
 
     def edit(data):
         data["tables"]["tiny"] = hashlib.sha256(path.read_bytes()).hexdigest()
         ra, rb = data["runs"][a], data["runs"][b]
-        ra["row"], rb["row"] = ledger.row_digest(rows[a]), ledger.row_digest(rows[b])
+        ra["row"], rb["row"] = ledger_rows.row_digest(rows[a]), ledger_rows.row_digest(rows[b])
         ra.pop("whole"), ra.pop("sha256")  # a whole run's file would give it away
         ra["digest"], rb["digest"] = rb["digest"], ra["digest"]
 
@@ -471,7 +473,7 @@ def test_a_part_of_no_trials_matches_its_empty_columns_and_only_those():
     empty (``test.ends`` of a yardstick run of no test trials); the recomputed run gives none:
     the row is the run's. An emptied column of a part with trials is still caught."""
     arrays = {**_log_arrays("test", 0), **_log_arrays("heldout", 2)}
-    cells = ledger._row(arrays, frozenset({"ends", "lengths", "paths"}))
+    cells = ledger_rows.row(arrays, frozenset({"ends", "lengths", "paths"}))
     cells |= {
         "test.ends": np.zeros((0, 3)),
         "test.lengths": np.zeros(0),
@@ -479,7 +481,9 @@ def test_a_part_of_no_trials_matches_its_empty_columns_and_only_those():
         "test.path.poses": np.zeros((0, 3)),
         "test.path.actions": np.zeros(0, dtype=np.int64),
     }
-    assert ledger.row_differences(arrays, cells) == []
+    assert ledger_rows.row_differences(arrays, cells) == []
     emptied = cells | {"heldout.ends": np.zeros((0, 3)), "heldout.lengths": np.zeros(0)}
-    assert ledger.row_differences(arrays, emptied) == ["heldout.ends", "heldout.lengths"]
-    assert ledger.row_differences(arrays, cells | {"test.ends": np.zeros((1, 3))}) == ["test.ends"]
+    assert ledger_rows.row_differences(arrays, emptied) == ["heldout.ends", "heldout.lengths"]
+    assert ledger_rows.row_differences(arrays, cells | {"test.ends": np.zeros((1, 3))}) == [
+        "test.ends"
+    ]

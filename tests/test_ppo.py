@@ -133,7 +133,7 @@ def test_the_ledger_serves_a_ppo_run_and_refuses_one_of_other_code(tiny_run, tmp
     arrays); served from it bit for bit; per-step data is not kept; other code is refused."""
     import json
 
-    from docking.study import ledger
+    from docking.study import ledger, ledger_rows
     from docking.study.sweep import run_configs
 
     folder, stored = tiny_run
@@ -152,7 +152,7 @@ def test_the_ledger_serves_a_ppo_run_and_refuses_one_of_other_code(tiny_run, tmp
     np.testing.assert_array_equal(served.train_success, stored.train_success)
     np.testing.assert_array_equal(served.heldout.success, stored.heldout.success)
     np.testing.assert_array_equal(served.heldout.steps, stored.heldout.steps)
-    with pytest.raises(ledger.NotInLedger, match="path of trial 0"):
+    with pytest.raises(ledger_rows.NotInLedger, match="path of trial 0"):
         served.heldout.trial_poses(0)
     monkeypatch.setattr("docking.study.ppo.run_ppo", lambda *a, **k: pytest.fail("recomputed"))
     (again,) = run_configs({"p": TINY}, [0], tmp_path / "s", workers=1, progress=False)["p"]

@@ -15,7 +15,7 @@ from helpers import TINY
 
 from docking.experiments import ExperimentConfig, TrialLog, run_experiment
 from docking.presets import EXPERIMENT_2
-from docking.study import kinds, ledger, runs, store, sweep
+from docking.study import kinds, ledger, ledger_rows, runs, store, sweep
 from docking.study.ppo import PPOConfig, PPOResult
 from docking.study.runs import load_run
 
@@ -142,7 +142,7 @@ def test_the_ledger_holds_both_kinds_in_one_table(both, monkeypatch, tmp_path):
     assert isinstance(served, PPOResult) and served.wall_time_train == 1.5
     np.testing.assert_array_equal(served.train_steps, ppo_run.train_steps)
     np.testing.assert_array_equal(served.heldout.success, ppo_run.heldout.success)
-    with pytest.raises(ledger.NotInLedger, match="path of trial 0"):
+    with pytest.raises(ledger_rows.NotInLedger, match="path of trial 0"):
         served.heldout.trial_poses(0)
     assert ledger.holds(PPO_TINY, 0, check=True) and not ledger.holds(PPO_TINY, 1)
 

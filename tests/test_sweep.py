@@ -373,7 +373,7 @@ def test_the_embedded_cluster_listens_on_loopback_only():
     """The scheduler, its dashboard and every worker's servers: no socket of the cluster's
     processes is bound to anything but 127.0.0.1 (whoever reaches a Dask scheduler can run
     code as its user)."""
-    from docking.study.sweep import _EmbeddedCluster
+    from docking.study.cluster import _EmbeddedCluster
 
     cluster = _EmbeddedCluster(2)
     try:
@@ -402,7 +402,7 @@ def test_bad_seeds_and_scheduler_addresses_are_refused_before_any_work(tmp_path)
 
 @pytest.mark.slow
 def test_a_scheduler_that_does_not_answer_is_a_clear_error(tmp_path):
-    from docking.study.sweep import _connect
+    from docking.study.cluster import _connect
 
     with socket.socket() as s:  # a port that nothing listens on
         s.bind(("127.0.0.1", 0))
@@ -581,7 +581,7 @@ def test_closing_our_cluster_logs_no_warning_of_its_own_shutdown():
     the terminal as the cluster closed). Here that heartbeat arrives, deterministically,
     while the cluster closes: nothing at WARNING. The same heartbeat while the cluster runs
     is still logged (a lost worker stays visible)."""
-    from docking.study.sweep import _EmbeddedCluster, _quiet_distributed
+    from docking.study.cluster import _EmbeddedCluster, _quiet_distributed
 
     collect = _Collect()
     scheduler_log = logging.getLogger("distributed.scheduler")
@@ -620,7 +620,7 @@ def test_the_embedded_cluster_keeps_its_scratch_in_its_own_folder(tmp_path, monk
     in-process scheduler wrote <tmp>/dask-scratch-space, Dask's default, and left it)."""
     import tempfile
 
-    from docking.study.sweep import _EmbeddedCluster, _quiet_distributed
+    from docking.study.cluster import _EmbeddedCluster, _quiet_distributed
 
     monkeypatch.setattr(tempfile, "tempdir", str(tmp_path))  # the system's temporary folder
     with _quiet_distributed():
@@ -648,7 +648,7 @@ def test_a_heartbeat_cut_by_the_workers_own_close_is_no_traceback_once_its_clust
     with scheduler during heartbeat." and its traceback (a heartbeat still waiting when the
     closing worker shut its connections). distributed logs it at ERROR: while the cluster
     runs it is news; once the cluster that started the worker closes it, it is our race."""
-    from docking.study.sweep import _QuietFailures
+    from docking.study.cluster import _QuietFailures
 
     closing = tmp_path / "closing"
     quiet = _QuietFailures(str(closing))
@@ -663,7 +663,7 @@ def test_a_terminals_ctrl_c_reaches_the_command_not_its_workers():
     """A terminal's Ctrl-C signals its foreground process group. The embedded cluster's
     workers live in a session of their own, so only the command hears it and closes them in
     order (the file they watch first); hearing it too, they raced that close (CI, stop 47)."""
-    from docking.study.sweep import _EmbeddedCluster
+    from docking.study.cluster import _EmbeddedCluster
 
     cluster = _EmbeddedCluster(2)
     try:
@@ -684,7 +684,7 @@ def test_a_niced_commands_workers_yield_the_cpu_as_it_does():
     cap: under ``nice -n 19 make test`` the command runs at 19, as its workers' groups do)
     (make test runs verify niced beside the tests)."""
     code = (
-        "from docking.study.sweep import _EmbeddedCluster\n"
+        "from docking.study.cluster import _EmbeddedCluster\n"
         "c = _EmbeddedCluster(1)\n"
         "print(open(f'/proc/{c._procs[0].pid}/autogroup').read().split()[-1])\n"
         "c.close()\n"
@@ -701,7 +701,7 @@ def test_a_niced_commands_workers_yield_the_cpu_as_it_does():
 
 
 def test_an_embedded_worker_is_quiet_below_error_once_its_cluster_closes(tmp_path):
-    from docking.study.sweep import _QuietFailures
+    from docking.study.cluster import _QuietFailures
 
     closing = tmp_path / "closing"
     quiet = _QuietFailures(str(closing))

@@ -16,7 +16,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from docking.study import ledger, verify
+from docking.study import ledger, ledger_rows, verify
 from docking.study.cli import main, parse
 from docking.study.cli.ledger import Verify, _duration, _verify_plan
 from docking.study.designs import replication as rp
@@ -174,12 +174,12 @@ def _forge(folder: Path, key: str, flips: int) -> float:
     assert len(failed) == flips, "too few failures to forge: choose another run"
     cells[failed] = True
     table[column][start : start + len(cells)] = cells
-    path.write_bytes(ledger._npz(table))
+    path.write_bytes(ledger_rows.npz(table))
     manifest = folder / "manifest.json"
     data = json.loads(manifest.read_text())
     data["tables"][DESIGN] = hashlib.sha256(path.read_bytes()).hexdigest()
-    for k, row_cells in ledger._rows(ledger._table_bytes(path.read_bytes())):
-        data["runs"][k]["row"] = ledger.row_digest(row_cells)
+    for k, row_cells in ledger_rows.rows(ledger_rows.table_bytes(path.read_bytes())):
+        data["runs"][k]["row"] = ledger_rows.row_digest(row_cells)
     data["seals"] = ledger.seals_of(data)
     manifest.write_text(json.dumps(data, indent=1, sort_keys=True) + "\n")
     _clear()

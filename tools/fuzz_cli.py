@@ -159,14 +159,14 @@ _FORGE = """
 import hashlib, sys
 from pathlib import Path
 import numpy as np
-from docking.study import ledger
+from docking.study import ledger_rows
 path, key = Path(sys.argv[1]) / "experiment1.npz", sys.argv[2]
 with np.load(path) as found:
     table = {k: found[k] for k in found.files}
 row, column = table["key"].tolist().index(key), "test.success"
 start = int(np.sum(np.maximum(table[column + ".count"][:row], 0)))
 table[column][start : start + table[column + ".count"][row]] = False
-path.write_bytes(ledger._npz(table))
+path.write_bytes(ledger_rows.npz(table))
 print(hashlib.sha256(path.read_bytes()).hexdigest())
 """
 #: The seals of the manifest read from stdin, as the package computes them (a forger who can

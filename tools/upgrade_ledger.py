@@ -1,9 +1,9 @@
 """Upgrade a ledger of format 7 to format 8 (issue 49), once, without recomputing a run.
 
 Format 8 adds to every run's record its *row digest* (the digest of the arrays its results
-table serves of it, :func:`docking.study.ledger.row_digest`), and seals each table's file digest
-with its runs' records (:func:`docking.study.ledger._seals`), so that a table rewritten and named
-anew in the manifest is refused unless the manifest is resealed. This reads a format-7
+table serves of it, :func:`docking.study.ledger_rows.row_digest`), and seals each table's file
+digest with its runs' records (:func:`docking.study.ledger._seals`), so that a table rewritten
+and named anew in the manifest is refused unless the manifest is resealed. This reads a format-7
 manifest, checks it as format 7 did (every table and whole run against its SHA-256, the
 format-7 seals of the runs' digests and wall times), computes each row digest from the table
 as committed, and writes the manifest again with the rows, the new seals and format 8;
@@ -23,7 +23,7 @@ import tempfile
 from pathlib import Path
 
 from docking.fileio import atomic_write
-from docking.study import ledger, paths
+from docking.study import ledger, ledger_rows, paths
 
 #: Format 7's sealed fields (its seal: the SHA-256 of these per run, in key order, per table).
 SEALED_7 = ("digest", "wall_time_train", "wall_time_test", "wall_seconds", "computed_utc")
@@ -51,9 +51,9 @@ def upgraded(folder: Path) -> dict:
         raise SystemExit(f"{folder}: the runs do not match their format-7 seals; not upgraded")
     for name, sha256 in raw["tables"].items():
         path = folder / "tables" / f"{name}.npz"
-        table = ledger._table_bytes(ledger._verified(path, sha256, folder))
-        for key, cells in ledger._rows(table):
-            raw["runs"][key]["row"] = ledger.row_digest(cells)
+        table = ledger_rows.table_bytes(ledger._verified(path, sha256, folder))
+        for key, cells in ledger_rows.rows(table):
+            raw["runs"][key]["row"] = ledger_rows.row_digest(cells)
     for key, record in raw["runs"].items():
         if "row" not in record:
             raise SystemExit(f"run {key[:16]} of {record['name']} is in no table; not upgraded")

@@ -151,7 +151,7 @@ class Design:
         the failure taxonomy reads); ``"starts"``, every trial's start pose; ``"networks"``,
         each run's W and Q; ``"winners"``, the winning unit of every test and held-out step;
         ``"ends"``, every test and held-out trial's final pose; ``"no-train"``
-        (:data:`docking.study.ledger.NO_TRAIN`), no training trial's outcome (where no analysis
+        (:data:`docking.study.ledger_rows.NO_TRAIN`), no training trial's outcome (where no analysis
         of the design reads them).
       networks: ``{cell key: seeds}``: runs whose W and Q the table keeps besides (as
         ``"networks"`` in :attr:`keep` does for every run).

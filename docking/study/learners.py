@@ -74,7 +74,7 @@ from docking.protocol import (
     training_env,
 )
 from docking.scene import WorldConfig
-from docking.study import kinds
+from docking.study import kinds, layouts
 from docking.study.learner_run import _check_counts, _functions, _run
 from docking.study.own_code import OwnCode
 from docking.study.own_code import own_code as _own_code
@@ -451,12 +451,12 @@ def _arrays(result: LearnerResult) -> dict[str, np.ndarray]:
 
 def _parse(data, config, seed: int, walls) -> LearnerResult:
     """A registered learner's run of the stored file ``data`` (its meta record checked)."""
-    expected = {"meta", "train_steps"} | {f"heldout.{n}" for n in kinds._TRIAL_LOG_LAYOUT}
-    kinds._expect_members(data, expected)
-    steps = kinds._array(data, "train_steps", "i", 1, 8)
+    expected = {"meta", "train_steps"} | {f"heldout.{n}" for n in layouts.TRIAL_LOG_LAYOUT}
+    layouts.expect_members(data, expected)
+    steps = layouts.array(data, "train_steps", "i", 1, 8)
     if steps.shape != (1,) or steps[0] < 0:
-        raise kinds.CorruptResult(f"train_steps must hold one count >= 0, got {steps!r:.80}")
-    heldout = kinds._trial_log(data, "heldout", config.heldout_trials, config.world.max_steps)
+        raise layouts.CorruptResult(f"train_steps must hold one count >= 0, got {steps!r:.80}")
+    heldout = layouts.trial_log(data, "heldout", config.heldout_trials, config.world.max_steps)
     return LearnerResult(config, seed, heldout, int(steps[0]), *walls)
 
 

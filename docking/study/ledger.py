@@ -28,15 +28,15 @@ a run shows that the arrays a reader is served are its arrays (``python -m docki
 verify``: every recomputed run is compared with its record's digest *and* with its table's
 row).
 
-A run read from a table is an ordinary result whose logs are :class:`TableLog` objects: what the
-table does not keep is ``None``. A ledger computed by other code raises :class:`StaleLedger`
-naming the changed modules. ``DOCKING_LEDGER=off`` turns the ledger off (every run is
-computed); ``DOCKING_LEDGER=/path`` reads another one.
+A run read from a table is an ordinary result whose logs are
+:class:`docking.study.ledger_rows.TableLog` objects (a table's rows are
+:mod:`docking.study.ledger_rows`): what the table does not keep is ``None``. A ledger computed
+by other code raises :class:`StaleLedger` naming the changed modules. ``DOCKING_LEDGER=off``
+turns the ledger off (every run is computed); ``DOCKING_LEDGER=/path`` reads another one.
 """
 
 from __future__ import annotations
 
-import dataclasses
 import functools
 import hashlib
 import io
@@ -48,17 +48,13 @@ from pathlib import Path
 
 import numpy as np
 
-from docking.experiments import TrialLog
 from docking.fileio import UnsafeFile, atomic_write, read_regular
-from docking.study import kinds, paths
+from docking.study import kinds, ledger_rows, paths
 from docking.validate import NAME_PATTERN, check_name
 
-__all__ = ["CorruptLedger", "NotInLedger", "StaleLedger", "TableLog", "holds", "read"]
+__all__ = ["CorruptLedger", "StaleLedger", "holds", "read"]
 
 LEDGER_FORMAT = 8  # the layout's version (8: row digests, tables' digests sealed)
-PARTS = ("train", "test", "heldout")
-STEPS = ("poses", "actions", "winners", "deltas")  # a trial log's per-step arrays
-NO_TRAIN = "no-train"
 TIMINGS_FILE = "timings.json"  # the tiers' measured times (tools/time_tiers.py)
 _RECOMPUTE = "make reproduce (recomputes the runs, then python -m docking ledger update)"
 _RESTORE = "check out the committed ledger again (git checkout -- ledger)"
@@ -77,7 +73,6 @@ DERIVED_SEAL = "(derived)"
 #: table's arrays may hold decompressed.
 MANIFEST_LIMIT = 64 << 20
 FILE_LIMIT = 256 << 20
-UNPACKED_LIMIT = 1 << 30
 #: A run's key: the SHA-256 of its configuration and code, and its seed.
 KEY_PATTERN = re.compile(r"[0-9a-f]{64}:seed(0|[1-9][0-9]*)")
 
@@ -88,44 +83,6 @@ class StaleLedger(RuntimeError):
 
 class CorruptLedger(StaleLedger):
     """A ledger file is damaged or not a ledger file."""
-
-
-class NotInLedger(LookupError):
-    """An analysis asked a table run for what its table does not keep."""
-
-
-@dataclasses.dataclass
-class TableLog(TrialLog):
-    """A trial log read from a results table. ``poses``, ``actions`` and ``deltas`` are
-    None (``winners`` too unless kept); ``start_poses``, ``ends`` and ``lengths`` are the
-    kept per-trial columns (None if not kept); ``paths`` maps a failed trial to its kept
-    ``(poses, actions)``."""
-
-    start_poses: np.ndarray | None = None
-    ends: np.ndarray | None = None
-    lengths: np.ndarray | None = None
-    paths: dict = dataclasses.field(default_factory=dict)
-    what: str = "a run"
-
-    @property
-    def starts(self) -> np.ndarray:
-        return self.require(self.start_poses, "the trials' start poses")
-
-    def trial_poses(self, k: int) -> np.ndarray:
-        return self.require(self.paths.get(int(k), (None,))[0], f"the path of trial {k}")
-
-    def trial_actions(self, k: int) -> np.ndarray:
-        return self.require(self.paths.get(int(k), (None, None))[1], f"the path of trial {k}")
-
-    def require(self, value, what: str):
-        """``value`` (a kept column), or :class:`NotInLedger` naming ``what`` if it is None."""
-        if value is None:
-            raise NotInLedger(
-                f"the ledger's table of {self.what} does not keep {what}: keep it in its "
-                "design (`keep`, or the run in `whole`; then python -m docking ledger "
-                "update), or compute it (DOCKING_LEDGER=off)"
-            )
-        return value
 
 
 def manifest(folder: Path | None = None) -> dict | None:
@@ -346,45 +303,6 @@ def _verified(path: Path, sha256: str, folder: Path | None = None) -> bytes:
     return raw
 
 
-def _rows(table: dict[str, np.ndarray]) -> list[tuple[str, dict]]:
-    """The rows of a results table's columns ``table``, as :func:`_columns` took them: per
-    run, its key and ``{column: its cells}`` (the columns it has none of left out)."""
-    names = [n for n in table if n + ".count" in table]
-    offsets = {
-        n: np.concatenate([[0], np.cumsum(np.maximum(table[n + ".count"], 0))]) for n in names
-    }
-    found = []
-    for row, key in enumerate(table["key"].tolist()):
-        cells = {}
-        for n in names:
-            count = int(table[n + ".count"][row])
-            if count >= 0:
-                start = int(offsets[n][row])
-                cells[n] = table[n][start : start + count]
-        found.append((key, cells))
-    return found
-
-
-def row_digest(cells: dict[str, np.ndarray]) -> str:
-    """The digest of a table row's cells (``{column: its cells}``, :func:`_rows`): what the
-    table serves of a run, by name, dtype, shape and bytes
-    (:func:`docking.study.kinds.content_digest`)."""
-    return kinds.content_digest(cells)
-
-
-def _table_bytes(raw: bytes) -> dict[str, np.ndarray]:
-    """The columns of a results table's (verified) bytes: a zip of ``.npy`` members holding
-    at most :data:`UNPACKED_LIMIT` bytes decompressed (checked before decompressing)."""
-    with zipfile.ZipFile(io.BytesIO(raw)) as archive:
-        unpacked = sum(info.file_size for info in archive.infolist())
-    if unpacked > UNPACKED_LIMIT:
-        raise ValueError(
-            f"its arrays would decompress to {unpacked} bytes, at most {UNPACKED_LIMIT}"
-        )
-    with np.load(io.BytesIO(raw), allow_pickle=False) as found:
-        return {k: found[k] for k in found.files}
-
-
 @functools.lru_cache(maxsize=8)
 def _table(path: Path, sha256: str) -> dict[str, np.ndarray]:
     """The columns of the results table ``path`` (checked against ``sha256``)."""
@@ -392,7 +310,7 @@ def _table(path: Path, sha256: str) -> dict[str, np.ndarray]:
     if not zipfile.is_zipfile(io.BytesIO(raw)):  # np.load would call it pickled data
         raise CorruptLedger(f"the ledger table {path} is not an .npz (zip) file; {_RESTORE}")
     try:
-        table = _table_bytes(raw)
+        table = ledger_rows.table_bytes(raw)
         keys = table["key"].tolist()
     except (OSError, ValueError, KeyError, zipfile.BadZipFile) as exc:
         raise CorruptLedger(
@@ -415,7 +333,7 @@ def table_rows(data: dict, name: str) -> dict[str, dict[str, np.ndarray]]:
     manifest is ``data`` (the file checked against its digest, each row against its
     record's row digest: :class:`CorruptLedger` naming the first that differs)."""
     path = data["folder"] / "tables" / f"{name}.npz"
-    rows = dict(_rows(_table(path, data["tables"][name])))
+    rows = dict(ledger_rows.rows(_table(path, data["tables"][name])))
     named = {k for k, r in data["runs"].items() if r["name"] == name}
     if set(rows) != named:
         raise CorruptLedger(
@@ -423,7 +341,7 @@ def table_rows(data: dict, name: str) -> dict[str, dict[str, np.ndarray]]:
             f"({len(rows)} in the table, {len(named)} named); {_RESTORE}"
         )
     for key, cells in rows.items():
-        if row_digest(cells) != data["runs"][key]["row"]:
+        if ledger_rows.row_digest(cells) != data["runs"][key]["row"]:
             raise CorruptLedger(
                 f"the ledger table {path}: the row of {name!r} seed {data['runs'][key]['seed']} "
                 f"is not the row its record names (row digest); {_RESTORE}"
@@ -441,9 +359,9 @@ def _served_row(data: dict, name: str, key: str) -> dict[str, np.ndarray]:
             f"the ledger table {path} does not hold the run of {name!r} seed "
             f"{data['runs'][key]['seed']} that the manifest names; {_RESTORE}"
         )
-    got = {n: _cell(table, n, row) for n in table if n + ".count" in table}
+    got = {n: ledger_rows.cell(table, n, row) for n in table if n + ".count" in table}
     got = {n: a for n, a in got.items() if a is not None}
-    if row_digest(got) != data["runs"][key]["row"]:
+    if ledger_rows.row_digest(got) != data["runs"][key]["row"]:
         raise CorruptLedger(
             f"the ledger table {path}: the row of {name!r} seed {data['runs'][key]['seed']} "
             f"is not the row its record names (row digest); {_RESTORE}"
@@ -486,7 +404,7 @@ def read(config, seed: int, key: str | None = None):
 def _from_row(config, seed: int, runner: kinds.Runner, got: dict, walls) -> object:
     """The run of (``config``, ``seed``) read from its table row ``got``, by its kind's
     :attr:`~docking.study.kinds.Runner.from_table`."""
-    logs = {p: _log(got, p, f"{config.name!r} seed {seed}") for p in PARTS}
+    logs = {p: ledger_rows.log(got, p, f"{config.name!r} seed {seed}") for p in ledger_rows.PARTS}
     return runner.from_table(config, seed, got, logs, walls)
 
 
@@ -547,114 +465,6 @@ def _check_keys(data: dict) -> None:
             )
 
 
-def _cell(table: dict, name: str, row: int) -> np.ndarray | None:
-    """Run number ``row``'s rows of column ``name`` (None if it has none)."""
-    counts = table[name + ".count"]
-    start = int(np.sum(np.maximum(counts[:row], 0)))
-    return table[name][start : start + counts[row]] if counts[row] >= 0 else None
-
-
-def _log(got: dict, part: str, what: str) -> TableLog | None:
-    """A run's log of ``part`` from its table columns ``got`` (None if they have none), with
-    the paths of the failed trials where the table keeps them."""
-    if f"{part}.start_far" not in got:
-        return None
-    kept, failed = {}, got.get(f"{part}.path.trial", ())
-    if len(failed):
-        steps = got[f"{part}.steps"][failed]
-        poses = np.split(got[f"{part}.path.poses"], np.cumsum(steps + 1)[:-1])
-        actions = np.split(got[f"{part}.path.actions"], np.cumsum(steps)[:-1])
-        kept = {int(k): path for k, *path in zip(failed, poses, actions, strict=True)}
-    columns = {f: got.get(f"{part}.{f}") for f in ("success", "steps", "start_far", "winners")}
-    return TableLog(
-        **columns,
-        poses=None,
-        actions=None,
-        deltas=None,
-        start_poses=got.get(f"{part}.starts"),
-        ends=got.get(f"{part}.ends"),
-        lengths=got.get(f"{part}.lengths"),
-        paths=kept,
-        what=what,
-    )
-
-
-def _npz(arrays: dict[str, np.ndarray]) -> bytes:
-    """``arrays`` as an ``.npz`` of LZMA-compressed members with fixed timestamps (the same
-    arrays, the same bytes)."""
-    buffer = io.BytesIO()
-    with zipfile.ZipFile(buffer, "w", zipfile.ZIP_LZMA) as archive:
-        for name, array in arrays.items():
-            info = zipfile.ZipInfo(f"{name}.npy", date_time=(1980, 1, 1, 0, 0, 0))
-            info.compress_type = zipfile.ZIP_LZMA
-            with archive.open(info, "w") as f:
-                np.lib.format.write_array(f, np.asanyarray(array), allow_pickle=False)
-    return buffer.getvalue()
-
-
-def _row(arrays: dict, keep: frozenset) -> dict[str, np.ndarray]:
-    """What a table keeps of a run's stored ``arrays`` as ``keep`` asks (module docstring)."""
-    from docking.study.arrays import final_poses, path_lengths
-
-    row, parts = {}, PARTS[1:] if NO_TRAIN in keep else PARTS
-    for name, array in arrays.items():
-        part, _, field = name.rpartition(".")
-        if name == "meta" or (part == "train" and (NO_TRAIN in keep or field == "winners")):
-            continue
-        if field in STEPS and not (field == "winners" and "winners" in keep):
-            continue
-        if name in ("W", "Q") and "networks" not in keep:
-            continue
-        row[name] = np.ravel(array) if name in ("W", "Q") else np.atleast_1d(array)
-    for part in (p for p in parts if f"{p}.poses" in arrays):
-        log = TrialLog(**{f.name: arrays[f"{part}.{f.name}"] for f in dataclasses.fields(TrialLog)})
-        if "starts" in keep:  # a part of no trials has no start pose: an empty column
-            row[f"{part}.starts"] = log.starts if len(log.success) else np.zeros((0, 3))
-        if "ends" in keep and part != "train":
-            row[f"{part}.ends"] = final_poses(log)
-        if "lengths" in keep and part != "train":
-            row[f"{part}.lengths"] = path_lengths(log)
-        if "paths" in keep and part != "train":  # the failed trials' poses and actions
-            failed = row[f"{part}.path.trial"] = np.flatnonzero(~log.success)
-            for f, empty in (("poses", np.zeros((0, 3))), ("actions", np.zeros(0, np.int64))):
-                paths = [getattr(log, f"trial_{f}")(k) for k in failed]
-                row[f"{part}.path.{f}"] = np.concatenate(paths) if paths else empty
-    return row
-
-
-#: Everything a table can keep of a run (``Design.keep``): a recomputed run's row with all
-#: of it holds every column any table row can have (:func:`row_differences`).
-EVERYTHING = frozenset({"starts", "ends", "lengths", "paths", "winners", "networks"})
-
-
-def row_differences(arrays: dict, cells: dict) -> list[str]:
-    """The columns of a table row ``cells`` (:func:`_rows`) that are not what the run's
-    ``arrays`` (as stored, or recomputed) give: each column's cells compared bit for bit, in
-    the table's dtype. A column the arrays cannot give counts as different (a part of no
-    trials gives its derived columns empty, as the tables have always kept them)."""
-    computed = _row(arrays, EVERYTHING)
-    differ = []
-    for name, cell in sorted(cells.items()):
-        mine = computed.get(name)
-        if mine is None or np.shape(mine) != cell.shape:
-            differ.append(name)
-            continue
-        ours = np.ascontiguousarray(np.asarray(mine).astype(cell.dtype, copy=False))
-        if ours.tobytes() != np.ascontiguousarray(cell).tobytes():
-            differ.append(name)
-    return differ
-
-
-def _columns(runs: list[tuple[str, dict]]) -> dict[str, np.ndarray]:
-    """The results table of ``runs`` (``(key, its row)`` each, :func:`_row`)."""
-    table, rows = {"key": np.array([key for key, _ in runs])}, [row for _, row in runs]
-    for name in sorted({n for row in rows for n in row}):
-        found = [row.get(name) for row in rows]
-        table[name] = np.concatenate([a for a in found if a is not None])
-        table[name + ".count"] = np.array([-1 if a is None else len(a) for a in found])
-    return table
-
-
 #: The results tables that several designs' runs share
 #: (:func:`docking.study.design.yardstick_config` names its runs so): :func:`update` with ``only``
 #: adds a design's new runs of them to the ledger's table, keeping its rows, instead of refusing to
@@ -700,13 +510,15 @@ def update(runs, folder: Path | str | None = None, results_dir=None, only=None, 
             records[key]["rules_sha256"] = rules[config.name]
         if whole:
             records[key]["whole"] = name = f"whole/{config.name}/{key[:16]}/seed{seed}.npz"
-            files[name] = _npz(arrays)
+            files[name] = ledger_rows.npz(arrays)
             records[key]["sha256"] = hashlib.sha256(files[name]).hexdigest()
-        tables.setdefault(config.name, []).append((key, _row(arrays, frozenset(keep))))
+        tables.setdefault(config.name, []).append((key, ledger_rows.row(arrays, frozenset(keep))))
     for name, found in tables.items():
-        files[f"tables/{name}.npz"] = _npz(_columns(sorted(found, key=lambda r: r[0])))
-        for key, cells in _rows(_table_bytes(files[f"tables/{name}.npz"])):
-            records[key]["row"] = row_digest(cells)  # what the table serves of the run
+        files[f"tables/{name}.npz"] = ledger_rows.npz(
+            ledger_rows.columns(sorted(found, key=lambda r: r[0]))
+        )
+        for key, cells in ledger_rows.rows(ledger_rows.table_bytes(files[f"tables/{name}.npz"])):
+            records[key]["row"] = ledger_rows.row_digest(cells)  # what the table serves of the run
     platform = kept["platform"] if only is not None else numeric_platform()
     migrations = kept["migrations"] if only is not None else _migrations_of(folder)
     data = _manifest(files, records, runners, configs, platform, migrations, _derived_of(folder))
@@ -735,7 +547,10 @@ def _kept_and_shared(folder: Path, only, runs) -> tuple[dict, dict]:
             f"name them too, or write the whole ledger"
         )
     # a table designs share: extended, its rows kept as they are
-    tables = {n: _rows(_table_bytes(kept["files"].pop(f"tables/{n}.npz"))) for n in outside}
+    tables = {
+        n: ledger_rows.rows(ledger_rows.table_bytes(kept["files"].pop(f"tables/{n}.npz")))
+        for n in outside
+    }
     return kept, tables
 
 
@@ -797,7 +612,7 @@ def write_derived(folder: Path | str, name: str, entries: dict[str, dict]) -> di
             raise ValueError(f"derived {name!r}: entries differ in their arrays ({fields})")
     columns = {"key": np.array(keys)}
     columns.update({f: np.stack([np.asarray(entries[k][f]) for k in keys]) for f in fields})
-    raw = _npz(columns)
+    raw = ledger_rows.npz(columns)
     atomic_write(folder / "derived" / f"{name}.npz", lambda f: f.write(raw))
     text = json.loads((folder / "manifest.json").read_text())
     text["derived"] = {**text.get("derived", {}), name: hashlib.sha256(raw).hexdigest()}

@@ -54,7 +54,7 @@ from pathlib import Path
 import numpy as np
 
 from docking.fileio import atomic_write, read_regular
-from docking.study import kinds, ledger, paths, store
+from docking.study import kinds, ledger, ledger_rows, paths, store
 
 __all__ = ["Migration", "MIGRATION_FIELDS", "migrate", "migrate_store", "sample"]
 
@@ -192,7 +192,7 @@ def _whole_file(raw: bytes, key: str) -> bytes:
     meta = json.loads(str(arrays["meta"]))
     meta["key"] = key
     arrays["meta"] = np.array(json.dumps(meta))
-    return ledger._npz(arrays)
+    return ledger_rows.npz(arrays)
 
 
 def _rekeyed(data: dict, keys: dict[str, str]) -> tuple[dict, dict]:
@@ -202,7 +202,7 @@ def _rekeyed(data: dict, keys: dict[str, str]) -> tuple[dict, dict]:
     for name in sorted(data["tables"]):
         rows = ledger.table_rows(data, name)  # each row checked against its record
         moved = sorted((keys[k], cells) for k, cells in rows.items())
-        files[f"tables/{name}.npz"] = ledger._npz(ledger._columns(moved))
+        files[f"tables/{name}.npz"] = ledger_rows.npz(ledger_rows.columns(moved))
     for key, record in data["runs"].items():
         new = dict(record, config=ledger._config_ref(record["config"]))
         if record.get("whole"):

@@ -167,7 +167,8 @@ def compare(data: dict, keys: list[str], jobs: list, scratch) -> list[Check]:
     manifest is ``data``: its content digest against its record's, its table row (read and
     checked against its record's row digest) against the row the recomputed run gives."""
     from docking.study.kinds import content_digest
-    from docking.study.ledger import row_differences, table_rows
+    from docking.study.ledger import table_rows
+    from docking.study.ledger_rows import row_differences
 
     rows: dict[str, dict] = {}
     checks = []
