@@ -1,5 +1,5 @@
 # Tiers, quickest first (each creates or reuses the virtual environment .venv):
-#   make check       ruff, the layers contract + the unit tests (no notebooks, no slow
+#   make check       ruff, the import contracts + the unit tests (no notebooks, no slow
 #                    tests): a few minutes
 #   make test        check + every notebook under nbmake, reading the committed ledger + the
 #                    slow tests and the docs site's + `verify --sample` (recomputes Experiments
@@ -51,7 +51,7 @@ experiments: setup
 	DOCKING_LEDGER=off $(PY) -m docking design run experiment3 experiment3-oracle
 	DOCKING_LEDGER=off $(PY) -m docking design run third-edition untested
 
-# ruff and the layers contract (import-linter): what check and test both run first.
+# ruff and the import contracts (import-linter): what check and test both run first.
 lint: setup
 	$(VENV)/bin/ruff format --check .
 	$(VENV)/bin/ruff check .
