@@ -119,3 +119,25 @@ def user_scripts(folder: Path) -> Path:
     (folder / "user_helper.py").write_text("ACTION = 0\n")
     (folder / "run_it.py").write_text(USER_SCRIPT)
     return folder / "run_it.py"
+
+
+#: The [ppo] extra's distributions (and what only they pull in), by their folders' prefixes.
+PPO_EXTRA = ("skrl", "jax", "jaxlib", "flax", "flaxlib", "optax", "orbax", "chex")
+
+
+def without_extra(tmp_path, env: dict, prefixes=PPO_EXTRA) -> tuple[list[str], dict]:
+    """A Python as a virtual environment without the [ppo] extra would be: this one's
+    site-packages linked entry by entry into a folder but for the extra's distributions
+    (modules and metadata), started with ``-S`` so that only that folder and the checkout
+    are on its path. ``(command prefix, env with that path)``."""
+    import os
+    import site
+    import sys
+
+    (packages,) = [Path(p) for p in site.getsitepackages() if Path(p).name == "site-packages"]
+    folder = tmp_path / "site-packages-without-extra"
+    folder.mkdir()
+    for entry in packages.iterdir():
+        if not entry.name.lower().startswith(prefixes) and entry.suffix != ".pth":
+            (folder / entry.name).symlink_to(entry)
+    return [sys.executable, "-S"], {**env, "PYTHONPATH": os.pathsep.join([str(ROOT), str(folder)])}

@@ -12,6 +12,7 @@ import sys
 from pathlib import Path
 
 import pytest
+from helpers import without_extra
 
 REPO = Path(__file__).resolve().parent.parent
 TINY = ["--train-trials", "4", "--test-trials", "3", "--eval-every", "2", "--eval-trials", "2"]
@@ -220,34 +221,12 @@ def test_a_run_of_an_installed_package_says_where_it_stored_it(tmp_path):
     assert again.returncode == 0 and "per-user data folder" not in again.stderr
 
 
-#: The [ppo] extra's distributions (and what only they pull in), by their folders' prefixes.
-PPO_EXTRA = ("skrl", "jax", "jaxlib", "flax", "flaxlib", "optax", "orbax", "chex")
-
-
-def without_extra(tmp_path, prefixes=PPO_EXTRA) -> tuple[list[str], dict]:
-    """A Python as a virtual environment without the [ppo] extra would be: this one's
-    site-packages linked entry by entry into a folder but for the extra's distributions
-    (modules and metadata), started with ``-S`` so that only that folder and the checkout
-    are on its path. ``(command prefix, environment)``."""
-    import site
-
-    (packages,) = [Path(p) for p in site.getsitepackages() if Path(p).name == "site-packages"]
-    folder = tmp_path / "site-packages-without-extra"
-    folder.mkdir()
-    for entry in packages.iterdir():
-        if not entry.name.lower().startswith(prefixes) and entry.suffix != ".pth":
-            (folder / entry.name).symlink_to(entry)
-    env = _env(tmp_path, DOCKING_LEDGER=str(REPO / "ledger"))
-    env["PYTHONPATH"] = os.pathsep.join([str(REPO), str(folder)])
-    return [sys.executable, "-S"], env
-
-
 @pytest.mark.slow
 def test_without_the_ppo_extra_the_published_ppo_rows_are_read_and_a_new_one_names_it(tmp_path):
     """Without the [ppo] extra the ledger's PPO runs are read as published (the same code,
     only the extra's libraries absent): the report runs; a PPO run that must be computed
     fails at once with the extra named and the line that installs it, not a stale ledger."""
-    python, env = without_extra(tmp_path)
+    python, env = without_extra(tmp_path, _env(tmp_path, DOCKING_LEDGER=str(REPO / "ledger")))
     code = (
         "import dataclasses, importlib.util\n"
         "assert importlib.util.find_spec('skrl') is None\n"

@@ -20,7 +20,7 @@ from pathlib import Path
 import numpy as np
 import outside_learner as outside
 import pytest
-from helpers import TINY, user_scripts
+from helpers import TINY, user_scripts, without_extra
 
 from docking import protocol
 from docking.experiments import ExperimentConfig, run_experiment
@@ -837,8 +837,10 @@ def test_the_guides_example_is_at_most_40_lines_of_a_new_kind_of_learner():
 @pytest.mark.slow
 def test_the_guides_example_run_as_a_script_from_another_folder_prints_its_table(tmp_path):
     """The guide's example saved as a script in a folder of its own and started from another
-    (issue 62): its learner runs on the embedded cluster's workers and it prints its table;
-    run again, it reads its stored runs."""
+    (issue 62), by a Python without the [ppo] extra (issue 59): its learner runs on the
+    embedded cluster's workers and it prints its table, every published row (PPO's too) read
+    from the ledger, its verdicts against the equal contest's judged rows; run again, it reads
+    its stored runs."""
     folder, elsewhere = tmp_path / "mine", tmp_path / "elsewhere"
     folder.mkdir()
     elsewhere.mkdir()
@@ -848,10 +850,13 @@ def test_the_guides_example_run_as_a_script_from_another_folder_prints_its_table
         "DOCKING_RESULTS": str(tmp_path / "results"),
         "DOCKING_LEDGER": str(ROOT / "ledger"),
     }
+    python, env = without_extra(tmp_path, env)
+    check = "import importlib.util as u; assert u.find_spec('skrl') is None"
+    assert subprocess.run([*python, "-c", check], env=env).returncode == 0
 
     def table() -> str:
         out = subprocess.run(
-            [sys.executable, str(folder / "kmeans_contest.py")],
+            [*python, str(folder / "kmeans_contest.py")],
             cwd=elsewhere,
             env=env,
             capture_output=True,
@@ -867,5 +872,7 @@ def test_the_guides_example_run_as_a_script_from_another_folder_prints_its_table
     assert any(r.startswith("| **kmeans-q, chosen (yours)** | 3 | 20 |") for r in rows)
     assert any(r.startswith("| linear SARSA, chosen | 20 | 500 |") for r in rows)
     assert any(r.startswith("| pose oracle | 5 | 500 |") for r in rows)
+    assert any(r.startswith("| sideboard | PPO |") for r in rows)  # read without the extra
+    assert "(the equal contest's rules)" in first and "3000-3019" not in first
     assert "computed now" in first and "none read" in first
     assert "0 computed now" in table()

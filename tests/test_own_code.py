@@ -198,3 +198,39 @@ def test_a_declared_data_file_is_keyed_and_an_undeclared_one_is_not(
         _learner(tmp_path, monkeypatch, "e", register=", files=('/no/such/file',)")
     with pytest.raises(TypeError, match="files must be a tuple of paths"):
         _learner(tmp_path, monkeypatch, "f", register=", files='weights.txt'")
+
+
+def test_a_distribution_installed_outside_the_site_folders_is_a_library(tmp_path, monkeypatch):
+    """A distribution whose folder is on the path another way (``pip install --target``, a
+    ``PYTHONPATH`` entry, a ``.pth`` line) is a library by its own file list, with its
+    compiled modules (found running the SB3 page in such an environment: numpy's extension
+    was refused as "a module of your own with no Python source"); a plain module beside it
+    and an editable install's source (its file list names only its ``.pth``) stay the user's."""
+    from docking.study import learner_run
+
+    target, source = tmp_path / "target", tmp_path / "src"
+    (target / "fakelib").mkdir(parents=True)
+    (target / "fakelib" / "__init__.py").write_text("")
+    (target / "fakelib" / "_ext.so").write_bytes(b"")
+    (target / "plain.py").write_text("")
+    (source / "mine").mkdir(parents=True)
+    (source / "mine" / "__init__.py").write_text("")
+    for name, files in (
+        ("fakelib", ["fakelib/__init__.py", "fakelib/_ext.so"]),
+        ("mine", ["__editable__.mine-1.0.pth"]),
+    ):
+        info = target / f"{name}-1.0.dist-info"
+        info.mkdir()
+        (info / "METADATA").write_text(f"Metadata-Version: 2.1\nName: {name}\nVersion: 1.0\n")
+        (info / "RECORD").write_text("".join(f"{f},,\n" for f in files))
+    (target / "__editable__.mine-1.0.pth").write_text(str(source) + "\n")
+    monkeypatch.syspath_prepend(str(target))
+    learner_run._distributed_paths.cache_clear()
+    try:
+        assert not learner_run.is_users_file(target / "fakelib" / "_ext.so")
+        assert not learner_run.is_users_file(target / "fakelib" / "__init__.py")
+        assert learner_run.is_users_file(target / "plain.py")
+        assert learner_run.is_users_file(source / "mine" / "__init__.py")
+    finally:
+        monkeypatch.undo()
+        learner_run._distributed_paths.cache_clear()

@@ -8,6 +8,8 @@ file). Every registered learner's runs are keyed by this module's code, as by
 
 from __future__ import annotations
 
+import functools
+import importlib.metadata
 import sys
 import sysconfig
 import time
@@ -47,17 +49,35 @@ def _installed_folders() -> tuple[Path, ...]:
     return tuple(sorted(folders))
 
 
+@functools.cache
+def _distributed_paths() -> frozenset[Path]:
+    """What the installed distributions put on the import path, by their own file lists
+    (``RECORD``): each one's top-level packages and modules, wherever its folder is (a
+    ``PYTHONPATH`` entry, a ``.pth`` line, ``pip install --target``), not only under this
+    Python's site folders. An editable install lists only its ``.pth`` and finder, so the
+    source it points to is not among them. Read once per process."""
+    found = set()
+    for dist in importlib.metadata.distributions():
+        tops = {f.parts[0] for f in dist.files or () if f.parts}
+        for top in tops:
+            if top in ("..", ".") or top.endswith((".dist-info", ".egg-info", ".data")):
+                continue
+            path = Path(dist.locate_file(top))
+            if path.exists():
+                found.add(path.resolve())
+    return frozenset(found)
+
+
 _DOCKING = Path(__file__).resolve().parents[1]
 
 
 def is_users_file(path: Path | str) -> bool:
     """Whether a module loaded from ``path`` is the user's own: a file outside the standard
-    library's, the installed distributions' and ``docking``'s folders."""
+    library's, the installed distributions' (their site folders and what their file lists
+    name, :func:`_distributed_paths`) and ``docking``'s folders."""
     path = Path(path).resolve()
-    for folder in (*_installed_folders(), _DOCKING):
-        if path == folder or folder in path.parents:
-            return False
-    return True
+    theirs = {*_installed_folders(), *_distributed_paths(), _DOCKING}
+    return not any(p in theirs for p in (path, *path.parents))
 
 
 def unkeyed_modules(before, keyed) -> list[tuple[str, str]]:
