@@ -46,15 +46,31 @@ def test_the_record_is_the_committed_rules():
     assert "def judgement(pairs: dict) -> dict:" in source and "class Ladder:" in source
 
 
-def test_the_live_design_is_the_record():
-    """Its constants, ladders and cells (keys, configurations, seeds) equal the record's."""
-    recorded, live = records.data(ec.NAME), ec.rules_data()
+def test_the_live_design_is_the_record_with_its_amendment():
+    """Its constants, ladders and cells (keys, configurations, seeds) equal the record's with
+    its one amendment applied (linear SARSA's eps_Q ladder stops at 2); the record itself is
+    the pinned text, and without the amendment the live design is not it."""
+    recorded, live = records.amended(ec.NAME), ec.rules_data()
     recorded["constants"].pop("procedure")
     assert live == recorded
+    (amendment,) = records.amendments(ec.NAME)
+    assert amendment["path"] == ["constants", "ladders", "linear", 1, "upper"]
+    assert (amendment["before"], amendment["after"]) == (None, ec.LMS_LIMIT)
+    original = records.data(ec.NAME)
+    original["constants"].pop("procedure")
+    assert live != original and records.digest(ec.NAME) == RULES_DIGEST
+
+
+def test_an_amendment_that_misstates_the_value_it_changes_is_refused(monkeypatch):
+    (amendment,) = records.amendments(ec.NAME)
+    wrong = {**amendment, "before": 1.0}
+    monkeypatch.setattr(records, "amendments", lambda name: [wrong])
+    with pytest.raises(ValueError, match="amendment 1.*is None, not 1.0"):
+        records.amended(ec.NAME)
 
 
 def test_a_changed_constant_or_cell_is_not_the_record(monkeypatch):
-    recorded = records.data(ec.NAME)
+    recorded = records.amended(ec.NAME)
     recorded["constants"].pop("procedure")
     monkeypatch.setattr(ec, "TOP_K", 2)
     assert ec.rules_data() != recorded
@@ -183,7 +199,8 @@ def test_a_rung_beyond_a_limit_is_never_searched():
     assert not ec.SEARCH.valid("floor", "ppo", (0, 6))  # 512 rollouts
     assert not ec.SEARCH.valid("floor", "ppo", (0, -4))  # half a rollout
     assert not ec.SEARCH.valid("floor", "ppo", (18, 0))  # a learning rate of 5
-    assert ec.SEARCH.valid("floor", "linear", (0, 5))  # eps_Q 3
+    assert not ec.SEARCH.valid("floor", "linear", (0, 5))  # eps_Q 3: amendment 1
+    assert ec.SEARCH.valid("floor", "linear", (0, 4))  # eps_Q 1
     assert ec.COL_LADDERS["linear"].value(1) == 0.03 and ec.COL_LADDERS["paper"].value(3) == 1.5
 
 

@@ -16,7 +16,18 @@ import hashlib
 import json
 from pathlib import Path
 
-__all__ = ["data", "digest", "exists", "folder", "parts", "procedure", "replay", "text"]
+__all__ = [
+    "amended",
+    "amendments",
+    "data",
+    "digest",
+    "exists",
+    "folder",
+    "parts",
+    "procedure",
+    "replay",
+    "text",
+]
 
 
 def folder() -> Path:
@@ -73,3 +84,37 @@ def replay(name: str) -> dict:
     """What design ``name``'s rules gave on the committed ledger's runs when its record was
     written (:func:`docking.study.designs.replay`)."""
     return json.loads(_path(name, ".replay.json").read_text())
+
+
+def amendments(name: str) -> list[dict]:
+    """The amendments of design ``name``'s rules, in order (``[]`` if none): each
+    ``{"design", "number", "path", "before", "after", "why", "seen"}``, ``path`` the keys and
+    indices into :func:`data` of the one value it changes."""
+    found = []
+    for path in sorted(folder().glob(f"{name}.amendment-*.json")):
+        amendment = json.loads(path.read_text())
+        if amendment.get("design") != name:
+            raise ValueError(f"{path} amends {amendment.get('design')!r}, not {name!r}")
+        found.append(amendment)
+    found.sort(key=lambda a: a["number"])
+    if [a["number"] for a in found] != list(range(1, len(found) + 1)):
+        raise ValueError(f"{name}'s amendments are not numbered 1, 2, ...: {found!r}")
+    return found
+
+
+def amended(name: str) -> dict:
+    """The rules of design ``name`` in force: its record (:func:`data`) with its amendments
+    applied, each checked to change the value it says it changes from the value it says."""
+    rules = data(name)
+    for amendment in amendments(name):
+        *parents, last = amendment["path"]
+        place = rules
+        for key in parents:
+            place = place[key]
+        if place[last] != amendment["before"]:
+            raise ValueError(
+                f"{name}'s amendment {amendment['number']}: {amendment['path']} is "
+                f"{place[last]!r}, not {amendment['before']!r} as it says"
+            )
+        place[last] = amendment["after"]
+    return rules

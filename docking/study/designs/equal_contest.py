@@ -34,7 +34,8 @@ The procedure, the same for the paper's learner, linear SARSA and PPO in each wo
    order row up, row down, column up, column down, until the stage has its points. So a best
    point on the grid's edge gets the rungs beyond it first, and every learner gets the same
    number of extension points. A rung that is not a valid configuration (a learning rate
-   above 1, fewer than one rollout) is a limit, never searched.
+   above 1, fewer than one rollout) is a limit, never searched; so is linear SARSA's eps_Q
+   above 2 (:data:`LMS_LIMIT`, amendment 1 below).
 3. **Selection**: the :data:`TOP_K` best *bracketed* points (every lattice neighbour searched or
    beyond a limit, so each chosen value is interior to what was searched) train again on
    :data:`SELECTION_SEEDS`, fresh; the best mean over those seeds alone is the learner's
@@ -68,6 +69,16 @@ seeds are matched, the trials are not paired):
   estimate beside them (no test).
 
 PPO is judged on the same seeds and shown beside them (its interval over seeds; no verdict).
+
+**Amendment 1** (``rules/equal-contest.amendment-1.json``, committed after one run was seen,
+before any run it changes): the first extension stage asked for linear SARSA at eps_Q 3, and
+that run stopped (Eq. (7)'s update would have made Q non-finite; nothing was stored), which
+would stop the whole contest. The rules named no outcome for a run that cannot finish. The
+amendment makes eps_Q above 2 a limit of linear SARSA's ladder (the normalised LMS bound: its
+input has unit length), of the same kind as the rules' other limits; no other learner's ladder
+changes. The 14 extension runs computed before it are all ones the amended rules ask for too.
+Its effect: linear SARSA's extension points go to rungs that can run, and eps_Q 1 counts as
+bracketed from above.
 
 Grid runs the committed ledger already holds (the landscape's fixed grid, seeds 5900-5901, and
 the tuning tables' runs of the same configurations on those seeds: :data:`READ_FROM`) are read
@@ -128,11 +139,18 @@ ROW_LADDERS = {
     "linear": Ladder((1, 2, 5), 0),
     "ppo": Ladder((1, 2, 5), -5),
 }
-#: Columns: rungs 0-4 are the grid. eps_W 0.05 ... 5; eps_Q 0.01 ... 1; rollouts 8 ... 128
-#: (at most 256: 16 copies x 512 rollouts make XLA's compile of the update take minutes).
+#: Linear SARSA's eps_Q above this is a limit (amendment 1, rules/equal-contest.amendment-1.json,
+#: committed before any run it changes): with unit-length input (``normalize_input``) Eq. (7)
+#: on linear SARSA is the normalised LMS rule, which overshoots its target and diverges for a
+#: step above 2; at eps_Q 3 the network refused an update that would make Q non-finite, and
+#: the run stopped with nothing stored.
+LMS_LIMIT = 2.0
+#: Columns: rungs 0-4 are the grid. eps_W 0.05 ... 5; eps_Q 0.01 ... 1 (at most
+#: :data:`LMS_LIMIT`); rollouts 8 ... 128 (at most 256: 16 copies x 512 rollouts make XLA's
+#: compile of the update take minutes).
 COL_LADDERS = {
     "paper": Ladder((5, 15), -2),
-    "linear": Ladder((1, 3), -2),
+    "linear": Ladder((1, 3), -2, upper=LMS_LIMIT),
     "ppo": Ladder((8,), 0, base=2, integer=True, upper=256),
 }
 
