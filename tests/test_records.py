@@ -166,4 +166,13 @@ def test_the_rules_commit_came_before_the_designs_first_run(name):
     times = [report.utc(r["computed_utc"]) for r in runs if r["name"] == name]
     assert times and min(times) > report.utc(provenance.RULES_COMMITS[name][1])
     ours = [r.get("rules_sha256") for r in runs if r["name"] == name and r.get("rules_sha256")]
-    assert set(ours) <= {records.digest(name)}
+    assert set(ours) <= {records.in_force_digest(name)}
+
+
+def test_the_rules_in_force_are_the_record_and_its_amendments():
+    """Without an amendment the digest in force is the record's; with one it is another (the
+    equal contest's), and it moves if the amendment's file does."""
+    assert records.in_force_digest("bracketing-replication") == records.digest(
+        "bracketing-replication"
+    )
+    assert records.in_force_digest("equal-contest") != records.digest("equal-contest")

@@ -23,6 +23,7 @@ __all__ = [
     "digest",
     "exists",
     "folder",
+    "in_force_digest",
     "parts",
     "procedure",
     "replay",
@@ -118,3 +119,18 @@ def amended(name: str) -> dict:
             )
         place[last] = amendment["after"]
     return rules
+
+
+def in_force_digest(name: str) -> str:
+    """The SHA-256 of design ``name``'s rules in force: the record's text's (:func:`digest`)
+    where it has no amendment, else of that text followed by each amendment record's bytes, in
+    order. What the ledger records beside each of the design's runs."""
+    files = sorted(
+        folder().glob(f"{name}.amendment-*.json"), key=lambda p: int(p.stem.rsplit("-", 1)[1])
+    )
+    if not files:
+        return digest(name)
+    found = hashlib.sha256(text(name).encode())
+    for path in files:
+        found.update(path.read_bytes())
+    return found.hexdigest()

@@ -46,14 +46,15 @@ def names() -> list[str]:
 
 
 def rules_digest(name: str) -> str | None:
-    """The SHA-256 of design ``name``'s rules as committed before its runs (its record's,
-    :mod:`docking.study.records`), or None for a design without committed rules: what the
+    """The SHA-256 of design ``name``'s rules as committed before its runs, with any
+    amendment committed before the runs it changes (:func:`docking.study.records.in_force_digest`),
+    or None for a design without committed rules: what the
     ledger records beside each of its runs (:func:`docking.study.ledger.update`'s
     ``rules``)."""
     from docking.study import records
 
     design(name)  # ValueError naming the designs
-    return records.digest(name) if records.exists(name) else None
+    return records.in_force_digest(name) if records.exists(name) else None
 
 
 def rules_data(name: str) -> dict:
