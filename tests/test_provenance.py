@@ -78,8 +78,9 @@ def test_each_deviation_is_the_history_s(deviation):
     shown = subprocess.run(git, capture_output=True, text=True, check=True, cwd=ROOT).stdout
     when, *paths = [line for line in shown.splitlines() if line]
     assert deviation.path in paths
-    module = old_path(MODULES[deviation.design])
-    added = ["git", "log", "--diff-filter=A", "--format=%cI", "--", module]
+    module = MODULES[deviation.design]  # where it was added: before issue 51 or since
+    places = [old_path(module), module.replace(".", "/") + ".py"]
+    added = ["git", "log", "--diff-filter=A", "--format=%cI", "--", *places]
     rules = subprocess.run(added, capture_output=True, text=True, check=True, cwd=ROOT).stdout
     assert report.utc(when) > report.utc(rules.split()[-1])
 

@@ -82,6 +82,18 @@ DEVIATIONS = (
         "those runs; the ledger of that time kept no computed times, so the order cannot be "
         "recomputed from it",
     ),
+    Deviation(
+        "equal-contest",
+        "rules amended after a run was seen (amendment 1): linear SARSA's eps_Q above 2 made a "
+        "limit after its run at eps_Q 3 stopped (Q would have become non-finite), which stopped "
+        "the contest; the rules named no outcome for a run that cannot finish",
+        "32a998bf5c83327480e03c2067ed2aeda55e7b89",
+        "rules/equal-contest.amendment-1.json",
+        "committed before any run it changes: the 14 extension runs stored before it are ones the "
+        "amended rules ask for too, and no selection or judged run existed; it moves linear "
+        "SARSA's extension points from rungs that diverge to rungs that run, and counts eps_Q 1 "
+        "as bracketed from above (the limit), which favours linear SARSA's search",
+    ),
 )
 
 
