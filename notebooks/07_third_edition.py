@@ -30,7 +30,10 @@
 #   (0.03, 0.03, 0.3): information from a longer search, which favours it.
 # * **Extension**: three stages of five points for every learner, the unsearched lattice
 #   neighbours of its best points in rank order (beyond the grid's edge where a best point
-#   lies on it).
+#   lies on it). A rung that cannot be a run is a limit, never searched: a learning rate above
+#   1, fewer than one rollout, and (**amendment 1**, committed after one run was seen and before
+#   any run it changes) linear SARSA's ε_Q above 2, where Eq. (7) on unit-length input (the
+#   normalised LMS rule) diverges: its first run at ε_Q 3 stopped with Q about to overflow.
 # * **Selection**: the three best *bracketed* points (every neighbour searched) on four fresh
 #   seeds (6500-6503); the best there is the chosen setting. 132 selection runs per learner and
 #   world, the same for each.
@@ -83,6 +86,7 @@ from docking.study.designs import equal_contest_report as ecr  # noqa: E402
 equal = ec.DESIGN.run(progress=False)
 verdicts = ecr.verdicts(equal)
 display(Markdown(ecr.verdict_table(equal)))
+display(Markdown(provenance.deviations_table(ec.NAME)))
 for v in verdicts.values():  # judged on 20 fresh seeds, matched across learners
     assert v["seeds"] == len(ec.SEEDS) >= 20
     assert v["low"] < v["lead"] < v["high"]
