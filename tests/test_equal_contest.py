@@ -293,3 +293,52 @@ def test_every_chosen_value_is_interior_to_the_grid_searched(monkeypatch):
         cols = {e.col.ladder.value(c) for _, c in searched}
         assert min(rows) < setting[e.row.field] < max(rows)
         assert min(cols) < setting[e.col.field] < max(cols)
+
+
+def _as_committed():
+    """The equal contest's module as its rules' commit held it (the source the record's
+    verbatim copy is taken from), executed apart from the package, with amendment 1 applied
+    to its ladders."""
+    import dataclasses
+    import sys
+    import types
+
+    source = subprocess.run(
+        ["git", "show", f"{RULES_COMMIT}:docking/study/designs/equal_contest.py"],
+        cwd=REPO,
+        capture_output=True,
+        text=True,
+        check=True,
+    ).stdout
+    module = types.ModuleType("equal_contest_as_committed")
+    sys.modules[module.__name__] = module
+    try:
+        exec(compile(source, f"{RULES_COMMIT}:equal_contest.py", "exec"), module.__dict__)
+    finally:
+        del sys.modules[module.__name__]
+    (amendment,) = records.amendments(ec.NAME)
+    assert amendment["path"][:3] == ["constants", "ladders", "linear"]
+    ladder = module.COL_LADDERS["linear"]
+    module.COL_LADDERS["linear"] = dataclasses.replace(ladder, upper=amendment["after"])
+    return module
+
+
+@pytest.mark.slow
+def test_the_committed_procedure_walks_the_live_cells_and_reaches_its_verdicts(monkeypatch):
+    """Replayed on the ledger's runs, the procedure as committed (with its amendment) asks for
+    exactly the live design's cells, stage by stage, configurations and seeds alike, and its
+    verdict functions reach the live verdicts: the live code (docking.study.designs.search)
+    is the committed procedure rewritten, not another one."""
+    from docking.study import design
+    from docking.study.designs import equal_contest_report as ecr
+
+    committed = _as_committed()
+    live = _from_ledger(monkeypatch)
+    d = committed.DESIGN
+    found = design._walk(d, d.select(False), lambda new, _: design._loaded(d, new), None)[1]
+    assert [(c.key, c.config, c.seeds) for c in found.cells] == [
+        (c.key, c.config, c.seeds) for c in live.cells
+    ]
+    found = ecr.judged(live)
+    pairs = {w: (found[w]["linear"], found[w]["paper"]) for w in ec.WORLDS}
+    assert committed.judgement(pairs) == ecr.verdicts(live)

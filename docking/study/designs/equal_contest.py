@@ -347,8 +347,9 @@ RULES = (
 def rules_data() -> dict:
     """The rules of the equal contest as data: its constants, its ladders and its grid cells
     (:func:`docking.study.design.rules_text`'s form, parsed). Its procedure is
-    :mod:`docking.study.designs.search`'s, checked against the record's verbatim copy by
-    replaying both on the ledger's runs (tests/test_equal_contest.py)."""
+    :mod:`docking.study.designs.search`'s, checked against the procedure as committed (the
+    module at the rules' commit, whose blocks the record's verbatim copy holds, with its
+    amendment) by replaying both on the ledger's runs (tests/test_equal_contest.py)."""
     constants = {n: globals()[n] for n in RULES}
     constants["ladders"] = {
         learner: [
