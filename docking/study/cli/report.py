@@ -358,7 +358,7 @@ def _summary(results, comparisons, oracle, equal_parts, relocation, contest, dec
 def _equal_detail(equal, verdicts, before, published, fragile) -> str:
     """The findings page's section on the equal contest: its paragraph and tables (links to the
     glossary beside the page) and its fragility tables."""
-    from docking.study import answer
+    from docking.study import answer, provenance
     from docking.study.designs import equal_contest as ec
     from docking.study.designs import equal_contest_report as ecr
 
@@ -372,6 +372,10 @@ def _equal_detail(equal, verdicts, before, published, fragile) -> str:
         published,
         glossary="glossary.md",
     )
+    deviations = "**Its deviation from its rules** (notebook 07):\n\n" + (
+        provenance.deviations_table(ec.NAME)
+    )
+    text += "\n\n" + deviations
     fragility = (
         "**Fragility on the common grid** (notebook 07). "
         + ecr.fragility_sentence(fragile)
