@@ -84,6 +84,11 @@ def test_the_contest_gap_rule():
         "undecided",
     ]
     assert "closed" not in table
+    # ... at the margin the rule was given, not a fixed one
+    assert [g.words for g in report.contest_gaps(results, ("w1", "w2"), 0.03)] == [
+        "non-inferior at 3 pp",
+        "inferior by more than 3 pp",
+    ]
 
 
 def test_the_path_is_decided_by_intervals():

@@ -159,7 +159,7 @@ def replication_text(found: dict[str, Replication], glossary: str | None = GLOSS
     verdicts named as the test it is (:func:`docking.study.report.gap_words`); ``glossary``:
     the glossary's path its terms link to (None: no links, as in a notebook's output)."""
     from docking.study.designs import replication as rp
-    from docking.study.report import GAP_WORDS, gap_words
+    from docking.study.report import gap_words
 
     gap = f"[gap]({glossary}#gap)" if glossary else "gap"
     n = len(next(iter(found.values())).paper)
@@ -170,12 +170,13 @@ def replication_text(found: dict[str, Replication], glossary: str | None = GLOSS
     ]
     for w, r in found.items():
         said_gap, said_lead = r.words
-        for old, new in GAP_WORDS.items():
-            said_gap = said_gap.replace(old, new)
+        for old in ("closed", "remains", "undecided"):
+            said_gap = said_gap.replace(old, gap_words(old, rp.GAP_CLOSED))
+        first, now = (gap_words(v, rp.GAP_CLOSED) for v in (r.first_verdict, r.verdict))
         rows.append(
-            f"| {WORLDS[w]} | {_pp(r.first_gap)}, {gap_words(r.first_verdict)}; {r.first_lead} | "
+            f"| {WORLDS[w]} | {_pp(r.first_gap)}, {first}; {r.first_lead} | "
             f"{_pct(r.paper.mean())} | {_pct(r.linear.mean())} | {_pct(r.ppo.mean())} | "
-            f"{_pp(r.gap)}, **{gap_words(r.verdict)}** | {r.lead} (p {r.lead_p:.2g}) | "
+            f"{_pp(r.gap)}, **{now}** | {r.lead} (p {r.lead_p:.2g}) | "
             f"{said_gap}; {said_lead} |"
         )
     return (

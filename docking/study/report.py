@@ -175,6 +175,12 @@ class ContestGap:
     other: str
     interval: Interval
     verdict: str
+    bound: float  # the rule's margin, a fraction
+
+    @property
+    def words(self) -> str:
+        """The verdict as the test it is (:func:`gap_words`)."""
+        return gap_words(self.verdict, self.bound)
 
 
 def contest_gaps(results, worlds, bound: float, other: str = "linear-tuned") -> list[ContestGap]:
@@ -184,23 +190,21 @@ def contest_gaps(results, worlds, bound: float, other: str = "linear-tuned") -> 
     for world in worlds:
         ci = paired_over_shared_seeds(results, f"{world}/{other}", f"{world}/paper-tuned")
         verdict = "closed" if ci.high < bound else "remains" if ci.low > bound else "undecided"
-        found.append(ContestGap(world, other, ci, verdict))
+        found.append(ContestGap(world, other, ci, verdict, bound))
     return found
 
 
-#: What tables and sentences call the gap rule's verdicts (:func:`contest_gaps`): the test the
-#: rule is, a one-sided non-inferiority test of the paper's learner at the bound (issue 59: the
-#: word "closed" is retired; the rules and their records keep their verdicts' names).
-GAP_WORDS = {
-    "closed": "non-inferior at 5 pp",
-    "remains": "inferior by more than 5 pp",
-    "undecided": "undecided",
-}
-
-
-def gap_words(verdict: str) -> str:
-    """The gap rule's ``verdict`` as the test it is (:data:`GAP_WORDS`)."""
-    return GAP_WORDS[verdict]
+def gap_words(verdict: str, bound: float) -> str:
+    """The gap rule's ``verdict`` (:func:`contest_gaps`, at the margin ``bound``, a fraction) as
+    the test it is: a one-sided non-inferiority test of the paper's learner at that margin
+    (issue 59: the word "closed" is retired from what tables and sentences say; the rules and
+    their records keep their verdicts' names)."""
+    margin = f"{bound * 100:g} pp"
+    return {
+        "closed": f"non-inferior at {margin}",
+        "remains": f"inferior by more than {margin}",
+        "undecided": "undecided",
+    }[verdict]
 
 
 def gaps_table(gaps: list[ContestGap]) -> str:
@@ -212,7 +216,7 @@ def gaps_table(gaps: list[ContestGap]) -> str:
                 g.world,
                 g.other,
                 f"{g.interval.format(unit=' pp')} (n = {len(g.interval.values)})",
-                gap_words(g.verdict),
+                g.words,
             )
             for g in gaps
         ],

@@ -10,7 +10,7 @@ import dataclasses
 import numpy as np
 
 from docking.study.designs.third_edition_report import CONTEST_NAMES, CONTEST_WORLDS
-from docking.study.report import _pct, contest_gaps, gap_words, md_table
+from docking.study.report import _pct, contest_gaps, md_table
 from docking.study.stats import Interval
 
 
@@ -156,7 +156,7 @@ def addendum_summary(added, contest, ad) -> str:
             f"(contest: {_pct(float(np.mean(contest.score(f'{world}/paper-tuned'))))}), linear "
             f"SARSA {_pct(linear.estimate)}; the gap is {gaps[world].interval.format(unit=' pp')}"
             f" (contest: {before[world].interval.estimate * 100:.1f} pp), "
-            f"**{gap_words(gaps[world].verdict)}**"
+            f"**{gaps[world].words}**"
         )
     return (
         "**Tuned further** (the addendum, notebook 07: both SARSA learners tuned on the same "

@@ -10,7 +10,7 @@ import dataclasses
 
 from docking.study.designs.addendum_report import _knob_lines
 from docking.study.designs.third_edition_report import CONTEST_NAMES, CONTEST_WORLDS
-from docking.study.report import _pct, contest_gaps, gap_words, md_table
+from docking.study.report import _pct, contest_gaps, md_table
 
 
 def bracketing_rows(own, br) -> list[dict]:
@@ -109,7 +109,7 @@ def bracketing_summary(rows: list[dict], final, ad) -> str:
         parts.append(
             f"in {CONTEST_NAMES[world]} {'; '.join(moves)}; judged, the paper's learner docks "
             f"{_pct(paper)}, linear SARSA {_pct(linear)}, a gap of "
-            f"{gaps[world].interval.format(unit=' pp')}, **{gap_words(gaps[world].verdict)}**"
+            f"{gaps[world].interval.format(unit=' pp')}, **{gaps[world].words}**"
         )
     return BRACKETING_LEADS[rows[0]["design"]] + "; ".join(parts) + "."
 

@@ -14,7 +14,6 @@ import numpy as np
 from docking.study.report import (
     _pct,
     contest_gaps,
-    gap_words,
     md_table,
     paired_over_shared_seeds,
 )
@@ -67,11 +66,13 @@ def contest_summary(contest, corrected: bool = False) -> str:
             f"linear SARSA's lead is {gaps[world].interval.format(unit=' pp')}"
         )
     by_verdict = {
-        v: [CONTEST_NAMES[w] for w, g in gaps.items() if g.verdict == v]
+        v: [g for w, g in gaps.items() if g.verdict == v]
         for v in ("closed", "remains", "undecided")
     }
     verdicts = "; ".join(
-        f"{gap_words(v)} in {' and '.join(ws)}" for v, ws in by_verdict.items() if ws
+        f"{found[0].words} in {' and '.join(CONTEST_NAMES[g.world] for g in found)}"
+        for found in by_verdict.values()
+        if found
     )
     lead = (
         "**The contest's finding, too strong where the addendum below corrects it**"
