@@ -45,7 +45,7 @@ runs = [
 ]
 for config, seed, *_ in runs:
     store.run_or_load(config, seed, results, progress=False)
-store.run_or_load(tiny, 2, results, progress=False)  # in the store only
+store.run_or_load(tiny, 2, results, progress=False)  # in the store only: a seed no proof ran
 ledger.update(runs, folder, results)
 """
 
@@ -202,16 +202,18 @@ def test_a_refactor_migrates_the_ledger_and_the_store_after_a_sample_equal_to_it
         for r in after["runs"].values()
     )
     assert old == new and set(before["runs"]).isdisjoint(after["runs"])
-    assert "results store: 5 runs re-keyed" in out.stdout
+    # the store's run of seed 2 (the ledger holds none) is not moved: the proof never ran it
+    assert "results store: 4 runs re-keyed, 0 keyed by this code already, 1 left" in out.stdout
     check = _python(src, "-c", CHECK, str(results), str(folder), ledger_dir=folder)
     assert check.returncode == 0, check.stderr[-3000:]
     found = json.loads(check.stdout)
     assert found == {
         "checked": {"runs": 4, "tables": 3, "whole": 1, "derived": 0},
-        "stored": [True] * 5,
+        "stored": [True, True, False, True, True],
     }
     assert migration["covered"]["covered"]["learner"]["cases"] >= 4  # the battery ran
     assert migration["covered"]["sample"]["seeds"] == 2  # every seed of the ledger: 0 and 1
+    assert migration["covered"]["sample"]["seed_list"] == [0, 1]
     # nothing left to migrate: the command says so and changes nothing
     again = _migrate(src, folder, results, built / "src")
     assert again.returncode == 0 and "nothing to migrate" in again.stdout
@@ -364,3 +366,31 @@ def test_a_store_run_is_moved_only_along_a_chain_that_ends_at_this_code():
         ]
     )
     assert chains == {"learner": {"a": "b", "b": "c"}, "ppo": {"x": "y"}}
+
+
+def test_a_store_run_is_moved_only_if_the_proof_ran_its_seed_and_every_value_of_its_fields():
+    """The laundering a proof over the ledger's runs cannot see (issue 60): a change that alters
+    only a seed, or a field value, that the ledger never holds. A store run is moved only if a
+    migration's sample recomputed its seed and each of its fields' values; a migration
+    recorded without them (an older record) moves none."""
+    from docking.study.battery import flat
+
+    config = {"name": "t", "network": {"beta_a_train": 2.0, "eps_q": 0.1}, "train_trials": 8}
+    values = {p: [v] for p, v in flat(config).items()}
+    migrations = [
+        {
+            "from": {"learner": "a"},
+            "to": {"learner": "b"},
+            "covered": {"sample": {"values": {"learner": values}, "seed_list": [0, 1]}},
+        },
+        {"from": {"learner": "b"}, "to": {"learner": "c"}, "covered": {"sample": {}}},
+    ]
+    proofs = migrate._proofs(migrations)
+    proof = proofs["learner"]["a"]
+    assert migrate.covered_by(proof, config, 1)
+    assert not migrate.covered_by(proof, config, 2)  # a seed it never ran
+    other = {**config, "network": {"beta_a_train": 10.0, "eps_q": 0.1}}
+    assert not migrate.covered_by(proof, other, 0)  # a beta_a it never ran
+    assert not migrate.covered_by(proof, {**config, "pretrain_trials": 3}, 0)  # a new field
+    assert proofs["learner"]["b"] is None
+    assert not migrate.covered_by(proofs["learner"]["b"], config, 0)

@@ -32,8 +32,9 @@ that the new code computes what the old code did:
 
 A results store (a user's ``results/``) is migrated by the same proof
 (:func:`migrate_store`): a stored run whose key was made with a fingerprint a recorded
-migration moved from is re-keyed, along the chain of migrations, to this code's key; any
-other run is left as it is (recomputed when asked for, as before).
+migration moved from is re-keyed, along the chain of migrations, to this code's key, if every
+migration of that chain recomputed its seed and every value of its configuration's fields
+(:func:`covered_by`); any other run is left as it is (recomputed when asked for, as before).
 
 What the proof covers, and what it does not: it shows that the runs it recomputed and the
 battery's short runs are the same under both codes, on this machine; that the others are is an
@@ -256,18 +257,28 @@ def migrate(
 
 
 def _sample_coverage(data: dict, keys: list[str]) -> dict:
-    """What the sample covered: its runs, and per kind of run the fields and seeds."""
+    """What the sample covered: its runs, and per kind of run the fields and seeds; with, for
+    :func:`migrate_store`, every value of every field (``values``: ``{runner: {field path:
+    [canonical JSON of each value]}}``) and every seed (``seed_list``) that it recomputed."""
     features = set().union(*(_features(data["runs"][k]) for k in keys)) if keys else set()
     fields: dict[str, dict[str, int]] = {}
+    values: dict[str, dict[str, set]] = {}
     for f in features:
         if f[0] == "field":
             counts = fields.setdefault(f[1], {})
             counts[f[2]] = counts.get(f[2], 0) + 1
+            values.setdefault(f[1], {}).setdefault(f[2], set()).add(f[3])
+    seeds = sorted(f[1] for f in features if f[0] == "seed")
     return {
         "runs": len(keys),
         "tables": len({f[1] for f in features if f[0] == "table"}),
-        "seeds": len({f[1] for f in features if f[0] == "seed"}),
+        "seeds": len(seeds),
         "fields": {r: dict(sorted(v.items())) for r, v in sorted(fields.items())},
+        "values": {
+            r: {path: sorted(v) for path, v in sorted(by.items())}
+            for r, by in sorted(values.items())
+        },
+        "seed_list": seeds,
     }
 
 
@@ -326,15 +337,46 @@ def _chains(migrations: list) -> dict[str, dict[str, str]]:
     return found
 
 
+def _proofs(migrations: list) -> dict[str, dict[str, dict | None]]:
+    """``{runner: {a fingerprint migrated from: what that migration's sample recomputed of
+    that runner (its field values and seeds), or None if its record does not say}}``."""
+    found: dict[str, dict[str, dict | None]] = {}
+    for m in migrations:
+        sample = (m.get("covered") or {}).get("sample") or {}
+        for name, before in m["from"].items():
+            values = (sample.get("values") or {}).get(name)
+            seeds = sample.get("seed_list")
+            proof = None if values is None or seeds is None else {"values": values, "seeds": seeds}
+            found.setdefault(name, {})[before] = proof
+    return found
+
+
+def covered_by(proof: dict | None, config: dict, seed: int) -> bool:
+    """Whether a migration's proof (:func:`_proofs`) recomputed this run's seed and every value
+    of its configuration's fields (``config``: the run's configuration as a dict), so that
+    what it showed equal covers the run. A store run it does not cover is not moved: the
+    laundering a proof over the ledger's runs cannot see is a change that alters only a seed
+    or a field value the ledger never holds."""
+    from docking.study.battery import flat
+
+    if proof is None or seed not in proof["seeds"]:
+        return False
+    values = proof["values"]
+    return all(value in values.get(path, ()) for path, value in flat(config).items())
+
+
 def migrate_store(results_dir=None, folder=None) -> dict[str, int]:
     """Re-key the runs of the results store ``results_dir`` whose key was made with a
     fingerprint that the ledger in ``folder`` records a migration from, along the chain of
-    its migrations, when it ends at this code's fingerprint. Returns ``{"moved", "current",
+    its migrations, when it ends at this code's fingerprint and each of them recomputed the
+    run's seed and field values (:func:`covered_by`). Returns ``{"moved", "current",
     "left"}``: runs re-keyed, runs keyed by this code already, runs left as they are (other
-    code, no proven migration, or a file that is not a valid run)."""
+    code, no proven migration, a seed or value no proof recomputed, or a file that is not a
+    valid run)."""
     root = Path(results_dir) if results_dir is not None else paths.results_dir()
     data = ledger._stored_manifest(Path(folder) if folder is not None else paths.ledger_dir())
-    chains = _chains(data.get("migrations", []) if data else [])
+    migrations = data.get("migrations", []) if data else []
+    chains, proofs = _chains(migrations), _proofs(migrations)
     counts = {"moved": 0, "current": 0, "left": 0}
     for path in sorted(root.glob("*/*/seed*.npz")) if root.is_dir() else ():
         try:
@@ -342,13 +384,14 @@ def migrate_store(results_dir=None, folder=None) -> dict[str, int]:
         except kinds.ForeignFile:  # a folder linked out of the store: neither read nor moved
             counts["left"] += 1
             continue
-        counts[_migrate_file(path, root, chains)] += 1
+        counts[_migrate_file(path, root, chains, proofs)] += 1
     return counts
 
 
-def _migrate_file(path: Path, root: Path, chains: dict) -> str:
+def _migrate_file(path: Path, root: Path, chains: dict, proofs: dict) -> str:
     """Migrate one stored run (:func:`migrate_store`): ``"moved"``, ``"current"`` or
-    ``"left"``."""
+    ``"left"`` (also when a migration of its chain did not recompute its seed and every
+    value of its fields: :func:`covered_by`)."""
     try:
         raw = read_regular(path, kinds.RESULT_LIMIT, path.parent)
         with np.load(io.BytesIO(raw), allow_pickle=False) as found:
@@ -365,6 +408,8 @@ def _migrate_file(path: Path, root: Path, chains: dict) -> str:
             kinds.load_result(path, meta["key"], source=before)  # valid: arrays and digest
             fingerprint, seen = before, set()
             while fingerprint in chain and fingerprint not in seen:
+                if not covered_by(proofs[runner.name][fingerprint], meta["config"], seed):
+                    return "left"
                 seen.add(fingerprint)
                 fingerprint = chain[fingerprint]
             if fingerprint != now:

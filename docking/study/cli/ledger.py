@@ -137,7 +137,8 @@ def _migrate(folder: Path, results_dir, old: str | None = None) -> int:
         moved = done.store
         print(
             f"results store: {moved['moved']} runs re-keyed, {moved['current']} keyed by "
-            f"this code already, {moved['left']} left (other code, no proven migration)"
+            f"this code already, {moved['left']} left (other code, or no migration "
+            "whose proof recomputed their seed and field values)"
         )
     return 0
 
