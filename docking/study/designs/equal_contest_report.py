@@ -161,8 +161,8 @@ def verdict_table(results) -> str:
         "PPO",
         "linear SARSA's lead (95% interval)",
         "a lead",
-        "paper's learner non-inferior at 5 pp",
-        "equivalent within ±5 pp (TOST)",
+        f"paper's learner non-inferior at {ec.MARGIN * 100:g} pp",
+        f"equivalent within ±{ec.MARGIN * 100:g} pp (TOST)",
         "failure ratio (paper / linear)",
     )
     return md_table(header, rows)
@@ -302,13 +302,14 @@ GLANCE_YARDSTICKS = (
     ("centroid", "centroid rule"),
     ("random", "random actions"),
 )
-#: The caption under the glance figure (the README and the site).
+#: The caption under the glance figure (the README and the site), its counts from the rules.
 GLANCE_CAPTION = (
-    "**The answer per world:** each dot one network's success on 500 held-out start poses, the "
-    "mean with its 95% interval. Chosen: each learner's setting selected by the equal contest "
-    "(the same 132 selection runs per learner and world), judged on 20 fresh seeds. Blue: the "
-    "paper's learner at its published settings (the third edition's runs, seeds 3000-3019). "
-    "Lines: the pose oracle (reads the true pose), the centroid rule, random actions."
+    f"**The answer per world:** each dot one network's success on {ec.HELDOUT_TRIALS} held-out "
+    "start poses, the mean with its 95% interval. Chosen: each learner's setting selected by the "
+    f"equal contest (the same {ec.SEARCH.runs_per_learner()} selection runs per learner and "
+    f"world), judged on {len(ec.SEEDS)} fresh seeds. Blue: the paper's learner at its published "
+    f"settings (the third edition's runs, seeds {ec.te.SEEDS[0]}-{ec.te.SEEDS[-1]}). Lines: the "
+    "pose oracle (reads the true pose), the centroid rule, random actions."
 )
 
 
