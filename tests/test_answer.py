@@ -64,7 +64,7 @@ def test_the_first_screen_is_five_sentences_of_at_most_thirty_words(outcomes):
     assert "37.5%" in said[0] and "30.9%" in said[0] and "held-out" in said[0]
     assert "β_a" in said[1] and "ε_W" in said[1] and "ε_Q" in said[1] and "132" in said[1]
     leads = "/".join(f"{100 * o[0]:.1f}" for o in outcomes)
-    assert f"linear SARSA's lead: {leads} pp" in said[2]
+    assert f"linear SARSA's lead (sideboard/floor/Nao-like): {leads} pp" in said[2]
     trails = any(o[2] == "inferior by more than the margin" for o in outcomes)
     assert ("trails >5 pp" in said[2]) == trails  # "the gap remains", said
     assert "closed" not in text.lower()

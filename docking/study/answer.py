@@ -201,8 +201,8 @@ def relocation_text(relocation: dict) -> str:
         f"test is a camera-height change in the {r['world']} world ({r['seeds']} seeds): the "
         f"robot's camera {r['cm']:.0f} cm lower, so the landmark appears "
         f"{abs(r['shift lower']):.2f} of an [input row]({g}#input-row) higher in the input, or "
-        f"{r['cm']:.0f} cm higher, so it appears {abs(r['shift higher']):.2f} of a row lower "
-        "(the coping design calls a camera-height change a *sensor* change). The home networks "
+        f"{r['cm']:.0f} cm higher, so it appears {abs(r['shift higher']):.2f} of a row lower. "
+        "The home networks "
         f"dock {_pct(r['camera lower'])} with the camera lower and {_pct(r['camera higher'])} "
         f"with it higher, against {_pct(r['home'])} at home; linear SARSA's go from "
         f"{_pct(r['linear home'])} to {_pct(r['linear camera lower'])} and "
@@ -285,18 +285,22 @@ def equal_first_screen(
         higher.
       groups: The paper's claims by verdict (``claim_groups`` under the committed rule).
     """
+    from docking.study.designs import third_edition as te
+
     g = GLOSSARY
     worlds = list(EQUAL_WORLDS)
     paper = [chosen[w, "paper"] for w in worlds]
+    net = te.DESIGN.cell(f"{te.CONTEST[0]}/paper").config.network  # the published settings
     lines = [
         f"At its [published settings]({g}#published-settings) the paper's learner docks "
         f"{_pct(published['sideboard'])} of [held-out]({g}#held-out-trials) trials in our "
         f"sideboard world, {_pct(published['floor'])} on the floor and "
         f"{_pct(published['nao'])} in the Nao-like world (paper: 95%).",
         f"Searched alike ({runs} runs per learner and world), it chose exploration β_a "
-        f"{_values([p['beta_a_train'] for p in paper])} (published 2), feature rate ε_W "
-        f"{_values([p['eps_w'] for p in paper])} (0.05), at value rate ε_Q "
-        f"{_values([p['eps_q'] for p in paper])} (0.1; fixed from earlier tuning).",
+        f"{_values([p['beta_a_train'] for p in paper])} (published {net.beta_a_train:g}) and "
+        f"feature rate ε_W {_values([p['eps_w'] for p in paper])} ({net.eps_w:g}); value rate "
+        f"ε_Q fixed by earlier tuning: {_values([p['eps_q'] for p in paper])} "
+        f"({net.eps_q:g}).",
         _equal_verdict(verdicts),
         _relocation_sentence(relocation),
         _claims_sentence(groups),
@@ -306,27 +310,30 @@ def equal_first_screen(
 
 def _equal_verdict(verdicts: dict[str, dict]) -> str:
     """The verdict's sentence: linear SARSA's lead per world (its sign says who leads), where
-    a lead is shown, where the paper's learner is non-inferior at 5 pp, where it trails by
-    more than 5 pp (the gap remains) and where the two are equivalent within ±5 pp."""
-    g = GLOSSARY
+    a lead is shown, where the paper's learner is non-inferior at the rules' margin, where it
+    trails by more (the gap remains) and where the two are equivalent within it."""
+    from docking.study.designs import equal_contest as ec
+
+    g, margin = GLOSSARY, f"{100 * ec.MARGIN:g} pp"
     n = next(iter(verdicts.values()))["seeds"]
     leads = "/".join(f"{100 * v['lead']:.1f}" for v in verdicts.values())
+    order = "/".join(EQUAL_WORLDS[w] for w in verdicts)
 
     def where(test) -> str:
         found = [EQUAL_WORLDS[w] for w, v in verdicts.items() if test(v)]
-        return "everywhere" if len(found) == len(verdicts) else ", ".join(found) or "nowhere"
+        return "everywhere" if len(found) == len(verdicts) else "/".join(found) or "nowhere"
 
     text = (
-        f"On {n} fresh seeds, linear SARSA's lead: {leads} pp, shown "
+        f"On {n} fresh seeds, linear SARSA's lead ({order}): {leads} pp, shown "
         f"{_in(where(lambda v: v['lead_verdict'] != 'no lead shown'))}; "
-        f"[non-inferior]({g}#non-inferior) (5 pp) "
+        f"[non-inferior]({g}#non-inferior) ({margin}) "
         f"{_in(where(lambda v: v['noninferiority'] == 'non-inferior'))}"
     )
     worse = where(lambda v: v["noninferiority"] == "inferior by more than the margin")
     if worse != "nowhere":
-        text += f"; trails >5 pp {_in(worse)}"
+        text += f"; trails >{margin} {_in(worse)}"
     equal = where(lambda v: v["equivalence"] == "equivalent")
-    return text + f"; equivalent (±5 pp) {_in(equal)}."
+    return text + f"; equivalent (±{margin}) {_in(equal)}."
 
 
 def _in(where: str) -> str:
@@ -357,20 +364,21 @@ def _claims_sentence(groups: dict[str, list[str]]) -> str:
 
 def equal_text(
     verdict_table: str,
-    chosen_table: str | None,
+    chosen: str,
     verdicts: dict[str, dict],
     before: dict[str, float],
-    runs: int,
-    seeds: tuple[int, ...],
     published: dict[str, float],
     glossary: str | None = GLOSSARY,
 ) -> str:
     """The README's paragraph on the equal contest: the paper's learner at its published
     settings (``published``: per world, the third edition's untuned runs), what the contest
-    ran, its verdicts per world (``verdict_table``), the chosen settings and the runs each
-    learner spent (``chosen_table``), and how the answer moved from the replication's
-    (``before``: ``{world: linear SARSA's lead over the paper's learner in the
-    replication}``, floor and Nao-like)."""
+    ran (from its rules), its verdicts per world (``verdict_table``), the chosen settings
+    (``chosen``: a sentence or a table, with what each learner spent) and how the answer moved
+    from the replication's (``before``: ``{world: linear SARSA's lead over the paper's learner
+    in the replication}``, floor and Nao-like)."""
+    from docking.study.designs import equal_contest as ec
+    from docking.study.designs import third_edition as te
+
     g = glossary
     link = (lambda text, anchor: f"[{text}]({g}#{anchor})") if g else (lambda text, _: text)
     at = ", ".join(f"{_pct(published[w])} in the {EQUAL_WORLDS[w]} world" for w in published)
@@ -379,36 +387,30 @@ def equal_text(
         f"{100 * verdicts[w]['lead']:+.1f} pp now"
         for w in before
     )
+    net = te.DESIGN.cell(f"{te.CONTEST[0]}/paper").config.network
+    seeds, margin = ec.SEEDS, f"{100 * ec.MARGIN:g} pp"
     return (
         f"**The paper's learner as published** (notebook 07). At its "
-        f"{link('published settings', 'published-settings')} (β_a 2, ε_W 0.05, ε_Q 0.1: the "
-        f"paper's β_a, our defaults where it gives none) it docks {at} of held-out trials (the "
-        f"third edition's runs, seeds 3000-3019; paper: 95%).\n\n"
+        f"{link('published settings', 'published-settings')} (β_a {net.beta_a_train:g}, ε_W "
+        f"{net.eps_w:g}, ε_Q {net.eps_q:g}: the paper's β_a, our defaults where it gives none) "
+        f"it docks {at} of held-out trials (the third edition's runs, seeds "
+        f"{te.SEEDS[0]}-{te.SEEDS[-1]}; paper: 95%).\n\n"
         f"**The main finding, from an {link('equal contest', 'equal-contest')}** (notebook 07). "
         f"Every learner (the paper's, linear SARSA, PPO) was selected in every world by one "
-        f"procedure with the same {runs} {link('selection runs', 'selection-runs')} (a common "
-        "9 x 5 grid over its two most influential knobs on the same two seeds, three extension "
-        "stages beyond the grid's edges, the three best bracketed points again on four fresh "
-        f"seeds), then judged on {len(seeds)} fresh seeds ({min(seeds)}-{max(seeds)}), 500 "
-        "held-out trials each, by rules committed before the runs. The verdicts of linear "
-        f"SARSA minus the paper's learner ({link('lead', 'lead')}, "
-        f"{link('non-inferior', 'non-inferior')} at 5 pp, "
-        f"{link('equivalent (TOST)', 'equivalent')} within ±5 pp, each Holm-adjusted over the "
-        "three worlds):\n\n"
+        f"procedure with the same {ec.SEARCH.runs_per_learner()} "
+        f"{link('selection runs', 'selection-runs')} (a common {ec.GRID_ROWS} x {ec.GRID_COLS} "
+        f"grid over its two most influential knobs on the same {len(ec.GRID_SEEDS)} seeds, "
+        f"{ec.EXTENSION_STAGES} extension stages beyond the grid's edges, the {ec.TOP_K} best "
+        f"bracketed points again on {len(ec.SELECTION_SEEDS)} fresh seeds), then judged on "
+        f"{len(seeds)} fresh seeds ({min(seeds)}-{max(seeds)}), {ec.HELDOUT_TRIALS} held-out "
+        "trials each, by rules committed before the runs. The verdicts of linear SARSA minus "
+        f"the paper's learner ({link('lead', 'lead')}, {link('non-inferior', 'non-inferior')} "
+        f"at {margin}, {link('equivalent (TOST)', 'equivalent')} within ±{margin}, each "
+        "Holm-adjusted over the worlds):\n\n"
         + verdict_table
-        + (
-            "\n\nWhat each learner chose, the runs it spent, and its success on the grid's "
-            "seeds, the selection seeds and the judged seeds (a fall is the selection's "
-            "optimism):\n\n" + chosen_table
-            if chosen_table is not None
-            else "\n\nWhat each learner chose and the runs it spent: "
-            + link("the findings page", "equal-contest").replace(
-                "glossary.md#equal-contest", "findings.md"
-            )
-            + "."
-        )
-        + "\n\nHow the answer moved from the replication (linear SARSA's lead, the replication's "
-        f"bracketed tuning, then the equal contest): {moved}."
+        + "\n\n"
+        + chosen
+        + f"\n\nLinear SARSA's lead after the replication's bracketed tuning, and now: {moved}."
     )
 
 

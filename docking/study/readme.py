@@ -104,8 +104,8 @@ def turning_text(comparisons: list, oracle: float | None = None) -> str:
     worse = sum(c.gain.high < 0 for c in comparisons)
     verdict = "Not supported" if worse == len(comparisons) else "Mixed"
     return (
-        f"**{verdict}.** The paper blames most failures on uncorrected rotation and "
-        "names turning as the remedy; given turn actions, the learner docks less often "
+        f"**{verdict}.** The paper names turning as the remedy for rotation, its main cause of "
+        "failure; given turn actions, the learner docks less often "
         f"(95% interval below zero) in {worse} of Experiment 3's {len(comparisons)} cells; "
         f"six minus four actions ranges from {100 * min(gains):.1f} to "
         f"{100 * max(gains):.1f} percentage points{oracle_note} (notebook 06)."
@@ -175,9 +175,8 @@ def timings_text(
     size = ""
     if ledger_bytes is not None:
         size = (
-            f" ({ledger_bytes / 2**20:.1f} MiB; its tables and whole runs are compressed "
-            "already, and a full recompute under changed code rewrites every one of them, so it "
-            "adds about that much to the repository's history)"
+            f" ({ledger_bytes / 2**20:.1f} MiB, compressed; a recompute under changed code "
+            "rewrites it all, adding that much to the history)"
         )
     reproduce = (
         f"`make reproduce` computes the ledger's {runs} runs, whose recorded wall times add "

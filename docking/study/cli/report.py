@@ -326,7 +326,6 @@ def _summary(results, comparisons, oracle, equal_parts, relocation, contest, dec
     chosen settings are on the findings page), its fragility sentence, relocation, the claims
     and turning, each paragraph's numbers from the runs."""
     from docking.study import answer, readme
-    from docking.study.designs import equal_contest as ec
     from docking.study.designs import equal_contest_report as ecr
 
     equal, verdicts, before, published, fragile = equal_parts
@@ -334,15 +333,15 @@ def _summary(results, comparisons, oracle, equal_parts, relocation, contest, dec
         readme.reproduced_text(*results),
         answer.equal_text(
             ecr.verdict_table(equal),
-            None,
+            ecr.chosen_sentence(ecr.chosen(equal))
+            + " The runs each spent, and the selection's optimism: "
+            "[the findings page](docs/guide/findings.md).",
             verdicts,
             before,
-            ec.SEARCH.runs_per_learner(),
-            ec.SEEDS,
             published,
         ),
-        "**The fragility landscape** (beyond the paper, notebook 07: each learner's common "
-        "grid, the same points and seeds for every learner). " + ecr.fragility_sentence(fragile),
+        "**The fragility landscape** (beyond the paper, notebook 07). "
+        + ecr.fragility_sentence(fragile),
         answer.relocation_text(relocation),
         answer.claims_text(_claim_counts(contest, decisions)),
     ]
@@ -364,11 +363,11 @@ def _equal_detail(equal, verdicts, before, published, fragile) -> str:
 
     text = answer.equal_text(
         ecr.verdict_table(equal),
-        ecr.chosen_table(equal),
+        "What each learner chose, the runs it spent, and its success on the grid's seeds, the "
+        "selection seeds and the judged seeds (a fall is the selection's optimism):\n\n"
+        + ecr.chosen_table(equal),
         verdicts,
         before,
-        ec.SEARCH.runs_per_learner(),
-        ec.SEEDS,
         published,
         glossary="glossary.md",
     )

@@ -123,6 +123,32 @@ def interior(results) -> dict[tuple[str, str], bool]:
     return found
 
 
+#: What sentences call the knobs.
+KNOB_WORDS = {
+    "beta_a_train": "β_a",
+    "eps_w": "ε_W",
+    "eps_q": "ε_Q",
+    "learning_rate": "learning rate",
+    "rollouts": "rollouts per update",
+}
+
+
+def chosen_sentence(picked: dict) -> str:
+    """One sentence of the chosen settings (``picked``: :func:`chosen`): per learner, each
+    knob's value in each world, in :data:`WORLDS` order joined by ``/``; a knob the rules fix
+    per world (the paper's learner's eps_Q) is marked fixed."""
+    worlds = "/".join(WORLD_NAMES[w].removesuffix(" world") for w in ec.WORLDS)
+    parts = []
+    for learner in ec.LEARNERS:
+        fixed = set().union(*(ec.SEARCH.entrants[learner].fixed.get(w, {}) for w in ec.WORLDS))
+        knobs = []
+        for k in picked[ec.WORLDS[0], learner]:
+            values = "/".join(f"{picked[w, learner][k]:g}" for w in ec.WORLDS)
+            knobs.append(f"{KNOB_WORDS[k]} {values}" + (" (fixed)" if k in fixed else ""))
+        parts.append(f"{LEARNER_NAMES[learner]} {', '.join(knobs)}")
+    return f"Chosen ({worlds}): " + "; ".join(parts) + "."
+
+
 def _pct(x: float) -> str:
     return f"{100 * x:.1f}%"
 
