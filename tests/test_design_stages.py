@@ -161,3 +161,35 @@ def test_part_of_a_design_with_a_report_is_summarised_without_it():
     part = paper.only(["experiment1"])
     assert paper.report is not None and part.report is None
     assert [c.key for c in part.cells] == ["experiment1"]
+
+
+def test_read_reads_every_stage_from_the_store_and_never_computes(store, monkeypatch):
+    """Design.read: the runs of the core cells and of each stage (the stage asked of the runs
+    read before it), read from the store; a cell it does not hold is a LookupError naming it,
+    with nothing computed (the runner is never called)."""
+    from docking.study import store as stored
+    from docking.study import sweep
+
+    first = dataclasses.replace(DESIGN, cells=DESIGN.cells[:1], stages=())
+    first.run(progress=False, workers=1)
+
+    def refuse(*args, **kwargs):
+        raise AssertionError("read computed a run")
+
+    def refusing():
+        monkeypatch.setattr(stored, "compute", refuse)
+        monkeypatch.setattr(sweep, "run_configs", refuse)
+
+    refusing()
+    with pytest.raises(LookupError, match="cell 'b'"):
+        DESIGN.read()
+    monkeypatch.undo()
+    monkeypatch.setenv("DOCKING_LEDGER", "off")
+    monkeypatch.setenv("DOCKING_RESULTS", str(store))
+    ran = DESIGN.run(progress=False, workers=1)
+    refusing()
+    read = DESIGN.read()
+    assert [c.key for c in read.cells] == [c.key for c in ran.cells]  # the stage's cell too
+    assert {k: list(v) for k, v in read.scores.items()} == {
+        k: list(v) for k, v in ran.scores.items()
+    }

@@ -767,7 +767,7 @@ def test_the_contest_of_the_published_linear_sarsa_is_the_published_row(tmp_path
         _published_linear, e.row, e.col, label="lin", results_dir=tmp_path, progress=False
     )
     assert {s for sources in found.results.sources.values() for s in sources} == {"ledger"}
-    chosen = ecr.chosen(ec.DESIGN.run(progress=False))
+    chosen = ecr.chosen(ec.DESIGN.read())
     for world in ec.WORLDS:
         assert found.chosen[world] == chosen[world, "linear"]
         np.testing.assert_array_equal(

@@ -35,7 +35,7 @@ def test_the_readme_the_glance_figure_and_the_contest_serve_the_same_numbers(mon
     from docking.study.designs import third_edition as te
 
     monkeypatch.setenv("DOCKING_LEDGER", str(ROOT / "ledger"))
-    equal = ec.DESIGN.run(progress=False)
+    equal = ec.DESIGN.read()
     worlds, learners, seeds, _ = ecr.glance_data(equal, te.part("contest").run(progress=False))
     shown = contest.published()
     readme = _readme_rows()
@@ -55,7 +55,7 @@ def test_the_first_screen_says_the_rules_verdicts(monkeypatch):
     from docking.study.designs import equal_contest_report as ecr
 
     monkeypatch.setenv("DOCKING_LEDGER", str(ROOT / "ledger"))
-    verdicts = ecr.verdicts(ec.DESIGN.run(progress=False))
+    verdicts = ecr.verdicts(ec.DESIGN.read())
     text = (ROOT / "README.md").read_text()
     screen = text.split("<!-- glance:start -->", 1)[1].split("<!-- glance:end -->", 1)[0]
     leads = "/".join(f"{100 * v['lead']:.1f}" for v in verdicts.values())

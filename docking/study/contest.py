@@ -433,11 +433,8 @@ def _check_fields(config, setting: dict) -> None:
 def _published(ledger: str, results_dir: str | None) -> Results:
     from docking.study import design
 
-    def runs_of(new, _before):  # the store, then the ledger; never computed
-        return design._loaded(ec.DESIGN, new, results_dir)
-
     try:
-        own = design._walk(ec.DESIGN, ec.DESIGN.select(False), runs_of, results_dir)[1]
+        own = ec.DESIGN.read(results_dir)  # the store, then the ledger; never computed
         yard = te.part("contest")
         wanted = [c for c in yard.select(False) if c.coords.get("variant") in YARDSTICKS]
         sticks = design.judge(yard, wanted, design._loaded(yard, wanted, results_dir))

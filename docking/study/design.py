@@ -38,6 +38,7 @@ __all__ = [
     "Results",
     "judge",
     "rules_text",
+    "read_design",
     "run_design",
     "summary",
     "tested_in",
@@ -201,6 +202,10 @@ class Design:
         """:func:`run_design` of this design (options: ``seeds``, ``results_dir``,
         ``scheduler``, ``workers``, ``progress``)."""
         return run_design(self, full=full, **options)
+
+    def read(self, results_dir=None) -> Results:
+        """:func:`read_design` of this design: its results read, never computed."""
+        return read_design(self, results_dir)
 
     def only(self, patterns: Sequence[str]) -> Design:
         """This design with only the cells whose keys match one of ``patterns`` (shell-style,
@@ -664,6 +669,20 @@ def run_design(
     results = _walk(design, cells, runs_of, results_dir)[1]
     results.sources.update(sources)
     return results
+
+
+def read_design(design: Design, results_dir=None) -> Results:
+    """``design``'s results (its core cells, then each stage's cells asked of the runs before
+    it), every run read from the results store ``results_dir``, else the committed ledger;
+    never computed: ``LookupError`` naming a cell whose runs neither holds (what a published
+    study's reader wants: a report, a notebook, :func:`docking.study.contest.published`,
+    where a missing run is news, not hours of computing to start unasked)."""
+    check_instance("read_design", "design", design, Design)
+
+    def runs_of(new, _before):
+        return _loaded(design, new, results_dir)
+
+    return _walk(design, design.select(False), runs_of, results_dir)[1]
 
 
 def summary(results: Results) -> str:

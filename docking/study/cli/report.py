@@ -260,11 +260,12 @@ class Report:
         from docking.study.designs import revisited
         from docking.study.designs.third_edition_report import claim_groups
 
-        run = dict(results_dir=self.results_dir, workers=self.processes)
-        equal, second = ec.DESIGN.run(**run), rp.DESIGN.run(**run)
+        # read, never computed: a missing run of the published answer is an error, not hours
+        # of computing started unasked (python -m docking design run NAME computes them)
+        equal, second = ec.DESIGN.read(self.results_dir), rp.DESIGN.read(self.results_dir)
         verdicts = ecr.verdicts(equal)
         published = {w: rate_interval(contest, f"{w}/paper").estimate for w in ec.WORLDS}
-        relocation = _relocation(revisited.DESIGN.run(**run), revisited)
+        relocation = _relocation(revisited.DESIGN.read(self.results_dir), revisited)
         groups = claim_groups(contest.design.claims, decisions)
         png = self._save_figure(
             lambda: figures.fig_glance(*ecr.glance_data(equal, contest)), readme.GLANCE_FIGURE
