@@ -540,7 +540,9 @@ def test_timings_paragraph_says_what_was_measured():
     assert "`make setup` 8.0 min (package downloads); `make test` 15.0 min." in text
     assert "300 runs" in text and "2.0 h of one process (24 s per run" in text
     assert "have not been timed" in timings_text(None, 300, 7200.0)
-    assert "the ledger (3.0 MiB, compressed;" in timings_text(None, 300, 7200.0, ledger_bytes=3 * 2**20)
+    assert "the ledger (3.0 MiB, compressed;" in timings_text(
+        None, 300, 7200.0, ledger_bytes=3 * 2**20
+    )
     record["tiers"] |= {"docs": {"wall_s": 270.0}, "report": {"wall_s": 14.2}}
     text = timings_text(record, 300, 7200.0)
     assert "`make docs` 4.5 min (the site, executing the notebooks" in text

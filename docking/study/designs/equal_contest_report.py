@@ -114,13 +114,53 @@ def curse(results) -> dict[tuple[str, str], tuple[float, float, float]]:
 def interior(results) -> dict[tuple[str, str], bool]:
     """Per world and learner, whether each chosen value lies strictly inside the values that
     knob took in the search (every lattice neighbour of the chosen point was searched)."""
+    return {
+        key: all(how == "interior" for how in found.values())
+        for key, found in bracketing(results).items()
+    }
+
+
+def bracketing(results) -> dict[tuple[str, str], dict[str, str]]:
+    """Per world and learner, how the search brackets each knob's chosen value: ``"interior"``
+    (the rungs on both sides of it were searched), ``"at a limit"`` (a rung on one side is not
+    a valid configuration, the rules' limits, and the other was searched) or ``"edge"`` (a
+    valid rung beside it was never searched: the search stopped short)."""
     found = {}
     for w in ec.WORLDS:
         for learner in ec.LEARNERS:
-            point = ec.SEARCH.chosen(results, w, learner)
+            e = ec.SEARCH.entrants[learner]
+            r, c = ec.SEARCH.chosen(results, w, learner)
             searched = ec.SEARCH.searched(results, w, learner)
-            found[w, learner] = all(n in searched for n in ec.SEARCH.neighbours(point))
+            sides = {
+                e.row.field: [((r + d, c), e.row.ladder.value(r + d)) for d in (1, -1)],
+                e.col.field: [((r, c + d), e.col.ladder.value(c + d)) for d in (1, -1)],
+            }
+            found[w, learner] = {}
+            for field, around in sides.items():
+                how = [
+                    "searched" if p in searched else "limit" if v is None else "edge"
+                    for p, v in around
+                ]
+                found[w, learner][field] = (
+                    "edge" if "edge" in how else "at a limit" if "limit" in how else "interior"
+                )
     return found
+
+
+def limits_sentence(found: dict) -> str:
+    """The chosen values at a limit of their knob (``found``: :func:`bracketing`), a sentence."""
+    at = [
+        f"{LEARNER_NAMES[learner]}'s {KNOB_WORDS[field]} in the {WORLD_NAMES[w]}"
+        for (w, learner), fields in found.items()
+        for field, how in fields.items()
+        if how == "at a limit"
+    ]
+    if not at:
+        return "No chosen value sits at a limit of its knob: every one is interior."
+    return (
+        "Chosen at a limit of its knob (the rung beyond is not a valid configuration), so "
+        "bracketed by that limit rather than interior: " + "; ".join(at) + "."
+    )
 
 
 #: What sentences call the knobs.
