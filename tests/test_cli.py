@@ -327,25 +327,34 @@ def test_run_names_the_worlds_published_settings_and_tuned_learners(tmp_path):
     for name in ("experiment1", "experiment2", *WORLD_NAMES):
         assert f"• {name} " in out.stdout, name
     flat = " ".join(out.stdout.replace("│", " ").split())
-    assert "floor-tuned the paper's learner, tuned (bracketing-replication), floor world." in flat
-    assert "nao-linear linear SARSA, tuned (bracketing-replication), Nao-like world." in flat
+    assert "floor-tuned the paper's learner, tuned (equal-contest), floor world." in flat
+    assert "nao-linear linear SARSA, tuned (equal-contest), Nao-like world." in flat
     assert "nao the paper's learner, published settings, Nao-like world." in flat
     assert len(out.stdout.splitlines()) <= 45  # a screen, at 80 columns
 
 
-def test_the_tuned_entries_are_the_published_designs_tuned_learners():
-    """The one table of the tuned entries (named.TUNED, a copy) is the design it names: its
-    tuned settings, each entry that design's learner (its network) in Experiment 2 of the
-    world. When the table is repointed to a later design, this test is."""
+def test_the_tuned_entries_are_the_published_designs_tuned_learners(monkeypatch):
+    """The one table of the tuned entries (named.TUNED, a copy) is the design it names, the
+    equal contest: its chosen settings read from the committed ledger, each entry that
+    learner's judged network in Experiment 2 of the world. When the table is repointed to a
+    later design, this test is."""
     from docking.study.cli import named
-    from docking.study.designs import replication
+    from docking.study.designs import equal_contest as ec
+    from docking.study.designs import equal_contest_report as ecr
     from docking.study.designs.builders import experiment2_in
 
-    assert named.TUNED == (replication.NAME, replication.TUNED)
+    monkeypatch.setenv("DOCKING_LEDGER", str(REPO / "ledger"))
+    results = ec.DESIGN.read()
+    chosen = ecr.chosen(results)
+    assert named.TUNED[0] == ec.NAME
+    assert named.TUNED[1] == {
+        world: {learner: chosen[world, learner] for learner in ("paper", "linear")}
+        for world in named.WORLDS
+    }
     for world, (_, base) in named.WORLDS.items():
         for learner in ("paper", "linear"):
             config = named.tuned(world, learner)
-            network = replication.learner_config(world, learner).network
+            network = results.cell(f"{world}/{learner}/judged").config.network
             assert config == dataclasses.replace(experiment2_in(base, config.name), network=network)
 
 

@@ -101,6 +101,7 @@ RULES_RECORDED = (
     "untested-revisited",
     "bracketing-replication",
     "fragility-landscape",
+    "equal-contest",
 )
 
 

@@ -121,7 +121,7 @@ def _canonical(value) -> str:
 
 
 @pytest.mark.slow
-@pytest.mark.parametrize("name", sorted(set(PINNED) - {"equal-contest"}))
+@pytest.mark.parametrize("name", sorted(PINNED))
 def test_the_live_procedure_replays_the_recorded_cells_and_verdicts(name, monkeypatch):
     """Replayed on the committed ledger's runs (never computed), the live code walks the
     cells its record's replay holds and reaches the same decisions and verdicts."""

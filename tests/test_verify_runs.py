@@ -19,15 +19,18 @@ import pytest
 from docking.study import ledger, ledger_rows, verify
 from docking.study.cli import main, parse
 from docking.study.cli.ledger import Verify, _duration, _verify_plan
+from docking.study.designs import equal_contest as ec
 from docking.study.designs import replication as rp
 from docking.study.report import verify_command
 from docking.study.runs import load_run
 
 REPO = Path(__file__).resolve().parent.parent
-#: The number of the issue: the replication's floor-world paper's learner, five of its seeds.
+#: The number of the issue: the replication's floor-world paper's learner, five of its seeds
+#: (the command's mechanics are tested on it).
 DESIGN, CELL, SEEDS = rp.NAME, "floor/paper", tuple(range(7100, 7105))
-#: The run the forger edits.
-FORGED = 7103
+#: The README's floor-world number now: the equal contest's judged paper's learner (a cell its
+#: stages add) and five of its seeds (the forger edits the one of them with most failures).
+NUMBER = (ec.NAME, "floor/paper/judged", tuple(range(7200, 7205)))
 
 
 @pytest.fixture
@@ -158,12 +161,12 @@ def test_verify_command_quotes_a_pattern_and_writes_seeds_as_ranges():
 # A forgery resealed, and the five runs behind the number recomputed ---------------------------
 
 
-def _forge(folder: Path, key: str, flips: int) -> float:
-    """The forgery of issue 60: in the replication's table, the first ``flips`` failed
+def _forge(folder: Path, key: str, flips: int, table_name: str = ec.NAME) -> float:
+    """The forgery of issue 60: in the table ``table_name``, the first ``flips`` failed
     held-out trials of run ``key`` made successes; the table rewritten, its SHA-256 put in the
     manifest's tables, the run's row digest taken from the forged table and the manifest
     resealed (a forger who can run the package). The run's forged held-out success."""
-    path = folder / "tables" / f"{DESIGN}.npz"
+    path = folder / "tables" / f"{table_name}.npz"
     with np.load(path) as found:
         table = {k: found[k] for k in found.files}
     column = "heldout.success"
@@ -177,7 +180,7 @@ def _forge(folder: Path, key: str, flips: int) -> float:
     path.write_bytes(ledger_rows.npz(table))
     manifest = folder / "manifest.json"
     data = json.loads(manifest.read_text())
-    data["tables"][DESIGN] = hashlib.sha256(path.read_bytes()).hexdigest()
+    data["tables"][table_name] = hashlib.sha256(path.read_bytes()).hexdigest()
     for k, row_cells in ledger_rows.rows(ledger_rows.table_bytes(path.read_bytes())):
         data["runs"][k]["row"] = ledger_rows.row_digest(row_cells)
     data["seals"] = ledger.seals_of(data)
@@ -190,40 +193,46 @@ def _forge(folder: Path, key: str, flips: int) -> float:
 def test_verify_of_the_five_runs_behind_a_number_catches_one_forged_and_resealed(
     tmp_path, monkeypatch, capsys, restore_sigterm
 ):
-    """On a copy of the committed ledger: the forged run verified before the forgery equals
-    the ledger; the forgery (one run's held-out successes raised, the table, its digest, the
-    row digests and the seals rewritten) passes ledger show and is served, moving the cell's
-    number; verify of the cell's five named runs names that run, and only it."""
+    """On a copy of the committed ledger, the README's floor-world number (the equal contest's
+    judged paper's learner): the forged run verified before the forgery equals the ledger; the
+    forgery (one run's held-out successes raised, the table, its digest, the row digests and
+    the seals rewritten) passes ledger show and is served, moving the number; verify of the
+    cell's five named runs names that run, and only it."""
+    design, cell, seeds = NUMBER
     copy = tmp_path / "ledger"
     shutil.copytree(REPO / "ledger", copy)
     monkeypatch.setenv("DOCKING_LEDGER", str(copy))
     monkeypatch.setenv("DOCKING_RESULTS", str(tmp_path / "results"))  # an empty store
     _clear()
-    config = rp.DESIGN.cell(CELL).config
-    command = shlex.split(verify_command(DESIGN, CELL, SEEDS))[3:] + ["--processes", "2"]
-    one = shlex.split(verify_command(DESIGN, CELL, [FORGED]))[3:] + ["--processes", "2"]
+    every = _parsed(verify_command(design, cell))._design_runs()  # the cell's runs, by the walk
+    config = every[0][1]
+    assert [s for _, _, s in every] == list(ec.SEEDS)
+    forged = min(seeds, key=lambda s: load_run(config, s).heldout.success.mean())
+    command = shlex.split(verify_command(design, cell, seeds))[3:] + ["--processes", "2"]
+    one = shlex.split(verify_command(design, cell, [forged]))[3:] + ["--processes", "2"]
 
     def number() -> float:
-        return float(np.mean([load_run(config, s).heldout.success.mean() for s in rp.SEEDS]))
+        return float(np.mean([load_run(config, s).heldout.success.mean() for s in ec.SEEDS]))
 
     before = number()
     assert main(one) == 0  # the untouched copy: equal
     out = capsys.readouterr().out
-    assert f"ok       {DESIGN} seed {FORGED}" in out and "1 of 1 recomputed runs equal" in out
-    (key,) = verify.named_runs(ledger.manifest(), [(config, FORGED)])
-    rate = _forge(copy, key, flips=40)
+    assert f"ok       {design} seed {forged}" in out and "1 of 1 recomputed runs equal" in out
+    (key,) = verify.named_runs(ledger.manifest(), [(config, forged)])
+    flips = 20
+    rate = _forge(copy, key, flips=flips)
     assert main(["ledger", "show"]) == 0  # every check that reads the ledger passes it
     capsys.readouterr()
-    assert load_run(config, FORGED).heldout.success.mean() == rate  # and it is served
-    assert number() == pytest.approx(before + 40 / 500 / len(rp.SEEDS))  # 93.2% -> 93.6%
+    assert load_run(config, forged).heldout.success.mean() == rate  # and it is served
+    assert number() == pytest.approx(before + flips / 500 / len(ec.SEEDS))  # the number moved
     assert main(command) == 1
     out = capsys.readouterr().out
-    assert out.splitlines()[0].startswith("verify: recomputing the 5 runs behind cell floor/pap")
-    lines = [line for line in out.splitlines() if f"{DESIGN} seed" in line]
+    assert out.splitlines()[0].startswith(f"verify: recomputing the 5 runs behind cell {cell}")
+    lines = [line for line in out.splitlines() if f"{design} seed" in line]
     assert len(lines) == 5, out
     assert [line.split()[0] for line in lines] == [
-        "MISMATCH" if s == FORGED else "ok" for s in SEEDS
+        "MISMATCH" if s == forged else "ok" for s in seeds
     ], out
-    assert f"MISMATCH {DESIGN} seed {FORGED}" in out
+    assert f"MISMATCH {design} seed {forged}" in out
     assert "its table row (heldout.success) differ" in out
     assert "4 of 5 recomputed runs equal the ledger" in out

@@ -41,6 +41,10 @@ RULES_COMMITS = {
         "b4ecb82e559aaca53afe92a95b18a033ffc7c840",
         "2026-11-28T05:38:58+00:00",
     ),
+    "equal-contest": (
+        "319cc645556415be9688e341fd334c2fb70dbcda",
+        "2026-11-29T04:50:05+00:00",
+    ),
 }
 
 
