@@ -542,8 +542,19 @@ def test_an_update_of_one_table_keeps_every_other_as_it_was(built, tmp_path, mon
     assert _served(monkeypatch, copy, 0).network.W.tobytes() == full[0].network.W.tobytes()
     served = _served(monkeypatch, copy, 0, other)
     assert np.array_equal(served.heldout.success, added.heldout.success)
+    # a run of another table the ledger holds already is left as it is (a design reading an
+    # earlier design's runs under their names); one it does not hold is refused
+    held = ledger.update(
+        [(other, 0, False, KEEP), (TINY, 1, False, KEEP)], copy, results, only={"added"}
+    )
+    assert held["runs"] == ledger.manifest(copy)["runs"] and len(held["runs"]) == len(after["runs"])
+    for f in folder.rglob("*.npz"):
+        assert (copy / f.relative_to(folder)).read_bytes() == f.read_bytes(), f
+    with monkeypatch.context() as mp:
+        mp.setenv("DOCKING_LEDGER", "off")
+        run_or_load(TINY, 9, results, progress=False)
     with pytest.raises(ValueError, match="tiny"):  # a run outside the named tables
-        ledger.update([(TINY, 1, False, KEEP)], copy, results, only={"added"})
+        ledger.update([(TINY, 9, False, KEEP)], copy, results, only={"added"})
     (copy / "tables" / "tiny.npz").write_bytes(b"damaged")
     with pytest.raises(ledger.CorruptLedger, match="digest"):  # what it keeps is checked
         ledger.update([(other, 0, False, KEEP)], copy, results, only={"added"})
@@ -571,8 +582,11 @@ def test_a_shared_tables_new_runs_are_added_to_its_rows(built, tmp_path, monkeyp
     served = _served(monkeypatch, grown, 0)
     assert served.heldout.success.tobytes() == full[0].heldout.success.tobytes()
     monkeypatch.setattr(ledger, "SHARED_TABLES", frozenset())
+    with monkeypatch.context() as mp:
+        mp.setenv("DOCKING_LEDGER", "off")
+        run_or_load(TINY, 2, results, progress=False)
     with pytest.raises(ValueError, match="replace those tables whole"):  # not shared: refused
-        ledger.update(runs, grown, results, only={"added"})
+        ledger.update([*runs, (TINY, 2, False, KEEP)], grown, results, only={"added"})
 
 
 # Issue 61: every kind of run decodes its own table rows (Runner.from_table); the ledger

@@ -538,7 +538,12 @@ def _kept_and_shared(folder: Path, only, runs) -> tuple[dict, dict]:
     the shared tables it extends taken out of its files) and the rows of each shared table
     that ``runs`` add to; ValueError for runs of a table it would replace whole."""
     kept = _kept(folder, frozenset(only))
-    outside = sorted({c.name for c, *_ in runs} - set(only))
+    # a run of another table that the ledger holds already (a design reading an earlier
+    # design's runs under their own names) is left as it is, not written again
+    held = kept["runs"]
+    outside = sorted(
+        {c.name for c, s, *_ in runs if c.name not in only and kinds.run_key(c, s) not in held}
+    )
     if set(outside) - SHARED_TABLES or not {f"tables/{n}.npz" for n in outside} <= set(
         kept["files"]
     ):
