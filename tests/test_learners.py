@@ -740,8 +740,10 @@ def _published_linear(world, **setting):
     """The equal contest's linear SARSA in ``world`` with ``setting``, under the name its
     ledger runs of that point hold (a grid point the ledger held before the contest keeps its
     table's name): what its search ran."""
+    from docking.study.contest import WORLDS
     from docking.study.designs import equal_contest as ec
 
+    world = next(k for k, found in WORLDS.items() if found == world)  # the world's key
     search, knobs = ec.SEARCH, ec.KNOBS["linear"]
     e = search.entrants["linear"]
     for r in range(-3, 13):

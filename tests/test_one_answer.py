@@ -59,6 +59,6 @@ def test_the_first_screen_says_the_rules_verdicts(monkeypatch):
     text = (ROOT / "README.md").read_text()
     screen = text.split("<!-- glance:start -->", 1)[1].split("<!-- glance:end -->", 1)[0]
     leads = "/".join(f"{100 * v['lead']:.1f}" for v in verdicts.values())
-    assert f"linear SARSA's lead: {leads} pp" in screen
+    assert f"linear SARSA's lead (sideboard/floor/Nao-like): {leads} pp" in screen
     assert "closed" not in screen.lower()
     assert re.search(r"notebook 0?5\b", screen) is None

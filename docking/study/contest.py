@@ -317,8 +317,12 @@ def _checked(learner, rows, cols, budget: Budget, label: str | None) -> tuple[sr
     if rows.field == cols.field:
         raise ValueError(f"contest: rows and cols both name the field {rows.field!r}")
     make = _maker(learner, budget.heldout_trials)
-    first = make(budget.worlds[0], "", **{rows.field: rows.ladder.value(0)})
-    _check_fields(first, {rows.field: None, cols.field: None})
+    corner = {rows.field: rows.ladder.value(0), cols.field: cols.ladder.value(0)}
+    first = make(budget.worlds[0], "", **corner)  # a setting of both knobs, as the search asks
+    if not callable(learner) or hasattr(learner, "world"):  # a configuration: knobs are fields
+        _check_fields(first, {rows.field: None, cols.field: None})
+    # a function's knobs are its arguments (linear SARSA's eps_Q sits in its network):
+    # _check_distinct below asks that each grid point give another configuration
     label = check_name("contest", "label", first.name if label is None else label)
     if label in _RESERVED:
         raise ValueError(f"contest: the label {label!r} names a published learner or yardstick")

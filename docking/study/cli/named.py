@@ -80,19 +80,18 @@ LEARNERS = {"tuned": ("paper", "the paper's learner"), "linear": ("linear", "lin
 
 #: The tuned settings currently published: the design that chose them (its name), and its
 #: network settings per world and learner (``paper``: the paper's learner; ``linear``: linear
-#: SARSA). Those of the bracketing replication
-#: (:data:`docking.study.designs.replication.TUNED`, the bracketing continued's last
-#: incumbents).
+#: SARSA). Those of the equal contest (:func:`docking.study.designs.equal_contest_report.chosen`:
+#: every learner selected alike; tests/test_cli.py reads them from the ledger).
 TUNED = (
-    "bracketing-replication",
+    "equal-contest",
     {
         "floor": {
-            "paper": {"eps_q": 0.03, "beta_a_train": 100.0, "eps_w": 0.5},
-            "linear": {"eps_q": 0.1, "beta_a_train": 10.0},
+            "paper": {"eps_q": 0.03, "beta_a_train": 50.0, "eps_w": 0.5},
+            "linear": {"beta_a_train": 10.0, "eps_q": 0.1},
         },
         "nao": {
-            "paper": {"eps_q": 0.3, "beta_a_train": 50.0, "eps_w": 0.5},
-            "linear": {"eps_q": 0.03, "beta_a_train": 10.0},
+            "paper": {"eps_q": 0.3, "beta_a_train": 100.0, "eps_w": 1.5},
+            "linear": {"beta_a_train": 100.0, "eps_q": 0.3},
         },
     },
 )
