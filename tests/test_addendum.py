@@ -27,7 +27,14 @@ def test_seeds_are_fresh():
     # the tuning seeds the walks compared settings on, never on a judged seed
     landscape = {r["seed"] for r in runs if r["name"] == lsc.NAME}
     assert landscape == set(lsc.SEEDS) and landscape <= set(ad.TUNING_SEEDS)
-    used = {r["seed"] for r in runs if r["name"] not in (*walks, lsc.NAME)}
+    # the equal contest (docking.study.designs.equal_contest) runs its common grid on the
+    # landscape's seeds, by its rules; its selection and judged seeds are none of the addendum's
+    from docking.study.designs import equal_contest as ec
+
+    equal = {r["seed"] for r in runs if r["name"] == ec.NAME}
+    assert set(ec.GRID_SEEDS) <= landscape and equal
+    assert not (equal - set(ec.GRID_SEEDS)) & (set(ad.SEEDS) | set(ad.TUNING_SEEDS))
+    used = {r["seed"] for r in runs if r["name"] not in (*walks, lsc.NAME, ec.NAME)}
     assert not used & (set(ad.SEEDS) | set(ad.TUNING_SEEDS))
     assert not set(ad.SEEDS) & set(ad.TUNING_SEEDS)
 
