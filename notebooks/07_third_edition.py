@@ -152,7 +152,7 @@ for f in fragile.values():
 # are matched by seed, not paired: one generator draws both the starts and the step noise, so
 # only a trial's first start is shared.
 
-# %% tags=["hide-input"]
+# %% tags=["hide-input", "fold-output"]
 from docking.study import answer  # noqa: E402
 from docking.study.designs import bracketing_continued as bc  # noqa: E402
 from docking.study.designs import replication as rp  # noqa: E402
@@ -346,7 +346,7 @@ display(Markdown(report.gaps_table(gaps + ppo_gaps)))
 # `interaction`: the distractor's four arms; `share`: the delta method's share of failures
 # removed (rotation). The equivalence rule decides by the paired interval too.
 
-# %% tags=["hide-input"]
+# %% tags=["hide-input", "fold-output"]
 TOOLS = Path(te.__file__).resolve().parents[3] / "tools"  # scripts beside the package
 spec = importlib.util.spec_from_file_location("checks", TOOLS / "interval_coverage.py")
 checks = importlib.util.module_from_spec(spec)
@@ -370,7 +370,7 @@ assert all(0.93 <= v <= 0.97 for v in found.values())  # each within 2 points of
 #
 # Each sentence below is computed from the runs; the asserts hold what the sentences say.
 
-# %% tags=["hide-input"]
+# %% tags=["hide-input", "fold-output"]
 by_world = {g.world: g for g in gaps}
 by_ppo = {g.world: g for g in ppo_gaps}
 mean = lambda key: 100 * float(np.mean(contest.score(key)))  # noqa: E731
@@ -400,7 +400,7 @@ display(Markdown("\n".join(lines)))
 # world, where the package's choices were calibrated, is the gap below the rule's 5 pp, and
 # even there linear SARSA and PPO dock more often.
 
-# %% tags=["hide-input"]
+# %% tags=["hide-input", "fold-output"]
 paper_gain = {
     w: report.paired_over_shared_seeds(contest, f"{w}/paper-tuned", f"{w}/paper")
     for w in te.CONTEST
@@ -454,7 +454,7 @@ display(
 # own tuning (it docks in nearly every trial; it bounds the others), the yardsticks (the
 # contest's serve, same worlds and protocol).
 
-# %% tags=["hide-input"]
+# %% tags=["hide-input", "fold-output"]
 added = ad.DESIGN.run(progress=False)
 rules_commit, rules_time = provenance.RULES_COMMITS[ad.NAME]  # tests/test_addendum.py checks it
 times = provenance.computed_times(ad.NAME)
@@ -509,7 +509,7 @@ assert edges and {learner for _, learner, _ in edges} == {"paper"}  # linear SAR
 # setting that changes is judged on the addendum's judged seeds; one that does not keeps
 # the addendum's judged runs.
 
-# %% tags=["hide-input"]
+# %% tags=["hide-input", "fold-output"]
 from docking.study.designs import bracketing as br  # noqa: E402
 
 
@@ -557,7 +557,7 @@ display(
 # seeds that no earlier run used (the addendum's judged seeds had had two judged looks).
 # From here on, "tuned" means tuned by this walk and judged on these seeds.
 
-# %% tags=["hide-input"]
+# %% tags=["hide-input", "fold-output"]
 from docking.study.designs import bracketing_continued as bc  # noqa: E402
 
 walk = bc
@@ -616,7 +616,7 @@ for w in ad.WORLDS:
 # %% [markdown] tags=["fold"]
 # ### The gap, tuned to each learner's optimum (the first judgement; replicated at the top)
 
-# %% tags=["hide-input"]
+# %% tags=["hide-input", "fold-output"]
 added_gaps = report.contest_gaps(final, ad.WORLDS, ad.GAP_CLOSED)
 added_ppo = report.contest_gaps(final, ad.WORLDS, ad.GAP_CLOSED, other="ppo-matched")
 display(Markdown(report.gaps_table(added_gaps + added_ppo)))
@@ -643,7 +643,7 @@ display(Markdown(report.md_table(("", *(names[w] for w in ad.WORLDS)), rows)))
 #
 # Each sentence is computed from the runs; the asserts hold what they say.
 
-# %% tags=["hide-input"]
+# %% tags=["hide-input", "fold-output"]
 added_by = {g.world: g for g in added_gaps}
 contest_by = {g.world: g for g in gaps}
 lines = []
@@ -673,7 +673,7 @@ display(Markdown("\n".join(lines)))
 # the circle the paper's published one. The sentence under it counts, of the settings each
 # learner's search ran on at least two seeds, those within 5 pp of the best of them.
 
-# %% tags=["hide-input"]
+# %% tags=["hide-input", "fold-output"]
 from docking.study.designs import landscape as lsc  # noqa: E402
 from docking.study.designs import landscape_report as lscr  # noqa: E402
 
