@@ -285,12 +285,10 @@ def equal_first_screen(
         higher.
       groups: The paper's claims by verdict (``claim_groups`` under the committed rule).
     """
-    from docking.study.designs import third_edition as te
-
     g = GLOSSARY
     worlds = list(EQUAL_WORLDS)
     paper = [chosen[w, "paper"] for w in worlds]
-    net = te.DESIGN.cell(f"{te.CONTEST[0]}/paper").config.network  # the published settings
+    net = _published_network()
     lines = [
         f"At its [published settings]({g}#published-settings) the paper's learner docks "
         f"{_pct(published['sideboard'])} of [held-out]({g}#held-out-trials) trials in our "
@@ -306,6 +304,13 @@ def equal_first_screen(
         _claims_sentence(groups),
     ]
     return "\n".join(f"{k + 1}. {line}" for k, line in enumerate(lines))
+
+
+def _published_network():
+    """The paper's learner's network at its published settings (the third edition's cell)."""
+    from docking.study.designs import third_edition as te
+
+    return te.DESIGN.cell(f"{te.CONTEST[0]}/paper").config.network
 
 
 def _equal_verdict(verdicts: dict[str, dict]) -> str:
@@ -387,7 +392,7 @@ def equal_text(
         f"{100 * verdicts[w]['lead']:+.1f} pp now"
         for w in before
     )
-    net = te.DESIGN.cell(f"{te.CONTEST[0]}/paper").config.network
+    net = _published_network()
     seeds, margin = ec.SEEDS, f"{100 * ec.MARGIN:g} pp"
     return (
         f"**The paper's learner as published** (notebook 07). At its "

@@ -10,6 +10,7 @@ from __future__ import annotations
 import numpy as np
 
 from docking.study.designs import equal_contest as ec
+from docking.study.designs import third_edition as te
 
 #: What tables call the worlds and the learners.
 WORLD_NAMES = {"sideboard": "sideboard world", "floor": "floor world", "nao": "Nao-like world"}
@@ -129,17 +130,18 @@ def bracketing(results) -> dict[tuple[str, str], dict[str, str]]:
     for w in ec.WORLDS:
         for learner in ec.LEARNERS:
             e = ec.SEARCH.entrants[learner]
-            r, c = ec.SEARCH.chosen(results, w, learner)
+            point = ec.SEARCH.chosen(results, w, learner)
             searched = ec.SEARCH.searched(results, w, learner)
-            sides = {
-                e.row.field: [((r + d, c), e.row.ladder.value(r + d)) for d in (1, -1)],
-                e.col.field: [((r, c + d), e.col.ladder.value(c + d)) for d in (1, -1)],
-            }
+            around = ec.SEARCH.neighbours(point)  # row up, row down, column up, column down
             found[w, learner] = {}
-            for field, around in sides.items():
+            for field, pair in ((e.row.field, around[:2]), (e.col.field, around[2:])):
                 how = [
-                    "searched" if p in searched else "limit" if v is None else "edge"
-                    for p, v in around
+                    "searched"
+                    if p in searched
+                    else "limit"
+                    if ec.SEARCH.setting(w, learner, p) is None
+                    else "edge"
+                    for p in pair
                 ]
                 found[w, learner][field] = (
                     "edge" if "edge" in how else "at a limit" if "limit" in how else "interior"
@@ -374,7 +376,7 @@ GLANCE_CAPTION = (
     "start poses, the mean with its 95% interval. Chosen: each learner's setting selected by the "
     f"equal contest (the same {ec.SEARCH.runs_per_learner()} selection runs per learner and "
     f"world), judged on {len(ec.SEEDS)} fresh seeds. Blue: the paper's learner at its published "
-    f"settings (the third edition's runs, seeds {ec.te.SEEDS[0]}-{ec.te.SEEDS[-1]}). Lines: the "
+    f"settings (the third edition's runs, seeds {te.SEEDS[0]}-{te.SEEDS[-1]}). Lines: the "
     "pose oracle (reads the true pose), the centroid rule, random actions."
 )
 
