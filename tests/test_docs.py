@@ -96,6 +96,7 @@ def test_every_notebook_is_on_the_site():
         "07_third_edition.html",
         "08_untested.html",
         "09_revisited.html",
+        "10_history.html",
     ]
     archived = sorted(p.name for p in (SITE / "archive").glob("*.html"))
     # index.html: the archive's README, saying what each notebook was and how to check it out

@@ -1,6 +1,6 @@
 """The answer as the evidence allows it: the README's first screen and its paragraphs,
 computed from the runs (the equal contest's, issue 59), and the replication's sentences
-(the history notebook 07 keeps).
+(the history notebook 10 keeps).
 
 The first screen (:func:`equal_first_screen`) says, in at most :data:`MAX_SENTENCES` sentences
 of at most :data:`MAX_WORDS` words (:func:`words`, :func:`sentences` count them), with at most
@@ -153,7 +153,7 @@ def _pct(x: float) -> str:
 
 
 def replication_text(found: dict[str, Replication], glossary: str | None = GLOSSARY) -> str:
-    """The replication's paragraph (notebook 07's history): what it ran, a table of both
+    """The replication's paragraph (notebook 10, the study's history): what it ran, a table of both
     judgements per world (the bracketing continued's first, then the replication's) and what
     it allowed to be said (:func:`docking.study.designs.replication.wording`), its gap rule's
     verdicts named as the test it is (:func:`docking.study.report.gap_words`); ``glossary``:

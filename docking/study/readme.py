@@ -114,12 +114,12 @@ def turning_text(comparisons: list, oracle: float | None = None) -> str:
 
 #: The summary's main finding when the third edition is left out of the report: where it is.
 _FINDING_LEFT_OUT = (
-    "**The main finding**: the study's third edition (notebook 07), which this report left "
+    "**The main finding**: the study's third edition (notebooks 07 and 10), which this report left "
     "out (`--no-third-edition`)."
 )
 
 
-#: The markers of the README's table of the third edition's contest (notebook 07).
+#: The markers of the README's table of the third edition's contest (notebook 10).
 THIRD_EDITION_START = "<!-- third-edition:start -->"
 
 

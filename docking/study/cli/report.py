@@ -39,9 +39,9 @@ class Report:
     oracle in every cell), into the README between <!-- experiment3:start --> and
     <!-- experiment3:end -->."""
     third_edition: bool = True
-    """Also the third edition (notebook 07): its contest in the README's summary and its table
-    between <!-- third-edition:start --> and <!-- third-edition:end -->, its verdict table
-    between <!-- verdicts:start --> and <!-- verdicts:end -->."""
+    """Also the third edition (notebooks 07 and 10): its contest in the README's summary and
+    its table between <!-- third-edition:start --> and <!-- third-edition:end -->, its verdict
+    table between <!-- verdicts:start --> and <!-- verdicts:end -->."""
     figures: bool = False
     """Also save the figures: the README's (its first screen's, the claims at a glance) and
     Figs. 2-5 and the learning curves of Experiments 1 and 2, into figures/ (or

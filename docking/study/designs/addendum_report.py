@@ -1,5 +1,5 @@
 """The report of the third edition's addendum (:mod:`docking.study.designs.addendum`,
-notebooks 07 and 08): the tuned settings and where each lies in its ladder, the training steps,
+notebooks 10 and 08): the tuned settings and where each lies in its ladder, the training steps,
 the decomposition of the gap (notebook 08), and its sentence.
 """
 
@@ -159,7 +159,7 @@ def addendum_summary(added, contest, ad) -> str:
             f"**{gaps[world].words}**"
         )
     return (
-        "**Tuned further** (the addendum, notebook 07: both SARSA learners tuned on the same "
+        "**Tuned further** (the addendum, notebook 10: both SARSA learners tuned on the same "
         "knobs of Eq. 4-8 by a search extending until every chosen value was bracketed or its "
         "five stages ran out, "
         f"{ad.BUDGET} training runs each per world, fresh seeds): " + "; ".join(parts) + "."

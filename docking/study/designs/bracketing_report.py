@@ -1,6 +1,6 @@
 """The report of the addendum's bracketing and its continuation
 (:mod:`docking.study.designs.bracketing`, :mod:`docking.study.designs.bracketing_continued`,
-notebook 07): the walk's rows and table, its sentence, and the addendum's results with the
+notebook 10): the walk's rows and table, its sentence, and the addendum's results with the
 bracketed learners in place.
 """
 
@@ -118,14 +118,14 @@ def bracketing_summary(rows: list[dict], final, ad) -> str:
 BRACKETING_LEADS = {
     "addendum-bracketing": (
         "**Bracketed** (the addendum's search continued by a second rule committed before its "
-        "runs, notebook 07: every neighbour of the best setting run on the same 10 tuning seeds, "
+        "runs, notebook 10: every neighbour of the best setting run on the same 10 tuning seeds, "
         "stage after stage, until none did better; the same rule for both learners): "
     ),
     "addendum-bracketing-continued": (
         "**Bracketed, judged on fresh seeds** (the addendum's search continued by the "
         "bracketing's rule, every neighbour of the best setting run on the same 10 tuning "
         "seeds until none did better, the same for both learners, with a further budget under "
-        "a third rule committed before its runs, notebook 07; both tuned learners then judged "
+        "a third rule committed before its runs, notebook 10; both tuned learners then judged "
         "on seeds no earlier run used): "
     ),
 }
@@ -136,7 +136,7 @@ def bracketed_addendum(added, own, br):
     the results of ``br``, :mod:`docking.study.designs.bracketing`) changed in its place: the cell
     ``{world}/{learner}-tuned`` holds the bracketed setting's judged runs, and
     ``{world}/ppo-matched`` PPO's re-matched runs where the bracketing trained PPO again;
-    every other cell as the addendum ran it. What the README and notebook 07 report as the
+    every other cell as the addendum ran it. What notebook 10 reports as the
     tuned learners once the bracketing is in."""
 
     from docking.study.design import Results

@@ -1,7 +1,7 @@
 """The report of the study's third edition (:mod:`docking.study.designs.third_edition`,
-notebook 07): the contest's table and sentences, the tuning, the path, and the verdicts of the
-paper's claims (their table, their panels and their glance, with the untested claims' rows
-that join them).
+notebooks 07 and 10): the contest's table and sentences, the tuning, the path, and the
+verdicts of the paper's claims (their table, their panels and their glance, with the untested
+claims' rows that join them).
 """
 
 from __future__ import annotations
@@ -80,7 +80,7 @@ def contest_summary(contest, corrected: bool = False) -> str:
         else "**The main finding**"
     )
     return (
-        f"{lead} (the study's third edition, notebook 07: fresh seeds, every "
+        f"{lead} (the study's third edition, notebook 10: fresh seeds, every "
         "learner tuned by the same successive halving of 15 runs per world): "
         + "; ".join(parts)
         + ". By the edition's rule (a one-sided non-inferiority test of the paper's learner at "
