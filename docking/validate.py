@@ -119,7 +119,8 @@ def check_real(
     hi_open: bool = False,
 ) -> float:
     """A finite real number (int or float, Python or numpy, not a bool) in the interval
-    ``lo..hi`` (each end closed unless ``*_open``); returned as ``float``."""
+    ``lo..hi`` (each end closed unless ``*_open``); returned as ``float``, ``-0.0`` as
+    ``0.0`` (a configuration's JSON, so its runs' key, must not tell them apart)."""
     if _is_bool(value) or not isinstance(value, (numbers.Real, np.integer, np.floating)):
         raise FieldTypeError(
             f"{_where(owner, field)} must be a real number, got {value!r} ({type(value).__name__})"
@@ -143,7 +144,7 @@ def check_real(
         raise ValueError(
             f"{_where(owner, field)} must be in {left}{lo_s}, {hi_s}{right}, got {value:g}"
         )
-    return value
+    return value + 0.0  # -0.0 + 0.0 is 0.0; every other value is unchanged
 
 
 def check_bool(owner: str, field: str, value) -> bool:

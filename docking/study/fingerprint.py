@@ -17,8 +17,8 @@ are joined back into one). Left out of the tokens:
   computes (the configuration's every field enters the key as canonical JSON anyway), each
   whole: from its first decorator to the NEWLINE and DEDENT tokens that end its body, so that
   splitting a check into helpers named there moves nothing either;
-* the modules named in :data:`UNKEYED_MODULES` (the field checks every configuration shares,
-  the atomic file writer), which are not followed either.
+* the modules named in :data:`UNKEYED_MODULES` (the atomic file writer), which are not
+  followed either.
 
 The walk starts at a root module (``docking.experiments`` for the learner's runs) and follows
 the ``docking`` imports of the code it keeps. This module uses the standard library only, so
@@ -37,10 +37,12 @@ from pathlib import Path
 
 __all__ = ["UNKEYED", "UNKEYED_MODULES", "code_tokens", "imported_names", "module_code", "walk"]
 
-#: Modules that compute nothing a run stores: never fingerprinted, never followed. Their
-#: functions return the values they are given (``docking.validate``'s checks raise or pass the
-#: value on; tests/test_validation.py holds them to it) or write files.
-UNKEYED_MODULES = frozenset({"docking.validate", "docking.fileio"})
+#: Modules that compute nothing a run stores: never fingerprinted, never followed (the atomic
+#: file writer). ``docking.validate`` is keyed: its checks run inside every run (on a computed
+#: beta_a, on an action) and return what they are given normalised (``-0.0`` as ``0.0``), so an
+#: edit there could change a run (tests/test_keyed_trace.py runs every kind of run under a
+#: profiler and fails on any function it calls outside its key).
+UNKEYED_MODULES = frozenset({"docking.fileio"})
 
 #: Definitions (``function`` or ``Class.method``) per module that compute nothing a run stores.
 UNKEYED: dict[str, frozenset[str]] = {
