@@ -1,5 +1,5 @@
 """The docking task as Gymnasium environments, one id per task (:data:`docking.ENV_IDS`,
-registered by ``import docking``): an adapter of the ``dm_env``
+registered by ``import docking.gym_ids``): an adapter of the ``dm_env``
 :class:`~docking.world.DockingEnv`, which stays the primary API. The ids, the keyword
 arguments of ``make``, the mapping of ``dm_env`` time steps to ``terminated`` and
 ``truncated``, seeding and vector environments: docs/guide/gymnasium.md.
@@ -143,7 +143,7 @@ class DockingGymEnv(gymnasium.Env):
 
 
 def register() -> None:
-    """Register every id of :data:`docking.ENV_IDS` (done by ``import docking``)."""
+    """Register every id of :data:`docking.ENV_IDS` (done by ``import docking.gym_ids``)."""
     import docking
 
     docking._register_envs()
