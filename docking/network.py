@@ -65,7 +65,9 @@ _FORMAT_VERSION = 2
 _DEAD_NORM = 1e-12
 
 #: Upper bound of the learning rates (eps_q, eps_w), q_init and |feature_delta|: far above
-#: any rate that learns (the paper's are below 1), low enough that no update overflows.
+#: any rate that learns (the paper's are below 1). It does not keep every update finite: a
+#: rate above the LMS bound (linear SARSA's eps_q above 2) can grow Q without limit, and a run
+#: stops with an error when an update would make Q non-finite (the equal contest's amendment 1).
 MAX_RATE = 100.0
 
 #: Upper bound of the softmax gains beta_s, beta_a (the paper: 100); beyond it Eq. (2) and
