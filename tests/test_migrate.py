@@ -221,6 +221,29 @@ def test_a_refactor_migrates_the_ledger_and_the_store_after_a_sample_equal_to_it
 
 
 @pytest.mark.slow
+def test_a_change_of_which_modules_are_keyed_migrates_by_each_codes_own_rule(built, tmp_path):
+    """Which modules are keyed is code too (``fingerprint.UNKEYED_MODULES``): when it changes,
+    the old code's fingerprint must be computed by the old code's rule, in its own process.
+    This code's rule applied to the old files (what the battery did, until issue 60's
+    validate.py was keyed) finds no old code that recorded the ledger, and refused."""
+    src, folder, results = _fresh(built, tmp_path)
+    path = src / "docking" / "study" / "fingerprint.py"
+    text = path.read_text()
+    old = 'UNKEYED_MODULES = frozenset({"docking.fileio"})'
+    assert text.count(old) == 1
+    path.write_text(
+        text.replace(old, 'UNKEYED_MODULES = frozenset({"docking.fileio", "docking.validate"})')
+    )
+    refused = _python(src, "-m", "docking", "ledger", "show", ledger_dir=folder)
+    assert refused.returncode == 1 and "ledger migrate" in refused.stderr, refused.stderr
+    out = _migrate(src, folder, results, built / "src")
+    assert out.returncode == 0, out.stderr[-3000:]
+    (migration,) = json.loads((folder / "manifest.json").read_text())["migrations"]
+    assert "docking.validate" in migration["changed"]["learner"]
+    assert migration["moved"] == {"learner": 4}
+
+
+@pytest.mark.slow
 def test_a_change_that_alters_a_number_migrates_nothing_and_names_the_runs(built, tmp_path):
     src, folder, results = _fresh(built, tmp_path)
     manifest = (folder / "manifest.json").read_bytes()

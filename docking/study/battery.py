@@ -307,11 +307,37 @@ def _history(root: Path, limit: int = 300) -> list[str]:
     return found.stdout.split() if found.returncode == 0 else []
 
 
-def _fingerprint(tree: Path, data: dict, name: str) -> bool:
+#: What the old code's own process prints: each named runner's fingerprint, by the old code's
+#: rule. Which modules are keyed is itself code (``kinds.UNKEYED_MODULES``, the modules a
+#: runner's root imports): a change that keys another module changes the rule, so this code's
+#: rule applied to the old files gives a fingerprint the old code never recorded.
+FINGERPRINT_SCRIPT = r"""
+import json, sys
+from docking.study import kinds
+found = {}
+for name in sys.argv[1:]:
     runner = kinds.runner_named(name)
+    found[name] = kinds.source_fingerprint(None, runner.root, runner.libraries)
+print(json.dumps(found))
+"""
+
+
+def _fingerprint(tree: Path, data: dict, name: str) -> bool:
+    """Whether the ``docking`` package in ``tree`` gives the runner ``name`` the ledger
+    ``data``'s recorded fingerprint, computed by that package's own code in a process of its
+    own (:data:`FINGERPRINT_SCRIPT`)."""
+    env = {**os.environ, "PYTHONPATH": str(tree), "DOCKING_LEDGER": "off"}
     try:
-        found = kinds.source_fingerprint(tree / "docking", runner.root, runner.libraries)
-    except (OSError, SyntaxError, ValueError):
+        done = subprocess.run(
+            [sys.executable, "-c", FINGERPRINT_SCRIPT, name],
+            cwd=tree,
+            env=env,
+            capture_output=True,
+            text=True,
+            timeout=300,
+        )
+        found = json.loads(done.stdout)[name] if done.returncode == 0 else None
+    except (OSError, ValueError, KeyError, subprocess.TimeoutExpired):
         return False
     return found == data["fingerprints"][name]
 
