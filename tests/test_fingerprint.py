@@ -69,15 +69,26 @@ def test_the_fingerprint_is_the_same_under_every_installed_python():
         assert theirs == {"code": ours[0], "modules": dict(ours[1])}, exe
 
 
+def test_the_field_checks_are_keyed(tmp_path):
+    """docking.validate runs inside every run (check_real on a computed beta_a, on actions):
+    its code is keyed (issue 60; it was in UNKEYED_MODULES, and an edit there changed a run's
+    arrays under the same key)."""
+    package = _copy_package(tmp_path)
+    before = source_fingerprint(package)
+    (package / "validate.py").write_text((package / "validate.py").read_text() + "\nX = 1\n")
+    assert source_fingerprint(package) != before
+    assert "docking.validate" not in fingerprint.UNKEYED_MODULES
+
+
 def test_messages_docstrings_comments_validation_and_parsing_leave_the_key_alone(tmp_path):
     package = _copy_package(tmp_path)
     before = source_fingerprint(package)
     assert before == source_fingerprint()  # the copy is the same code
     # an error message in a computation
     _edit(package / "network.py", "softmax input contains NaN", "softmax input holds NaN")
-    # a validation message, and the field checks' module as a whole
+    # validation messages (the field checks' module is keyed since issue 60, its messages not)
     _edit(package / "experiments.py", "must equal the camera's", "has to equal the camera's")
-    (package / "validate.py").write_text((package / "validate.py").read_text() + "\nX = 1\n")
+    _edit(package / "validate.py", "is not an integer: write", "is not an integer: use")
     # the configuration's parsing, a docstring, a comment
     _edit(package / "experiments.py", "fields = _fields(", "fields = dict(d) and _fields(")
     _edit(package / "trial.py", '"""', '""" Reworded. ')
