@@ -234,13 +234,26 @@ def test_a_change_of_which_modules_are_keyed_migrates_by_each_codes_own_rule(bui
     path.write_text(
         text.replace(old, 'UNKEYED_MODULES = frozenset({"docking.fileio", "docking.validate"})')
     )
+    # a derived table, keyed (as every derived entry) by the keys of the runs it read
+    add = (
+        "import sys, numpy as np; from docking.study import ledger; "
+        "ledger.write_derived(sys.argv[1], 'feature-fidelity', {'k': {'x': np.zeros(2)}})"
+    )
+    added = _python(built / "src", "-c", add, str(folder), ledger_dir=folder)
+    assert added.returncode == 0, added.stderr[-3000:]
     refused = _python(src, "-m", "docking", "ledger", "show", ledger_dir=folder)
     assert refused.returncode == 1 and "ledger migrate" in refused.stderr, refused.stderr
     out = _migrate(src, folder, results, built / "src")
     assert out.returncode == 0, out.stderr[-3000:]
-    (migration,) = json.loads((folder / "manifest.json").read_text())["migrations"]
+    data = json.loads((folder / "manifest.json").read_text())
+    (migration,) = data["migrations"]
     assert "docking.validate" in migration["changed"]["learner"]
     assert migration["moved"] == {"learner": 4}
+    # the derived table's entries name the runs' old keys: dropped, and said (the migration
+    # of issue 60 dropped them from the manifest without a word, leaving their files)
+    assert "derived tables dropped (feature-fidelity)" in out.stdout, out.stdout
+    assert "ledger derive" in out.stdout
+    assert "derived" not in data and not (folder / "derived" / "feature-fidelity.npz").exists()
 
 
 @pytest.mark.slow

@@ -78,12 +78,15 @@ class Migration:
     there was nothing to migrate or a run differed), ``differ`` (the sampled runs that the
     new code computes otherwise: ``(name, seed, what differs)``), ``store`` (the store's
     counts, :func:`migrate_store`), ``refused`` (the battery's lines where its short runs
-    differ: the field values that differ)."""
+    differ: the field values that differ), ``dropped`` (the ledger's derived tables removed:
+    an entry's key holds the keys of the runs it read, so a re-keyed run leaves it a key no
+    reader asks for; ``python -m docking ledger derive`` writes them again once computed)."""
 
     record: dict | None
     differ: tuple[tuple[str, int, str], ...] = ()
     store: dict | None = None
     refused: tuple[str, ...] = ()
+    dropped: tuple[str, ...] = ()
 
 
 # ------------------------------------------------------------------------------------------
@@ -253,7 +256,8 @@ def migrate(
         covered["sample"] = _sample_coverage(data, keys)
         record = _write(data, changed, checks, commit, covered)
     moved = None if results_dir is False else migrate_store(results_dir, folder)
-    return Migration(record, (), moved)
+    dropped = tuple(sorted(data.get("derived", {}))) if record is not None else ()
+    return Migration(record, (), moved, dropped=dropped)
 
 
 def _sample_coverage(data: dict, keys: list[str]) -> dict:
@@ -312,6 +316,8 @@ def _write(data: dict, changed: dict, checks, commit: str | None, covered: dict)
     ledger._replace_files(folder, files)
     text = json.dumps(manifest, indent=1, sort_keys=True) + "\n"
     atomic_write(folder / "manifest.json", lambda f: f.write(text.encode()))
+    for name in data.get("derived", {}):  # keyed by the old runs' keys: none is asked for now
+        (folder / "derived" / f"{name}.npz").unlink(missing_ok=True)
     ledger._read_manifest.cache_clear()
     ledger._table.cache_clear()
     ledger.check_files(folder)  # the migrated ledger, every check

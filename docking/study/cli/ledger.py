@@ -133,6 +133,12 @@ def _migrate(folder: Path, results_dir, old: str | None = None) -> int:
             "runs recomputed, covering every table, kind of run, world, field value and seed, "
             "each equal to the ledger (digest and table row)"
         )
+    if done.dropped:
+        print(
+            f"{folder}: derived tables dropped ({', '.join(done.dropped)}): each entry's key "
+            "holds the keys of the runs it read, which moved; compute them again (the "
+            "notebooks, report) and write them with: python -m docking ledger derive"
+        )
     if done.store is not None:
         moved = done.store
         print(
