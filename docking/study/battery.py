@@ -197,14 +197,20 @@ for line in open(sys.argv[1]):
 """
 
 
-def _process(tree: Path, cases_file: Path) -> subprocess.Popen:
+def _env(tree: Path) -> dict:
+    """The environment of a process that imports the ``docking`` package in ``tree``, the
+    ledger off."""
     env = {**os.environ, "PYTHONPATH": str(tree), "DOCKING_LEDGER": "off"}
     env.setdefault("MUJOCO_GL", "egl")
     env.setdefault("PYOPENGL_PLATFORM", "egl")
+    return env
+
+
+def _process(tree: Path, cases_file: Path) -> subprocess.Popen:
     return subprocess.Popen(
         [sys.executable, "-c", SCRIPT, str(cases_file)],
         cwd=tree,
-        env=env,
+        env=_env(tree),
         stdout=subprocess.PIPE,
         stderr=subprocess.DEVNULL,
         text=True,
@@ -271,7 +277,7 @@ def old_tree(data: dict, runners, folder: Path, commit: str | None = None) -> tu
     folder)``; ``LookupError`` naming what was searched if none does."""
     if commit is not None and (Path(commit) / "docking").is_dir():  # a folder holding it
         tree = Path(commit)
-        if all(_fingerprint(tree, data, name) for name in runners):
+        if _fingerprints_match(tree, data, runners):
             return str(tree), tree
         raise LookupError(f"the package in {tree} is not the code that computed the ledger")
     root = paths.checkout_root()
@@ -288,7 +294,7 @@ def old_tree(data: dict, runners, folder: Path, commit: str | None = None) -> tu
                 continue
             tree.mkdir(parents=True)
             subprocess.run(["tar", "-x", "-C", str(tree)], input=archive.stdout, check=True)
-        if all(_fingerprint(tree, data, name) for name in runners):
+        if _fingerprints_match(tree, data, runners):
             return rev, tree
     raise LookupError(
         f"no commit of {len(candidates)} searched ({'given' if commit else 'the newest'}) holds "
@@ -322,24 +328,24 @@ print(json.dumps(found))
 """
 
 
-def _fingerprint(tree: Path, data: dict, name: str) -> bool:
-    """Whether the ``docking`` package in ``tree`` gives the runner ``name`` the ledger
-    ``data``'s recorded fingerprint, computed by that package's own code in a process of its
-    own (:data:`FINGERPRINT_SCRIPT`)."""
-    env = {**os.environ, "PYTHONPATH": str(tree), "DOCKING_LEDGER": "off"}
+def _fingerprints_match(tree: Path, data: dict, names) -> bool:
+    """Whether the ``docking`` package in ``tree`` gives each runner of ``names`` the ledger
+    ``data``'s recorded fingerprint, computed by that package's own code in one process of
+    its own (:data:`FINGERPRINT_SCRIPT`)."""
+    names = sorted(names)
     try:
         done = subprocess.run(
-            [sys.executable, "-c", FINGERPRINT_SCRIPT, name],
+            [sys.executable, "-c", FINGERPRINT_SCRIPT, *names],
             cwd=tree,
-            env=env,
+            env=_env(tree),
             capture_output=True,
             text=True,
             timeout=300,
         )
-        found = json.loads(done.stdout)[name] if done.returncode == 0 else None
-    except (OSError, ValueError, KeyError, subprocess.TimeoutExpired):
+        found = json.loads(done.stdout) if done.returncode == 0 else None
+    except (OSError, ValueError, subprocess.TimeoutExpired):
         return False
-    return found == data["fingerprints"][name]
+    return found is not None and all(found.get(n) == data["fingerprints"][n] for n in names)
 
 
 def prove(
