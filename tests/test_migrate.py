@@ -162,6 +162,17 @@ def _migrate(src: Path, folder: Path, results: Path, old: Path):
     )
 
 
+def _refused_then_migrated(src: Path, folder: Path, results: Path, old: Path):
+    """The changed code in ``src`` refuses the ledger in ``folder``, naming the command that
+    migrates it; ``ledger migrate`` (the battery's old code ``old``) then succeeds. Its
+    output and the migrated manifest."""
+    refused = _python(src, "-m", "docking", "ledger", "show", ledger_dir=folder)
+    assert refused.returncode == 1 and "ledger migrate" in refused.stderr, refused.stderr
+    out = _migrate(src, folder, results, old)
+    assert out.returncode == 0, out.stderr[-3000:]
+    return out, json.loads((folder / "manifest.json").read_text())
+
+
 def _fresh(built: Path, tmp_path: Path) -> tuple[Path, Path, Path]:
     """A copy of the built package, ledger and store, to change."""
     for name in ("src", "ledger", "results"):
@@ -176,11 +187,7 @@ def test_a_refactor_migrates_the_ledger_and_the_store_after_a_sample_equal_to_it
     _split_exp(src)
     _rename_region(src)
     # the refactored code refuses the ledger, naming the command that migrates it
-    refused = _python(src, "-m", "docking", "ledger", "show", ledger_dir=folder)
-    assert refused.returncode == 1 and "ledger migrate" in refused.stderr, refused.stderr
-    out = _migrate(src, folder, results, built / "src")
-    assert out.returncode == 0, out.stderr[-3000:]
-    after = json.loads((folder / "manifest.json").read_text())
+    out, after = _refused_then_migrated(src, folder, results, built / "src")
     (migration,) = after["migrations"]
     assert migration["from"] == {"learner": before["fingerprints"]["learner"]}
     assert migration["to"] == {"learner": after["fingerprints"]["learner"]}
@@ -241,11 +248,7 @@ def test_a_change_of_which_modules_are_keyed_migrates_by_each_codes_own_rule(bui
     )
     added = _python(built / "src", "-c", add, str(folder), ledger_dir=folder)
     assert added.returncode == 0, added.stderr[-3000:]
-    refused = _python(src, "-m", "docking", "ledger", "show", ledger_dir=folder)
-    assert refused.returncode == 1 and "ledger migrate" in refused.stderr, refused.stderr
-    out = _migrate(src, folder, results, built / "src")
-    assert out.returncode == 0, out.stderr[-3000:]
-    data = json.loads((folder / "manifest.json").read_text())
+    out, data = _refused_then_migrated(src, folder, results, built / "src")
     (migration,) = data["migrations"]
     assert "docking.validate" in migration["changed"]["learner"]
     assert migration["moved"] == {"learner": 4}
