@@ -115,3 +115,27 @@ def test_every_number_of_the_first_screen_is_also_in_the_readmes_text():
 
 def test_the_readme_is_at_most_2500_words():
     assert len(README.read_text().split()) <= 2500
+
+
+@pytest.mark.parametrize(
+    ("first", "now", "said"),
+    [
+        ("closed", "closed", "non-inferior at 5 pp, replicated"),
+        ("closed", "undecided", "non-inferior at 5 pp at first, undecided in the replication"),
+        ("remains", "closed", "inferior by more than 5 pp at first, non-inferior at 5 pp in"),
+    ],
+)
+def test_the_replications_words_name_its_gap_rule_as_the_test_it_is(first, now, said):
+    """The replication's table says what its rule allowed with the verdicts named as the test
+    they are (non-inferiority at 5 pp), composed from the verdicts, never by rewriting the
+    rule's words: a rewording of one verdict's name could not leave "closed" behind."""
+    import numpy as np
+
+    scores = np.full(20, 0.9)
+    r = answer.Replication(
+        "floor", scores, scores, scores, (0.0, -0.01, 0.01), now, "no lead shown", 1.0,
+        (0.0, -0.01, 0.01), first, "no lead shown",
+    )  # fmt: skip
+    row = answer.replication_text({"floor": r}, glossary=None).splitlines()[-1]
+    assert said in row, row
+    assert "closed" not in row and "remains" not in row, row

@@ -94,8 +94,9 @@ def effort(data: dict) -> dict[tuple[str, str], tuple[int, int]]:
 @dataclasses.dataclass(frozen=True)
 class Replication:
     """One world's main finding, judged twice: the bracketing continued's judgement and the
-    replication's (per-seed success of each learner, the gap intervals, the verdicts and the
-    words they allow, :func:`docking.study.designs.replication.wording`)."""
+    replication's (per-seed success of each learner, the gap intervals and the verdicts; the
+    words they allow are :func:`docking.study.designs.replication.wording`'s, composed where
+    they are said)."""
 
     world: str
     paper: np.ndarray
@@ -108,7 +109,6 @@ class Replication:
     first_gap: tuple[float, float, float]
     first_verdict: str
     first_lead: str
-    words: tuple[str, str]
 
 
 def replication(first, second) -> dict[str, Replication]:
@@ -138,7 +138,6 @@ def replication(first, second) -> dict[str, Replication]:
             first_gap,
             first_verdict,
             first_lead,
-            rp.wording(first_verdict, verdict, first_lead, leads[w][0]),
         )
     return found
 
@@ -169,10 +168,9 @@ def replication_text(found: dict[str, Replication], glossary: str | None = GLOSS
         "|---|---|---|---|---|---|---|---|",
     ]
     for w, r in found.items():
-        said_gap, said_lead = r.words
-        for old in ("closed", "remains", "undecided"):
-            said_gap = said_gap.replace(old, gap_words(old, rp.GAP_CLOSED))
         first, now = (gap_words(v, rp.GAP_CLOSED) for v in (r.first_verdict, r.verdict))
+        # What the rule allows said, of the verdicts named as the test they are.
+        said_gap, said_lead = rp.wording(first, now, r.first_lead, r.lead)
         rows.append(
             f"| {WORLDS[w]} | {_pp(r.first_gap)}, {first}; {r.first_lead} | "
             f"{_pct(r.paper.mean())} | {_pct(r.linear.mean())} | {_pct(r.ppo.mean())} | "
