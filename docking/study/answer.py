@@ -272,10 +272,10 @@ def equal_first_screen(
       published: ``{world: the paper's learner's held-out success at its published settings}``
         (sideboard, floor, Nao-like).
       chosen: ``{(world, learner): the chosen setting}``
-        (:func:`docking.study.designs.equal_contest_report.chosen`).
+        (:func:`docking.study.designs.equal_contest.chosen`).
       runs: Selection runs per learner and world.
       verdicts: ``{world: the equal contest's verdicts}``
-        (:func:`docking.study.designs.equal_contest_report.verdicts`).
+        (:func:`docking.study.designs.equal_contest.verdicts`).
       relocation: ``{"cm", "world", "seeds", "home", "camera lower", "camera higher", "shift
         lower", "shift higher"}``: the camera-height change, its world and seeds, the home
         networks' held-out success at home and with the camera lower or higher, and the mean

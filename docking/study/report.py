@@ -182,6 +182,12 @@ class ContestGap:
         """The verdict as the test it is (:func:`gap_words`)."""
         return gap_words(self.verdict, self.bound)
 
+    def as_data(self) -> list:
+        """``[world, other, estimate, low, high, verdict]``: what a design's record of its
+        replay holds of it (:func:`docking.study.designs.replay`)."""
+        ci = self.interval
+        return [self.world, self.other, ci.estimate, ci.low, ci.high, self.verdict]
+
 
 def contest_gaps(results, worlds, bound: float, other: str = "linear-tuned") -> list[ContestGap]:
     """Per world: ``other`` minus the tuned paper's learner, paired over the seeds both

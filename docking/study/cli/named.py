@@ -80,7 +80,7 @@ LEARNERS = {"tuned": ("paper", "the paper's learner"), "linear": ("linear", "lin
 
 #: The tuned settings currently published: the design that chose them (its name), and its
 #: network settings per world and learner (``paper``: the paper's learner; ``linear``: linear
-#: SARSA). Those of the equal contest (:func:`docking.study.designs.equal_contest_report.chosen`:
+#: SARSA). Those of the equal contest (:func:`docking.study.designs.equal_contest.chosen`:
 #: every learner selected alike; tests/test_cli.py reads them from the ledger).
 TUNED = (
     "equal-contest",

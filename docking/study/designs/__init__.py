@@ -78,49 +78,11 @@ def rules_data(name: str) -> dict:
 # ------------------------------------------------------------------------------------------
 
 
-def _gaps(found) -> list:
-    """Gap-rule verdicts as data (:class:`docking.study.report.ContestGap` each)."""
-    return [
-        [g.world, g.other, g.interval.estimate, g.interval.low, g.interval.high, g.verdict]
-        for g in found
-    ]
-
-
 def _extra_verdicts(name: str, results) -> dict:
-    """The verdicts a design's rules reach beyond its claims (its gap rule, its leads)."""
-    from docking.study import report
-
-    if name == "third-edition":
-        from docking.study.designs import third_edition as te
-
-        return {
-            "gaps": _gaps(report.contest_gaps(results, te.CONTEST, te.GAP_CLOSED)),
-            "ppo gaps": _gaps(
-                report.contest_gaps(results, te.CONTEST, te.GAP_CLOSED, other="ppo-tuned")
-            ),
-        }
-    if name == "third-edition-addendum":
-        from docking.study.designs import addendum as ad
-
-        return {"gaps": _gaps(report.contest_gaps(results, ad.WORLDS, ad.GAP_CLOSED))}
-    if name in ("addendum-bracketing", "addendum-bracketing-continued"):
-        module = importlib.import_module(MODULES[name])
-        return {"gaps": _gaps(module.gaps(results))}
-    if name == "bracketing-replication":
-        from docking.study.designs import replication as rp
-
-        pairs = {w: (results.score(f"{w}/linear"), results.score(f"{w}/paper")) for w in rp.WORLDS}
-        return {
-            "gaps": {w: [*rp.gap_interval(*p), rp.gap_verdict(*p)] for w, p in pairs.items()},
-            "leads": {w: list(v) for w, v in rp.lead_verdicts(pairs).items()},
-        }
-    if name == "equal-contest":
-        from docking.study.designs import equal_contest as ec
-        from docking.study.designs import equal_contest_report as ecr
-
-        chosen = {f"{w}/{learner}": s for (w, learner), s in ecr.chosen(results).items()}
-        return {"chosen": chosen, "verdicts": ecr.verdicts(results), "margin": ec.MARGIN}
-    return {}
+    """The verdicts design ``name``'s rules reach beyond its claims (a gap rule, leads, the
+    chosen settings), as data: its module's ``replayed(results)``, or none."""
+    module = importlib.import_module(MODULES[name])
+    return module.replayed(results) if hasattr(module, "replayed") else {}
 
 
 def replay(name: str, results_dir=None) -> dict:

@@ -415,6 +415,14 @@ DESIGN = Design(
 )
 
 
+def replayed(results) -> dict:
+    """What the rules reach beyond the claims, as data (its record's replay): the gap rule's
+    verdicts (:func:`docking.study.report.contest_gaps`)."""
+    from docking.study.report import contest_gaps
+
+    return {"gaps": [g.as_data() for g in contest_gaps(results, WORLDS, GAP_CLOSED)]}
+
+
 #: The constants that are rules (:func:`docking.study.designs.rules_data`).
 RULES = (
     "SEEDS TUNING_SEEDS ROUND1_SEEDS BUDGET EXTENSIONS ROUND_2 GAP_CLOSED ALPHA "

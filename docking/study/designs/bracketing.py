@@ -131,6 +131,12 @@ def gaps(own):
     return WALK.gaps(functools.partial(judged_scores, own))
 
 
+def replayed(results) -> dict:
+    """What the rules reach beyond the walk, as data (its record's replay): the gap rule's
+    verdicts (:func:`gaps`)."""
+    return {"gaps": [g.as_data() for g in gaps(results)]}
+
+
 DESIGN = Design(
     name=NAME,
     title="the addendum's search continued until each SARSA learner's optimum is bracketed",

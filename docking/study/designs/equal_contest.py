@@ -337,6 +337,36 @@ def judgement(pairs: dict) -> dict:
     return search.judgement(pairs, MARGIN, ALPHA, ("linear SARSA", "the paper's learner"))
 
 
+def judged(results) -> dict[str, dict]:
+    """``{world: {learner: per-seed held-out success on the judged seeds}}``."""
+    return {
+        w: {learner: results.score(f"{w}/{learner}/judged") for learner in LEARNERS} for w in WORLDS
+    }
+
+
+def verdicts(results) -> dict[str, dict]:
+    """Per world, the rules' verdicts of linear SARSA minus the paper's learner
+    (:func:`judgement`)."""
+    found = judged(results)
+    return judgement({w: (found[w]["linear"], found[w]["paper"]) for w in WORLDS})
+
+
+def chosen(results) -> dict[tuple[str, str], dict]:
+    """``{(world, learner): the chosen setting (its knobs)}``."""
+    return {
+        (w, learner): SEARCH.setting(w, learner, SEARCH.chosen(results, w, learner))
+        for w in WORLDS
+        for learner in LEARNERS
+    }
+
+
+def replayed(results) -> dict:
+    """What the rules reach beyond the cells, as data (its record's replay): every
+    learner's chosen setting per world, the verdicts and their margin."""
+    picked = {f"{w}/{learner}": s for (w, learner), s in chosen(results).items()}
+    return {"chosen": picked, "verdicts": verdicts(results), "margin": MARGIN}
+
+
 #: The constants that are rules (in :func:`rules_data`).
 RULES = (
     "WORLDS LEARNERS GRID_SEEDS SELECTION_SEEDS SEEDS GRID_ROWS GRID_COLS EXTENSION_STAGES "

@@ -27,28 +27,9 @@ PUBLISHED = {
 }
 
 
-def judged(results) -> dict[str, dict[str, np.ndarray]]:
-    """``{world: {learner: per-seed held-out success on the judged seeds}}``."""
-    return {
-        w: {learner: results.score(f"{w}/{learner}/judged") for learner in ec.LEARNERS}
-        for w in ec.WORLDS
-    }
-
-
-def verdicts(results) -> dict[str, dict]:
-    """Per world, the rules' verdicts of linear SARSA minus the paper's learner
-    (:func:`docking.study.designs.equal_contest.judgement`)."""
-    found = judged(results)
-    return ec.judgement({w: (found[w]["linear"], found[w]["paper"]) for w in ec.WORLDS})
-
-
-def chosen(results) -> dict[tuple[str, str], dict]:
-    """``{(world, learner): the chosen setting (its knobs)}``."""
-    return {
-        (w, learner): ec.SEARCH.setting(w, learner, ec.SEARCH.chosen(results, w, learner))
-        for w in ec.WORLDS
-        for learner in ec.LEARNERS
-    }
+#: The judged runs, the rules' verdicts and the chosen settings: the design's own
+#: (:mod:`docking.study.designs.equal_contest`), which its replay reaches.
+judged, verdicts, chosen = ec.judged, ec.verdicts, ec.chosen
 
 
 def spent(results) -> dict[tuple[str, str], dict[str, int]]:

@@ -183,5 +183,15 @@ def first_lead(interval_low, interval_high):
     return "no lead shown"
 
 
+def replayed(results) -> dict:
+    """What the rules reach, as data (its record's replay): per world the gap rule's interval
+    and verdict and the lead rule's verdict."""
+    pairs = {w: (results.score(f"{w}/linear"), results.score(f"{w}/paper")) for w in WORLDS}
+    return {
+        "gaps": {w: [*gap_interval(*p), gap_verdict(*p)] for w, p in pairs.items()},
+        "leads": {w: list(v) for w, v in lead_verdicts(pairs).items()},
+    }
+
+
 #: The constants that are rules (:func:`docking.study.designs.rules_data`).
 RULES = "SEEDS TUNED PPO_STEPS GAP_CLOSED ALPHA WORLDS LEARNERS".split()

@@ -425,6 +425,20 @@ def part(name: str) -> Design:
     raise ValueError(f"part must be 'contest' or 'rest', got {name!r}")
 
 
+def replayed(results) -> dict:
+    """What the rules reach beyond the claims, as data (its record's replay): the gap rule's
+    verdicts of the tuned linear SARSA and of the tuned PPO
+    (:func:`docking.study.report.contest_gaps`)."""
+    from docking.study.report import contest_gaps
+
+    return {
+        "gaps": [g.as_data() for g in contest_gaps(results, CONTEST, GAP_CLOSED)],
+        "ppo gaps": [
+            g.as_data() for g in contest_gaps(results, CONTEST, GAP_CLOSED, other="ppo-tuned")
+        ],
+    }
+
+
 #: The constants that are rules (:func:`docking.study.designs.rules_data`).
 RULES = (
     "SEEDS PATH_SEEDS YARDSTICK_SEEDS PPO_SEEDS UNTUNED_PPO_SEEDS TUNING_SEEDS FIDELITY_SEEDS "
