@@ -155,7 +155,7 @@ for w in te.CONTEST:
         f"{mean(f'{w}/ppo'):.1f}% and {mean(f'{w}/ppo-tuned'):.1f}%; the pose oracle "
         f"{mean(f'{w}/oracle'):.1f}%, the centroid rule {mean(f'{w}/centroid'):.1f}%. Tuned linear "
         f"SARSA minus the tuned paper's learner: {by_world[w].interval.format(unit=' pp')}, the gap "
-        f"**{by_world[w].verdict}**; tuned PPO minus it: {by_ppo[w].interval.format(unit=' pp')}."
+        f"rule: **{by_world[w].words}**; tuned PPO minus it: {by_ppo[w].interval.format(unit=' pp')}."
     )
 display(Markdown("\n".join(lines)))
 
@@ -428,7 +428,7 @@ for w in ad.WORLDS:
         f"{pct(rate_interval(final, f'{w}/linear-tuned'))} with "
         f"{', '.join(f'{k} = {v:g}' for k, v in tuned['linear'].items())}. Linear SARSA's lead: "
         f"{added_by[w].interval.format(unit=' pp')} (the contest's: "
-        f"{contest_by[w].interval.format(unit=' pp')}), the gap **{added_by[w].verdict}**."
+        f"{contest_by[w].interval.format(unit=' pp')}), the gap rule: **{added_by[w].words}**."
     )
 display(Markdown("\n".join(lines)))
 
